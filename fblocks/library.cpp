@@ -1,0 +1,14 @@
+#include "fblocks/library.hpp"
+
+namespace syncplc {
+
+const BlockRegistry& builtin_blocks() {
+  static const BlockRegistry registry = [] {
+    BlockRegistry r;
+    register_iec_blocks(r);
+    return r;
+  }();
+  return registry;
+}
+
+}  // namespace syncplc

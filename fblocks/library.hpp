@@ -1,0 +1,15 @@
+// The block library shipped with syncplc.
+#pragma once
+
+#include "runtime/core/block.hpp"
+
+namespace syncplc {
+
+// IEC 61131-3 standard blocks (fblocks/iec): timers, edges, counters,
+// bistables, arithmetic, comparison, selection, logic, and the one-scan delay.
+void register_iec_blocks(BlockRegistry& registry);
+
+// Every block type that ships with syncplc, registered once.
+const BlockRegistry& builtin_blocks();
+
+}  // namespace syncplc

@@ -1,0 +1,80 @@
+#include "runtime/core/block.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace syncplc {
+
+int BlockTypeInfo::pin_index(std::string_view pin) const {
+  for (std::size_t i = 0; i < pins.size(); ++i)
+    if (pins[i].name == pin) return static_cast<int>(i);
+  return -1;
+}
+
+int BlockTypeInfo::param_index(std::string_view param) const {
+  for (std::size_t i = 0; i < params.size(); ++i)
+    if (params[i].name == param) return static_cast<int>(i);
+  return -1;
+}
+
+bool BlockTypeInfo::is_generic() const {
+  return std::any_of(pins.begin(), pins.end(), [](const PinDecl& p) { return p.cls != TypeClass::Exact; });
+}
+
+std::string_view event_kind_name(EventKind k) {
+  switch (k) {
+    case EventKind::WatchdogTrip: return "watchdog";
+    case EventKind::TaskStopped: return "task-stopped";
+    case EventKind::SafeStateApplied: return "safe-state";
+    case EventKind::BlockFault: return "block-fault";
+    case EventKind::ScanOverrun: return "overrun";
+    case EventKind::QueueOverflow: return "queue-overflow";
+    case EventKind::DriverFault: return "driver-fault";
+    case EventKind::Info: return "info";
+  }
+  return "?";
+}
+
+void BlockRegistry::add(BlockTypeInfo info) {
+  if (info.name.empty()) throw std::logic_error("block type without a name");
+  if (find(info.name)) throw std::logic_error("block type " + info.name + " registered twice");
+  if (!info.create) throw std::logic_error("block type " + info.name + " has no factory");
+  for (std::size_t i = 0; i < info.pins.size(); ++i)
+    for (std::size_t j = i + 1; j < info.pins.size(); ++j)
+      if (info.pins[i].name == info.pins[j].name)
+        throw std::logic_error("block type " + info.name + " declares pin " + info.pins[i].name + " twice");
+  for (const auto& p : info.params) {
+    if (info.pin_index(p.name) >= 0)
+      throw std::logic_error("block type " + info.name + ": parameter " + p.name + " shadows a pin");
+    if (!p.default_value.empty()) {
+      std::string err;
+      if (!parse_value(p.type, p.default_value, &err))
+        throw std::logic_error("block type " + info.name + ": default of " + p.name + ": " + err);
+    }
+  }
+  for (const auto& p : info.pins) {
+    if (!p.init.empty()) {
+      std::string err;
+      if (p.cls == TypeClass::Exact && !parse_value(p.type, p.init, &err))
+        throw std::logic_error("block type " + info.name + ": init of pin " + p.name + ": " + err);
+    }
+  }
+  types_.push_back(std::make_unique<BlockTypeInfo>(std::move(info)));
+}
+
+const BlockTypeInfo* BlockRegistry::find(std::string_view name) const {
+  for (const auto& t : types_)
+    if (t->name == name) return t.get();
+  return nullptr;
+}
+
+std::vector<const BlockTypeInfo*> BlockRegistry::all() const {
+  std::vector<const BlockTypeInfo*> v;
+  for (const auto& t : types_) v.push_back(t.get());
+  std::stable_sort(v.begin(), v.end(), [](auto* a, auto* b) {
+    return a->category != b->category ? a->category < b->category : a->name < b->name;
+  });
+  return v;
+}
+
+}  // namespace syncplc

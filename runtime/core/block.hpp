@@ -1,0 +1,171 @@
+// The function-block interface: what a block type declares once (pins,
+// parameters, documentation) and what an instance does every scan.
+//
+// A block type is registered with a BlockTypeInfo. When a project loads, the
+// loader creates each instance through the type's factory, binds every pin to
+// a cell of the task's process image, and from then on calls execute() once
+// per scan. Pins are reached by their declaration index: in<T>(i), out<T>(i, v).
+// execute() must not allocate, lock, log or do I/O.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "runtime/core/iec_type.hpp"
+
+namespace syncplc {
+
+enum class PinDir : std::uint8_t { In, Out };
+
+struct PinDecl {
+  std::string name;
+  PinDir dir = PinDir::In;
+  // Exact: the pin has `type`. Otherwise the pin takes the instance's generic
+  // type (one per instance, inferred from connections or set with `datatype:`),
+  // which must belong to this class.
+  TypeClass cls = TypeClass::Exact;
+  IecType type = IecType::LREAL;
+  std::string unit;          // SI-style unit text, "" for dimensionless
+  bool required = false;     // an input that must be connected or given a value
+  std::string doc;
+  std::string init;          // value of an unconnected input ("" = the type's zero)
+};
+
+struct ParamDecl {
+  std::string name;
+  IecType type = IecType::LREAL;
+  std::string default_value;  // literal; "" means the parameter is mandatory
+  std::optional<double> min;  // valid range, inclusive, in `unit`
+  std::optional<double> max;
+  std::string unit;
+  std::string doc;
+};
+
+struct ScanContext;
+class BlockSetup;
+
+class Block {
+ public:
+  virtual ~Block() = default;
+  // One scan. ctx.now_ns is the planned release time of the scan.
+  virtual void execute(ScanContext& ctx) = 0;
+  // Unit-delay blocks only (BlockTypeInfo::unit_delay): called after every
+  // block of the task has executed; store the input for the next scan here.
+  virtual void end_of_scan() {}
+
+  template <class T>
+  T in(int pin) const noexcept { return pins_[pin]->get<T>(); }
+  template <class T>
+  void out(int pin, T v) noexcept { pins_[pin]->set<T>(v); }
+  Cell* pin_cell(int pin) const noexcept { return pins_[pin]; }
+
+  // Bound by the loader (or a test harness) before the first scan.
+  void bind_pins(Cell* const* pins) noexcept { pins_ = pins; }
+
+ private:
+  Cell* const* pins_ = nullptr;
+};
+
+using BlockFactory = std::function<std::unique_ptr<Block>(BlockSetup&)>;
+
+struct BlockTypeInfo {
+  std::string name;      // e.g. "TON"
+  std::string category;  // e.g. "IEC timers"
+  std::string doc;       // one paragraph: behaviour, equations
+  std::string reference; // standard or paper and equation numbers
+  std::vector<PinDecl> pins;
+  std::vector<ParamDecl> params;
+  // For generic types: the default when nothing fixes the instance's type
+  // (std::nullopt: the type must be inferable or given).
+  std::optional<IecType> default_datatype;
+  // The outputs depend only on earlier scans' inputs (a one-scan delay), so a
+  // connection loop through this block is allowed.
+  bool unit_delay = false;
+  BlockFactory create;
+
+  int pin_index(std::string_view pin) const;
+  int param_index(std::string_view param) const;
+  bool is_generic() const;
+};
+
+// What a factory sees of the instance being created: its parameters, which
+// pins are wired, its resolved generic type. Errors reported here make the
+// load fail with the instance's location.
+class BlockSetup {
+ public:
+  virtual ~BlockSetup() = default;
+  virtual const std::string& instance_name() const = 0;
+  virtual const BlockTypeInfo& type() const = 0;
+  virtual IecType datatype() const = 0;                   // generic type (LREAL if not generic)
+  virtual Cell param_cell(int index) const = 0;           // by ParamDecl index
+  virtual bool connected(int pin) const = 0;               // wired or given a constant
+  virtual std::int64_t task_period_ns() const = 0;
+  virtual std::uint64_t seed() const = 0;                  // project seed mixed with instance name
+  virtual void error(const std::string& message) = 0;
+
+  template <class T>
+  T param(std::string_view name) const {
+    return param_cell(type().param_index(name)).template get<T>();
+  }
+};
+
+enum class EventKind : std::uint8_t {
+  WatchdogTrip,
+  TaskStopped,
+  SafeStateApplied,
+  BlockFault,       // a block met a condition it cannot compute (e.g. integer division by zero)
+  ScanOverrun,
+  QueueOverflow,
+  DriverFault,
+  Info,
+};
+std::string_view event_kind_name(EventKind k);
+
+struct Event {
+  std::int64_t time_ns = 0;  // planned release time of the scan that raised it
+  std::uint16_t task = 0;
+  std::int32_t block = -1;   // index in the task's execution order, -1 for the task itself
+  EventKind kind = EventKind::Info;
+  const char* message = "";  // static text: raising an event never allocates
+  double value = 0;
+};
+
+class EventSink {
+ public:
+  virtual ~EventSink() = default;
+  virtual void push(const Event& e) noexcept = 0;  // lock-free, never blocks
+};
+
+// Per-scan context handed to every block.
+struct ScanContext {
+  std::int64_t now_ns = 0;       // planned release of this scan: the IEC time base
+  std::int64_t dt_ns = 0;        // since the previous scan's planned release (the period on the first)
+  std::uint64_t scan = 0;        // 0 on the first scan
+  bool virtual_time = true;
+  std::int64_t consumed_ns = 0;  // virtual execution time consumed so far in this scan
+  std::uint16_t task = 0;
+  std::int32_t block = -1;       // index of the executing block, set by the executor
+  EventSink* events = nullptr;
+
+  void fault(const char* message, double value = 0) noexcept {
+    if (events) events->push(Event{now_ns, task, block, EventKind::BlockFault, message, value});
+  }
+};
+
+class BlockRegistry {
+ public:
+  // Throws std::logic_error on a duplicate or inconsistent declaration.
+  void add(BlockTypeInfo info);
+  const BlockTypeInfo* find(std::string_view name) const;
+  std::vector<const BlockTypeInfo*> all() const;  // sorted by category, then name
+
+ private:
+  std::vector<std::unique_ptr<BlockTypeInfo>> types_;
+};
+
+}  // namespace syncplc
