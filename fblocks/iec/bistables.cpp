@@ -1,0 +1,66 @@
+// IEC 61131-3 bistables: SR (set-dominant), RS (reset-dominant).
+#include "fblocks/iec/common.hpp"
+
+namespace syncplc::iec {
+namespace {
+
+enum : int { kSet = 0, kReset = 1, kQ1 = 2 };
+
+class Sr final : public Block {
+ public:
+  void execute(ScanContext&) override {
+    q_ = in<bool>(kSet) || (!in<bool>(kReset) && q_);
+    out<bool>(kQ1, q_);
+  }
+
+ private:
+  bool q_ = false;
+};
+
+class Rs final : public Block {
+ public:
+  void execute(ScanContext&) override {
+    q_ = !in<bool>(kReset) && (in<bool>(kSet) || q_);
+    out<bool>(kQ1, q_);
+  }
+
+ private:
+  bool q_ = false;
+};
+
+}  // namespace
+
+void register_bistables(BlockRegistry& r) {
+  {
+    BlockTypeInfo t;
+    t.name = "SR";
+    t.category = "IEC bistables";
+    t.doc = "Set-dominant bistable: Q1 := S1 OR (NOT R AND Q1). With S1 and R both TRUE, Q1 is TRUE. "
+            "Q1 starts FALSE.";
+    t.reference = kRefFB;
+    t.pins = {
+        in_pin("S1", IecType::BOOL, "set (dominant)"),
+        in_pin("R", IecType::BOOL, "reset"),
+        out_pin("Q1", IecType::BOOL, "stored state"),
+    };
+    t.create = make_plain<Sr>();
+    r.add(std::move(t));
+  }
+  {
+    BlockTypeInfo t;
+    t.name = "RS";
+    t.category = "IEC bistables";
+    t.doc = "Reset-dominant bistable: Q1 := NOT R1 AND (S OR Q1). With S and R1 both TRUE, Q1 is FALSE. "
+            "Q1 starts FALSE.";
+    t.reference = kRefFB;
+    t.pins = {
+        in_pin("S", IecType::BOOL, "set"),
+        in_pin("R1", IecType::BOOL, "reset (dominant)"),
+        out_pin("Q1", IecType::BOOL, "stored state"),
+    };
+    t.create = make_plain<Rs>();
+    r.add(std::move(t));
+  }
+}
+
+}  // namespace syncplc::iec

@@ -1,0 +1,53 @@
+// IEC 61131-3 comparison functions GT, GE, EQ, NE, LE, LT over ANY: the two
+// inputs take the instance's type, the output is BOOL.
+#include <functional>
+
+#include "fblocks/iec/common.hpp"
+
+namespace syncplc::iec {
+namespace {
+
+enum : int { kIn1 = 0, kIn2 = 1, kOut = 2 };
+
+template <class Cmp>
+struct CompareOf {
+  template <IecType T>
+  class Block final : public syncplc::Block {
+    using V = native_t<T>;
+
+   public:
+    explicit Block(BlockSetup&) {}
+    void execute(ScanContext&) override { out<bool>(kOut, Cmp{}(in<V>(kIn1), in<V>(kIn2))); }
+  };
+};
+
+template <class Cmp>
+void add_compare(BlockRegistry& r, const char* name, const char* op, const char* what) {
+  constexpr auto C = TypeClass::ANY;
+  BlockTypeInfo t;
+  t.name = name;
+  t.category = "IEC comparison";
+  t.doc = std::string("OUT := IN1 ") + op + " IN2 (" + what +
+          ") over ANY (default LREAL); the output is BOOL. BOOL compares FALSE < TRUE; unsigned and "
+          "bit-string types compare as unsigned numbers; TIME compares durations. Reals follow IEEE 754: any "
+          "comparison with NaN is FALSE except NE, which is TRUE.";
+  t.reference = kRefFn;
+  t.default_datatype = IecType::LREAL;
+  t.pins = {gen_in("IN1", C, "left operand", true), gen_in("IN2", C, "right operand", true),
+            out_pin("OUT", IecType::BOOL, std::string("IN1 ") + op + " IN2")};
+  t.create = make_generic<C, CompareOf<Cmp>::template Block>;
+  r.add(std::move(t));
+}
+
+}  // namespace
+
+void register_comparison(BlockRegistry& r) {
+  add_compare<std::greater<>>(r, "GT", ">", "greater than");
+  add_compare<std::greater_equal<>>(r, "GE", ">=", "greater than or equal");
+  add_compare<std::equal_to<>>(r, "EQ", "=", "equal");
+  add_compare<std::not_equal_to<>>(r, "NE", "<>", "not equal");
+  add_compare<std::less_equal<>>(r, "LE", "<=", "less than or equal");
+  add_compare<std::less<>>(r, "LT", "<", "less than");
+}
+
+}  // namespace syncplc::iec

@@ -1,0 +1,123 @@
+// IEC 61131-3 selection functions LIMIT, MAX, MIN (extensible), SEL, MOVE
+// over ANY.
+#include <cmath>
+
+#include "fblocks/iec/common.hpp"
+
+namespace syncplc::iec {
+namespace {
+
+template <class V>
+V max_of(V a, V b) noexcept {
+  if constexpr (std::is_floating_point_v<V>) return std::fmax(a, b);  // NaN operands are ignored
+  else return b > a ? b : a;
+}
+template <class V>
+V min_of(V a, V b) noexcept {
+  if constexpr (std::is_floating_point_v<V>) return std::fmin(a, b);
+  else return b < a ? b : a;
+}
+
+struct MaxOp {
+  template <class V>
+  static V apply(V a, V b) noexcept { return max_of(a, b); }
+};
+struct MinOp {
+  template <class V>
+  static V apply(V a, V b) noexcept { return min_of(a, b); }
+};
+template <IecType T>
+using MaxBlock = FoldBlock<T, MaxOp>;
+template <IecType T>
+using MinBlock = FoldBlock<T, MinOp>;
+
+template <IecType T>
+class LimitBlock final : public Block {
+  using V = native_t<T>;
+  enum : int { kMn = 0, kIn = 1, kMx = 2, kOut = 3 };
+
+ public:
+  explicit LimitBlock(BlockSetup&) {}
+  void execute(ScanContext&) override {
+    const V mn = in<V>(kMn);
+    const V mx = in<V>(kMx);
+    V v = in<V>(kIn);
+    if (v < mn) v = mn;
+    if (v > mx) v = mx;
+    out<V>(kOut, v);
+  }
+};
+
+// SEL and MOVE copy whole cells: the same code serves every type.
+class SelBlock final : public Block {
+  enum : int { kG = 0, kIn0 = 1, kIn1 = 2, kOut = 3 };
+
+ public:
+  void execute(ScanContext&) override { *pin_cell(kOut) = *pin_cell(in<bool>(kG) ? kIn1 : kIn0); }
+};
+
+class MoveBlock final : public Block {
+ public:
+  void execute(ScanContext&) override { *pin_cell(1) = *pin_cell(0); }
+};
+
+BlockTypeInfo sel_info(const char* name, std::string doc) {
+  BlockTypeInfo t;
+  t.name = name;
+  t.category = "IEC selection";
+  t.doc = std::move(doc);
+  t.reference = kRefFn;
+  t.default_datatype = IecType::LREAL;
+  return t;
+}
+
+}  // namespace
+
+void register_selection(BlockRegistry& r) {
+  constexpr auto C = TypeClass::ANY;
+  {
+    auto t = sel_info("MAX",
+                      "Maximum OUT := MAX(IN1, IN2, ...) over ANY (default LREAL; BOOL: FALSE < TRUE). "
+                      "Extensible: IN1 and IN2 are required, IN3..IN8 take part only when connected. For reals "
+                      "NaN inputs are ignored (IEEE maxNum) unless all inputs are NaN.");
+    add_extensible_pins(t, C, "compared");
+    t.pins.push_back(gen_out("OUT", C, "largest input"));
+    t.create = make_generic<C, MaxBlock>;
+    r.add(std::move(t));
+  }
+  {
+    auto t = sel_info("MIN",
+                      "Minimum OUT := MIN(IN1, IN2, ...) over ANY (default LREAL; BOOL: FALSE < TRUE). "
+                      "Extensible: IN1 and IN2 are required, IN3..IN8 take part only when connected. For reals "
+                      "NaN inputs are ignored (IEEE minNum) unless all inputs are NaN.");
+    add_extensible_pins(t, C, "compared");
+    t.pins.push_back(gen_out("OUT", C, "smallest input"));
+    t.create = make_generic<C, MinBlock>;
+    r.add(std::move(t));
+  }
+  {
+    auto t = sel_info("LIMIT",
+                      "Limiter OUT := MIN(MAX(IN, MN), MX) over ANY (default LREAL). If MN > MX the result is "
+                      "MX. For reals a NaN IN passes through unchanged and a NaN bound is ignored.");
+    t.pins = {gen_in("MN", C, "lower limit"), gen_in("IN", C, "value to limit", true),
+              gen_in("MX", C, "upper limit"), gen_out("OUT", C, "IN limited to [MN, MX]")};
+    t.create = make_generic<C, LimitBlock>;
+    r.add(std::move(t));
+  }
+  {
+    auto t = sel_info("SEL", "Binary selection OUT := IN0 if G is FALSE, IN1 if G is TRUE, over ANY (default LREAL).");
+    t.pins = {in_pin("G", IecType::BOOL, "selector: FALSE picks IN0, TRUE picks IN1", true),
+              gen_in("IN0", C, "value when G is FALSE"), gen_in("IN1", C, "value when G is TRUE"),
+              gen_out("OUT", C, "selected input")};
+    t.create = make_plain<SelBlock>();
+    r.add(std::move(t));
+  }
+  {
+    auto t = sel_info("MOVE", "Assignment OUT := IN over ANY (default LREAL).");
+    t.pins = {gen_in("IN", C, "value to copy", true), gen_out("OUT", C, "copy of IN")};
+    t.create = make_plain<MoveBlock>();
+    r.add(std::move(t));
+  }
+}
+
+}  // namespace syncplc::iec

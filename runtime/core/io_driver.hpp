@@ -1,0 +1,91 @@
+// The I/O driver interface. A driver owns a set of channels (inputs to the
+// PLC, outputs from it); the project binds channels to tags, and the driver's
+// task calls latch_inputs() at the start and write_outputs() at the end of
+// every scan. Both run on the scan path: they copy between the process image
+// and the driver's own buffers and never block. A driver may run its own
+// threads for the real exchange (fieldbus, network), handing data over
+// through lock-free buffers.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "runtime/core/block.hpp"
+#include "runtime/core/config_node.hpp"
+
+namespace syncplc {
+
+struct DriverChannel {
+  std::string name;
+  PinDir dir = PinDir::In;  // In: read by the PLC (sensor); Out: written by the PLC (actuator)
+  IecType type = IecType::LREAL;
+  std::uint32_t length = 1;  // cells
+  std::string unit;
+  std::string doc;
+};
+
+class IoDriver {
+ public:
+  virtual ~IoDriver() = default;
+  const std::string& name() const { return name_; }
+  void set_name(std::string n) { name_ = std::move(n); }
+
+  virtual const std::vector<DriverChannel>& channels() const = 0;
+  // At load: cells[i] is the process-image cell bound to channel i (first of
+  // `length` cells), or nullptr when the project leaves the channel unbound.
+  virtual void bind(const std::vector<Cell*>& cells) = 0;
+  // Before the first scan; may start threads. False with *error on failure.
+  virtual bool open(std::string* error) = 0;
+  virtual void latch_inputs(const ScanContext& ctx) noexcept = 0;
+  virtual void write_outputs(const ScanContext& ctx) noexcept = 0;
+  // After the last scan; joins the driver's threads.
+  virtual void close() noexcept = 0;
+
+  // Tests and simulations: set an input channel from outside the scan (taken
+  // at the next latch). Returns false when the driver does not support it.
+  virtual bool force_input(int /*channel*/, const Cell* /*values*/) { return false; }
+  // Tests and status display: the value last written to an output channel.
+  virtual bool read_output(int /*channel*/, Cell* /*values*/) const { return false; }
+
+ private:
+  std::string name_;
+};
+
+// What a driver factory gets at load time.
+class DriverSetup {
+ public:
+  virtual ~DriverSetup() = default;
+  virtual std::int64_t task_period_ns() const = 0;
+  virtual std::uint64_t seed() const = 0;
+  virtual void error(const SourceLoc& where, const std::string& message) = 0;
+};
+
+struct DriverTypeInfo {
+  std::string name;
+  std::string doc;
+  // `config` is the driver's whole entry of the project file.
+  std::function<std::unique_ptr<IoDriver>(const ConfigNode& config, DriverSetup& setup)> create;
+};
+
+class DriverRegistry {
+ public:
+  void add(DriverTypeInfo info) { types_[info.name] = std::move(info); }
+  const DriverTypeInfo* find(const std::string& name) const {
+    auto it = types_.find(name);
+    return it == types_.end() ? nullptr : &it->second;
+  }
+  std::vector<std::string> names() const {
+    std::vector<std::string> v;
+    for (const auto& [k, _] : types_) v.push_back(k);
+    return v;
+  }
+
+ private:
+  std::map<std::string, DriverTypeInfo> types_;
+};
+
+}  // namespace syncplc

@@ -1,0 +1,95 @@
+// A loaded project, ready to run: tags, tasks with their resolved programs,
+// I/O drivers, traces. Built by the project loader (runtime/project); run by
+// a scheduler (virtual_clock.hpp, realtime.hpp). Other threads (Modbus, HMI,
+// status display) read tags through the published snapshots and write them
+// through the owning task's queue: they never touch a task's image.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "runtime/core/config_node.hpp"
+#include "runtime/core/direct_address.hpp"
+#include "runtime/core/io_driver.hpp"
+#include "runtime/core/task.hpp"
+
+namespace syncplc {
+
+enum class HmiAccess : std::uint8_t { None, Read, ReadWrite };
+std::string_view hmi_access_name(HmiAccess a);
+
+struct Tag {
+  std::string name;
+  IecType type = IecType::LREAL;
+  std::uint32_t length = 1;  // cells; > 1 or is_array for ARRAY[0..length-1] OF type
+  bool is_array = false;
+  std::optional<DirectAddress> address;
+  bool retain = false;
+  HmiAccess hmi = HmiAccess::None;
+  std::string unit;
+  std::string description;
+  std::vector<Cell> init;   // length cells
+  std::vector<Cell> safe;   // empty: no safe value
+  std::uint16_t owner = 0;  // the task that writes it and publishes it
+  std::uint32_t cell = 0;   // first cell in the owner's image (inside its owned range)
+  std::string writer;       // "block x.Q", "driver io.ch", "" (HMI / tests only)
+  SourceLoc loc;
+};
+
+// A cell in some task's image, for traces, tests and the status display.
+struct CellRef {
+  std::uint16_t task = 0;
+  std::uint32_t cell = 0;
+  IecType type = IecType::LREAL;
+  std::uint32_t length = 1;
+};
+
+struct TraceColumn {
+  std::string label;  // instance.pin, tag or tag[i]
+  CellRef ref;
+};
+
+struct DriverBinding {
+  std::unique_ptr<IoDriver> driver;
+  std::string type;
+  std::uint16_t task = 0;
+  std::vector<std::string> bound_tags;  // per channel, "" when unbound
+};
+
+class Program {
+ public:
+  std::string name;
+  std::string version;
+  std::string file;
+  std::uint64_t seed = 0;
+  std::vector<std::unique_ptr<Task>> tasks;
+  std::vector<Tag> tags;
+  std::vector<DriverBinding> drivers;
+  std::vector<TraceColumn> traces;
+  std::vector<std::string> watch;  // tags shown by the live status
+
+  const Tag* find_tag(const std::string& name) const;
+  int find_task(const std::string& name) const;
+  int find_driver(const std::string& name) const;
+  // "instance.pin", "tag" or "tag[i]" (i from 0).
+  std::optional<CellRef> resolve(const std::string& ref, std::string* error = nullptr) const;
+  // Instance name -> (task, position in execution order).
+  std::map<std::string, std::pair<std::uint16_t, std::uint32_t>> instances;
+
+  // Non-real-time side. read_tag: the owner's latest published value.
+  void read_tag(const Tag& tag, Cell* out) const;
+  // Queues a write of `count` elements starting at `element`; applied at the
+  // owner's next scan start. False when the owner's queue is full.
+  bool write_tag(const Tag& tag, std::uint32_t element, const Cell* values, std::uint32_t count) const;
+
+  bool open_drivers(std::string* error);
+  void close_drivers();
+  // Virtual-time tools (single thread): the live value in a task's image.
+  Cell* live_cell(const CellRef& r) const { return &tasks[r.task]->image[r.cell]; }
+};
+
+}  // namespace syncplc

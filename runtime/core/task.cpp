@@ -1,0 +1,190 @@
+#include "runtime/core/task.hpp"
+
+#include <cstring>
+
+namespace syncplc {
+
+std::string_view watchdog_action_name(WatchdogAction a) {
+  switch (a) {
+    case WatchdogAction::Log: return "log";
+    case WatchdogAction::Stop: return "stop";
+    case WatchdogAction::SafeStop: return "safe_stop";
+  }
+  return "?";
+}
+
+std::string_view missed_cycles_name(MissedCycles m) {
+  return m == MissedCycles::Skip ? "skip" : "immediate";
+}
+
+TaskStats::Summary TaskStats::summary() const {
+  Summary s;
+  s.scans = scans.load(std::memory_order_relaxed);
+  s.overruns = overruns.load(std::memory_order_relaxed);
+  s.skipped = skipped.load(std::memory_order_relaxed);
+  s.watchdog_trips = watchdog_trips.load(std::memory_order_relaxed);
+  s.writes_applied = writes_applied.load(std::memory_order_relaxed);
+  s.events_dropped = events_dropped.load(std::memory_order_relaxed);
+  s.exec = exec.summary();
+  s.jitter = jitter.summary();
+  return s;
+}
+
+Task::Task(std::uint16_t index, TaskConfig cfg) : index_(index), cfg_(std::move(cfg)) {}
+
+void Task::finalize() {
+  writes_.reset(cfg_.write_queue);
+  events_.reset(256);
+  last_fault_scan_.assign(blocks.size(), 0);
+  for (auto& b : blocks) {
+    b.pins.clear();
+    for (auto idx : b.pin_cell) b.pins.push_back(&image[idx]);
+    b.block->bind_pins(b.pins.data());
+  }
+  for (auto& ch : channels) {
+    ch->resize(owned_cells);
+    ch->fill(image.data());
+  }
+}
+
+void Task::reset_timing() {
+  scan_count_ = 0;
+  wd_consecutive_ = 0;
+  overrun_series_ = false;
+  stopped_.store(false, std::memory_order_release);
+}
+
+void Task::push(const Event& e) noexcept {
+  // A block that faults every scan reports once per series of faulting scans.
+  if (e.kind == EventKind::BlockFault && e.block >= 0 &&
+      static_cast<std::size_t>(e.block) < last_fault_scan_.size()) {
+    auto& last = last_fault_scan_[static_cast<std::size_t>(e.block)];  // scan + 1, 0 = never
+    const std::uint64_t cur = scan_count_ + 1;
+    bool repeat = last != 0 && (last == cur || last + 1 == cur);
+    last = cur;
+    if (repeat) return;
+  }
+  if (!events_.push(e)) stats.events_dropped.fetch_add(1, std::memory_order_relaxed);
+}
+
+void Task::apply_writes() noexcept {
+  QueuedWrite w;
+  std::uint64_t n = 0;
+  while (writes_.pop(w)) {
+    image[w.cell] = w.value;
+    ++n;
+  }
+  if (n) stats.writes_applied.fetch_add(n, std::memory_order_relaxed);
+}
+
+void Task::scan(ScanContext& ctx) noexcept {
+  ctx.task = index_;
+  ctx.events = this;
+  now_ = ctx.now_ns;
+  Cell* img = image.data();
+  auto run_copies = [img](const std::vector<CellCopy>& copies) {
+    for (const auto& c : copies) std::memcpy(static_cast<void*>(img + c.dst), img + c.src, c.n * sizeof(Cell));
+  };
+
+  apply_writes();                                       // 1
+  for (auto& in : inbound) {                            // 2: other tasks' tags
+    const Cell* src = in.channel->acquire();
+    for (const auto& c : in.copies) std::memcpy(static_cast<void*>(img + c.dst), src + c.src, c.n * sizeof(Cell));
+  }
+  for (auto* d : drivers) d->latch_inputs(ctx);         // 2: field inputs
+
+  const std::size_t n = blocks.size();                  // 3
+  for (std::size_t i = 0; i < n; ++i) {
+    auto& b = blocks[i];
+    if (i >= unit_delays) run_copies(b.copy_in);
+    ctx.block = static_cast<std::int32_t>(i);
+    b.block->execute(ctx);
+    run_copies(b.copy_out);
+  }
+  for (std::size_t i = 0; i < unit_delays; ++i) {       // unit delays take this scan's input
+    run_copies(blocks[i].copy_in);
+    blocks[i].block->end_of_scan();
+  }
+  ctx.block = -1;
+
+  for (auto* d : drivers) d->write_outputs(ctx);        // 4
+  ++scan_count_;
+}
+
+void Task::publish() noexcept {
+  for (auto& ch : channels) ch->publish(image.data());
+}
+
+Task::Next Task::account(std::int64_t k, std::int64_t planned, std::int64_t start, std::int64_t end) noexcept {
+  const std::int64_t exec = end - start;
+  stats.exec.record(exec);
+  stats.jitter.record(start - planned);
+  stats.last_exec_ns.store(exec, std::memory_order_relaxed);
+  stats.scans.fetch_add(1, std::memory_order_relaxed);
+
+  // Next release on this task's own grid: never a burst of catch-up scans.
+  Next next{k + 1, false};
+  if (end > release_ns(k + 1)) {
+    stats.overruns.fetch_add(1, std::memory_order_relaxed);
+    if (!overrun_series_) push(Event{planned, index_, -1, EventKind::ScanOverrun, "scan overran its period",
+                                     static_cast<double>(exec) * 1e-9});
+    overrun_series_ = true;
+    const std::int64_t since = end - cfg_.phase_ns;
+    if (cfg_.missed == MissedCycles::Skip) {
+      next.index = (since + cfg_.period_ns - 1) / cfg_.period_ns;  // first grid point at or after end
+    } else {
+      next.index = since / cfg_.period_ns;  // the latest missed grid point, run once at once
+    }
+    stats.skipped.fetch_add(static_cast<std::uint64_t>(next.index - (k + 1)), std::memory_order_relaxed);
+  } else {
+    overrun_series_ = false;
+  }
+
+  if (cfg_.watchdog) {
+    bool over = exec > cfg_.watchdog_ns;
+    wd_consecutive_ = over ? wd_consecutive_ + 1 : 0;
+    bool trip = wd_consecutive_ >= cfg_.sensitivity ||
+                (over && exec > cfg_.watchdog_ns * static_cast<std::int64_t>(cfg_.sensitivity));
+    if (trip) {
+      stats.watchdog_trips.fetch_add(1, std::memory_order_relaxed);
+      push(Event{planned, index_, -1, EventKind::WatchdogTrip, "watchdog tripped", static_cast<double>(exec) * 1e-9});
+      wd_consecutive_ = 0;
+      if (cfg_.action != WatchdogAction::Log) {
+        if (cfg_.action == WatchdogAction::SafeStop) {
+          ScanContext ctx;
+          ctx.now_ns = planned;
+          ctx.task = index_;
+          ctx.events = this;
+          apply_safe_state(ctx);
+        }
+        stopped_.store(true, std::memory_order_release);
+        push(Event{planned, index_, -1, EventKind::TaskStopped, "task stopped by its watchdog", 0});
+        next.stop = true;
+      }
+    }
+  }
+  return next;
+}
+
+void Task::apply_safe_state(ScanContext& ctx) noexcept {
+  for (const auto& [cell, value] : safe_values) image[cell] = value;
+  for (auto* d : drivers) d->write_outputs(ctx);
+  publish();
+  push(Event{ctx.now_ns, index_, -1, EventKind::SafeStateApplied, "outputs driven to their safe values", 0});
+}
+
+bool Task::enqueue(const QueuedWrite* writes, std::size_t n) {
+  std::lock_guard lock(write_producers_);
+  if (!writes_.has_room(n)) return false;
+  for (std::size_t i = 0; i < n; ++i) writes_.stage(writes[i]);
+  writes_.commit();
+  return true;
+}
+
+void Task::read_published(std::uint32_t first, std::uint32_t n, Cell* out) {
+  std::lock_guard lock(external_mutex);
+  const Cell* src = channels[0]->acquire();
+  std::memcpy(static_cast<void*>(out), src + first, n * sizeof(Cell));
+}
+
+}  // namespace syncplc

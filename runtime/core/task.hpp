@@ -1,0 +1,170 @@
+// A task: its configuration, its process image, its resolved program (blocks
+// in execution order with their connections as cell copies), and the scan.
+//
+// One scan (architecture.md, "The data path"):
+//   1. apply queued writes        (HMI/Modbus/test writes, in arrival order)
+//   2. latch inputs               (other tasks' snapshots, then drivers)
+//   3. execute blocks in order    (each block: copy its inputs, execute, copy its outputs)
+//   4. write outputs              (drivers)
+//   5. publish                    (snapshot of the task's own tags)
+//   6. account                    (exec time, start jitter, overruns, watchdog)
+// Steps 1–4 are scan(), 5 is publish(), 6 is account(). Both schedulers call
+// exactly these, so virtual-time tests exercise the real-time code path.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "runtime/core/block.hpp"
+#include "runtime/core/histogram.hpp"
+#include "runtime/core/io_driver.hpp"
+#include "runtime/core/spsc_ring.hpp"
+#include "runtime/core/triple_buffer.hpp"
+
+namespace syncplc {
+
+enum class WatchdogAction : std::uint8_t { Log, Stop, SafeStop };
+enum class MissedCycles : std::uint8_t { Skip, Immediate };
+
+std::string_view watchdog_action_name(WatchdogAction a);
+std::string_view missed_cycles_name(MissedCycles m);
+
+struct TaskConfig {
+  std::string name;
+  std::int64_t period_ns = 1'000'000;
+  std::int64_t phase_ns = 0;
+  int priority = 50;            // SCHED_FIFO priority 1..99; higher runs first
+  bool watchdog = false;
+  std::int64_t watchdog_ns = 0;  // a scan longer than this is a watchdog overrun
+  int sensitivity = 1;          // the n-th consecutive overrun trips; one scan > n × time trips at once
+  WatchdogAction action = WatchdogAction::Log;
+  MissedCycles missed = MissedCycles::Skip;
+  int cpu = -1;                 // pin the real-time thread to this CPU (-1: any)
+  std::size_t write_queue = 1024;  // capacity of the queued-write ring
+};
+
+// A copy of n cells inside the task's image: a connection.
+struct CellCopy {
+  std::uint32_t src = 0;
+  std::uint32_t dst = 0;
+  std::uint32_t n = 1;
+};
+
+// A write queued by a non-real-time thread: applied at the next scan start.
+struct QueuedWrite {
+  std::uint32_t cell = 0;  // index in the owning task's image
+  Cell value;
+};
+
+struct TaskStats {
+  Histogram exec;    // ns from scan start to end of step 4
+  Histogram jitter;  // ns, actual start minus planned release
+  std::atomic<std::uint64_t> scans{0};
+  std::atomic<std::uint64_t> overruns{0};        // scans that ended after the next release
+  std::atomic<std::uint64_t> skipped{0};         // grid points that got no scan
+  std::atomic<std::uint64_t> watchdog_trips{0};
+  std::atomic<std::uint64_t> writes_applied{0};
+  std::atomic<std::uint64_t> events_dropped{0};
+  std::atomic<std::int64_t> last_exec_ns{0};
+
+  struct Summary {
+    std::uint64_t scans, overruns, skipped, watchdog_trips, writes_applied, events_dropped;
+    Histogram::Summary exec, jitter;
+  };
+  Summary summary() const;
+};
+
+// One block instance placed in a task.
+struct BlockInstance {
+  std::string name;
+  const BlockTypeInfo* type = nullptr;
+  IecType datatype = IecType::LREAL;
+  std::unique_ptr<Block> block;
+  std::vector<Cell*> pins;          // bound pin cells, by declaration index
+  std::vector<std::uint32_t> pin_cell;  // image index of each pin
+  std::vector<CellCopy> copy_in;    // before execute (for a unit delay: before end_of_scan)
+  std::vector<CellCopy> copy_out;   // after execute: output -> tags
+};
+
+// Values of other tasks' tags, taken from their snapshot channels.
+struct Inbound {
+  TripleBuffer* channel = nullptr;
+  std::uint32_t producer = 0;
+  std::vector<CellCopy> copies;  // src: producer's owned range; dst: this image
+};
+
+class Task : private EventSink {
+ public:
+  Task(std::uint16_t index, TaskConfig cfg);
+  Task(const Task&) = delete;
+  Task& operator=(const Task&) = delete;
+
+  const TaskConfig& config() const { return cfg_; }
+  std::uint16_t index() const { return index_; }
+
+  // --- built by the loader ---------------------------------------------------
+  std::vector<Cell> image;          // [owned tags | foreign tag copies | pins]
+  std::uint32_t owned_cells = 0;    // published range: image[0, owned_cells)
+  std::vector<BlockInstance> blocks;  // execution order; unit delays first
+  std::size_t unit_delays = 0;      // blocks[0, unit_delays) are unit delays
+  std::vector<Inbound> inbound;
+  std::vector<IoDriver*> drivers;
+  std::vector<std::pair<std::uint32_t, Cell>> safe_values;  // cell, value on SafeStop
+  // Snapshot channels this task publishes into: [0] is read by non-real-time
+  // threads (under external_mutex), the others each by one consuming task.
+  std::vector<std::unique_ptr<TripleBuffer>> channels;
+  std::mutex external_mutex;        // serialises readers of channels[0]; never taken by the scan
+
+  // Sizes queues and channels and binds pins. Call once, after the image is final.
+  void finalize();
+
+  // --- the scan ----------------------------------------------------------------
+  void scan(ScanContext& ctx) noexcept;   // steps 1–4
+  void publish() noexcept;                // step 5
+  // Step 6: records the scan and returns the grid index of the next release.
+  // end_ns is the time step 4 finished. Applies the watchdog action.
+  struct Next {
+    std::int64_t index;  // grid index of the next scan's planned release
+    bool stop;           // the watchdog stopped the task
+  };
+  Next account(std::int64_t grid_index, std::int64_t planned_ns, std::int64_t start_ns, std::int64_t end_ns) noexcept;
+  std::int64_t release_ns(std::int64_t grid_index) const { return cfg_.phase_ns + grid_index * cfg_.period_ns; }
+
+  // Resets timing state (not the image) before a run.
+  void reset_timing();
+  bool stopped() const { return stopped_.load(std::memory_order_acquire); }
+
+  // --- other threads -----------------------------------------------------------
+  // Queues writes to be applied together at the start of the next scan; false
+  // (nothing queued) when the queue lacks room. Thread-safe, never blocks the scan.
+  bool enqueue(const QueuedWrite* writes, std::size_t n);
+  // Copies the latest published values of the owned cells [first, first+n).
+  void read_published(std::uint32_t first, std::uint32_t n, Cell* out);
+  // Takes the task's events (the consumer side of its event ring).
+  bool pop_event(Event& e) { return events_.pop(e); }
+
+  TaskStats stats;
+
+ private:
+  void push(const Event& e) noexcept override;  // EventSink for blocks
+  void apply_writes() noexcept;
+  void apply_safe_state(ScanContext& ctx) noexcept;
+
+  std::uint16_t index_;
+  TaskConfig cfg_;
+  SpscRing<QueuedWrite> writes_;
+  std::mutex write_producers_;  // taken only by writers (non-real-time threads)
+  SpscRing<Event> events_;
+  std::vector<std::uint64_t> last_fault_scan_;  // per block: suppresses repeats
+  std::uint64_t scan_count_ = 0;
+  std::int64_t now_ = 0;
+  int wd_consecutive_ = 0;
+  bool overrun_series_ = false;
+  std::atomic<bool> stopped_{false};
+};
+
+}  // namespace syncplc

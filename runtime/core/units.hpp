@@ -1,0 +1,30 @@
+// Physical units of parameters, pins and tags: "m/s^2", "rad/min", "mm",
+// "(rad/s)/PWM". A value written with a unit ("3000 mm/min") is converted to
+// the unit the parameter declares ("m/s"); a unit of another dimension is an
+// error. Dimensions: length, time, angle, mass, current, voltage, temperature,
+// and two counted quantities of motion control, PWM duty and encoder counts.
+#pragma once
+
+#include <array>
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace syncplc {
+
+struct Unit {
+  double scale = 1.0;            // value in SI base units = value × scale
+  std::array<int, 9> dim{};      // exponents: m s rad kg A V K PWM count
+  bool same_dimension(const Unit& o) const { return dim == o.dim; }
+};
+
+std::optional<Unit> parse_unit(std::string_view text, std::string* error);
+
+// Parses "12.5", "12.5 mm/s" or "12.5mm/s" as a value in `target` unit.
+// Without a unit the number is taken in `target`.
+std::optional<double> parse_quantity(std::string_view text, std::string_view target, std::string* error);
+
+// Splits "12.5 mm/s" into number text and unit text (either may be empty).
+void split_quantity(std::string_view text, std::string& number, std::string& unit);
+
+}  // namespace syncplc

@@ -1,0 +1,51 @@
+// The scheduler in virtual time: the same tasks and the same scan as in real
+// time, driven by a virtual clock instead of clock_nanosleep. Tasks are
+// released on their own grids (phase + k × period) in time order; at equal
+// release the higher priority runs first (then the task declared first).
+// A scan takes the virtual execution time its blocks consume
+// (ScanContext::consumed_ns, 0 by default); its snapshot is published when
+// it ends, before any scan that starts at that instant. Nothing depends on
+// the wall clock, so a run is bit-for-bit reproducible.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "runtime/core/program.hpp"
+
+namespace syncplc {
+
+class VirtualClock {
+ public:
+  explicit VirtualClock(Program& program);
+
+  // Runs every scan that starts before t (inclusive: at or before t).
+  void run_until(std::int64_t t, bool inclusive = false);
+  // The time of the last event processed.
+  std::int64_t now() const { return now_; }
+  // Called after all scans that started at time t have run (once per such t).
+  void on_time_point(std::function<void(std::int64_t t)> f) { observer_ = std::move(f); }
+  // Planned release of scan number n of a task (ignores overruns).
+  std::int64_t release_of(std::uint16_t task, std::uint64_t n) const;
+  std::uint64_t scans(std::uint16_t task) const { return state_[task].scans; }
+
+ private:
+  struct TaskState {
+    std::int64_t k = 0;              // grid index of the next planned release
+    std::int64_t not_before = 0;     // the next scan cannot start before the previous ended
+    std::int64_t prev_planned = 0;
+    std::int64_t publish_at = -1;    // pending publication time, -1 none
+    std::uint64_t scans = 0;
+    bool stopped = false;
+  };
+  void flush_observer();
+
+  Program& program_;
+  std::vector<TaskState> state_;
+  std::int64_t now_ = 0;
+  std::int64_t observed_ = -1;       // time point with scans not yet reported
+  std::function<void(std::int64_t)> observer_;
+};
+
+}  // namespace syncplc

@@ -1,0 +1,16 @@
+#include "runtime/io/drivers.hpp"
+
+#include "runtime/io/memory_driver.hpp"
+
+namespace syncplc {
+
+const DriverRegistry& builtin_drivers() {
+  static const DriverRegistry registry = [] {
+    DriverRegistry r;
+    r.add(memory_driver_type());
+    return r;
+  }();
+  return registry;
+}
+
+}  // namespace syncplc
