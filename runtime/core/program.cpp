@@ -37,11 +37,11 @@ std::optional<CellRef> Program::resolve(const std::string& ref, std::string* err
     return std::nullopt;
   };
   std::string base = ref;
-  std::optional<std::uint32_t> element;
+  std::optional<std::int64_t> element;
   if (auto lb = ref.find('['); lb != std::string::npos) {
     if (ref.back() != ']') return fail("bad element reference '" + ref + "'");
     std::string num = ref.substr(lb + 1, ref.size() - lb - 2);
-    std::uint32_t e = 0;
+    std::int64_t e = 0;
     auto [p, ec] = std::from_chars(num.data(), num.data() + num.size(), e);
     if (ec != std::errc() || p != num.data() + num.size()) return fail("bad array index in '" + ref + "'");
     element = e;
@@ -67,10 +67,11 @@ std::optional<CellRef> Program::resolve(const std::string& ref, std::string* err
     r.cell = t->cell;
     r.type = t->type;
     r.length = t->length;
+    if (element) *element -= t->array_lower;
   }
   if (element) {
-    if (*element >= r.length) return fail("index " + std::to_string(*element) + " out of range in '" + ref + "'");
-    r.cell += *element;
+    if (*element < 0 || *element >= r.length) return fail("index out of range in '" + ref + "'");
+    r.cell += static_cast<std::uint32_t>(*element);
     r.length = 1;
   }
   return r;

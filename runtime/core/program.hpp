@@ -27,6 +27,7 @@ struct Tag {
   IecType type = IecType::LREAL;
   std::uint32_t length = 1;  // cells; > 1 or is_array for ARRAY[0..length-1] OF type
   bool is_array = false;
+  std::int64_t array_lower = 0;  // ARRAY[lower..lower+length-1]
   std::optional<DirectAddress> address;
   bool retain = false;
   HmiAccess hmi = HmiAccess::None;

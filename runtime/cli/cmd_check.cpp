@@ -1,0 +1,26 @@
+#include <iostream>
+
+#include "runtime/cli/commands.hpp"
+#include "runtime/project/report.hpp"
+
+namespace syncplc::cli {
+
+int cmd_check(const std::string& project) {
+  auto r = load_or_report(project, {});
+  if (!r.ok()) return kExitInvalid;
+  const Program& p = *r.program;
+  std::cout << project << ": OK\n\n";
+  print_task_table(std::cout, p);
+  std::cout << "\n";
+  print_execution_order(std::cout, p);
+  std::cout << "\n";
+  print_tag_map(std::cout, p);
+  if (!p.traces.empty()) {
+    std::cout << "\nTraces:";
+    for (const auto& t : p.traces) std::cout << " " << t.label;
+    std::cout << "\n";
+  }
+  return kExitOk;
+}
+
+}  // namespace syncplc::cli

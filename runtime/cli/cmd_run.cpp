@@ -1,0 +1,119 @@
+#include <fmt/format.h>
+#include <signal.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <deque>
+#include <iostream>
+#include <sstream>
+
+#include "runtime/cli/commands.hpp"
+#include "runtime/core/realtime.hpp"
+#include "runtime/project/report.hpp"
+
+namespace syncplc::cli {
+namespace {
+
+// The live screen reads statistics (atomics) and published snapshots only:
+// it never touches a task's image and never takes a lock a scan could wait on.
+void draw_status(std::ostream& os, Program& p, double elapsed, const std::deque<std::string>& recent) {
+  std::ostringstream s;
+  s << "\x1b[H\x1b[2J";
+  s << fmt::format("syncplc run  {} {}  running {:.1f}s   (Ctrl-C stops)\n\n", p.name, p.version, elapsed);
+  print_statistics(s, p, false);
+  if (!p.watch.empty()) {
+    s << "\nWatched tags\n";
+    for (const auto& name : p.watch) {
+      const Tag* t = p.find_tag(name);
+      std::vector<Cell> v(t->length);
+      p.read_tag(*t, v.data());
+      std::string text;
+      for (std::uint32_t i = 0; i < t->length && i < 8; ++i) text += (i ? ", " : "") + format_value(t->type, v[i]);
+      if (t->length > 8) text += ", ...";
+      s << fmt::format("  {:<20} {:<30} {}\n", name, text, t->unit);
+    }
+  }
+  if (!recent.empty()) {
+    s << "\nEvents\n";
+    for (const auto& e : recent) s << "  " << e << "\n";
+  }
+  os << s.str() << std::flush;
+}
+
+}  // namespace
+
+int cmd_run(const std::string& project, const std::string& duration, const std::vector<std::string>& sets,
+            bool no_status) {
+  std::optional<std::int64_t> limit;
+  if (!duration.empty()) {
+    std::string err;
+    limit = parse_duration_ns(duration, &err);
+    if (!limit || *limit <= 0) {
+      std::cerr << "syncplc: --duration: " << (limit ? "must be positive" : err) << "\n";
+      return kExitInvalid;
+    }
+  }
+  LoadOptions o;
+  if (!parse_sets(sets, o)) return kExitInvalid;
+  auto r = load_or_report(project, o);
+  if (!r.ok()) return kExitInvalid;
+  Program& p = *r.program;
+
+  // SIGINT/SIGTERM are taken synchronously by this thread only; task threads
+  // inherit the blocked mask and are never interrupted by them.
+  sigset_t sigs;
+  sigemptyset(&sigs);
+  sigaddset(&sigs, SIGINT);
+  sigaddset(&sigs, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &sigs, nullptr);
+
+  std::string err;
+  if (!p.open_drivers(&err)) {
+    std::cerr << "syncplc: " << err << "\n";
+    return kExitInvalid;
+  }
+  RealtimeRunner runner(p);
+  runner.start();
+  const bool live = !no_status && isatty(STDOUT_FILENO);
+  const std::int64_t t0 = RealtimeRunner::monotonic_ns();
+  std::deque<std::string> recent;
+  bool warned = false;
+  int stop_signal = 0;
+  for (;;) {
+    timespec wait{0, 250'000'000};
+    int sig = sigtimedwait(&sigs, nullptr, &wait);
+    if (sig == SIGINT || sig == SIGTERM) { stop_signal = sig; break; }
+    if (!warned) {
+      for (const auto& w : runner.warnings()) std::cerr << "syncplc: warning: " << w << "\n";
+      warned = !runner.warnings().empty() || RealtimeRunner::monotonic_ns() - t0 > 1'000'000'000;
+    }
+    for (auto& t : p.tasks) {
+      Event e;
+      while (t->pop_event(e)) {
+        std::string line = format_event(p, e);
+        if (live) {
+          recent.push_back(line);
+          if (recent.size() > 6) recent.pop_front();
+        } else {
+          std::cerr << line << "\n";
+        }
+      }
+    }
+    double elapsed = static_cast<double>(RealtimeRunner::monotonic_ns() - t0) * 1e-9;
+    if (live) draw_status(std::cout, p, elapsed, recent);
+    if (limit && RealtimeRunner::monotonic_ns() - t0 >= *limit) break;
+    if (!runner.running()) {
+      std::cerr << "syncplc: every task has stopped\n";
+      break;
+    }
+  }
+  runner.request_stop();
+  runner.join();
+  p.close_drivers();
+  print_events(std::cerr, p);
+  if (stop_signal) std::cout << "\nStopped by " << (stop_signal == SIGINT ? "SIGINT" : "SIGTERM") << "\n";
+  print_statistics(std::cout, p, false);
+  return kExitOk;
+}
+
+}  // namespace syncplc::cli

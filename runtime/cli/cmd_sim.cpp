@@ -1,0 +1,83 @@
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <fstream>
+#include <iostream>
+
+#include "runtime/cli/commands.hpp"
+#include "runtime/core/virtual_clock.hpp"
+#include "runtime/project/report.hpp"
+#include "runtime/project/trace_csv.hpp"
+
+namespace syncplc::cli {
+
+int cmd_sim(const std::string& project, const std::string& duration, std::optional<std::uint64_t> seed,
+            const std::string& trace, const std::vector<std::string>& sets, bool quiet) {
+  std::string err;
+  auto d = parse_duration_ns(duration, &err);
+  if (!d || *d <= 0) {
+    std::cerr << "syncplc: --duration: " << (d ? "must be positive" : err) << "\n";
+    return kExitInvalid;
+  }
+  LoadOptions o;
+  o.seed = seed;
+  if (!parse_sets(sets, o)) return kExitInvalid;
+  auto r = load_or_report(project, o);
+  if (!r.ok()) return kExitInvalid;
+  Program& p = *r.program;
+
+  std::ofstream out;
+  if (!trace.empty()) {
+    out.open(trace, std::ios::binary | std::ios::trunc);
+    if (!out) {
+      std::cerr << "syncplc: cannot write trace file " << trace << "\n";
+      return kExitInvalid;
+    }
+    if (p.traces.empty()) std::cerr << "syncplc: warning: the project has no traces: the CSV has only time_s\n";
+    write_trace_header(out, p);
+  }
+  if (!p.open_drivers(&err)) {
+    std::cerr << "syncplc: " << err << "\n";
+    return kExitInvalid;
+  }
+  VirtualClock clock(p);
+  if (out.is_open()) clock.on_time_point([&](std::int64_t t) { write_trace_row(out, p, t); });
+
+  // Progress is shown only on a terminal; it never changes what is simulated.
+  const bool progress = !quiet && isatty(STDERR_FILENO);
+  const auto wall0 = std::chrono::steady_clock::now();
+  auto last_shown = wall0;
+  const std::int64_t chunk = std::max<std::int64_t>(*d / 200, 1);
+  for (std::int64_t t = 0; t < *d;) {
+    t = std::min(*d, t + chunk);
+    clock.run_until(t, false);
+    if (progress) {
+      auto now = std::chrono::steady_clock::now();
+      if (now - last_shown > std::chrono::milliseconds(200)) {
+        last_shown = now;
+        double wall = std::chrono::duration<double>(now - wall0).count();
+        std::cerr << fmt::format("\r  {:5.1f}%  virtual {:.3f}s  wall {:.1f}s  ({:.0f}x real time)  ",
+                                 100.0 * static_cast<double>(t) / static_cast<double>(*d), static_cast<double>(t) * 1e-9,
+                                 wall, static_cast<double>(t) * 1e-9 / std::max(wall, 1e-9));
+      }
+    }
+  }
+  if (progress) std::cerr << "\r" << std::string(78, ' ') << "\r";
+  p.close_drivers();
+  double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  print_events(std::cerr, p);
+  std::cout << fmt::format("Simulated {} of {} in {:.3f}s wall time (seed {})\n", format_duration(*d), p.name, wall, p.seed);
+  print_statistics(std::cout, p, true);
+  if (out.is_open()) {
+    out.flush();
+    if (!out) {
+      std::cerr << "syncplc: error writing " << trace << "\n";
+      return kExitInvalid;
+    }
+    std::cout << "Trace: " << trace << " (" << p.traces.size() << " columns)\n";
+  }
+  return kExitOk;
+}
+
+}  // namespace syncplc::cli

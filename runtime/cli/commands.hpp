@@ -1,0 +1,28 @@
+// The subcommands of `syncplc`. Each returns the process exit status:
+// 0 success, 1 test failure, 2 invalid input or usage.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "runtime/project/loader.hpp"
+
+namespace syncplc::cli {
+
+constexpr int kExitOk = 0;
+constexpr int kExitTestFailed = 1;
+constexpr int kExitInvalid = 2;
+
+// Loads a project, printing every diagnostic to stderr on failure.
+LoadResult load_or_report(const std::string& path, const LoadOptions& options);
+bool parse_sets(const std::vector<std::string>& sets, LoadOptions& options);
+
+int cmd_check(const std::string& project);
+int cmd_blocks(const std::string& name, bool markdown);
+int cmd_sim(const std::string& project, const std::string& duration, std::optional<std::uint64_t> seed,
+            const std::string& trace, const std::vector<std::string>& sets, bool quiet);
+int cmd_run(const std::string& project, const std::string& duration, const std::vector<std::string>& sets,
+            bool no_status);
+int cmd_test(const std::string& project, const std::string& tests, const std::string& junit);
+
+}  // namespace syncplc::cli

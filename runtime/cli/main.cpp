@@ -1,0 +1,62 @@
+// syncplc: a soft-PLC for synchronized multi-axis motion.
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+
+#include "runtime/cli/commands.hpp"
+
+int main(int argc, char** argv) {
+  using namespace syncplc::cli;
+  CLI::App app{"syncplc - an IEC 61131-3 function-block soft-PLC for synchronized multi-axis motion"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "syncplc 0.1.0");
+
+  std::string project, duration, trace, tests, junit, block;
+  std::optional<std::uint64_t> seed;
+  std::vector<std::string> sets;
+  bool markdown = false, quiet = false, no_status = false;
+
+  auto* check = app.add_subcommand("check", "validate a project; print its task table, execution order and tag map");
+  check->add_option("PROJECT", project, "project file (YAML)")->required();
+
+  auto* blocks = app.add_subcommand("blocks", "list the block library, or describe one block type");
+  blocks->add_option("TYPE", block, "a block type, e.g. TON");
+  blocks->add_flag("--markdown", markdown, "print the library as Markdown (docs/blocks.md)");
+
+  auto* sim = app.add_subcommand("sim", "run a project in virtual time, as fast as the CPU allows");
+  sim->add_option("PROJECT", project, "project file (YAML)")->required();
+  sim->add_option("--duration,-d", duration, "virtual time to simulate, e.g. 10s")->required();
+  sim->add_option("--seed", seed, "seed for drivers and blocks that use randomness");
+  sim->add_option("--trace", trace, "write the traced pins to this CSV file");
+  sim->add_option("--set", sets, "override a parameter: instance.param=value (repeatable)");
+  sim->add_flag("--quiet,-q", quiet, "no progress display");
+
+  auto* run = app.add_subcommand("run", "run a project in real time");
+  run->add_option("PROJECT", project, "project file (YAML)")->required();
+  run->add_option("--duration,-d", duration, "stop after this time, e.g. 60s (default: until Ctrl-C or SIGTERM)");
+  run->add_option("--set", sets, "override a parameter: instance.param=value (repeatable)");
+  run->add_flag("--no-status", no_status, "no live status screen, even on a terminal");
+
+  auto* test = app.add_subcommand("test", "run scan-cycle tests against a project in virtual time");
+  test->add_option("PROJECT", project, "project file (YAML)")->required();
+  test->add_option("TESTS", tests, "tests file (YAML)")->required();
+  test->add_option("--junit", junit, "write a JUnit XML report to this file");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    int rc = app.exit(e);
+    return rc == 0 ? kExitOk : kExitInvalid;
+  }
+  try {
+    if (*check) return cmd_check(project);
+    if (*blocks) return cmd_blocks(block, markdown);
+    if (*sim) return cmd_sim(project, duration, seed, trace, sets, quiet);
+    if (*run) return cmd_run(project, duration, sets, no_status);
+    if (*test) return cmd_test(project, tests, junit);
+  } catch (const std::exception& e) {
+    std::cerr << "syncplc: " << e.what() << "\n";
+    return kExitInvalid;
+  }
+  return kExitInvalid;
+}

@@ -1,0 +1,97 @@
+#include "runtime/project/report.hpp"
+
+#include <fmt/format.h>
+
+namespace syncplc {
+
+std::string format_ns(std::int64_t ns) {
+  double a = static_cast<double>(ns < 0 ? -ns : ns);
+  if (a < 1e3) return fmt::format("{}ns", ns);
+  if (a < 1e6) return fmt::format("{:.3g}us", static_cast<double>(ns) / 1e3);
+  if (a < 1e9) return fmt::format("{:.4g}ms", static_cast<double>(ns) / 1e6);
+  return fmt::format("{:.4g}s", static_cast<double>(ns) / 1e9);
+}
+
+void print_task_table(std::ostream& os, const Program& p) {
+  os << fmt::format("Tasks of {} {}\n", p.name, p.version);
+  os << fmt::format("  {:<16} {:>9} {:>9} {:>4} {:>9} {:>5} {:<10} {:<9} {:>6} {:>7}\n", "task", "period", "phase",
+                    "prio", "watchdog", "sens", "on trip", "missed", "blocks", "cells");
+  for (const auto& t : p.tasks) {
+    const auto& c = t->config();
+    os << fmt::format("  {:<16} {:>9} {:>9} {:>4} {:>9} {:>5} {:<10} {:<9} {:>6} {:>7}\n", c.name,
+                      format_duration(c.period_ns), format_duration(c.phase_ns), c.priority,
+                      c.watchdog ? format_duration(c.watchdog_ns) : "-", c.watchdog ? std::to_string(c.sensitivity) : "-",
+                      c.watchdog ? std::string(watchdog_action_name(c.action)) : "-", missed_cycles_name(c.missed),
+                      t->blocks.size(), t->image.size());
+  }
+}
+
+void print_execution_order(std::ostream& os, const Program& p) {
+  os << "Execution order\n";
+  for (const auto& t : p.tasks) {
+    os << fmt::format("  task {}:\n", t->config().name);
+    if (t->blocks.empty()) os << "    (no blocks)\n";
+    for (std::size_t i = 0; i < t->blocks.size(); ++i) {
+      const auto& b = t->blocks[i];
+      std::string dt = b.type->is_generic() ? "<" + std::string(type_name(b.datatype)) + ">" : "";
+      os << fmt::format("    {:>3}. {:<20} {}{}{}\n", i + 1, b.name, b.type->name, dt,
+                        i < t->unit_delays ? "  (unit delay: output first, input at end of scan)" : "");
+    }
+    for (const auto* d : t->drivers) os << fmt::format("    driver {} (latch before, write after)\n", d->name());
+  }
+}
+
+void print_tag_map(std::ostream& os, const Program& p) {
+  os << "Tags\n";
+  os << fmt::format("  {:<20} {:<22} {:<10} {:<12} {:<9} {:<6} {:<8} {}\n", "tag", "type", "address", "task", "hmi",
+                    "retain", "unit", "written by");
+  for (const auto& t : p.tags) {
+    std::string ty = t.is_array ? fmt::format("ARRAY[{}..{}] OF {}", t.array_lower, t.array_lower + t.length - 1,
+                                              type_name(t.type))
+                                : std::string(type_name(t.type));
+    os << fmt::format("  {:<20} {:<22} {:<10} {:<12} {:<9} {:<6} {:<8} {}\n", t.name, ty,
+                      t.address ? t.address->text() : "-", p.tasks[t.owner]->config().name, hmi_access_name(t.hmi),
+                      t.retain ? "yes" : "no", t.unit.empty() ? "-" : t.unit, t.writer.empty() ? "-" : t.writer);
+  }
+}
+
+void print_statistics(std::ostream& os, const Program& p, bool virtual_time) {
+  os << fmt::format("Statistics ({})\n", virtual_time ? "virtual time" : "real time");
+  os << fmt::format("  {:<16} {:>10} {:>8} {:>8} {:>6} {:>30} {:>30}\n", "task", "scans", "overruns", "skipped",
+                    "wd", "exec min/mean/p99/max", "jitter min/mean/p99/max");
+  for (const auto& t : p.tasks) {
+    auto s = t->stats.summary();
+    auto quad = [](const Histogram::Summary& h) {
+      if (h.count == 0) return std::string("-");
+      return fmt::format("{}/{}/{}/{}", format_ns(h.min), format_ns(static_cast<std::int64_t>(h.mean)),
+                         format_ns(h.p99), format_ns(h.max));
+    };
+    os << fmt::format("  {:<16} {:>10} {:>8} {:>8} {:>6} {:>30} {:>30}{}\n", t->config().name, s.scans, s.overruns,
+                      s.skipped, s.watchdog_trips, quad(s.exec), quad(s.jitter), t->stopped() ? "  STOPPED" : "");
+  }
+}
+
+std::string format_event(const Program& p, const Event& e) {
+  std::string where = p.tasks[e.task]->config().name;
+  if (e.block >= 0 && static_cast<std::size_t>(e.block) < p.tasks[e.task]->blocks.size())
+    where += "/" + p.tasks[e.task]->blocks[static_cast<std::size_t>(e.block)].name;
+  std::string val;
+  if (e.kind == EventKind::WatchdogTrip || e.kind == EventKind::ScanOverrun)
+    val = " (scan took " + format_ns(static_cast<std::int64_t>(e.value * 1e9)) + ")";
+  return fmt::format("[{:.6f}s] {:<14} {}: {}{}", static_cast<double>(e.time_ns) * 1e-9, event_kind_name(e.kind), where,
+                     e.message, val);
+}
+
+std::size_t print_events(std::ostream& os, Program& p) {
+  std::size_t n = 0;
+  for (auto& t : p.tasks) {
+    Event e;
+    while (t->pop_event(e)) {
+      os << format_event(p, e) << "\n";
+      ++n;
+    }
+  }
+  return n;
+}
+
+}  // namespace syncplc

@@ -1,0 +1,380 @@
+#include "runtime/project/scan_test.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include "runtime/core/units.hpp"
+#include "runtime/core/virtual_clock.hpp"
+#include "runtime/project/yaml_tree.hpp"
+
+namespace syncplc {
+namespace {
+
+struct Target {
+  enum Kind { Image, DriverIn, DriverOut } kind = Image;
+  CellRef ref;
+  int driver = -1;
+  int channel = -1;
+  IecType type = IecType::LREAL;
+  std::uint32_t length = 1;
+  std::string unit;
+  std::string text;
+};
+
+struct Assignment {
+  Target target;
+  std::vector<Cell> values;
+  std::optional<double> tolerance;  // expect only; in the value's unit (TIME: seconds)
+  SourceLoc loc;
+};
+
+struct Action {
+  std::int64_t time = 0;
+  bool expect = false;
+  std::size_t order = 0;
+  std::string when;  // "at 500ms" / "cycle 12 of fast"
+  std::vector<Assignment> items;
+};
+
+struct Case {
+  std::string name;
+  std::optional<std::uint64_t> seed;
+  std::vector<Action> actions;
+  SourceLoc loc;
+};
+
+std::optional<Target> resolve_target(const Program& p, const std::string& text, std::string* err) {
+  Target t;
+  t.text = text;
+  std::string base = text.substr(0, text.find('['));
+  if (auto dot = base.find('.'); dot != std::string::npos) {
+    std::string owner = base.substr(0, dot), member = base.substr(dot + 1);
+    if (p.instances.count(owner)) {
+      auto r = p.resolve(text, err);
+      if (!r) return std::nullopt;
+      t.ref = *r;
+      t.type = r->type;
+      t.length = r->length;
+      auto [task, pos] = p.instances.at(owner);
+      const auto& bi = p.tasks[task]->blocks[pos];
+      t.unit = bi.type->pins[static_cast<std::size_t>(bi.type->pin_index(member))].unit;
+      return t;
+    }
+    int d = p.find_driver(owner);
+    if (d < 0) {
+      *err = "no block instance or driver '" + owner + "'";
+      return std::nullopt;
+    }
+    const auto& chans = p.drivers[static_cast<std::size_t>(d)].driver->channels();
+    for (std::size_t i = 0; i < chans.size(); ++i)
+      if (chans[i].name == member) {
+        t.kind = chans[i].dir == PinDir::In ? Target::DriverIn : Target::DriverOut;
+        t.driver = d;
+        t.channel = static_cast<int>(i);
+        t.type = chans[i].type;
+        t.length = chans[i].length;
+        t.unit = chans[i].unit;
+        return t;
+      }
+    *err = "driver " + owner + " has no channel '" + member + "'";
+    return std::nullopt;
+  }
+  auto r = p.resolve(text, err);
+  if (!r) return std::nullopt;
+  t.ref = *r;
+  t.type = r->type;
+  t.length = r->length;
+  t.unit = p.find_tag(base)->unit;
+  return t;
+}
+
+std::optional<Cell> parse_cell(IecType t, const std::string& unit, const std::string& text, std::string* err) {
+  if (is_real(t)) {
+    auto v = parse_quantity(text, unit, err);
+    if (!v) return std::nullopt;
+    Cell c;
+    if (t == IecType::REAL) c.set<float>(static_cast<float>(*v));
+    else c.set<double>(*v);
+    return c;
+  }
+  return parse_value(t, text, err);
+}
+
+class TestsReader {
+ public:
+  TestsReader(const Program& p, Diagnostics& d) : p_(p), d_(d) {}
+
+  std::vector<Case> read(const ConfigNode& root) {
+    std::vector<Case> cases;
+    if (!root.is_map()) {
+      d_.error(root.loc, "a tests file is a map with a list 'cases'");
+      return cases;
+    }
+    for (const auto& [k, v] : root.map)
+      if (k != "cases" && k != "description") d_.error(v.loc, "unknown key '" + k + "' (cases, description)");
+    const ConfigNode* list = root.find("cases");
+    if (!list || !list->is_list() || list->items.empty()) {
+      d_.error(list ? list->loc : root.loc, "'cases' must be a non-empty list");
+      return cases;
+    }
+    std::set<std::string> names;
+    for (const auto& c : list->items) {
+      Case k = read_case(c);
+      if (!names.insert(k.name).second) d_.error(c.loc, "duplicate case name '" + k.name + "'");
+      cases.push_back(std::move(k));
+    }
+    return cases;
+  }
+
+ private:
+  Case read_case(const ConfigNode& n) {
+    Case c;
+    c.loc = n.loc;
+    if (!n.is_map()) {
+      d_.error(n.loc, "a case is a map {name, steps}");
+      return c;
+    }
+    for (const auto& [k, v] : n.map) {
+      if (k == "name") c.name = v.scalar;
+      else if (k == "seed") {
+        std::string err;
+        auto s = parse_value(IecType::ULINT, v.scalar, &err);
+        if (!s) d_.error(v.loc, "seed: " + err);
+        else c.seed = s->get<std::uint64_t>();
+      } else if (k == "steps") {
+        if (!v.is_list()) d_.error(v.loc, "steps: expected a list");
+        else for (const auto& s : v.items) read_step(s, c);
+      } else if (k != "description") d_.error(v.loc, "unknown key '" + k + "' in a case (name, seed, steps, description)");
+    }
+    if (c.name.empty()) d_.error(n.loc, "case without a name");
+    if (c.actions.empty()) d_.error(n.loc, "case '" + c.name + "' has no steps");
+    return c;
+  }
+
+  void read_step(const ConfigNode& s, Case& c) {
+    if (!s.is_map()) {
+      d_.error(s.loc, "a step is a map {at or cycle, set, expect}");
+      return;
+    }
+    const ConfigNode *at = s.find("at"), *cycle = s.find("cycle"), *task = s.find("task");
+    for (const auto& [k, v] : s.map)
+      if (k != "at" && k != "cycle" && k != "task" && k != "set" && k != "expect")
+        d_.error(v.loc, "unknown key '" + k + "' in a step (at, cycle, task, set, expect)");
+    std::int64_t time = 0;
+    std::string when;
+    if (at && cycle) { d_.error(s.loc, "a step has either 'at' or 'cycle'"); return; }
+    if (at) {
+      std::string err;
+      auto t = parse_duration_ns(at->scalar, &err);
+      if (!t || *t < 0) { d_.error(at->loc, "at: " + (t ? std::string("must not be negative") : err)); return; }
+      time = *t;
+      when = "at " + format_duration(time);
+    } else if (cycle) {
+      std::string err;
+      auto n = parse_value(IecType::ULINT, cycle->scalar, &err);
+      if (!n) { d_.error(cycle->loc, "cycle: " + err); return; }
+      int ti = 0;
+      if (task) {
+        ti = p_.find_task(task->scalar);
+        if (ti < 0) { d_.error(task->loc, "unknown task '" + task->scalar + "'"); return; }
+      }
+      auto k = static_cast<std::int64_t>(n->get<std::uint64_t>());
+      time = p_.tasks[static_cast<std::size_t>(ti)]->release_ns(k);
+      when = "cycle " + std::to_string(k) + " of " + p_.tasks[static_cast<std::size_t>(ti)]->config().name;
+    } else {
+      d_.error(s.loc, "a step needs 'at: <time>' or 'cycle: <n>'");
+      return;
+    }
+    if (task && !cycle) d_.error(task->loc, "'task' goes with 'cycle'");
+    for (const char* key : {"set", "expect"}) {
+      const ConfigNode* m = s.find(key);
+      if (!m) continue;
+      Action a;
+      a.time = time;
+      a.expect = std::string(key) == "expect";
+      a.order = order_++;
+      a.when = when;
+      if (!m->is_map()) { d_.error(m->loc, std::string(key) + ": expected a map of target: value"); continue; }
+      for (const auto& [target, value] : m->map) read_assignment(target, value, a);
+      c.actions.push_back(std::move(a));
+    }
+    if (!s.find("set") && !s.find("expect")) d_.error(s.loc, "a step needs 'set' or 'expect'");
+  }
+
+  void read_assignment(const std::string& target, const ConfigNode& v, Action& a) {
+    std::string err;
+    auto t = resolve_target(p_, target, &err);
+    if (!t) { d_.error(v.loc, err); return; }
+    if (!a.expect && t->kind == Target::DriverOut) { d_.error(v.loc, target + " is a driver output: it can only be expected"); return; }
+    if (a.expect && t->kind == Target::DriverIn) { d_.error(v.loc, target + " is a driver input: set it, expect the tag it feeds"); return; }
+    Assignment as;
+    as.target = *t;
+    as.loc = v.loc;
+    const ConfigNode* val = &v;
+    if (v.is_map()) {
+      if (!a.expect) { d_.error(v.loc, "set takes a value, not a map"); return; }
+      val = v.find("value");
+      const ConfigNode* tol = v.find("tolerance");
+      for (const auto& [k, x] : v.map)
+        if (k != "value" && k != "tolerance") d_.error(x.loc, "unknown key '" + k + "' (value, tolerance)");
+      if (!val) { d_.error(v.loc, "expected value missing"); return; }
+      if (tol) {
+        if (t->type == IecType::TIME) {
+          auto ns = parse_duration_ns(tol->scalar, &err);
+          if (!ns) { d_.error(tol->loc, "tolerance: " + err); return; }
+          as.tolerance = static_cast<double>(*ns) * 1e-9;
+        } else {
+          auto q = parse_quantity(tol->scalar, t->unit, &err);
+          if (!q) { d_.error(tol->loc, "tolerance: " + err); return; }
+          as.tolerance = std::fabs(*q);
+        }
+      }
+    }
+    std::vector<const ConfigNode*> items;
+    if (val->is_list()) for (const auto& i : val->items) items.push_back(&i);
+    else items.push_back(val);
+    if (items.size() != t->length && !(items.size() == 1 && t->length > 1)) {
+      d_.error(val->loc, fmt::format("{}: {} values for {} elements", target, items.size(), t->length));
+      return;
+    }
+    for (const ConfigNode* i : items) {
+      if (!i->is_scalar()) { d_.error(i->loc, "expected a value"); return; }
+      auto c = parse_cell(t->type, t->unit, i->scalar, &err);
+      if (!c) { d_.error(i->loc, target + ": " + err); return; }
+      as.values.push_back(*c);
+    }
+    if (as.values.size() == 1 && t->length > 1) as.values.assign(t->length, as.values[0]);
+    a.items.push_back(std::move(as));
+  }
+
+  const Program& p_;
+  Diagnostics& d_;
+  std::size_t order_ = 0;
+};
+
+bool values_equal(IecType t, Cell a, Cell b, std::optional<double> tol) {
+  if (tol) return std::fabs(cell_as_double(t, a) - cell_as_double(t, b)) <= *tol;
+  if (is_real(t)) return cell_as_double(t, a) == cell_as_double(t, b);
+  return dispatch_type(t, [&]<IecType T>() {
+    using N = typename Native<T>::type;
+    return a.get<N>() == b.get<N>();
+  });
+}
+
+ScanTestCaseResult run_case(const std::string& project, const LoadOptions& base, const Case& c) {
+  ScanTestCaseResult r;
+  r.name = c.name;
+  LoadOptions o = base;
+  if (c.seed) o.seed = c.seed;
+  auto loaded = load_project(project, o);
+  if (!loaded.ok()) {
+    for (const auto& d : loaded.diagnostics.sorted()) r.failures.push_back(d.text());
+    return r;
+  }
+  Program& p = *loaded.program;
+  std::string err;
+  if (!p.open_drivers(&err)) {
+    r.failures.push_back(err);
+    return r;
+  }
+  std::vector<const Action*> actions;
+  for (const auto& a : c.actions) actions.push_back(&a);
+  std::stable_sort(actions.begin(), actions.end(), [](const Action* x, const Action* y) {
+    if (x->time != y->time) return x->time < y->time;
+    if (x->expect != y->expect) return !x->expect;  // sets before expects at one instant
+    return x->order < y->order;
+  });
+  VirtualClock clock(p);
+  for (const Action* a : actions) {
+    clock.run_until(a->time, a->expect);
+    for (const auto& as : a->items) {
+      const Target& t = as.target;
+      if (!a->expect) {
+        if (t.kind == Target::DriverIn) p.drivers[static_cast<std::size_t>(t.driver)].driver->force_input(t.channel, as.values.data());
+        else std::copy(as.values.begin(), as.values.end(), p.live_cell(t.ref));
+        continue;
+      }
+      std::vector<Cell> actual(t.length);
+      if (t.kind == Target::DriverOut) p.drivers[static_cast<std::size_t>(t.driver)].driver->read_output(t.channel, actual.data());
+      else std::copy(p.live_cell(t.ref), p.live_cell(t.ref) + t.length, actual.begin());
+      ++r.steps_checked;
+      for (std::uint32_t i = 0; i < t.length; ++i) {
+        if (values_equal(t.type, actual[i], as.values[i], as.tolerance)) continue;
+        std::string name = t.length > 1 ? fmt::format("{}[{}]", t.text, i) : t.text;
+        std::string tol = as.tolerance ? fmt::format(" ± {}", *as.tolerance) : "";
+        r.failures.push_back(fmt::format("{}: case '{}' {}: {} is {}, expected {}{}", as.loc.text(), c.name, a->when, name,
+                                         format_value(t.type, actual[i]), format_value(t.type, as.values[i]), tol));
+      }
+    }
+  }
+  r.virtual_seconds = static_cast<double>(clock.now()) * 1e-9;
+  p.close_drivers();
+  r.passed = r.failures.empty();
+  return r;
+}
+
+std::string xml_escape(const std::string& s) {
+  std::string o;
+  for (char ch : s) {
+    switch (ch) {
+      case '&': o += "&amp;"; break;
+      case '<': o += "&lt;"; break;
+      case '>': o += "&gt;"; break;
+      case '"': o += "&quot;"; break;
+      default: o += ch;
+    }
+  }
+  return o;
+}
+
+}  // namespace
+
+bool ScanTestReport::ok() const { return diagnostics.empty() && failed() == 0 && !cases.empty(); }
+
+std::size_t ScanTestReport::failed() const {
+  return static_cast<std::size_t>(std::count_if(cases.begin(), cases.end(), [](const auto& c) { return !c.passed; }));
+}
+
+ScanTestReport run_scan_tests(const std::string& project_path, const std::string& tests_path, const LoadOptions& options) {
+  ScanTestReport rep;
+  auto loaded = load_project(project_path, options);
+  if (!loaded.ok()) {
+    rep.diagnostics = loaded.diagnostics;
+    return rep;
+  }
+  ConfigNode root = read_yaml_file(tests_path, rep.diagnostics);
+  if (!rep.diagnostics.empty()) return rep;
+  TestsReader reader(*loaded.program, rep.diagnostics);
+  auto cases = reader.read(root);
+  if (!rep.diagnostics.empty()) return rep;
+  for (const auto& c : cases) rep.cases.push_back(run_case(project_path, options, c));
+  return rep;
+}
+
+void write_junit(std::ostream& os, const std::string& suite, const ScanTestReport& r) {
+  double total = 0;
+  for (const auto& c : r.cases) total += c.virtual_seconds;
+  os << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
+  os << fmt::format("<testsuites tests=\"{}\" failures=\"{}\">\n", r.cases.size(), r.failed());
+  os << fmt::format("  <testsuite name=\"{}\" tests=\"{}\" failures=\"{}\" errors=\"0\" time=\"{:.6f}\">\n",
+                    xml_escape(suite), r.cases.size(), r.failed(), total);
+  for (const auto& c : r.cases) {
+    os << fmt::format("    <testcase classname=\"{}\" name=\"{}\" time=\"{:.6f}\"", xml_escape(suite), xml_escape(c.name),
+                      c.virtual_seconds);
+    if (c.passed) {
+      os << "/>\n";
+      continue;
+    }
+    os << ">\n";
+    std::string all;
+    for (const auto& f : c.failures) all += f + "\n";
+    os << fmt::format("      <failure message=\"{}\">{}</failure>\n", xml_escape(c.failures.front()), xml_escape(all));
+    os << "    </testcase>\n";
+  }
+  os << "  </testsuite>\n</testsuites>\n";
+}
+
+}  // namespace syncplc

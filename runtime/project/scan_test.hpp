@@ -1,0 +1,45 @@
+// Scan-cycle tests written by users (`syncplc test PROJECT TESTS.yaml`).
+//
+//   cases:
+//     - name: lamp lights 500 ms after start
+//       seed: 7                       # optional
+//       steps:
+//         - at: 0ms                   # or  cycle: 12  (task: fast; default the first task)
+//           set: {start: true}        # tags, instance.pin, driver.channel
+//         - at: 501ms
+//           expect: {lamp: true, t1.ET: {value: 500ms, tolerance: 1ms}}
+//
+// Each case starts from a fresh load of the project and runs in virtual time.
+// `set` at time t is applied before any scan released at t; `expect` at t is
+// checked after every scan released at or before t has run. `cycle: n` of a
+// task means the planned release of its n-th scan (from 0).
+#pragma once
+
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "runtime/project/loader.hpp"
+
+namespace syncplc {
+
+struct ScanTestCaseResult {
+  std::string name;
+  bool passed = false;
+  std::vector<std::string> failures;  // each with its place in the tests file
+  double virtual_seconds = 0;
+  std::uint64_t steps_checked = 0;
+};
+
+struct ScanTestReport {
+  std::vector<ScanTestCaseResult> cases;
+  Diagnostics diagnostics;  // errors in the tests file or the project: nothing ran
+  bool ok() const;          // loaded and every case passed
+  std::size_t failed() const;
+};
+
+ScanTestReport run_scan_tests(const std::string& project_path, const std::string& tests_path,
+                              const LoadOptions& options = {});
+void write_junit(std::ostream& os, const std::string& suite, const ScanTestReport& r);
+
+}  // namespace syncplc
