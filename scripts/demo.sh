@@ -1,0 +1,8 @@
+#!/usr/bin/env bash
+# Installs what is needed, builds, and runs the demo project in real time.
+# Usage: scripts/demo.sh [DURATION]   (default 20s; Ctrl-C stops earlier)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/setup.sh
+bash scripts/build.sh build
+exec build/syncplc run projects/bottle_line/bottle_line.yaml --duration "${1:-20s}"

@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# Installs everything syncplc needs to build, test and benchmark on Debian 12.
+# Run as root (or with sudo). Safe to run again: apt-get skips what is there.
+set -euo pipefail
+PACKAGES=(
+  build-essential cmake ninja-build pkg-config git
+  libyaml-cpp-dev libcli11-dev libfmt-dev libspdlog-dev nlohmann-json3-dev
+  libeigen3-dev libmodbus-dev libsqlite3-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+  rt-tests
+)
+missing=()
+for p in "${PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  SUDO=""
+  [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get update -qq
+  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi

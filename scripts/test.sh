@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Installs what is needed, builds, and runs every test three times:
+#   1. the release build (RelWithDebInfo), all tests;
+#   2. AddressSanitizer + UndefinedBehaviorSanitizer, all tests;
+#   3. ThreadSanitizer, the tests of threaded parts (label "threaded") and the
+#      scheduler tests.
+# Any failure stops the script with a non-zero status.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/setup.sh
+jobs=$(nproc)
+
+echo "== release build"
+bash scripts/build.sh build
+(cd build && ctest --output-on-failure -j "$jobs")
+
+echo "== AddressSanitizer + UndefinedBehaviorSanitizer"
+bash scripts/build.sh build-asan -DSYNCPLC_SANITIZE=address,undefined -DSYNCPLC_BENCH=OFF
+(cd build-asan && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+   ctest --output-on-failure -j "$jobs")
+
+echo "== ThreadSanitizer"
+bash scripts/build.sh build-tsan -DSYNCPLC_SANITIZE=thread -DSYNCPLC_BENCH=OFF
+(cd build-tsan && TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
+   ctest --output-on-failure -j "$jobs" -L 'threaded|cli')
+echo "== all test runs passed"
