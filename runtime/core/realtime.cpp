@@ -42,8 +42,19 @@ RealtimeRunner::~RealtimeRunner() {
   join();
 }
 
+// Sanitizers reserve terabytes of shadow memory: locking it all would fail or
+// exhaust RAM, so sanitizer builds never call mlockall.
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+constexpr bool kSanitizerBuild = true;
+#else
+constexpr bool kSanitizerBuild = false;
+#endif
+
 void RealtimeRunner::start() {
-  if (options_.lock_memory && mlockall(MCL_CURRENT | MCL_FUTURE) != 0) {
+  if (kSanitizerBuild && options_.lock_memory) {
+    std::lock_guard lock(warnings_mutex_);
+    warnings_.push_back("sanitizer build: memory is not locked (mlockall skipped)");
+  } else if (options_.lock_memory && mlockall(MCL_CURRENT | MCL_FUTURE) != 0) {
     std::lock_guard lock(warnings_mutex_);
     warnings_.push_back(std::string("mlockall failed (") + std::strerror(errno) +
                         "): page faults may delay scans; run as root or raise RLIMIT_MEMLOCK");

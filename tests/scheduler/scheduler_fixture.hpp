@@ -1,0 +1,29 @@
+// Loading helpers for the scheduler tests.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <string>
+
+#include "runtime/project/loader.hpp"
+#include "tests/support/test_blocks.hpp"
+
+namespace syncplc {
+
+// Loads a project text with the test block types; a load error fails the test.
+inline std::unique_ptr<Program> load_test_project(const std::string& yaml) {
+  LoadOptions o;
+  o.blocks = &testing::test_blocks();
+  auto r = load_project_text(yaml, "test.yaml", o);
+  for (const auto& d : r.diagnostics.list()) ADD_FAILURE() << d.text();
+  return std::move(r.program);
+}
+
+inline Cell& tag_cell(Program& p, const std::string& name) {
+  auto r = p.resolve(name);
+  EXPECT_TRUE(r) << name;
+  return *p.live_cell(*r);
+}
+
+}  // namespace syncplc

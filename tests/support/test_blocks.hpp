@@ -1,0 +1,39 @@
+// Block types that exist only for the runtime's own tests: they record what
+// the scheduler does, or poke at things mid-scan.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "fblocks/library.hpp"
+#include "runtime/core/block.hpp"
+
+namespace syncplc::testing {
+
+struct ScanRecord {
+  std::string instance;
+  std::uint16_t task;
+  std::int64_t now_ns;
+  std::int64_t dt_ns;
+  std::uint64_t scan;
+  double in;  // value of the recorder's IN pin during the scan
+};
+
+// Everything RECORD blocks saw, in execution order (single-threaded use only).
+std::vector<ScanRecord>& records();
+
+// Called by HOOK blocks during their execute(); set by a test.
+std::function<void(ScanContext&)>& hook();
+
+// builtin blocks plus:
+//   RECORD (IN LREAL -> OUT LREAL): appends a ScanRecord, OUT := IN
+//   HOOK   (IN LREAL -> OUT LREAL): calls hook(), OUT := IN
+//   STAMP  (-> OUT LREAL[pins A,B,C,D]): writes ctx.now_ns in ms to four outputs,
+//          so a reader can check that four values published together stay together
+const BlockRegistry& test_blocks();
+
+// Writes `text` to a temporary file and returns its path.
+std::string write_temp_file(const std::string& name, const std::string& text);
+
+}  // namespace syncplc::testing
