@@ -1,0 +1,166 @@
+// The real-time runner with real threads. These tests assert behaviour, never
+// timing (timing is tested in virtual time); they run under ThreadSanitizer.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <thread>
+
+#include "runtime/core/realtime.hpp"
+#include "runtime/project/loader.hpp"
+#include "tests/support/test_blocks.hpp"
+
+namespace syncplc {
+namespace {
+
+std::unique_ptr<Program> load(const std::string& yaml) {
+  LoadOptions o;
+  o.blocks = &testing::test_blocks();
+  auto r = load_project_text(yaml, "rt.yaml", o);
+  for (const auto& d : r.diagnostics.list()) ADD_FAILURE() << d.text();
+  return std::move(r.program);
+}
+
+RealtimeRunner::Options quiet_options() {
+  RealtimeRunner::Options o;
+  o.fifo = false;         // do not compete with the machine's own real-time work in tests
+  o.lock_memory = false;
+  o.start_delay_ns = 1'000'000;
+  return o;
+}
+
+// A fast task publishes four equal values; a slower task counts scans in
+// which they differ; the test thread reads the published array concurrently
+// and writes a setpoint through the queue.
+const char* kProject = R"(
+tasks:
+  - {name: fast, period: 200us, priority: 60}
+  - {name: slow, period: 1ms, priority: 50}
+tags:
+  - {name: stamp, type: "ARRAY[0..3] OF LREAL", hmi: read}
+  - {name: torn, type: INT, hmi: read}
+  - {name: setpoint, type: LREAL, hmi: readwrite}
+  - {name: echo, type: LREAL, hmi: read}
+blocks:
+  - {name: st, type: STAMP, task: fast}
+  - {name: same01, type: EQ, task: slow}
+  - {name: same23, type: EQ, task: slow}
+  - {name: same03, type: EQ, task: slow}
+  - {name: all_same, type: AND, task: slow}
+  - {name: differ, type: NOT, task: slow}
+  - {name: count, type: CTU, task: slow, inputs: {PV: 32767}}
+  - {name: copy, type: MOVE, task: fast}
+connections:
+  - st.A -> stamp[0]
+  - st.B -> stamp[1]
+  - st.C -> stamp[2]
+  - st.D -> stamp[3]
+  - stamp[0] -> same01.IN1
+  - stamp[1] -> same01.IN2
+  - stamp[2] -> same23.IN1
+  - stamp[3] -> same23.IN2
+  - stamp[0] -> same03.IN1
+  - stamp[3] -> same03.IN2
+  - same01.OUT -> all_same.IN1
+  - same23.OUT -> all_same.IN2
+  - same03.OUT -> all_same.IN3
+  - all_same.OUT -> differ.IN
+  - differ.OUT -> count.CU
+  - count.CV -> torn
+  - setpoint -> copy.IN
+  - copy.OUT -> echo
+)";
+
+TEST(Realtime, SnapshotsAreNeverTornAcrossThreadsAndQueuedWritesArrive) {
+  auto p = load(kProject);
+  ASSERT_TRUE(p);
+  RealtimeRunner runner(*p, quiet_options());
+  runner.start();
+  const Tag* stamp = p->find_tag("stamp");
+  const Tag* setpoint = p->find_tag("setpoint");
+  const Tag* echo = p->find_tag("echo");
+  int torn_reads = 0, reads = 0;
+  double last_written = 0;
+  auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(400);
+  while (std::chrono::steady_clock::now() < until) {
+    Cell v[4];
+    p->read_tag(*stamp, v);
+    ++reads;
+    if (!(v[0].get<double>() == v[1].get<double>() && v[1].get<double>() == v[2].get<double>() &&
+          v[2].get<double>() == v[3].get<double>()))
+      ++torn_reads;
+    Cell w;
+    last_written += 1;
+    w.set<double>(last_written);
+    while (!p->write_tag(*setpoint, 0, &w, 1)) std::this_thread::yield();
+    std::this_thread::sleep_for(std::chrono::microseconds(100));
+  }
+  // Give the queue one more scan to drain, then stop.
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  runner.request_stop();
+  runner.join();
+  EXPECT_FALSE(runner.running());
+  EXPECT_GT(reads, 100);
+  EXPECT_EQ(torn_reads, 0);
+  Cell torn;
+  p->read_tag(*p->find_tag("torn"), &torn);
+  EXPECT_EQ(torn.get<std::int16_t>(), 0);
+  Cell e;
+  p->read_tag(*echo, &e);
+  EXPECT_EQ(e.get<double>(), last_written);
+  auto fast = p->tasks[0]->stats.summary();
+  auto slow = p->tasks[1]->stats.summary();
+  EXPECT_GT(fast.scans, 0u);
+  EXPECT_GT(slow.scans, 0u);
+  EXPECT_EQ(fast.writes_applied, static_cast<std::uint64_t>(last_written));
+  // Every scan is accounted for: the grid points passed equal scans + skipped.
+  EXPECT_GE(fast.exec.count, fast.scans - 1);
+}
+
+TEST(Realtime, WatchdogStopsATaskThatBurnsTooLong) {
+  auto p = load(R"(
+tasks:
+  - {name: hog, period: 5ms, priority: 50, watchdog: {time: 500us, sensitivity: 1, action: stop}}
+  - {name: fine, period: 1ms, priority: 40}
+blocks:
+  - {name: b, type: BURN, task: hog, inputs: {EXEC: 2ms}}
+  - {name: idle, type: MOVE, task: fine, inputs: {IN: 1.0}}
+)");
+  ASSERT_TRUE(p);
+  RealtimeRunner runner(*p, quiet_options());
+  runner.start();
+  auto until = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  while (!p->tasks[0]->stopped() && std::chrono::steady_clock::now() < until)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  runner.request_stop();
+  runner.join();
+  EXPECT_TRUE(p->tasks[0]->stopped());
+  EXPECT_EQ(p->tasks[0]->stats.summary().scans, 1u);  // the first 2 ms scan tripped it
+  EXPECT_EQ(p->tasks[0]->stats.summary().watchdog_trips, 1u);
+  EXPECT_FALSE(p->tasks[1]->stopped());
+  EXPECT_GT(p->tasks[1]->stats.summary().scans, 1u);
+  Event e;
+  ASSERT_TRUE(p->tasks[0]->pop_event(e));
+  EXPECT_EQ(e.kind, EventKind::WatchdogTrip);
+}
+
+TEST(Realtime, StopIsPromptEvenForALongPeriod) {
+  auto p = load(R"(
+tasks: [{name: slow, period: 10s}]
+blocks: [{name: m, type: MOVE, inputs: {IN: 1.0}}]
+)");
+  ASSERT_TRUE(p);
+  RealtimeRunner runner(*p, quiet_options());
+  runner.start();
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  auto t0 = std::chrono::steady_clock::now();
+  runner.request_stop();
+  runner.join();
+  auto waited = std::chrono::steady_clock::now() - t0;
+  EXPECT_LT(waited, std::chrono::seconds(2));  // generous bound: the poll interval is 100 ms
+  EXPECT_EQ(p->tasks[0]->stats.summary().scans, 1u);
+}
+
+}  // namespace
+}  // namespace syncplc
