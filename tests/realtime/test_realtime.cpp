@@ -140,9 +140,11 @@ blocks:
   EXPECT_EQ(p->tasks[0]->stats.summary().watchdog_trips, 1u);
   EXPECT_FALSE(p->tasks[1]->stopped());
   EXPECT_GT(p->tasks[1]->stats.summary().scans, 1u);
+  // A loaded machine may also report the scan as an overrun; the trip must be there.
   Event e;
-  ASSERT_TRUE(p->tasks[0]->pop_event(e));
-  EXPECT_EQ(e.kind, EventKind::WatchdogTrip);
+  bool tripped = false;
+  while (p->tasks[0]->pop_event(e)) tripped |= e.kind == EventKind::WatchdogTrip;
+  EXPECT_TRUE(tripped);
 }
 
 TEST(Realtime, StopIsPromptEvenForALongPeriod) {
