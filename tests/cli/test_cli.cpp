@@ -1,0 +1,197 @@
+// The `syncplc` command end to end: exit statuses, reports, reproducible
+// simulation, user scan-cycle tests, signals.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include "tests/support/test_blocks.hpp"
+
+namespace {
+
+using syncplc::testing::write_temp_file;
+
+struct Result {
+  int rc = -1;
+  std::string out, err;
+};
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+Result run(const std::string& args) {
+  static int n = 0;
+  std::string o = write_temp_file("cli" + std::to_string(++n) + ".out", "");
+  std::string e = o + ".err";
+  std::string cmd = std::string(SYNCPLC_BINARY) + " " + args + " >" + o + " 2>" + e + " </dev/null";
+  int status = std::system(cmd.c_str());
+  Result r;
+  r.rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = slurp(o);
+  r.err = slurp(e);
+  return r;
+}
+
+const std::string kSrc = SYNCPLC_SOURCE_DIR;
+const std::string kDemo = kSrc + "/projects/bottle_line/bottle_line.yaml";
+const std::string kDemoTests = kSrc + "/projects/bottle_line/tests.yaml";
+
+TEST(Cli, CheckPrintsTaskTableExecutionOrderAndTagMap) {
+  auto r = run("check " + kDemo);
+  EXPECT_EQ(r.rc, 0) << r.err;
+  EXPECT_NE(r.out.find("Tasks of bottle_line"), std::string::npos);
+  EXPECT_NE(r.out.find("Execution order"), std::string::npos);
+  EXPECT_NE(r.out.find("%QX0.0"), std::string::npos);
+  EXPECT_NE(r.out.find("UNIT_DELAY<BOOL>"), std::string::npos);
+}
+
+TEST(Cli, CheckOfABadProjectReportsEveryErrorWithItsPlaceAndExits2) {
+  std::string bad = write_temp_file("bad.yaml", R"(tasks:
+  - {name: t, period: 1ms}
+tags:
+  - {name: a, type: BOOL, address: "%QX0.0"}
+  - {name: b, type: BOOL, address: "%QX0.0"}
+blocks:
+  - {name: x, type: NOPE}
+connections:
+  - a -> y.IN
+)");
+  auto r = run("check " + bad);
+  EXPECT_EQ(r.rc, 2);
+  EXPECT_NE(r.err.find(bad + ":5:36: address %QX0.0 of b overlaps"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(bad + ":7:21: unknown block type 'NOPE'"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(bad + ":9:10: unknown block instance 'y'"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("3 errors"), std::string::npos) << r.err;
+  EXPECT_EQ(r.out, "");
+}
+
+TEST(Cli, MissingFileAndUsageErrorsExit2) {
+  EXPECT_EQ(run("check /nonexistent/x.yaml").rc, 2);
+  EXPECT_EQ(run("frobnicate").rc, 2);
+  EXPECT_EQ(run("sim " + kDemo).rc, 2);  // --duration is required
+  EXPECT_EQ(run("sim " + kDemo + " --duration 10parsecs").rc, 2);
+  EXPECT_EQ(run("sim " + kDemo + " -d 1s --set nonsense").rc, 2);
+  EXPECT_EQ(run("sim " + kDemo + " -d 1s --set nosuch.param=1").rc, 2);
+  EXPECT_EQ(run("--version").rc, 0);
+}
+
+TEST(Cli, SimTraceIsBitForBitReproducible) {
+  std::string t1 = write_temp_file("trace1.csv", ""), t2 = write_temp_file("trace2.csv", "");
+  auto a = run("sim " + kDemo + " --duration 6s --seed 7 --trace " + t1);
+  auto b = run("sim " + kDemo + " --duration 6s --seed 7 --trace " + t2);
+  ASSERT_EQ(a.rc, 0) << a.err;
+  ASSERT_EQ(b.rc, 0) << b.err;
+  std::string x = slurp(t1), y = slurp(t2);
+  EXPECT_GT(x.size(), 100000u);
+  EXPECT_EQ(x, y);
+  EXPECT_EQ(x.substr(0, x.find('\n')),
+            "time_s,conveyor_on,bottle_present,bottles,batch_done,fill_valve,line_speed,restart_delay.ET");
+  // One row per instant at which a scan ran: 6000 line scans + 600 filler scans at other instants.
+  EXPECT_EQ(std::count(x.begin(), x.end(), '\n'), 1 + 6000 + 600);
+  EXPECT_NE(a.out.find("line                   6000"), std::string::npos) << a.out;
+}
+
+TEST(Cli, SimSetOverridesAnInitialValue) {
+  std::string t = write_temp_file("trace_set.csv", "");
+  auto r = run("sim " + kDemo + " -d 3s --set auto_mode=FALSE --trace " + t);
+  ASSERT_EQ(r.rc, 0) << r.err;
+  std::string csv = slurp(t);
+  std::string last = csv.substr(csv.rfind('\n', csv.size() - 2) + 1);
+  EXPECT_EQ(last.substr(0, last.find(',', last.find(',') + 1)), "2.999000000,0");  // conveyor never started
+}
+
+TEST(Cli, UserScanCycleTestsPassAndFail) {
+  auto ok = run("test " + kDemo + " " + kDemoTests);
+  EXPECT_EQ(ok.rc, 0) << ok.out << ok.err;
+  EXPECT_NE(ok.out.find("6 passed, 0 failed"), std::string::npos) << ok.out;
+
+  std::string failing = write_temp_file("failing.yaml", R"(cases:
+  - name: passes
+    steps:
+      - {at: 1000ms, expect: {conveyor_on: TRUE}}
+  - name: wrong on purpose
+    steps:
+      - at: 999ms
+        expect: {conveyor_on: TRUE}
+      - cycle: 3
+        task: filler
+        expect: {line_speed: {value: 1.0, tolerance: 0.5}}
+)");
+  std::string junit = write_temp_file("junit.xml", "");
+  auto bad = run("test " + kDemo + " " + failing + " --junit " + junit);
+  EXPECT_EQ(bad.rc, 1);
+  EXPECT_NE(bad.out.find("1 passed, 1 failed"), std::string::npos) << bad.out;
+  EXPECT_NE(bad.out.find(failing + ":8:31: case 'wrong on purpose' at 999ms: conveyor_on is FALSE, expected TRUE"),
+            std::string::npos) << bad.out;
+  EXPECT_NE(bad.out.find("cycle 3 of filler: line_speed is 0, expected 1"), std::string::npos) << bad.out;
+  std::string xml = slurp(junit);
+  EXPECT_NE(xml.find("<testsuite name=\"" + kDemo + "\" tests=\"2\" failures=\"1\""), std::string::npos) << xml;
+  EXPECT_NE(xml.find("<failure message="), std::string::npos);
+
+  std::string broken = write_temp_file("broken.yaml", R"(cases:
+  - name: x
+    steps:
+      - {at: 1s, expect: {no_such_tag: TRUE}}
+)");
+  auto inv = run("test " + kDemo + " " + broken);
+  EXPECT_EQ(inv.rc, 2);
+  EXPECT_NE(inv.err.find(broken + ":4:40: no tag 'no_such_tag'"), std::string::npos) << inv.err;
+}
+
+TEST(Cli, BlocksListsDescribesAndGeneratesTheReference) {
+  auto list = run("blocks");
+  EXPECT_EQ(list.rc, 0);
+  for (const char* b : {"TON", "TOF", "TP", "R_TRIG", "F_TRIG", "CTU", "CTD", "CTUD", "SR", "RS", "ADD", "SUB", "MUL",
+                        "DIV", "LIMIT", "SEL", "MAX", "MIN", "GT", "GE", "EQ", "NE", "LE", "LT", "AND", "OR", "XOR",
+                        "NOT", "MOVE", "UNIT_DELAY"})
+    EXPECT_NE(list.out.find(std::string("  ") + b + " "), std::string::npos) << b;
+  auto ton = run("blocks TON");
+  EXPECT_EQ(ton.rc, 0);
+  EXPECT_NE(ton.out.find("PT"), std::string::npos);
+  EXPECT_EQ(run("blocks NOPE").rc, 2);
+  // docs/blocks.md is generated: it must match what the binary prints.
+  auto md = run("blocks --markdown");
+  EXPECT_EQ(md.rc, 0);
+  EXPECT_EQ(md.out, slurp(kSrc + "/docs/blocks.md")) << "regenerate: build/syncplc blocks --markdown > docs/blocks.md";
+}
+
+TEST(Cli, RunForADurationPrintsStatistics) {
+  auto r = run("run " + kDemo + " --duration 1s --no-status");
+  EXPECT_EQ(r.rc, 0) << r.err;
+  EXPECT_NE(r.out.find("Statistics (real time)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("line"), std::string::npos);
+}
+
+TEST(Cli, RunStopsCleanlyOnSigterm) {
+  std::string o = write_temp_file("sigterm.out", "");
+  pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    FILE* f = std::freopen(o.c_str(), "w", stdout);
+    (void)f;
+    execl(SYNCPLC_BINARY, SYNCPLC_BINARY, "run", kDemo.c_str(), "--no-status", static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(700));
+  kill(pid, SIGTERM);
+  int status = 0;
+  auto t0 = std::chrono::steady_clock::now();
+  waitpid(pid, &status, 0);
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(5));
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0);
+  std::string out = slurp(o);
+  EXPECT_NE(out.find("Stopped by SIGTERM"), std::string::npos) << out;
+  EXPECT_NE(out.find("Statistics (real time)"), std::string::npos) << out;
+}
+
+}  // namespace
