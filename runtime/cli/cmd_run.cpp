@@ -9,6 +9,7 @@
 
 #include "runtime/cli/commands.hpp"
 #include "runtime/core/realtime.hpp"
+#include "runtime/project/online_change.hpp"
 #include "runtime/project/report.hpp"
 
 namespace syncplc::cli {
@@ -19,7 +20,7 @@ namespace {
 void draw_status(std::ostream& os, Program& p, double elapsed, const std::deque<std::string>& recent) {
   std::ostringstream s;
   s << "\x1b[H\x1b[2J";
-  s << fmt::format("syncplc run  {} {}  running {:.1f}s   (Ctrl-C stops)\n\n", p.name, p.version, elapsed);
+  s << fmt::format("syncplc run  {} {}  running {:.1f}s   (Ctrl-C stops; SIGHUP reloads the project file)\n\n", p.name, p.version, elapsed);
   print_statistics(s, p, false);
   if (!p.watch.empty()) {
     s << "\nWatched tags\n";
@@ -57,23 +58,24 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
   if (!parse_sets(sets, o)) return kExitInvalid;
   auto r = load_or_report(project, o);
   if (!r.ok()) return kExitInvalid;
-  Program& p = *r.program;
+  std::unique_ptr<Program> program = std::move(r.program);
 
-  // SIGINT/SIGTERM are taken synchronously by this thread only; task threads
-  // inherit the blocked mask and are never interrupted by them.
+  // SIGINT/SIGTERM (stop) and SIGHUP (reload) are taken synchronously by this
+  // thread only; task threads inherit the blocked mask and never see them.
   sigset_t sigs;
   sigemptyset(&sigs);
   sigaddset(&sigs, SIGINT);
   sigaddset(&sigs, SIGTERM);
+  sigaddset(&sigs, SIGHUP);
   pthread_sigmask(SIG_BLOCK, &sigs, nullptr);
 
   std::string err;
-  if (!p.open_drivers(&err)) {
+  if (!program->open_drivers(&err)) {
     std::cerr << "syncplc: " << err << "\n";
     return kExitInvalid;
   }
-  RealtimeRunner runner(p);
-  runner.start();
+  auto runner = std::make_unique<RealtimeRunner>(*program);
+  runner->start();
   const bool live = !no_status && isatty(STDOUT_FILENO);
   const std::int64_t t0 = RealtimeRunner::monotonic_ns();
   std::deque<std::string> recent;
@@ -83,9 +85,38 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
     timespec wait{0, 250'000'000};
     int sig = sigtimedwait(&sigs, nullptr, &wait);
     if (sig == SIGINT || sig == SIGTERM) { stop_signal = sig; break; }
+    Program& p = *program;
+    if (sig == SIGHUP) {
+      // Online change: load and check the file first; only a good project replaces the running one.
+      auto next = load_project(project, o);
+      if (!next.ok()) {
+        for (const auto& d : next.diagnostics.sorted()) std::cerr << d.text() << "\n";
+        std::cerr << "syncplc: reload failed; the running program continues unchanged\n";
+      } else {
+        runner->request_stop();
+        runner->join();
+        p.close_drivers();
+        print_events(std::cerr, p);
+        std::size_t kept = carry_over_tags(p, *next.program);
+        if (!next.program->open_drivers(&err)) {
+          std::cerr << "syncplc: reload: " << err << "; restarting the previous program\n";
+          if (!p.open_drivers(&err)) {
+            std::cerr << "syncplc: " << err << "\n";
+            return kExitInvalid;
+          }
+        } else {
+          program = std::move(next.program);
+          std::cerr << "syncplc: reloaded " << project << " (" << kept << " tag values carried over)\n";
+        }
+        runner = std::make_unique<RealtimeRunner>(*program);
+        runner->start();
+        warned = false;
+      }
+      continue;
+    }
     if (!warned) {
-      for (const auto& w : runner.warnings()) std::cerr << "syncplc: warning: " << w << "\n";
-      warned = !runner.warnings().empty() || RealtimeRunner::monotonic_ns() - t0 > 1'000'000'000;
+      for (const auto& w : runner->warnings()) std::cerr << "syncplc: warning: " << w << "\n";
+      warned = !runner->warnings().empty() || RealtimeRunner::monotonic_ns() - t0 > 1'000'000'000;
     }
     for (auto& t : p.tasks) {
       Event e;
@@ -102,17 +133,17 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
     double elapsed = static_cast<double>(RealtimeRunner::monotonic_ns() - t0) * 1e-9;
     if (live) draw_status(std::cout, p, elapsed, recent);
     if (limit && RealtimeRunner::monotonic_ns() - t0 >= *limit) break;
-    if (!runner.running()) {
+    if (!runner->running()) {
       std::cerr << "syncplc: every task has stopped\n";
       break;
     }
   }
-  runner.request_stop();
-  runner.join();
-  p.close_drivers();
-  print_events(std::cerr, p);
+  runner->request_stop();
+  runner->join();
+  program->close_drivers();
+  print_events(std::cerr, *program);
   if (stop_signal) std::cout << "\nStopped by " << (stop_signal == SIGINT ? "SIGINT" : "SIGTERM") << "\n";
-  print_statistics(std::cout, p, false);
+  print_statistics(std::cout, *program, false);
   return kExitOk;
 }
 

@@ -195,3 +195,51 @@ TEST(Cli, RunStopsCleanlyOnSigterm) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(Cli, SighupReloadsAGoodProjectAndKeepsRunningOnABadOne) {
+  const std::string good = R"(tasks: [{name: t, period: 1ms}]
+tags:
+  - {name: level, type: LREAL, init: 3.5}
+  - {name: out, type: LREAL}
+blocks: [{name: m, type: MOVE}]
+connections: [level -> m.IN, m.OUT -> out]
+)";
+  std::string path = write_temp_file("reload.yaml", good);
+  std::string o = path + ".out", e = path + ".err";
+  pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    FILE* f1 = std::freopen(o.c_str(), "w", stdout);
+    FILE* f2 = std::freopen(e.c_str(), "w", stderr);
+    (void)f1;
+    (void)f2;
+    execl(SYNCPLC_BINARY, SYNCPLC_BINARY, "run", path.c_str(), "--no-status", static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  auto wait_for = [&](const std::string& text) {
+    for (int i = 0; i < 100; ++i) {
+      if (slurp(e).find(text) != std::string::npos) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    return false;
+  };
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  write_temp_file("reload.yaml", "tasks: [{name: t, period: 1ms}]\nblocks: [{name: m, type: NOPE}]\n");
+  kill(pid, SIGHUP);
+  EXPECT_TRUE(wait_for("reload failed; the running program continues unchanged")) << slurp(e);
+  EXPECT_NE(slurp(e).find("reload.yaml:2:26: unknown block type 'NOPE'"), std::string::npos) << slurp(e);
+  EXPECT_EQ(waitpid(pid, nullptr, WNOHANG), 0);  // still running
+  write_temp_file("reload.yaml", good + "  # edited\n");
+  kill(pid, SIGHUP);
+  EXPECT_TRUE(wait_for("(2 tag values carried over)")) << slurp(e);
+  kill(pid, SIGTERM);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0);
+  EXPECT_NE(slurp(o).find("Stopped by SIGTERM"), std::string::npos);
+}
+
+}  // namespace
