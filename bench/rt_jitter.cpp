@@ -1,0 +1,218 @@
+// Real-time start jitter of an empty task under RealtimeRunner.
+//
+// Loads a generated project with one task and no blocks (period and priority
+// from the command line, optionally pinned with the task key `cpu:`), runs it
+// in real time and prints the start jitter that the task itself recorded
+// (Task::stats.jitter: actual start minus planned release; its percentiles are
+// bucket upper bounds, within 1/32 of the true value).
+//
+// The run can be cut into slices with a command run between them (and after
+// the last): bench/rt_jitter.sh uses that to interleave slices of cyclictest
+// with slices of this task, so both see the same background load. The task's
+// statistics accumulate over all slices (RealtimeRunner::start() resets the
+// timing state, not the statistics).
+//
+// Run as root: SCHED_FIFO and mlockall need it. Whether SCHED_FIFO was
+// obtained is printed (from RealtimeRunner::warnings() and checked again with
+// sched_getscheduler() on the task's thread).
+//
+// Usage: bench_rt_jitter [--duration S] [--slices N] [--period-us U] [--priority P]
+//                        [--cpu C] [--pm-qos US] [--between CMD]
+// The last line is machine-readable: "RESULT key=value ...", all times in ns.
+#include <dirent.h>
+#include <fcntl.h>
+#include <sched.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <set>
+#include <string>
+
+#include "runtime/core/realtime.hpp"
+#include "runtime/project/loader.hpp"
+
+namespace {
+
+using namespace syncplc;
+
+struct Options {
+  double duration_s = 60;
+  int slices = 1;
+  long period_us = 1000;
+  int priority = 80;
+  int cpu = -1;
+  int pm_qos_us = -1;  // >= 0: hold /dev/cpu_dma_latency at this value while the task runs
+  std::string between;
+};
+
+[[noreturn]] void usage(const char* msg) {
+  std::cerr << "bench_rt_jitter: " << msg << "\n"
+            << "usage: bench_rt_jitter [--duration S] [--slices N] [--period-us U] [--priority P] [--cpu C]\n"
+            << "                       [--pm-qos US] [--between CMD]\n";
+  std::exit(2);
+}
+
+Options parse(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    std::string a = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc) usage(("missing value after " + a).c_str());
+      return argv[++i];
+    };
+    if (a == "--duration") o.duration_s = std::stod(value());
+    else if (a == "--slices") o.slices = std::stoi(value());
+    else if (a == "--period-us") o.period_us = std::stol(value());
+    else if (a == "--priority") o.priority = std::stoi(value());
+    else if (a == "--cpu") o.cpu = std::stoi(value());
+    else if (a == "--pm-qos") o.pm_qos_us = std::stoi(value());
+    else if (a == "--between") o.between = value();
+    else if (a == "-h" || a == "--help") usage("help");
+    else usage(("unknown argument " + a).c_str());
+  }
+  if (o.duration_s <= 0 || o.slices < 1 || o.period_us < 100) usage("bad duration, slices or period");
+  return o;
+}
+
+std::string project_text(const Options& o) {
+  std::string y = "project: {name: rt_jitter, version: 0.0.1}\ntasks:\n";
+  y += "  - {name: empty, period: " + std::to_string(o.period_us) + "us, priority: " + std::to_string(o.priority);
+  if (o.cpu >= 0) y += ", cpu: " + std::to_string(o.cpu);
+  y += "}\n";
+  return y;
+}
+
+void sleep_ns(std::int64_t ns) {
+  timespec ts{static_cast<time_t>(ns / 1'000'000'000), static_cast<long>(ns % 1'000'000'000)};
+  while (clock_nanosleep(CLOCK_MONOTONIC, 0, &ts, &ts) == EINTR) {
+  }
+}
+
+// The scheduling policy of the thread named `name` in this process, checked
+// from outside the thread: "SCHED_FIFO prio 80", or what it is instead.
+std::string thread_policy(const std::string& name) {
+  DIR* d = opendir("/proc/self/task");
+  if (!d) return "unknown (no /proc/self/task)";
+  std::string result = "unknown (thread not found)";
+  while (dirent* e = readdir(d)) {
+    if (e->d_name[0] == '.') continue;
+    std::ifstream comm(std::string("/proc/self/task/") + e->d_name + "/comm");
+    std::string c;
+    std::getline(comm, c);
+    if (c != name) continue;
+    pid_t tid = std::atoi(e->d_name);
+    int pol = sched_getscheduler(tid);
+    sched_param sp{};
+    sched_getparam(tid, &sp);
+    const char* pn = pol == SCHED_FIFO ? "SCHED_FIFO" : pol == SCHED_RR ? "SCHED_RR" : pol == SCHED_OTHER ? "SCHED_OTHER" : "other";
+    result = std::string(pn) + " prio " + std::to_string(sp.sched_priority);
+    if (pol == SCHED_FIFO) break;
+  }
+  closedir(d);
+  return result;
+}
+
+// Holds /dev/cpu_dma_latency (the PM QoS CPU latency request) at a value while
+// open, as cyclictest does by default with 0.
+class PmQos {
+ public:
+  bool open(int us, std::string* err) {
+    fd_ = ::open("/dev/cpu_dma_latency", O_RDWR);
+    if (fd_ < 0) { *err = std::strerror(errno); return false; }
+    std::int32_t v = us;
+    if (::write(fd_, &v, sizeof v) != sizeof v) { *err = std::strerror(errno); close(); return false; }
+    return true;
+  }
+  void close() {
+    if (fd_ >= 0) ::close(fd_);
+    fd_ = -1;
+  }
+  ~PmQos() { close(); }
+
+ private:
+  int fd_ = -1;
+};
+
+std::string us(std::int64_t ns) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.1f us", static_cast<double>(ns) * 1e-3);
+  return b;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const Options o = parse(argc, argv);
+  auto r = load_project_text(project_text(o), "<rt_jitter>");
+  if (!r.ok()) {
+    for (const auto& d : r.diagnostics.sorted()) std::cerr << d.text() << "\n";
+    return 1;
+  }
+  Program& p = *r.program;
+  Task& task = *p.tasks[0];
+  const auto slice_ns = static_cast<std::int64_t>(std::llround(o.duration_s * 1e9 / o.slices));
+
+  std::cout << "bench_rt_jitter: empty task, period " << o.period_us << " us, priority " << o.priority << ", cpu "
+            << (o.cpu >= 0 ? std::to_string(o.cpu) : "any") << ", " << o.slices << " slice(s) of "
+            << static_cast<double>(slice_ns) * 1e-9 << " s, pm-qos "
+            << (o.pm_qos_us >= 0 ? std::to_string(o.pm_qos_us) + " us" : "untouched") << "\n";
+  if (geteuid() != 0) std::cout << "bench_rt_jitter: not running as root: expect no SCHED_FIFO and no mlockall\n";
+
+  std::set<std::string> warnings;
+  std::string policy;
+  bool fifo = true;
+  for (int s = 0; s < o.slices; ++s) {
+    PmQos qos;
+    std::string err;
+    if (o.pm_qos_us >= 0 && !qos.open(o.pm_qos_us, &err)) warnings.insert("cannot set /dev/cpu_dma_latency: " + err);
+    {
+      RealtimeRunner runner(p);
+      runner.start();
+      sleep_ns(runner.epoch_ns() - RealtimeRunner::monotonic_ns() + 100'000'000);
+      std::string pol = thread_policy("empty");
+      if (policy.empty()) policy = pol;
+      if (pol.rfind("SCHED_FIFO", 0) != 0) fifo = false;
+      sleep_ns(runner.epoch_ns() + slice_ns - RealtimeRunner::monotonic_ns());
+      runner.request_stop();
+      runner.join();
+      for (const auto& w : runner.warnings()) {
+        warnings.insert(w);
+        if (w.find("SCHED_FIFO") != std::string::npos) fifo = false;
+      }
+    }
+    qos.close();
+    if (!o.between.empty()) {
+      std::cout.flush();
+      int rc = std::system(o.between.c_str());
+      if (rc != 0) {
+        std::cerr << "bench_rt_jitter: --between command failed (" << rc << "): " << o.between << "\n";
+        return 1;
+      }
+    }
+  }
+
+  for (const auto& w : warnings) std::cout << "bench_rt_jitter: warning: " << w << "\n";
+  std::cout << "bench_rt_jitter: SCHED_FIFO " << (fifo ? "obtained" : "NOT obtained") << " (thread policy seen: "
+            << policy << ")\n";
+  auto st = task.stats.summary();
+  std::cout << "bench_rt_jitter: scans " << st.scans << ", overruns " << st.overruns << ", skipped " << st.skipped
+            << "\n";
+  std::cout << "bench_rt_jitter: start jitter  min " << us(st.jitter.min) << "  mean "
+            << us(static_cast<std::int64_t>(st.jitter.mean)) << "  p50 " << us(st.jitter.p50) << "  p99 "
+            << us(st.jitter.p99) << "  max " << us(st.jitter.max) << "\n";
+  std::cout << "bench_rt_jitter: exec time     min " << us(st.exec.min) << "  p50 " << us(st.exec.p50) << "  p99 "
+            << us(st.exec.p99) << "  max " << us(st.exec.max) << "\n";
+  std::cout << "RESULT fifo=" << (fifo ? 1 : 0) << " scans=" << st.scans << " overruns=" << st.overruns
+            << " skipped=" << st.skipped << " min_ns=" << st.jitter.min << " mean_ns="
+            << static_cast<std::int64_t>(st.jitter.mean) << " p50_ns=" << st.jitter.p50 << " p99_ns=" << st.jitter.p99
+            << " max_ns=" << st.jitter.max << " exec_p99_ns=" << st.exec.p99 << " exec_max_ns=" << st.exec.max << "\n";
+  return 0;
+}

@@ -1,0 +1,91 @@
+#!/usr/bin/env bash
+# Start jitter of an empty syncplc task (RealtimeRunner) next to cyclictest
+# (rt-tests) at the same period and priority, on the same machine, in one run.
+#
+# The two never run at the same time (they would share the cores): the run is
+# cut into SLICES slices, and each slice of the syncplc task is followed by a
+# slice of cyclictest of the same length (bench_rt_jitter runs cyclictest
+# between its slices), so both see the same background load. The syncplc side
+# is Task::stats.jitter accumulated over its slices; the cyclictest side is the
+# sum of its histograms (-h, 1 us buckets), and its percentiles are taken the
+# same way (first bucket whose cumulative count exceeds floor(q * n)) and
+# reported as the bucket's upper bound, like Histogram::summary() does.
+#
+# Usage: sudo bench/rt_jitter.sh [DURATION_S]      (default 60 s for each side)
+# Environment:
+#   BUILD_DIR  build directory (default build)
+#   SLICES     number of interleaved slices (default 6; 1 = one after the other)
+#   PERIOD_US  period (default 1000)      PRIORITY  SCHED_FIFO priority (default 80)
+#   CPU        pin both to this CPU (syncplc task key cpu:, cyclictest -a)
+#   PM_QOS     hold /dev/cpu_dma_latency at this many us while the syncplc task
+#              runs (cyclictest holds it at 0 by default; see docs/benchmarks.md)
+#   CT_EXTRA   extra cyclictest arguments (e.g. --laptop: leave /dev/cpu_dma_latency alone)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+duration=${1:-60}
+slices=${SLICES:-6}
+period=${PERIOD_US:-1000}
+prio=${PRIORITY:-80}
+bin=${BUILD_DIR:-build}/bench/bench_rt_jitter
+
+[ -x "$bin" ] || { echo "rt_jitter.sh: $bin not found; build first (bash scripts/build.sh build)" >&2; exit 1; }
+command -v cyclictest >/dev/null || { echo "rt_jitter.sh: cyclictest not found (apt-get install rt-tests)" >&2; exit 1; }
+[ "$(id -u)" -eq 0 ] || echo "rt_jitter.sh: warning: not root: no SCHED_FIFO, no mlockall" >&2
+
+loops=$(( duration * 1000000 / period / slices ))
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+
+plc_args=(--duration "$duration" --slices "$slices" --period-us "$period" --priority "$prio")
+ct_cmd="cyclictest -m -p $prio -i $period -l $loops -t 1 -h 2000 -q"
+if [ -n "${CPU:-}" ]; then
+  plc_args+=(--cpu "$CPU")
+  ct_cmd+=" -a $CPU"
+fi
+[ -n "${PM_QOS:-}" ] && plc_args+=(--pm-qos "$PM_QOS")
+[ -n "${CT_EXTRA:-}" ] && ct_cmd+=" $CT_EXTRA"
+
+echo "== machine: $(nproc) CPUs, kernel $(uname -r), $(uname -v)"
+echo "== load before: $(cat /proc/loadavg)"
+echo "== syncplc: $bin ${plc_args[*]}"
+echo "== cyclictest (after each syncplc slice): $ct_cmd"
+"$bin" "${plc_args[@]}" --between "$ct_cmd >> $tmp/ct.txt 2>&1" | tee "$tmp/plc.txt"
+echo "== load after: $(cat /proc/loadavg)"
+
+# syncplc side: the RESULT line.
+result=$(grep '^RESULT ' "$tmp/plc.txt")
+get() { sed -n "s/.* $1=\([0-9-]*\).*/\1/p" <<<"$result"; }
+plc_n=$(get scans); plc_p50=$(get p50_ns); plc_p99=$(get p99_ns); plc_max=$(get max_ns); plc_min=$(get min_ns)
+plc_fifo=$(sed -n 's/.*fifo=\([01]\).*/\1/p' <<<"$result")
+
+# cyclictest side: summed histograms, in ns so the printing below is uniform.
+read -r ct_n ct_p50 ct_p99 ct_max ct_min ct_over < <(awk '
+  /^[0-9]+ [0-9]+$/ { h[$1 + 0] += $2; n += $2; next }
+  /# Histogram Overflows:/ { over += $4; n += $4; next }
+  /# Max Latencies:/ { if ($4 + 0 > mx) mx = $4 + 0; next }
+  /# Min Latencies:/ { if (mn == "" || $4 + 0 < mn) mn = $4 + 0; next }
+  function pct(q,   r, acc, b) {
+    r = int(q * n); if (r >= n) r = n - 1
+    acc = 0
+    for (b = 0; b < 2000; b++) { acc += h[b]; if (acc > r) return (b + 1) * 1000 - 1 }
+    return -1   # in the overflow (>= 2000 us)
+  }
+  END { printf "%d %d %d %d %d %d\n", n, pct(0.50), pct(0.99), mx * 1000, mn * 1000, over }' "$tmp/ct.txt")
+
+us() { awk -v v="$1" 'BEGIN { if (v < 0) print ">= 2000 us"; else printf "%.1f us", v / 1000 }'; }
+echo
+echo "== start jitter, ${duration} s each, ${slices} interleaved slice(s), period ${period} us, SCHED_FIFO ${prio}"
+printf "  %-10s %24s %24s\n" "" "syncplc RealtimeRunner" "cyclictest"
+printf "  %-10s %24s %24s\n" "samples" "$plc_n" "$ct_n"
+printf "  %-10s %24s %24s\n" "min" "$(us "$plc_min")" "$(us "$ct_min") (trunc.)"
+printf "  %-10s %24s %24s\n" "p50" "$(us "$plc_p50")" "$(us "$ct_p50")"
+printf "  %-10s %24s %24s\n" "p99" "$(us "$plc_p99")" "$(us "$ct_p99")"
+printf "  %-10s %24s %24s\n" "max" "$(us "$plc_max")" "$(us "$ct_max") (trunc.)"
+[ "$ct_over" -gt 0 ] && echo "  cyclictest: $ct_over sample(s) beyond its 2000 us histogram"
+[ "$plc_fifo" = 1 ] && echo "  syncplc task: SCHED_FIFO obtained" || echo "  syncplc task: SCHED_FIFO NOT obtained"
+awk -v a="$plc_p99" -v b="$ct_p99" 'BEGIN {
+  if (b <= 0) { print "  p99 ratio: n/a"; exit }
+  r = a / b; printf "  p99 ratio syncplc / cyclictest: %.2f  (aim <= 1.2: %s)\n", r, r <= 1.2 ? "met" : "NOT met" }'
+echo "  (percentiles are bucket upper bounds: syncplc 1/32 relative buckets, cyclictest 1 us buckets;"
+echo "   cyclictest min/max are truncated to whole us)"
