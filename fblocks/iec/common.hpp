@@ -126,7 +126,7 @@ inline void add_extensible_pins(BlockTypeInfo& info, TypeClass cls, const std::s
   for (int i = 1; i <= kMaxInputs; ++i) {
     const bool req = i <= 2;
     info.pins.push_back(gen_in("IN" + std::to_string(i), cls,
-                               req ? "operand " + std::to_string(i) + " (required)"
+                               req ? "operand " + std::to_string(i)
                                    : "optional operand " + std::to_string(i) + "; " + what +
                                          " only when connected",
                                req));
