@@ -1,0 +1,119 @@
+// The scan path never allocates: every size is resolved at load. This test
+// replaces the global operator new of the test binary with a counting one and
+// runs scans of a project that uses every standard block family, two tasks,
+// snapshots between them, queued writes and a driver.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <new>
+
+#include "runtime/core/virtual_clock.hpp"
+#include "tests/scheduler/scheduler_fixture.hpp"
+
+namespace {
+std::atomic<bool> g_counting{false};
+std::atomic<long> g_allocations{0};
+}  // namespace
+
+void* operator new(std::size_t n) {
+  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void* operator new[](std::size_t n) { return operator new(n); }
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+
+namespace syncplc {
+namespace {
+
+TEST(ScanPath, DoesNotAllocate) {
+  auto p = load_test_project(R"(
+tasks:
+  - {name: fast, period: 1ms, priority: 80, watchdog: {time: 1ms, sensitivity: 2, action: log}}
+  - {name: slow, period: 7ms, priority: 20, missed_cycles: immediate}
+tags:
+  - {name: run, type: BOOL, init: TRUE, hmi: readwrite}
+  - {name: count, type: DINT}
+  - {name: level, type: LREAL}
+  - {name: levels, type: "ARRAY[0..3] OF LREAL"}
+  - {name: elapsed, type: TIME}
+  - {name: out, type: BOOL, safe: FALSE}
+  - {name: div0, type: INT}
+  - {name: sensor, type: LREAL}
+blocks:
+  - {name: fb, type: UNIT_DELAY, task: fast}
+  - {name: inv, type: NOT, task: fast}
+  - {name: t, type: TON, task: fast, inputs: {PT: 5ms}}
+  - {name: tp, type: TP, task: fast, inputs: {PT: 2ms}}
+  - {name: tof, type: TOF, task: fast, inputs: {PT: 3ms}}
+  - {name: edge, type: R_TRIG, task: fast}
+  - {name: fall, type: F_TRIG, task: fast}
+  - {name: c, type: CTUD, task: fast, datatype: DINT, inputs: {PV: 100}}
+  - {name: sr, type: SR, task: fast}
+  - {name: add, type: ADD, task: fast, datatype: LREAL, inputs: {IN2: 0.5}}
+  - {name: lim, type: LIMIT, task: fast, inputs: {MN: 0.0, MX: 10.0}}
+  - {name: gt, type: GT, task: slow, inputs: {IN2: 5.0}}
+  - {name: sel, type: SEL, task: slow, inputs: {IN0: 1.0, IN1: 2.0}}
+  - {name: mx, type: MAX, task: slow, inputs: {IN2: 0.0}}
+  - {name: a, type: AND, task: slow, inputs: {IN2: TRUE}}
+  - {name: zero, type: DIV, task: slow, datatype: INT, inputs: {IN1: 7, IN2: 0}}
+  - {name: burn, type: BURN, task: slow, inputs: {EXEC: 8ms}}
+connections:
+  - t.Q -> fb.IN
+  - fb.OUT -> inv.IN
+  - inv.OUT -> t.IN
+  - t.Q -> tp.IN
+  - t.Q -> tof.IN
+  - t.Q -> edge.CLK
+  - t.Q -> fall.CLK
+  - edge.Q -> c.CU
+  - fall.Q -> sr.S1
+  - c.CV -> count
+  - t.ET -> elapsed
+  - sensor -> add.IN1
+  - add.OUT -> lim.IN
+  - lim.OUT -> level
+  - lim.OUT -> levels[2]
+  - level -> gt.IN1
+  - gt.OUT -> sel.G
+  - sel.OUT -> mx.IN1
+  - run -> a.IN1
+  - a.OUT -> out
+  - zero.OUT -> div0
+drivers:
+  - name: io
+    type: memory
+    task: fast
+    channels: [{name: o, dir: out, type: BOOL}, {name: i, dir: in, type: LREAL}]
+    bind: {o: out, i: sensor}
+)");
+  ASSERT_TRUE(p);
+  VirtualClock clock(*p);
+  clock.run_until(50'000'000);  // warm up: first scans, channels swapped at least once
+  const Tag* run = p->find_tag("run");
+  Cell v;
+  v.set<bool>(true);
+  ASSERT_TRUE(p->write_tag(*run, 0, &v, 1));  // the write itself is on the writer's side, allowed to allocate
+
+  // The counter is live: one allocation is seen as one.
+  g_allocations = 0;
+  g_counting = true;
+  delete new int(1);
+  g_counting = false;
+  ASSERT_EQ(g_allocations.load(), 1);
+
+  g_allocations = 0;
+  g_counting = true;
+  clock.run_until(2'000'000'000);
+  g_counting = false;
+  EXPECT_EQ(g_allocations.load(), 0);
+  EXPECT_GT(p->tasks[0]->stats.summary().scans, 1900u);
+  EXPECT_GT(p->tasks[1]->stats.summary().overruns, 0u);  // the overrun path ran too
+}
+
+}  // namespace
+}  // namespace syncplc
