@@ -102,7 +102,8 @@ drivers:
   // The counter is live: one allocation is seen as one.
   g_allocations = 0;
   g_counting = true;
-  delete new int(1);
+  int* volatile probe = new int(1);  // volatile: the compiler may not elide the pair
+  delete probe;
   g_counting = false;
   ASSERT_EQ(g_allocations.load(), 1);
 
