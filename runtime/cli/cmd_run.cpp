@@ -80,6 +80,7 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
   const std::int64_t t0 = RealtimeRunner::monotonic_ns();
   std::deque<std::string> recent;
   bool warned = false;
+  std::vector<bool> hung_reported(64, false);
   int stop_signal = 0;
   for (;;) {
     timespec wait{0, 250'000'000};
@@ -117,6 +118,22 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
     if (!warned) {
       for (const auto& w : runner->warnings()) std::cerr << "syncplc: warning: " << w << "\n";
       warned = !runner->warnings().empty() || RealtimeRunner::monotonic_ns() - t0 > 1'000'000'000;
+    }
+    // A scan that has run past watchdog time × sensitivity is reported here:
+    // its own watchdog only judges it when (if) it ends.
+    for (std::size_t i = 0; i < p.tasks.size(); ++i) {
+      const auto& c = p.tasks[i]->config();
+      if (!c.watchdog) continue;
+      std::int64_t running = runner->scan_running_ns(i);
+      bool hung = running > c.watchdog_ns * c.sensitivity;
+      if (hung && !hung_reported[i]) {
+        std::string line = fmt::format("task {}: scan running for {} (watchdog {} x {}) and not finished; "
+                                       "it cannot be interrupted: check the program", c.name, format_ns(running),
+                                       format_duration(c.watchdog_ns), c.sensitivity);
+        std::cerr << "syncplc: " << line << "\n";
+        if (live) recent.push_back(line);
+      }
+      hung_reported[i] = hung;
     }
     for (auto& t : p.tasks) {
       Event e;

@@ -61,6 +61,8 @@ void RealtimeRunner::start() {
   }
   stop_.store(false);
   for (auto& t : program_.tasks) t->reset_timing();
+  scan_started_ = std::make_unique<std::atomic<std::int64_t>[]>(program_.tasks.size());
+  for (std::size_t i = 0; i < program_.tasks.size(); ++i) scan_started_[i].store(-1);
   epoch_ = monotonic_ns() + options_.start_delay_ns;
   alive_.store(static_cast<int>(program_.tasks.size()));
   for (std::size_t i = 0; i < program_.tasks.size(); ++i) threads_.emplace_back([this, i] { task_thread(i); });
@@ -70,6 +72,12 @@ void RealtimeRunner::join() {
   for (auto& t : threads_)
     if (t.joinable()) t.join();
   threads_.clear();
+}
+
+std::int64_t RealtimeRunner::scan_running_ns(std::size_t task) const {
+  if (!scan_started_ || task >= program_.tasks.size()) return 0;
+  std::int64_t s = scan_started_[task].load(std::memory_order_relaxed);
+  return s < 0 ? 0 : std::max<std::int64_t>(0, monotonic_ns() - epoch_ - s);
 }
 
 bool RealtimeRunner::running() const { return alive_.load(std::memory_order_acquire) > 0; }
@@ -127,6 +135,7 @@ void RealtimeRunner::task_thread(std::size_t index) {
     }
     if (stopping) break;
     const std::int64_t start = monotonic_ns() - epoch_;
+    scan_started_[index].store(start, std::memory_order_relaxed);
     ScanContext ctx;
     ctx.now_ns = planned;
     ctx.dt_ns = n == 0 ? cfg.period_ns : planned - prev_planned;
@@ -134,6 +143,7 @@ void RealtimeRunner::task_thread(std::size_t index) {
     ctx.virtual_time = false;
     task.scan(ctx);
     const std::int64_t end = monotonic_ns() - epoch_;
+    scan_started_[index].store(-1, std::memory_order_relaxed);
     task.publish();
     auto next = task.account(k, planned, start, end);
     prev_planned = planned;

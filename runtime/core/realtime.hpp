@@ -6,6 +6,7 @@
 #pragma once
 
 #include <atomic>
+#include <memory>
 #include <mutex>
 #include <cstdint>
 #include <string>
@@ -34,6 +35,11 @@ class RealtimeRunner {
   // Warnings collected at start (no SCHED_FIFO permission, mlockall failed...).
   std::vector<std::string> warnings() const;
   std::int64_t epoch_ns() const { return epoch_; }
+  // Supervision from a non-real-time thread: for each task, how long its
+  // current scan has been running (0 when it is between scans). The watchdog
+  // proper is evaluated when a scan ends; this is how a scan that never ends
+  // is noticed (it cannot be interrupted safely, only reported).
+  std::int64_t scan_running_ns(std::size_t task) const;
 
   static std::int64_t monotonic_ns();
 
@@ -43,6 +49,7 @@ class RealtimeRunner {
   Program& program_;
   Options options_;
   std::vector<std::thread> threads_;
+  std::unique_ptr<std::atomic<std::int64_t>[]> scan_started_;  // per task, -1 between scans
   std::atomic<bool> stop_{false};
   std::atomic<int> alive_{0};
   std::int64_t epoch_ = 0;

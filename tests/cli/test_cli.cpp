@@ -243,3 +243,18 @@ connections: [level -> m.IN, m.OUT -> out]
 }
 
 }  // namespace
+
+namespace {
+
+TEST(Cli, RunReportsAScanThatDoesNotEnd) {
+  std::string path = write_temp_file("hang.yaml", R"(tasks:
+  - {name: stuck, period: 10ms, watchdog: {time: 50ms, sensitivity: 2, action: stop}}
+blocks: [{name: b, type: BURN, inputs: {EXEC: 1500ms}}]
+)");
+  auto r = run("run " + path + " --duration 1s --no-status");
+  EXPECT_EQ(r.rc, 0) << r.err;
+  EXPECT_NE(r.err.find("task stuck: scan running for"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("watchdog tripped"), std::string::npos) << r.err;  // judged when it finally ended
+}
+
+}  // namespace
