@@ -152,7 +152,7 @@ void register_arithmetic(BlockRegistry& r) {
     auto t = arith_info("DIV",
                         "Quotient OUT := IN1 / IN2 over ANY_NUM (default LREAL). Integers truncate toward "
                         "zero. Integer division by zero gives OUT := 0 and raises a block-fault event "
-                        "\"DIV: division by zero\" on every scan it happens; the signed minimum divided by -1 "
+                        "\"DIV: division by zero\" (the task reports it once per series of faulting scans); the signed minimum divided by -1 "
                         "gives the minimum (wrap-around, no trap). Reals follow IEEE 754 (x/0 gives +-inf, "
                         "0/0 NaN, no event).");
     binary_pins(t, C, "dividend", "divisor", "IN1 / IN2");
@@ -164,7 +164,7 @@ void register_arithmetic(BlockRegistry& r) {
     auto t = arith_info("MOD",
                         "Remainder OUT := IN1 - (IN1 / IN2) * IN2 over ANY_INT (default INT), with truncating "
                         "division, so the result has the sign of IN1 (-7 MOD 2 = -1). IN2 = 0 gives OUT := 0 "
-                        "and raises a block-fault event \"MOD: division by zero\" on every scan it happens; "
+                        "and raises a block-fault event \"MOD: division by zero\" (the task reports it once per series of faulting scans); "
                         "IN2 = -1 gives 0.");
     t.default_datatype = IecType::INT;
     binary_pins(t, C, "dividend", "divisor", "remainder, with the sign of IN1");

@@ -7,19 +7,10 @@
 #include <thread>
 
 #include "runtime/core/realtime.hpp"
-#include "runtime/project/loader.hpp"
-#include "tests/support/test_blocks.hpp"
+#include "tests/support/project_fixture.hpp"
 
 namespace syncplc {
 namespace {
-
-std::unique_ptr<Program> load(const std::string& yaml) {
-  LoadOptions o;
-  o.blocks = &testing::test_blocks();
-  auto r = load_project_text(yaml, "rt.yaml", o);
-  for (const auto& d : r.diagnostics.list()) ADD_FAILURE() << d.text();
-  return std::move(r.program);
-}
 
 RealtimeRunner::Options quiet_options() {
   RealtimeRunner::Options o;
@@ -72,7 +63,7 @@ connections:
 )";
 
 TEST(Realtime, SnapshotsAreNeverTornAcrossThreadsAndQueuedWritesArrive) {
-  auto p = load(kProject);
+  auto p = load_test_project(kProject);
   ASSERT_TRUE(p);
   RealtimeRunner runner(*p, quiet_options());
   runner.start();
@@ -118,7 +109,7 @@ TEST(Realtime, SnapshotsAreNeverTornAcrossThreadsAndQueuedWritesArrive) {
 }
 
 TEST(Realtime, WatchdogStopsATaskThatBurnsTooLong) {
-  auto p = load(R"(
+  auto p = load_test_project(R"(
 tasks:
   - {name: hog, period: 5ms, priority: 50, watchdog: {time: 500us, sensitivity: 1, action: stop}}
   - {name: fine, period: 1ms, priority: 40}
@@ -148,7 +139,7 @@ blocks:
 }
 
 TEST(Realtime, StopIsPromptEvenForALongPeriod) {
-  auto p = load(R"(
+  auto p = load_test_project(R"(
 tasks: [{name: slow, period: 10s}]
 blocks: [{name: m, type: MOVE, inputs: {IN: 1.0}}]
 )");

@@ -9,7 +9,7 @@
 #include <new>
 
 #include "runtime/core/virtual_clock.hpp"
-#include "tests/scheduler/scheduler_fixture.hpp"
+#include "tests/support/project_fixture.hpp"
 
 namespace {
 std::atomic<bool> g_counting{false};

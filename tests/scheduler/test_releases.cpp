@@ -4,7 +4,7 @@
 #include <map>
 
 #include "runtime/core/virtual_clock.hpp"
-#include "tests/scheduler/scheduler_fixture.hpp"
+#include "tests/support/project_fixture.hpp"
 
 namespace syncplc {
 namespace {

@@ -1,4 +1,4 @@
-// Loading helpers for the scheduler tests.
+// Loading helpers for tests that run projects with the test block types.
 #pragma once
 
 #include <gtest/gtest.h>
