@@ -208,9 +208,9 @@ std::string format_value(IecType t, Cell c) {
                     static_cast<unsigned long long>(v));
       return buf;
     } else if constexpr (std::is_floating_point_v<N>) {
-      char buf[40];
-      std::snprintf(buf, sizeof buf, "%.*g", std::is_same_v<N, float> ? 9 : 17, static_cast<double>(v));
-      return buf;
+      char buf[64];  // shortest text that reads back to the same value: 0.35, not 0.34999999999999998
+      auto res = std::to_chars(buf, buf + sizeof buf, v);
+      return std::string(buf, res.ptr);
     } else {
       return std::to_string(v);
     }
