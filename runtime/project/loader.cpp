@@ -5,8 +5,10 @@
 #include "runtime/project/loader.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <map>
 #include <queue>
 #include <set>
@@ -355,6 +357,10 @@ std::optional<Cell> Loader::parse_literal(IecType t, const std::string& unit, co
   if (is_real(t)) {
     auto v = parse_quantity(text, unit, &err);
     if (!v) { d_.error(loc, what + ": " + err); return std::nullopt; }
+    if (t == IecType::REAL && std::fabs(*v) > static_cast<double>(std::numeric_limits<float>::max())) {
+      d_.error(loc, what + ": value " + text + " is out of range for REAL");
+      return std::nullopt;
+    }
     Cell c;
     if (t == IecType::REAL) c.set<float>(static_cast<float>(*v));
     else c.set<double>(*v);

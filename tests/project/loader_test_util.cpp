@@ -1,0 +1,95 @@
+#include "tests/project/loader_test_util.hpp"
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+namespace syncplc::loadertest {
+namespace {
+
+class Gain final : public Block {
+ public:
+  explicit Gain(BlockSetup& s) : k_(s.param<double>("K")), n_(s.param<std::int32_t>("N")) {}
+  void execute(ScanContext&) override { out<double>(1, in<double>(0) * k_); }
+  double k() const { return k_; }
+  std::int32_t n() const { return n_; }
+
+ private:
+  double k_;
+  std::int32_t n_;
+};
+
+class Pass final : public Block {
+ public:
+  void execute(ScanContext&) override { out<double>(1, in<double>(0)); }
+};
+
+PinDecl pin(const char* name, PinDir dir, bool required) {
+  PinDecl p;
+  p.name = name;
+  p.dir = dir;
+  p.type = IecType::LREAL;
+  p.required = required;
+  return p;
+}
+
+}  // namespace
+
+const BlockRegistry& param_blocks() {
+  static const BlockRegistry reg = [] {
+    BlockRegistry r;
+    register_iec_blocks(r);
+    BlockTypeInfo g;
+    g.name = "GAIN";
+    g.category = "test";
+    g.doc = "OUT := IN * K";
+    g.pins = {pin("IN", PinDir::In, true), pin("OUT", PinDir::Out, false)};
+    ParamDecl k;
+    k.name = "K";
+    k.type = IecType::LREAL;
+    k.default_value = "1";
+    k.min = 0;
+    k.max = 100;
+    k.unit = "m/s";
+    ParamDecl n;
+    n.name = "N";
+    n.type = IecType::DINT;
+    n.default_value = "0";
+    g.params = {k, n};
+    g.create = [](BlockSetup& s) -> std::unique_ptr<Block> { return std::make_unique<Gain>(s); };
+    r.add(std::move(g));
+    BlockTypeInfo nd;
+    nd.name = "NEED";
+    nd.category = "test";
+    nd.doc = "OUT := IN; needs P";
+    nd.pins = {pin("IN", PinDir::In, false), pin("OUT", PinDir::Out, false)};
+    ParamDecl p;
+    p.name = "P";
+    p.type = IecType::INT;
+    nd.params = {p};
+    nd.create = [](BlockSetup&) -> std::unique_ptr<Block> { return std::make_unique<Pass>(); };
+    r.add(std::move(nd));
+    return r;
+  }();
+  return reg;
+}
+
+double gain_k(const Program& p, const std::string& instance) {
+  auto it = p.instances.find(instance);
+  if (it == p.instances.end()) return -1;
+  const auto& bi = p.tasks[it->second.first]->blocks[it->second.second];
+  const auto* g = dynamic_cast<const Gain*>(bi.block.get());
+  return g ? g->k() : -1;
+}
+
+std::string temp_file(const std::string& name, const std::string& text) {
+  auto dir = std::filesystem::temp_directory_path() / ("syncplc-loader-test-" + std::to_string(getpid()));
+  std::filesystem::create_directories(dir);
+  auto path = dir / name;
+  std::filesystem::create_directories(path.parent_path());
+  std::ofstream(path, std::ios::trunc) << text;
+  return path.string();
+}
+
+}  // namespace syncplc::loadertest
