@@ -279,7 +279,7 @@ void Loader::read_tasks(const ConfigNode& n) {
     if (!t.is_map()) { d_.error(t.loc, "a task is a map {name, period, priority, ...}"); continue; }
     TaskDecl td;
     td.loc = t.loc;
-    bool has_period = false;
+    bool has_period = false, period_ok = false;
     for (const auto& [k, v] : t.map) {
       std::string err;
       if (k == "name") {
@@ -292,7 +292,7 @@ void Loader::read_tasks(const ConfigNode& n) {
         if (!ns) d_.error(v.loc, "period: " + err);
         else if (*ns < kMinPeriod || *ns > kMaxPeriod)
           d_.error(v.loc, "period " + v.scalar + " is outside 100us .. 10s");
-        else td.cfg.period_ns = *ns;
+        else { td.cfg.period_ns = *ns; period_ok = true; }
       } else if (k == "phase") {
         auto ns = parse_duration_ns(v.scalar, &err);
         if (!ns) d_.error(v.loc, "phase: " + err);
@@ -344,7 +344,7 @@ void Loader::read_tasks(const ConfigNode& n) {
     }
     if (td.cfg.name.empty()) d_.error(t.loc, "task without a name");
     if (!has_period) d_.error(t.loc, "task " + td.cfg.name + " has no period");
-    if (td.cfg.phase_ns >= td.cfg.period_ns && has_period)
+    if (td.cfg.phase_ns >= td.cfg.period_ns && period_ok)
       d_.error(t.find("phase") ? t.find("phase")->loc : t.loc, "phase must be shorter than the period");
     if (tasks_.size() >= 64) { d_.error(t.loc, "more than 64 tasks"); continue; }
     tasks_.push_back(std::move(td));
@@ -654,8 +654,12 @@ bool Loader::parse_endpoint(const std::string& raw, const SourceLoc& loc, Endpoi
   std::optional<long long> idx;
   if (auto lb = s.find('['); lb != std::string::npos) {
     if (s.back() != ']') { d_.error(loc, "bad element reference '" + s + "'"); return false; }
-    try { idx = std::stoll(s.substr(lb + 1, s.size() - lb - 2)); }
-    catch (...) { d_.error(loc, "bad array index in '" + s + "'"); return false; }
+    try {
+      std::string inner = s.substr(lb + 1, s.size() - lb - 2);
+      std::size_t used = 0;
+      idx = std::stoll(inner, &used);
+      if (used != inner.size()) throw std::invalid_argument(inner);  // arr[2x]
+    } catch (...) { d_.error(loc, "bad array index in '" + s + "'"); return false; }
     base = s.substr(0, lb);
   }
   if (auto dot = base.find('.'); dot != std::string::npos) {
@@ -811,14 +815,34 @@ void Loader::infer_types() {
       changed |= settle(c.src, c.dst);
       changed |= settle(c.dst, c.src);
     }
-    if (!changed)
-      for (auto& in : insts_)
-        if (in.type->is_generic() && !in.datatype && in.type->default_datatype) {
-          // Defaults one instance at a time, so its neighbours can infer from it.
-          in.datatype = in.type->default_datatype;
-          changed = true;
-          break;
-        }
+    if (!changed) {
+      // Defaults one instance at a time, so its neighbours can infer from it:
+      // the first (in declaration order) whose default belongs to the class of
+      // every still-open generic pin it is connected to (so MOVE before CTU,
+      // CTU.CV -> MOVE.IN gives MOVE<INT>, not a clash with LREAL), else the first.
+      auto suits_neighbours = [&](std::size_t i) {
+        IecType t = *insts_[i].type->default_datatype;
+        for (const auto& c : conns_)
+          for (const auto& [mine, other] : {std::pair{&c.src, &c.dst}, std::pair{&c.dst, &c.src}}) {
+            if (!mine->is_pin || static_cast<std::size_t>(mine->instance) != i || !other->is_pin) continue;
+            const auto& o = insts_[static_cast<std::size_t>(other->instance)];
+            const auto& op = o.type->pins[static_cast<std::size_t>(other->pin)];
+            if (op.cls != TypeClass::Exact && !o.datatype && !in_class(t, op.cls)) return false;
+          }
+        return true;
+      };
+      std::optional<std::size_t> pick;
+      for (std::size_t i = 0; i < insts_.size(); ++i) {
+        const auto& in = insts_[i];
+        if (!in.type->is_generic() || in.datatype || !in.type->default_datatype) continue;
+        if (!pick) pick = i;
+        if (suits_neighbours(i)) { pick = i; break; }
+      }
+      if (pick) {
+        insts_[*pick].datatype = insts_[*pick].type->default_datatype;
+        changed = true;
+      }
+    }
   }
   for (auto& in : insts_)
     if (in.type->is_generic() && !in.datatype)
@@ -1007,17 +1031,22 @@ std::unique_ptr<Program> Loader::build() {
   // Edge a -> b when b reads, in the same scan, a value a writes: directly
   // (a.out -> b.in) or through a tag of the same task (a.out -> tag -> b.in).
   std::vector<std::vector<std::pair<int, SourceLoc>>> succ(insts_.size());
-  std::vector<std::vector<int>> tag_writers(tags_.size());  // several for element-wise writes
+  // Several writers for element-wise writes; a reader of one element depends
+  // only on the writer of that element (or of the whole tag).
+  std::vector<std::vector<std::pair<int, std::optional<std::uint32_t>>>> tag_writers(tags_.size());
   for (const auto& c : conns_)
-    if (c.src.is_pin && !c.dst.is_pin) tag_writers[static_cast<std::size_t>(c.dst.tag)].push_back(c.src.instance);
+    if (c.src.is_pin && !c.dst.is_pin)
+      tag_writers[static_cast<std::size_t>(c.dst.tag)].emplace_back(c.src.instance, c.dst.element);
   for (const auto& c : conns_) {
     if (!c.dst.is_pin) continue;
     if (insts_[static_cast<std::size_t>(c.dst.instance)].type->unit_delay) continue;  // reads at the end of the scan
     std::vector<int> from;
     if (c.src.is_pin) from.push_back(c.src.instance);
     else
-      for (int w : tag_writers[static_cast<std::size_t>(c.src.tag)])
-        if (insts_[static_cast<std::size_t>(w)].task == insts_[static_cast<std::size_t>(c.dst.instance)].task) from.push_back(w);
+      for (const auto& [w, element] : tag_writers[static_cast<std::size_t>(c.src.tag)])
+        if (insts_[static_cast<std::size_t>(w)].task == insts_[static_cast<std::size_t>(c.dst.instance)].task &&
+            !(element && c.src.element && *element != *c.src.element))
+          from.push_back(w);
     for (int f : from) {
       if (insts_[static_cast<std::size_t>(f)].type->unit_delay) continue;  // its output is ready at the start
       succ[static_cast<std::size_t>(f)].emplace_back(c.dst.instance, c.loc);

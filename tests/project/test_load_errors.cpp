@@ -213,6 +213,15 @@ tasks:
                              "p.yaml:5:35: phase must not be negative"));
 }
 
+TEST(LoadErrors, NoPhaseErrorAfterAnUnreadablePeriod) {
+  // The period could not be read: the phase is not compared with a default.
+  EXPECT_THAT(errors(R"(
+tasks:
+  - {name: a, period: 20ms x, phase: 5ms}
+)"),
+              ElementsAre(::testing::StartsWith("p.yaml:2:23: period: '20ms x' is not a duration")));
+}
+
 TEST(LoadErrors, PriorityOutOfRange) {
   auto e = errors(R"(
 tasks:
@@ -666,10 +675,12 @@ connections:
   - arr[x] -> k.IN
   - arr[1 -> k.IN
   - n.OUT[1] -> arr[1]
+  - arr[2x] -> k.IN
 )"),
               ::testing::IsSupersetOf({"p.yaml:5:5: index 5 is outside arr[1..4]", "p.yaml:6:5: tag b is not an array",
                                        "p.yaml:7:5: bad array index in 'arr[x]'",
-                                       "p.yaml:8:5: bad element reference 'arr[1'", "p.yaml:9:5: pin n.OUT is not an array"}));
+                                       "p.yaml:8:5: bad element reference 'arr[1'", "p.yaml:9:5: pin n.OUT is not an array",
+                                       "p.yaml:10:5: bad array index in 'arr[2x]'"}));
 }
 
 TEST(LoadErrors, FeedbackLoopNamesItsInstances) {
@@ -705,6 +716,19 @@ connections:
   - b.OUT -> a.IN
 )"),
               ElementsAre(::testing::StartsWith("p.yaml:9:5: feedback loop without a one-scan delay: a -> b -> a")));
+}
+
+TEST(LoadErrors, FeedbackLoopThroughOneArrayElement) {
+  EXPECT_THAT(errors(R"(
+tasks: [{name: main, period: 1ms}]
+tags: [{name: arr, type: "ARRAY[0..1] OF INT"}]
+blocks: [{name: add, type: ADD, inputs: {IN2: 1}}]
+connections:
+  - arr[1] -> add.IN1
+  - add.OUT -> arr[1]
+)"),
+              ElementsAre("p.yaml:5:5: feedback loop without a one-scan delay: add -> add (break it with a UNIT_DELAY "
+                          "block)"));
 }
 
 TEST(LoadErrors, SameLoopAcceptedWithAUnitDelay) {
