@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
@@ -83,8 +84,20 @@ double gain_k(const Program& p, const std::string& instance) {
   return g ? g->k() : -1;
 }
 
+std::filesystem::path temp_dir() {
+  return std::filesystem::temp_directory_path() / ("syncplc-loader-test-" + std::to_string(getpid()));
+}
+
 std::string temp_file(const std::string& name, const std::string& text) {
-  auto dir = std::filesystem::temp_directory_path() / ("syncplc-loader-test-" + std::to_string(getpid()));
+  static const bool cleanup = [] {
+    std::atexit([] {
+      std::error_code ec;
+      std::filesystem::remove_all(temp_dir(), ec);
+    });
+    return true;
+  }();
+  (void)cleanup;
+  auto dir = temp_dir();
   std::filesystem::create_directories(dir);
   auto path = dir / name;
   std::filesystem::create_directories(path.parent_path());
