@@ -16,12 +16,20 @@
 // obtained is printed (from RealtimeRunner::warnings() and checked again with
 // sched_getscheduler() on the task's thread).
 //
+// --bare replaces RealtimeRunner by a minimal loop in the same process and
+// with the same thread setup (SCHED_FIFO, mlockall, optional pinning):
+// clock_nanosleep(TIMER_ABSTIME) on the release, clock_gettime, record. It is a
+// control: it separates what the runner's wake-up path costs from what the
+// machine does to any sleeping SCHED_FIFO thread.
+//
 // Usage: bench_rt_jitter [--duration S] [--slices N] [--period-us U] [--priority P]
-//                        [--cpu C] [--pm-qos US] [--between CMD]
+//                        [--cpu C] [--pm-qos US] [--between CMD] [--bare]
 // The last line is machine-readable: "RESULT key=value ...", all times in ns.
 #include <dirent.h>
 #include <fcntl.h>
+#include <pthread.h>
 #include <sched.h>
+#include <sys/mman.h>
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
@@ -35,7 +43,9 @@
 #include <iostream>
 #include <set>
 #include <string>
+#include <thread>
 
+#include "runtime/core/histogram.hpp"
 #include "runtime/core/realtime.hpp"
 #include "runtime/project/loader.hpp"
 
@@ -51,12 +61,13 @@ struct Options {
   int cpu = -1;
   int pm_qos_us = -1;  // >= 0: hold /dev/cpu_dma_latency at this value while the task runs
   std::string between;
+  bool bare = false;   // a minimal clock_nanosleep loop instead of RealtimeRunner (a control)
 };
 
 [[noreturn]] void usage(const char* msg) {
   std::cerr << "bench_rt_jitter: " << msg << "\n"
             << "usage: bench_rt_jitter [--duration S] [--slices N] [--period-us U] [--priority P] [--cpu C]\n"
-            << "                       [--pm-qos US] [--between CMD]\n";
+            << "                       [--pm-qos US] [--between CMD] [--bare]\n";
   std::exit(2);
 }
 
@@ -75,6 +86,7 @@ Options parse(int argc, char** argv) {
     else if (a == "--cpu") o.cpu = std::stoi(value());
     else if (a == "--pm-qos") o.pm_qos_us = std::stoi(value());
     else if (a == "--between") o.between = value();
+    else if (a == "--bare") o.bare = true;
     else if (a == "-h" || a == "--help") usage("help");
     else usage(("unknown argument " + a).c_str());
   }
@@ -141,6 +153,41 @@ class PmQos {
   int fd_ = -1;
 };
 
+// The control loop of --bare: what cyclictest does, recorded in a Histogram
+// like Task::stats.jitter. Returns a warning text, "" when all went well.
+std::string bare_slice(const Options& o, std::int64_t slice_ns, Histogram& jitter, std::uint64_t& scans) {
+  std::string warning;
+  if (mlockall(MCL_CURRENT | MCL_FUTURE) != 0) warning = std::string("mlockall failed: ") + std::strerror(errno);
+  std::thread t([&] {
+    pthread_setname_np(pthread_self(), "empty");
+    sched_param sp{};
+    sp.sched_priority = o.priority;
+    if (int rc = pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp); rc != 0)
+      warning = std::string("cannot use SCHED_FIFO: ") + std::strerror(rc);
+    if (o.cpu >= 0) {
+      cpu_set_t set;
+      CPU_ZERO(&set);
+      CPU_SET(o.cpu, &set);
+      pthread_setaffinity_np(pthread_self(), sizeof set, &set);
+    }
+    const std::int64_t epoch = RealtimeRunner::monotonic_ns() + 20'000'000;
+    const std::int64_t period = o.period_us * 1000;
+    for (std::int64_t planned = 0; planned < slice_ns; planned += period) {
+      const std::int64_t deadline = epoch + planned;
+      timespec ts{static_cast<time_t>(deadline / 1'000'000'000), static_cast<long>(deadline % 1'000'000'000)};
+      while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+      }
+      jitter.record(RealtimeRunner::monotonic_ns() - deadline);
+      ++scans;
+    }
+  });
+  sleep_ns(120'000'000);
+  std::string pol = thread_policy("empty");
+  t.join();
+  if (pol.rfind("SCHED_FIFO", 0) != 0 && warning.empty()) warning = "thread policy seen: " + pol;
+  return warning;
+}
+
 std::string us(std::int64_t ns) {
   char b[32];
   std::snprintf(b, sizeof b, "%.1f us", static_cast<double>(ns) * 1e-3);
@@ -160,20 +207,27 @@ int main(int argc, char** argv) {
   Task& task = *p.tasks[0];
   const auto slice_ns = static_cast<std::int64_t>(std::llround(o.duration_s * 1e9 / o.slices));
 
-  std::cout << "bench_rt_jitter: empty task, period " << o.period_us << " us, priority " << o.priority << ", cpu "
+  std::cout << "bench_rt_jitter: " << (o.bare ? "bare loop (control)" : "empty task") << ", period " << o.period_us << " us, priority " << o.priority << ", cpu "
             << (o.cpu >= 0 ? std::to_string(o.cpu) : "any") << ", " << o.slices << " slice(s) of "
             << static_cast<double>(slice_ns) * 1e-9 << " s, pm-qos "
             << (o.pm_qos_us >= 0 ? std::to_string(o.pm_qos_us) + " us" : "untouched") << "\n";
   if (geteuid() != 0) std::cout << "bench_rt_jitter: not running as root: expect no SCHED_FIFO and no mlockall\n";
 
   std::set<std::string> warnings;
+  Histogram bare_jitter;
+  bare_jitter.reset();
+  std::uint64_t bare_scans = 0;
   std::string policy;
   bool fifo = true;
   for (int s = 0; s < o.slices; ++s) {
     PmQos qos;
     std::string err;
     if (o.pm_qos_us >= 0 && !qos.open(o.pm_qos_us, &err)) warnings.insert("cannot set /dev/cpu_dma_latency: " + err);
-    {
+    if (o.bare) {
+      std::string w = bare_slice(o, slice_ns, bare_jitter, bare_scans);
+      if (policy.empty()) policy = w.empty() ? "SCHED_FIFO prio " + std::to_string(o.priority) : w;
+      if (!w.empty()) { warnings.insert(w); fifo = false; }
+    } else {
       RealtimeRunner runner(p);
       runner.start();
       sleep_ns(runner.epoch_ns() - RealtimeRunner::monotonic_ns() + 100'000'000);
@@ -203,6 +257,12 @@ int main(int argc, char** argv) {
   std::cout << "bench_rt_jitter: SCHED_FIFO " << (fifo ? "obtained" : "NOT obtained") << " (thread policy seen: "
             << policy << ")\n";
   auto st = task.stats.summary();
+  if (o.bare) {
+    st = TaskStats::Summary{};
+    st.scans = bare_scans;
+    st.jitter = bare_jitter.summary();
+    std::cout << "bench_rt_jitter: --bare: a minimal clock_nanosleep loop, not RealtimeRunner\n";
+  }
   std::cout << "bench_rt_jitter: scans " << st.scans << ", overruns " << st.overruns << ", skipped " << st.skipped
             << "\n";
   std::cout << "bench_rt_jitter: start jitter  min " << us(st.jitter.min) << "  mean "

@@ -20,6 +20,10 @@
 #   PM_QOS     hold /dev/cpu_dma_latency at this many us while the syncplc task
 #              runs (cyclictest holds it at 0 by default; see docs/benchmarks.md)
 #   CT_EXTRA   extra cyclictest arguments (e.g. --laptop: leave /dev/cpu_dma_latency alone)
+#   BARE=1     syncplc side replaced by bench_rt_jitter --bare: a minimal
+#              clock_nanosleep loop in the same process (a control, not the runtime)
+#   CONTROL=1  no syncplc: cyclictest against itself in the same interleaving, to
+#              see how far two identical measurements differ on this machine
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -45,22 +49,33 @@ if [ -n "${CPU:-}" ]; then
 fi
 [ -n "${PM_QOS:-}" ] && plc_args+=(--pm-qos "$PM_QOS")
 [ -n "${CT_EXTRA:-}" ] && ct_cmd+=" $CT_EXTRA"
+[ "${BARE:-0}" = 1 ] && plc_args+=(--bare)
 
+steal() { awk '/^cpu / { print $9 }' /proc/stat; }
 echo "== machine: $(nproc) CPUs, kernel $(uname -r), $(uname -v)"
 echo "== load before: $(cat /proc/loadavg)"
-echo "== syncplc: $bin ${plc_args[*]}"
-echo "== cyclictest (after each syncplc slice): $ct_cmd"
-"$bin" "${plc_args[@]}" --between "$ct_cmd >> $tmp/ct.txt 2>&1" | tee "$tmp/plc.txt"
+steal0=$(steal); t0=$(date +%s)
+if [ "${CONTROL:-0}" = 1 ]; then
+  left="cyclictest A"
+  echo "== control run: $ct_cmd, twice per slice (A then B)"
+  for ((s = 0; s < slices; s++)); do
+    $ct_cmd >> "$tmp/a.txt" 2>&1
+    $ct_cmd >> "$tmp/ct.txt" 2>&1
+  done
+else
+  left="syncplc RealtimeRunner"
+  [ "${BARE:-0}" = 1 ] && left="bare loop (control)"
+  echo "== syncplc: $bin ${plc_args[*]}"
+  echo "== cyclictest (after each syncplc slice): $ct_cmd"
+  "$bin" "${plc_args[@]}" --between "$ct_cmd >> $tmp/ct.txt 2>&1" | tee "$tmp/plc.txt"
+fi
 echo "== load after: $(cat /proc/loadavg)"
+awk -v s="$(( $(steal) - steal0 ))" -v t="$(( $(date +%s) - t0 ))" -v n="$(nproc)" -v hz="$(getconf CLK_TCK)" \
+  'BEGIN { printf "== steal time during the run: %.2f s of %d s x %d CPUs (%.2f%%)\n", s / hz, t, n, 100 * s / hz / (t * n) }'
 
-# syncplc side: the RESULT line.
-result=$(grep '^RESULT ' "$tmp/plc.txt")
-get() { sed -n "s/.* $1=\([0-9-]*\).*/\1/p" <<<"$result"; }
-plc_n=$(get scans); plc_p50=$(get p50_ns); plc_p99=$(get p99_ns); plc_max=$(get max_ns); plc_min=$(get min_ns)
-plc_fifo=$(sed -n 's/.*fifo=\([01]\).*/\1/p' <<<"$result")
-
-# cyclictest side: summed histograms, in ns so the printing below is uniform.
-read -r ct_n ct_p50 ct_p99 ct_max ct_min ct_over < <(awk '
+# Summed cyclictest histograms of a file: "n p50 p99 max min overflows", in ns.
+ct_stats() {
+  awk '
   /^[0-9]+ [0-9]+$/ { h[$1 + 0] += $2; n += $2; next }
   /# Histogram Overflows:/ { over += $4; n += $4; next }
   /# Max Latencies:/ { if ($4 + 0 > mx) mx = $4 + 0; next }
@@ -71,21 +86,39 @@ read -r ct_n ct_p50 ct_p99 ct_max ct_min ct_over < <(awk '
     for (b = 0; b < 2000; b++) { acc += h[b]; if (acc > r) return (b + 1) * 1000 - 1 }
     return -1   # in the overflow (>= 2000 us)
   }
-  END { printf "%d %d %d %d %d %d\n", n, pct(0.50), pct(0.99), mx * 1000, mn * 1000, over }' "$tmp/ct.txt")
+  END { printf "%d %d %d %d %d %d\n", n, pct(0.50), pct(0.99), mx * 1000, mn * 1000, over }' "$1"
+}
+
+if [ "${CONTROL:-0}" = 1 ]; then
+  read -r plc_n plc_p50 plc_p99 plc_max plc_min plc_over < <(ct_stats "$tmp/a.txt")
+  plc_fifo=1
+  [ "$plc_over" -gt 0 ] && echo "  cyclictest A: $plc_over sample(s) beyond its 2000 us histogram"
+else
+  # syncplc side: the RESULT line.
+  result=$(grep '^RESULT ' "$tmp/plc.txt")
+  get() { sed -n "s/.* $1=\([0-9-]*\).*/\1/p" <<<"$result"; }
+  plc_n=$(get scans); plc_p50=$(get p50_ns); plc_p99=$(get p99_ns); plc_max=$(get max_ns); plc_min=$(get min_ns)
+  plc_fifo=$(sed -n 's/.*fifo=\([01]\).*/\1/p' <<<"$result")
+fi
+
+# cyclictest side.
+read -r ct_n ct_p50 ct_p99 ct_max ct_min ct_over < <(ct_stats "$tmp/ct.txt")
 
 us() { awk -v v="$1" 'BEGIN { if (v < 0) print ">= 2000 us"; else printf "%.1f us", v / 1000 }'; }
 echo
 echo "== start jitter, ${duration} s each, ${slices} interleaved slice(s), period ${period} us, SCHED_FIFO ${prio}"
-printf "  %-10s %24s %24s\n" "" "syncplc RealtimeRunner" "cyclictest"
+printf "  %-10s %24s %24s\n" "" "$left" "cyclictest"
 printf "  %-10s %24s %24s\n" "samples" "$plc_n" "$ct_n"
 printf "  %-10s %24s %24s\n" "min" "$(us "$plc_min")" "$(us "$ct_min") (trunc.)"
 printf "  %-10s %24s %24s\n" "p50" "$(us "$plc_p50")" "$(us "$ct_p50")"
 printf "  %-10s %24s %24s\n" "p99" "$(us "$plc_p99")" "$(us "$ct_p99")"
 printf "  %-10s %24s %24s\n" "max" "$(us "$plc_max")" "$(us "$ct_max") (trunc.)"
 [ "$ct_over" -gt 0 ] && echo "  cyclictest: $ct_over sample(s) beyond its 2000 us histogram"
-[ "$plc_fifo" = 1 ] && echo "  syncplc task: SCHED_FIFO obtained" || echo "  syncplc task: SCHED_FIFO NOT obtained"
+if [ "${CONTROL:-0}" != 1 ]; then
+  [ "$plc_fifo" = 1 ] && echo "  syncplc task: SCHED_FIFO obtained" || echo "  syncplc task: SCHED_FIFO NOT obtained"
+fi
 awk -v a="$plc_p99" -v b="$ct_p99" 'BEGIN {
   if (b <= 0) { print "  p99 ratio: n/a"; exit }
-  r = a / b; printf "  p99 ratio syncplc / cyclictest: %.2f  (aim <= 1.2: %s)\n", r, r <= 1.2 ? "met" : "NOT met" }'
+  r = a / b; printf "  p99 ratio (left / cyclictest): %.2f  (aim <= 1.2: %s)\n", r, r <= 1.2 ? "met" : "NOT met" }'
 echo "  (percentiles are bucket upper bounds: syncplc 1/32 relative buckets, cyclictest 1 us buckets;"
 echo "   cyclictest min/max are truncated to whole us)"
