@@ -8,7 +8,6 @@
 #include <cmath>
 #include <filesystem>
 #include <functional>
-#include <limits>
 #include <map>
 #include <queue>
 #include <set>
@@ -357,7 +356,8 @@ std::optional<Cell> Loader::parse_literal(IecType t, const std::string& unit, co
   if (is_real(t)) {
     auto v = parse_quantity(text, unit, &err);
     if (!v) { d_.error(loc, what + ": " + err); return std::nullopt; }
-    if (t == IecType::REAL && std::fabs(*v) > static_cast<double>(std::numeric_limits<float>::max())) {
+    // From 2^128 - 2^103 on, a double rounds to infinity as a float.
+    if (t == IecType::REAL && std::fabs(*v) >= std::ldexp(1.0, 128) - std::ldexp(1.0, 103)) {
       d_.error(loc, what + ": value " + text + " is out of range for REAL");
       return std::nullopt;
     }

@@ -439,12 +439,16 @@ tags:
   - {name: d, type: REAL, init: 1e39}
   - {name: e, type: INT, init: -32768}
   - {name: f, type: BYTE, init: 256}
+  - {name: g, type: REAL, init: 3.4028236e38}
+  - {name: h, type: REAL, unit: mm, init: 4e35 m}
 )");
   EXPECT_THAT(e, ElementsAre("p.yaml:3:32: init of a: value 40000 is out of range for INT (-32768 .. 32767)",
                              "p.yaml:4:34: init of b: value -1 is out of range for USINT (unsigned)",
                              "p.yaml:5:33: init of c: value 16#80 is out of range for SINT (-128 .. 127)",
                              "p.yaml:6:33: init of d: value 1e39 is out of range for REAL",
-                             "p.yaml:8:33: init of f: value 256 is out of range for BYTE (0 .. 255)"));
+                             "p.yaml:8:33: init of f: value 256 is out of range for BYTE (0 .. 255)",
+                             "p.yaml:9:33: init of g: value 3.4028236e38 is out of range for REAL",
+                             "p.yaml:10:43: init of h: value 4e35 m is out of range for REAL"));  // 4e38 mm
 }
 
 TEST(LoadErrors, BadlyWrittenValues) {

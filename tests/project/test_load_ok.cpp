@@ -2,6 +2,7 @@
 // generic type inference, execution order, arrays, values, --set overrides,
 // seeds, snapshot wiring and safe values.
 #include <algorithm>
+#include <limits>
 
 #include "runtime/core/virtual_clock.hpp"
 #include "tests/project/loader_test_util.hpp"
@@ -562,6 +563,22 @@ tags:
   EXPECT_DOUBLE_EQ(init_cell(p, "lr").get<double>(), -0.25);
   EXPECT_EQ(init_cell(p, "t").get<std::int64_t>(), 90'000'000'000);
   EXPECT_EQ(init_cell(p, "t2").get<std::int64_t>(), 1'500'000'000);
+}
+
+TEST(LoadOk, RealTagsTakeEveryFiniteFloat) {
+  auto r = load(R"(
+tasks: [{name: main, period: 1ms}]
+tags:
+  - {name: top, type: REAL, init: 3.4028235e38}
+  - {name: low, type: REAL, init: -3.4028235e38}
+  - {name: tiny, type: REAL, init: 1e-45}
+  - {name: conv, type: REAL, unit: m, init: 4e38 mm}
+)");
+  ASSERT_LOADS(r);
+  EXPECT_EQ(init_cell(*r.program, "top").get<float>(), std::numeric_limits<float>::max());
+  EXPECT_EQ(init_cell(*r.program, "low").get<float>(), -std::numeric_limits<float>::max());
+  EXPECT_GT(init_cell(*r.program, "tiny").get<float>(), 0.0f);
+  EXPECT_FLOAT_EQ(init_cell(*r.program, "conv").get<float>(), 4e35f);
 }
 
 TEST(LoadOk, ValuesWithUnitsAreConverted) {

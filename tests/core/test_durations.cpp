@@ -1,0 +1,105 @@
+// parse_duration_ns and format_duration.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <string>
+
+#include "runtime/core/iec_type.hpp"
+
+namespace syncplc {
+namespace {
+
+using ::testing::HasSubstr;
+
+std::int64_t ns(const std::string& text) {
+  std::string err;
+  auto v = parse_duration_ns(text, &err);
+  EXPECT_TRUE(v.has_value()) << "'" << text << "': " << err;
+  return v.value_or(-999);
+}
+
+std::string err(const std::string& text) {
+  std::string e;
+  auto v = parse_duration_ns(text, &e);
+  EXPECT_FALSE(v.has_value()) << "'" << text << "' = " << *v;
+  return e;
+}
+
+constexpr std::int64_t kUs = 1'000, kMs = 1'000'000, kS = 1'000'000'000;
+
+TEST(Durations, SingleUnits) {
+  EXPECT_EQ(ns("100ns"), 100);
+  EXPECT_EQ(ns("250us"), 250 * kUs);
+  EXPECT_EQ(ns("1ms"), kMs);
+  EXPECT_EQ(ns("0.5s"), kS / 2);
+  EXPECT_EQ(ns("2m"), 120 * kS);
+  EXPECT_EQ(ns("2min"), 120 * kS);
+  EXPECT_EQ(ns("1h"), 3600 * kS);
+  EXPECT_EQ(ns("1d"), 86400 * kS);
+  EXPECT_EQ(ns("1.5ms"), 1'500'000);
+  EXPECT_EQ(ns("0.1us"), 100);
+  EXPECT_EQ(ns("1MS"), kMs);  // units are case-insensitive
+}
+
+TEST(Durations, CompoundsGoFromLargestToSmallest) {
+  EXPECT_EQ(ns("T#1h2m3s4ms"), ((3600 + 120 + 3) * 1000 + 4) * kMs);
+  EXPECT_EQ(ns("1m30s"), 90 * kS);
+  EXPECT_EQ(ns("1s500ms"), 1500 * kMs);
+  EXPECT_EQ(ns("1d2h"), 26 * 3600 * kS);
+  EXPECT_EQ(ns("1s_500ms"), 1500 * kMs);  // underscores are ignored
+  EXPECT_THAT(err("1ms2s"), HasSubstr("units must go from largest to smallest"));
+  EXPECT_THAT(err("1s1s"), HasSubstr("units must go from largest to smallest"));
+  EXPECT_THAT(err("30s1m"), HasSubstr("units must go from largest to smallest"));
+}
+
+TEST(Durations, IecPrefixesAndSign) {
+  EXPECT_EQ(ns("T#250ms"), 250 * kMs);
+  EXPECT_EQ(ns("t#250ms"), 250 * kMs);
+  EXPECT_EQ(ns("TIME#1s"), kS);
+  EXPECT_EQ(ns("LT#1s"), kS);
+  EXPECT_EQ(ns("LTIME#1s"), kS);
+  EXPECT_EQ(ns("-5ms"), -5 * kMs);
+  EXPECT_EQ(ns("T#-1s500ms"), -1500 * kMs);
+  EXPECT_EQ(ns("+5ms"), 5 * kMs);
+  EXPECT_EQ(ns("  5ms  "), 5 * kMs);
+}
+
+TEST(Durations, Errors) {
+  EXPECT_EQ(err("5q"), "'5q' is not a duration (unknown unit 'q'; write e.g. 1ms, 250us, 0.5s, T#1m30s)");
+  EXPECT_THAT(err("10"), HasSubstr("missing unit after 10"));
+  EXPECT_THAT(err("ms"), HasSubstr("missing number"));
+  EXPECT_THAT(err(""), HasSubstr("(empty;"));
+  EXPECT_THAT(err("T#"), HasSubstr("(empty;"));
+  EXPECT_THAT(err("1.2.3s"), HasSubstr("bad number '1.2.3'"));
+  EXPECT_THAT(err("1 ms x"), HasSubstr("missing unit after 1"));
+  EXPECT_THAT(err("10 ms"), HasSubstr("missing unit after 10"));  // no spaces inside a duration
+  EXPECT_THAT(err("1sec"), HasSubstr("unknown unit 'sec'"));
+  EXPECT_THAT(err("106482d"), HasSubstr("too long"));
+}
+
+TEST(Durations, Limits) {
+  // Parsing stops at 9.2e18 ns (about 106481 days), a little short of the
+  // LTIME range: INT64_MAX ns (106751 days) formats but does not read back.
+  EXPECT_EQ(ns("106481d"), 106481LL * 86400 * kS);
+  EXPECT_THAT(err("T#106751d23h47m16s854ms775us807ns"), HasSubstr("too long"));
+  EXPECT_EQ(ns("0ms"), 0);
+  EXPECT_EQ(ns("0.4ns"), 0);  // rounded to whole nanoseconds
+  EXPECT_EQ(ns("0.6ns"), 1);
+}
+
+TEST(Durations, Format) {
+  EXPECT_EQ(format_duration(0), "0ms");
+  EXPECT_EQ(format_duration(1), "1ns");
+  EXPECT_EQ(format_duration(250 * kUs), "250us");
+  EXPECT_EQ(format_duration(1500 * kMs), "1s500ms");
+  EXPECT_EQ(format_duration(90 * kS), "1m30s");
+  EXPECT_EQ(format_duration(3600 * kS + 1), "1h1ns");
+  EXPECT_EQ(format_duration(-kMs), "-1ms");
+  EXPECT_EQ(format_duration(INT64_MIN), "-2562047h47m16s854ms775us808ns");
+  for (std::int64_t v : std::initializer_list<std::int64_t>{1, 999 * kUs, 61 * kS + 7, 9'200'000'000'000'000'000, -123456789})
+    EXPECT_EQ(ns(format_duration(v)), v) << v;
+}
+
+}  // namespace
+}  // namespace syncplc
