@@ -184,7 +184,7 @@ bool Task::enqueue(const QueuedWrite* writes, std::size_t n) {
 void Task::read_published(std::uint32_t first, std::uint32_t n, Cell* out) {
   std::lock_guard lock(external_mutex);
   const Cell* src = channels[0]->acquire();
-  std::memcpy(static_cast<void*>(out), src + first, n * sizeof(Cell));
+  if (n) std::memcpy(static_cast<void*>(out), src + first, n * sizeof(Cell));
 }
 
 }  // namespace syncplc

@@ -28,14 +28,14 @@ class TripleBuffer {
   std::size_t size() const { return cells_; }
 
   // Producer side.
-  Cell* back() noexcept { return &storage_[back_ * cells_]; }
+  Cell* back() noexcept { return storage_.data() + back_ * cells_; }
   void publish() noexcept {
     // Hand the filled back buffer over and take the old middle one.
     std::uint8_t old = middle_.exchange(static_cast<std::uint8_t>(back_ | kFresh), std::memory_order_acq_rel);
     back_ = old & kIndex;
   }
   void publish(const Cell* src) noexcept {
-    std::memcpy(static_cast<void*>(back()), src, cells_ * sizeof(Cell));
+    if (cells_) std::memcpy(static_cast<void*>(back()), src, cells_ * sizeof(Cell));
     publish();
   }
 
@@ -46,14 +46,14 @@ class TripleBuffer {
       std::uint8_t old = middle_.exchange(front_, std::memory_order_acq_rel);
       front_ = old & kIndex;
     }
-    return &storage_[front_ * cells_];
+    return storage_.data() + front_ * cells_;
   }
-  const Cell* front() const noexcept { return &storage_[front_ * cells_]; }
+  const Cell* front() const noexcept { return storage_.data() + front_ * cells_; }
 
   // Before the threads start: make every buffer hold `src`.
   void fill(const Cell* src) {
-    for (int b = 0; b < 3; ++b)
-      std::memcpy(static_cast<void*>(&storage_[static_cast<std::size_t>(b) * cells_]), src, cells_ * sizeof(Cell));
+    if (cells_ == 0) return;  // a task that owns no tags publishes nothing
+    for (std::size_t b = 0; b < 3; ++b) std::memcpy(static_cast<void*>(storage_.data() + b * cells_), src, cells_ * sizeof(Cell));
   }
 
  private:
