@@ -105,4 +105,6 @@ std::string temp_file(const std::string& name, const std::string& text) {
   return path.string();
 }
 
+std::string temp_root() { return temp_dir().string() + "/"; }
+
 }  // namespace syncplc::loadertest

@@ -60,5 +60,7 @@ double gain_k(const Program& p, const std::string& instance);
 // Writes `text` to `name` in a fresh temporary directory per test program;
 // returns the path.
 std::string temp_file(const std::string& name, const std::string& text);
+// That directory, with a trailing '/'.
+std::string temp_root();
 
 }  // namespace syncplc::loadertest
