@@ -269,9 +269,27 @@ std::optional<std::int64_t> parse_duration_ns(std::string_view text, std::string
   }
   if (!any) return bad("empty");
   long double r = std::roundl(total);
-  if (r > 9.2e18L) return bad("too long");
-  auto v = static_cast<std::int64_t>(r);
-  return neg ? -v : v;
+  // x87 long double holds 2^63 exactly; -2^63 ns is the one value whose magnitude exceeds INT64_MAX.
+  const long double limit = neg ? 9223372036854775808.0L : 9223372036854775807.0L;
+  if (r > limit) return bad("too long for TIME (at most about 106751 days)");
+  if (neg) return r == 9223372036854775808.0L ? INT64_MIN : -static_cast<std::int64_t>(r);
+  return static_cast<std::int64_t>(r);
+}
+
+std::optional<Cell> real_cell(IecType t, double v, std::string_view text, std::string* err) {
+  Cell c;
+  if (t == IecType::LREAL) {
+    c.set<double>(v);
+    return c;
+  }
+  // From 2^128 - 2^103 on a double rounds to infinity as a float (and the
+  // conversion itself would be undefined).
+  if (std::fabs(v) >= std::ldexp(1.0, 128) - std::ldexp(1.0, 103)) {
+    if (err) *err = "value " + std::string(trim(text)) + " is out of range for REAL";
+    return std::nullopt;
+  }
+  c.set<float>(static_cast<float>(v));
+  return c;
 }
 
 std::optional<Cell> parse_value(IecType t, std::string_view text, std::string* err) {
@@ -301,17 +319,7 @@ std::optional<Cell> parse_value(IecType t, std::string_view text, std::string* e
     case IecType::LREAL: {
       double d;
       if (!parse_double(s, d, err)) return std::nullopt;
-      Cell c;
-      if (t == IecType::REAL) {
-        if (std::fabs(d) > static_cast<double>(std::numeric_limits<float>::max())) {
-          if (err) *err = "value " + std::string(s) + " is out of range for REAL";
-          return std::nullopt;
-        }
-        c.set<float>(static_cast<float>(d));
-      } else {
-        c.set<double>(d);
-      }
-      return c;
+      return real_cell(t, d, s, err);
     }
     case IecType::TIME: {
       auto ns = parse_duration_ns(s, err);

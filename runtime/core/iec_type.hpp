@@ -115,6 +115,10 @@ std::string format_value(IecType t, Cell c);
 // 250ms). On error returns nullopt and sets *error to the reason.
 std::optional<Cell> parse_value(IecType t, std::string_view text, std::string* error);
 
+// A REAL or LREAL cell holding v. A value that rounds to infinity as a float
+// (|v| >= 2^128 - 2^103) is out of range for REAL; the largest REAL loads.
+std::optional<Cell> real_cell(IecType t, double v, std::string_view text, std::string* error);
+
 // Parses a duration: 1ms, 250us, 0.5s, 2m, 1h30m, 100ns, T#1s500ms.
 std::optional<std::int64_t> parse_duration_ns(std::string_view text, std::string* error);
 std::string format_duration(std::int64_t ns);  // shortest exact: 1ms, 250us, 1.5s

@@ -355,15 +355,9 @@ std::optional<Cell> Loader::parse_literal(IecType t, const std::string& unit, co
   std::string err;
   if (is_real(t)) {
     auto v = parse_quantity(text, unit, &err);
-    if (!v) { d_.error(loc, what + ": " + err); return std::nullopt; }
-    // From 2^128 - 2^103 on, a double rounds to infinity as a float.
-    if (t == IecType::REAL && std::fabs(*v) >= std::ldexp(1.0, 128) - std::ldexp(1.0, 103)) {
-      d_.error(loc, what + ": value " + text + " is out of range for REAL");
-      return std::nullopt;
-    }
-    Cell c;
-    if (t == IecType::REAL) c.set<float>(static_cast<float>(*v));
-    else c.set<double>(*v);
+    std::optional<Cell> c;
+    if (v) c = real_cell(t, *v, text, &err);
+    if (!c) d_.error(loc, what + ": " + err);
     return c;
   }
   auto c = parse_value(t, text, &err);

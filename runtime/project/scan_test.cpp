@@ -95,10 +95,7 @@ std::optional<Cell> parse_cell(IecType t, const std::string& unit, const std::st
   if (is_real(t)) {
     auto v = parse_quantity(text, unit, err);
     if (!v) return std::nullopt;
-    Cell c;
-    if (t == IecType::REAL) c.set<float>(static_cast<float>(*v));
-    else c.set<double>(*v);
-    return c;
+    return real_cell(t, *v, text, err);
   }
   return parse_value(t, text, err);
 }

@@ -75,14 +75,16 @@ TEST(Durations, Errors) {
   EXPECT_THAT(err("1 ms x"), HasSubstr("missing unit after 1"));
   EXPECT_THAT(err("10 ms"), HasSubstr("missing unit after 10"));  // no spaces inside a duration
   EXPECT_THAT(err("1sec"), HasSubstr("unknown unit 'sec'"));
-  EXPECT_THAT(err("106482d"), HasSubstr("too long"));
+  EXPECT_THAT(err("106752d"), HasSubstr("too long"));
 }
 
 TEST(Durations, Limits) {
-  // Parsing stops at 9.2e18 ns (about 106481 days), a little short of the
-  // LTIME range: INT64_MAX ns (106751 days) formats but does not read back.
+  // The whole LTIME range reads back: INT64_MAX and INT64_MIN ns, not one more.
   EXPECT_EQ(ns("106481d"), 106481LL * 86400 * kS);
-  EXPECT_THAT(err("T#106751d23h47m16s854ms775us807ns"), HasSubstr("too long"));
+  EXPECT_EQ(ns("T#106751d23h47m16s854ms775us807ns"), INT64_MAX);
+  EXPECT_EQ(ns(format_duration(INT64_MAX)), INT64_MAX);
+  EXPECT_EQ(ns(format_duration(INT64_MIN)), INT64_MIN);
+  EXPECT_THAT(err("T#106751d23h47m16s854ms775us808ns"), HasSubstr("too long"));
   EXPECT_EQ(ns("0ms"), 0);
   EXPECT_EQ(ns("0.4ns"), 0);  // rounded to whole nanoseconds
   EXPECT_EQ(ns("0.6ns"), 1);

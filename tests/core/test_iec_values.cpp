@@ -207,16 +207,18 @@ TEST(IecValues, EveryLimitRoundTripsThroughItsText) {
   for (const auto& [t, text] : cases) round_trip(t, text);
 }
 
-// Known limitation (runtime/core/iec_type.cpp, not fixed here): the largest
-// REAL formats as 3.4028235e+38, the shortest text that reads back as that
-// float, but parse_value compares the double 3.4028235e38 with FLT_MAX
-// (3.40282347e38) and calls it out of range. Enable once parse_value rejects
-// only what rounds to infinity (|x| >= 2^128 - 2^103).
-TEST(IecValues, DISABLED_LargestRealRoundTrips) {
+// The largest REAL formats as 3.4028235e+38 (the shortest text that reads back
+// as that float) and reads back: only what rounds to infinity is out of range.
+TEST(IecValues, LargestRealRoundTrips) {
   Cell c;
   c.set<float>(std::numeric_limits<float>::max());
   EXPECT_EQ(format_value(IecType::REAL, c), "3.4028235e+38");
   EXPECT_EQ(parse_ok(IecType::REAL, format_value(IecType::REAL, c)).raw, c.raw);
+  c.set<float>(-std::numeric_limits<float>::max());
+  EXPECT_EQ(parse_ok(IecType::REAL, format_value(IecType::REAL, c)).raw, c.raw);
+  std::string why;
+  EXPECT_FALSE(parse_value(IecType::REAL, "3.4028236e38", &why));  // rounds to infinity
+  EXPECT_NE(why.find("out of range for REAL"), std::string::npos) << why;
 }
 
 TEST(IecValues, Classes) {
