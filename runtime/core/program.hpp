@@ -76,7 +76,7 @@ class Program {
   const Tag* find_tag(const std::string& name) const;
   int find_task(const std::string& name) const;
   int find_driver(const std::string& name) const;
-  // "instance.pin", "tag" or "tag[i]" (i from 0).
+  // "instance.pin", "tag" or "tag[i]" (i within the tag's declared bounds, e.g. 1..4).
   std::optional<CellRef> resolve(const std::string& ref, std::string* error = nullptr) const;
   // Instance name -> (task, position in execution order).
   std::map<std::string, std::pair<std::uint16_t, std::uint32_t>> instances;

@@ -88,8 +88,9 @@ DriverTypeInfo memory_driver_type() {
           else c.type = *t;
         } else if (k == "length") {
           try {
-            long n = std::stol(v.scalar);
-            if (n < 1 || n > 65536) throw std::out_of_range("length");
+            std::size_t used = 0;
+            long n = std::stol(v.scalar, &used);
+            if (used != v.scalar.size() || n < 1 || n > 65536) throw std::out_of_range("length");
             c.length = static_cast<std::uint32_t>(n);
           } catch (...) {
             setup.error(v.loc, "length must be 1..65536");

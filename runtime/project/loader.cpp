@@ -21,6 +21,7 @@ namespace syncplc {
 namespace {
 
 constexpr std::int64_t kMinPeriod = 100'000;          // 100 us
+constexpr int kBrokenSource = -2;                     // an input wired to a declaration that failed
 constexpr std::int64_t kMaxPeriod = 10'000'000'000;   // 10 s
 
 bool is_identifier(const std::string& s) {
@@ -64,8 +65,13 @@ struct InstanceDecl {
   std::vector<const ConfigNode*> params;  // by ParamDecl index, null = default
   std::vector<std::string> param_override;
   std::vector<const ConfigNode*> inputs;  // constant inputs by pin index
-  std::vector<int> source;                // connection index feeding each input pin, -1 none
+  std::vector<int> source;                // connection index feeding each input pin, -1 none, kBrokenSource
   SourceLoc loc;
+  // Filled by the checking phases, used by build():
+  std::vector<std::optional<Cell>> pin_values;  // constants and pin inits, by pin index
+  std::vector<Cell> param_cells;                // by ParamDecl index
+  bool values_ok = true;
+  std::unique_ptr<Block> block;
 };
 
 struct Endpoint {
@@ -121,6 +127,10 @@ class Loader : public DriverSetup {
   void infer_types();
   void check_connections();
   void find_owners();
+  void check_values();
+  void order_blocks();
+  void create_blocks();
+  void check_refs();
   std::unique_ptr<Program> build();
   int task_index(const std::string& name) const;
   int tag_index(const std::string& name) const;
@@ -144,6 +154,10 @@ class Loader : public DriverSetup {
   std::vector<DriverDecl> drvs_;
   std::vector<ConnectionDecl> conns_;
   std::vector<std::pair<std::string, SourceLoc>> traces_, watch_;
+  std::vector<std::vector<int>> order_;     // per task: instance indices, unit delays first
+  std::vector<std::size_t> delays_;         // per task: how many unit delays lead the order
+  std::set<std::string> failed_names_;      // declarations already reported: no follow-on errors
+  std::vector<std::string> include_stack_;  // files being included, outermost first
   std::map<std::string, SourceLoc> names_;  // tags, instances, drivers share one namespace
   std::int64_t current_driver_period_ = 0;
   std::uint64_t current_driver_seed_ = 0;
@@ -181,6 +195,14 @@ void Loader::merge_includes(ConfigNode& root, const std::string& path, int depth
   for (const ConfigNode* f : files) {
     if (!f->is_scalar()) { d_.error(f->loc, "include: expected a file name"); continue; }
     std::filesystem::path p = std::filesystem::path(path).parent_path() / f->scalar;
+    std::error_code ec;
+    std::string canonical = std::filesystem::weakly_canonical(p, ec).string();
+    if (auto it = std::find(include_stack_.begin(), include_stack_.end(), canonical); it != include_stack_.end()) {
+      std::string chain;
+      for (auto i = it; i != include_stack_.end(); ++i) chain += std::filesystem::path(*i).filename().string() + " -> ";
+      d_.error(f->loc, "include cycle: " + chain + std::filesystem::path(canonical).filename().string());
+      continue;
+    }
     Diagnostics local;
     ConfigNode sub = read_yaml_file(p.string(), local);
     for (const auto& e : local.list()) {
@@ -189,7 +211,9 @@ void Loader::merge_includes(ConfigNode& root, const std::string& path, int depth
     }
     if (!local.empty()) continue;
     if (!sub.is_map()) { d_.error(f->loc, "include '" + f->scalar + "' is not a map of sections"); continue; }
+    include_stack_.push_back(canonical);
     merge_includes(sub, p.string(), depth + 1);
+    include_stack_.pop_back();
     for (auto& [k, v] : sub.map) {
       if (k == "include") continue;
       if (k == "project") { d_.error(v.loc, "an included file cannot set 'project'"); continue; }
@@ -222,6 +246,10 @@ LoadResult Loader::run(ConfigNode root, const std::string& path) {
     r.diagnostics = d_;
     return r;
   }
+  {
+    std::error_code ec;
+    include_stack_ = {std::filesystem::weakly_canonical(path, ec).string()};
+  }
   merge_includes(root_, path, 0);
   for (const auto& [k, v] : root_.map)
     if (!kTopKeys.count(k))
@@ -249,6 +277,11 @@ LoadResult Loader::run(ConfigNode root, const std::string& path) {
   infer_types();
   check_connections();
   find_owners();
+  // Every check runs whatever failed before it, so one load reports every error.
+  check_values();
+  order_blocks();
+  create_blocks();
+  check_refs();
   std::unique_ptr<Program> prog;
   if (d_.empty()) prog = build();
   if (d_.empty()) r.program = std::move(prog);
@@ -476,6 +509,7 @@ void Loader::read_tags(const ConfigNode& n) {
     }
     if (td.tag.name.empty()) { d_.error(t.loc, "tag without a name"); ok = false; }
     if (!has_type) { d_.error(t.loc, "tag " + td.tag.name + " has no type"); ok = false; }
+    if (!ok && !td.tag.name.empty()) failed_names_.insert(td.tag.name);
     if (ok && addr) {
       std::string err;
       auto a = parse_direct_address(addr->scalar, &err);
@@ -527,7 +561,10 @@ void Loader::read_blocks(const ConfigNode& n) {
     if (!b.find("type")) { d_.error(b.loc, "block instance " + in.name + " has no type"); ok = false; }
     if (!task) { if (tasks_.size() == 1) in.task = 0; else { d_.error(b.loc, "block instance " + in.name + " has no task"); ok = false; } }
     else if ((in.task = task_index(task->scalar)) < 0) { d_.error(task->loc, "unknown task '" + task->scalar + "'"); ok = false; }
-    if (!ok || !in.type) continue;
+    if (!ok || !in.type) {
+      if (!in.name.empty()) failed_names_.insert(in.name);
+      continue;
+    }
     const auto& T = *in.type;
     if (dtype) {
       auto t = parse_type_name(dtype->scalar);
@@ -623,6 +660,7 @@ void Loader::read_drivers(const ConfigNode& n) {
           auto it = std::find_if(chans.begin(), chans.end(), [&](const DriverChannel& c) { return c.name == ch; });
           if (it == chans.end()) { d_.error(tagn.loc, "driver " + dd.name + " has no channel '" + ch + "'"); continue; }
           int ti = tag_index(tagn.scalar);
+          if (ti < 0 && failed_names_.count(tagn.scalar)) continue;
           if (ti < 0) { d_.error(tagn.loc, "unknown tag '" + tagn.scalar + "'"); continue; }
           const Tag& tg = tags_[static_cast<std::size_t>(ti)].tag;
           if (tg.type != it->type || tg.length != it->length)
@@ -660,6 +698,7 @@ bool Loader::parse_endpoint(const std::string& raw, const SourceLoc& loc, Endpoi
     std::string inst = base.substr(0, dot), pin = base.substr(dot + 1);
     e.instance = instance_index(inst);
     if (e.instance < 0) {
+      if (failed_names_.count(inst)) return false;  // its declaration's error says enough
       if (names_.count(inst)) d_.error(loc, "'" + inst + "' is not a block instance (connect drivers with bind:)");
       else d_.error(loc, "unknown block instance '" + inst + "'");
       return false;
@@ -677,6 +716,7 @@ bool Loader::parse_endpoint(const std::string& raw, const SourceLoc& loc, Endpoi
     return true;
   }
   e.tag = tag_index(base);
+  if (e.tag < 0 && failed_names_.count(base)) return false;
   if (e.tag < 0) { d_.error(loc, "unknown tag or instance.pin '" + base + "'"); return false; }
   if (idx) {
     const Tag& t = tags_[static_cast<std::size_t>(e.tag)].tag;
@@ -712,8 +752,15 @@ void Loader::read_connections(const ConfigNode& n) {
     } else { d_.error(c.loc, "a connection is written 'source.pin -> target.pin' or {from: , to: }"); continue; }
     ConnectionDecl cd;
     cd.loc = c.loc;
-    bool ok = parse_endpoint(src, sl, cd.src);
-    ok = parse_endpoint(dst, dl, cd.dst) && ok;
+    std::size_t before = d_.size();
+    bool src_ok = parse_endpoint(src, sl, cd.src);
+    bool src_silent = !src_ok && d_.size() == before;  // its source's declaration failed and was reported
+    bool ok = parse_endpoint(dst, dl, cd.dst) && src_ok;
+    if (src_silent && cd.dst.is_pin) {
+      // The input is wired, to something broken: no "must be connected" on top.
+      auto& di = insts_[static_cast<std::size_t>(cd.dst.instance)];
+      if (di.source[static_cast<std::size_t>(cd.dst.pin)] == -1) di.source[static_cast<std::size_t>(cd.dst.pin)] = kBrokenSource;
+    }
     if (!ok) continue;
     if (cd.src.is_pin) {
       const auto& p = insts_[static_cast<std::size_t>(cd.src.instance)].type->pins[static_cast<std::size_t>(cd.src.pin)];
@@ -863,7 +910,7 @@ void Loader::check_connections() {
   for (const auto& in : insts_)
     for (std::size_t i = 0; i < in.type->pins.size(); ++i) {
       const auto& p = in.type->pins[i];
-      if (p.dir == PinDir::In && p.required && in.source[i] < 0 && !in.inputs[i])
+      if (p.dir == PinDir::In && p.required && in.source[i] == -1 && !in.inputs[i])
         d_.error(in.loc, "input " + in.name + "." + p.name + " must be connected or given a value in inputs:");
     }
 }
@@ -952,6 +999,165 @@ class LoaderBlockSetup final : public BlockSetup {
   Diagnostics& d_;
 };
 
+void Loader::check_values() {
+  for (auto& in : insts_) {
+    in.pin_values.assign(in.type->pins.size(), std::nullopt);
+    for (std::size_t p = 0; p < in.type->pins.size(); ++p) {
+      const auto& decl = in.type->pins[p];
+      IecType pt = decl.cls == TypeClass::Exact ? decl.type : in.datatype.value_or(IecType::LREAL);
+      if (in.inputs[p]) {
+        if (!in.inputs[p]->is_scalar()) d_.error(in.inputs[p]->loc, in.name + "." + decl.name + ": expected a value");
+        else in.pin_values[p] = parse_literal(pt, decl.unit, in.inputs[p]->scalar, in.inputs[p]->loc, in.name + "." + decl.name);
+        if (!in.pin_values[p]) in.values_ok = false;
+      } else if (!decl.init.empty()) {
+        std::string err;
+        in.pin_values[p] = parse_value(pt, decl.init, &err);
+      }
+    }
+    for (std::size_t p = 0; p < in.type->params.size(); ++p) {
+      const auto& decl = in.type->params[p];
+      std::string text = decl.default_value;
+      SourceLoc loc = in.loc;
+      if (in.params[p]) { text = in.params[p]->scalar; loc = in.params[p]->loc; }
+      if (!in.param_override[p].empty()) { text = in.param_override[p]; loc = SourceLoc{"command line", 0, 0}; }
+      if (text.empty()) {  // a mandatory parameter left out: reported by read_blocks
+        in.values_ok = false;
+        in.param_cells.emplace_back();
+        continue;
+      }
+      auto v = parse_literal(decl.type, decl.unit, text, loc, in.name + "." + decl.name);
+      if (v && (decl.min || decl.max)) {
+        double x = cell_as_double(decl.type, *v);
+        if ((decl.min && x < *decl.min) || (decl.max && x > *decl.max)) {
+          auto fmt = [](double d) { char b[32]; std::snprintf(b, sizeof b, "%g", d); return std::string(b); };
+          d_.error(loc, in.name + "." + decl.name + " = " + text + " is outside its range " +
+                            (decl.min ? fmt(*decl.min) : "-inf") + " .. " + (decl.max ? fmt(*decl.max) : "inf") +
+                            (decl.unit.empty() ? "" : " " + decl.unit));
+          v.reset();
+        }
+      }
+      if (!v) in.values_ok = false;
+      in.param_cells.push_back(v.value_or(Cell{}));
+    }
+  }
+}
+
+void Loader::order_blocks() {
+  const std::size_t nt = tasks_.size();
+  order_.assign(nt, {});
+  delays_.assign(nt, 0);
+  // Edge a -> b when b reads, in the same scan, a value a writes: directly
+  // (a.out -> b.in) or through a tag of the same task (a.out -> tag -> b.in).
+  std::vector<std::vector<std::pair<int, SourceLoc>>> succ(insts_.size());
+  // Several writers for element-wise writes; a reader of one element depends
+  // only on the writer of that element (or of the whole tag).
+  std::vector<std::vector<std::pair<int, std::optional<std::uint32_t>>>> tag_writers(tags_.size());
+  for (const auto& c : conns_)
+    if (c.src.is_pin && !c.dst.is_pin)
+      tag_writers[static_cast<std::size_t>(c.dst.tag)].emplace_back(c.src.instance, c.dst.element);
+  for (const auto& c : conns_) {
+    if (!c.dst.is_pin) continue;
+    if (insts_[static_cast<std::size_t>(c.dst.instance)].type->unit_delay) continue;  // reads at the end of the scan
+    std::vector<int> from;
+    if (c.src.is_pin) from.push_back(c.src.instance);
+    else
+      for (const auto& [w, element] : tag_writers[static_cast<std::size_t>(c.src.tag)])
+        if (insts_[static_cast<std::size_t>(w)].task == insts_[static_cast<std::size_t>(c.dst.instance)].task &&
+            !(element && c.src.element && *element != *c.src.element))
+          from.push_back(w);
+    for (int f : from) {
+      if (insts_[static_cast<std::size_t>(f)].type->unit_delay) continue;  // its output is ready at the start
+      succ[static_cast<std::size_t>(f)].emplace_back(c.dst.instance, c.loc);
+    }
+  }
+  {
+    std::vector<int> indeg(insts_.size(), 0);
+    for (const auto& s : succ)
+      for (const auto& [to, _] : s) ++indeg[static_cast<std::size_t>(to)];
+    for (std::size_t t = 0; t < nt; ++t) {
+      std::priority_queue<int, std::vector<int>, std::greater<int>> ready;  // declaration order breaks ties
+      std::size_t members = 0;
+      for (std::size_t i = 0; i < insts_.size(); ++i)
+        if (static_cast<std::size_t>(insts_[i].task) == t) {
+          if (insts_[i].type->unit_delay) { order_[t].push_back(static_cast<int>(i)); continue; }
+          ++members;
+          if (indeg[i] == 0) ready.push(static_cast<int>(i));
+        }
+      std::size_t delays = order_[t].size();
+      while (!ready.empty()) {
+        int i = ready.top();
+        ready.pop();
+        order_[t].push_back(i);
+        for (const auto& [to, _] : succ[static_cast<std::size_t>(i)])
+          if (--indeg[static_cast<std::size_t>(to)] == 0) ready.push(to);
+      }
+      if (order_[t].size() - delays < members) {
+        // Report one loop, found by walking edges among the unsorted blocks.
+        std::vector<int> colour(insts_.size(), 0), stack;
+        std::vector<SourceLoc> via;
+        std::function<bool(int)> dfs = [&](int u) -> bool {
+          colour[static_cast<std::size_t>(u)] = 1;
+          stack.push_back(u);
+          for (const auto& [v, loc] : succ[static_cast<std::size_t>(u)]) {
+            if (indeg[static_cast<std::size_t>(v)] == 0) continue;
+            via.push_back(loc);
+            if (colour[static_cast<std::size_t>(v)] == 1) {
+              auto it = std::find(stack.begin(), stack.end(), v);
+              std::string path;
+              for (auto p = it; p != stack.end(); ++p) path += insts_[static_cast<std::size_t>(*p)].name + " -> ";
+              path += insts_[static_cast<std::size_t>(v)].name;
+              d_.error(loc, "feedback loop without a one-scan delay: " + path + " (break it with a UNIT_DELAY block)");
+              return true;
+            }
+            if (colour[static_cast<std::size_t>(v)] == 0 && dfs(v)) return true;
+            via.pop_back();
+          }
+          stack.pop_back();
+          colour[static_cast<std::size_t>(u)] = 2;
+          return false;
+        };
+        for (std::size_t i = 0; i < insts_.size(); ++i)
+          if (static_cast<std::size_t>(insts_[i].task) == t && indeg[i] > 0 && colour[i] == 0 && dfs(static_cast<int>(i)))
+            break;
+      }
+      delays_[t] = delays;
+    }
+  }
+
+}
+
+void Loader::create_blocks() {
+  for (auto& in : insts_) {
+    if (!in.values_ok || (in.type->is_generic() && !in.datatype)) continue;  // already reported
+    std::vector<bool> connected;
+    for (std::size_t p = 0; p < in.type->pins.size(); ++p) connected.push_back(in.source[p] >= 0 || in.inputs[p]);
+    LoaderBlockSetup setup(in, in.param_cells, connected, tasks_[static_cast<std::size_t>(in.task)].cfg.period_ns,
+                           mix_seed(seed_, in.name), d_);
+    std::size_t before = d_.size();
+    try {
+      in.block = in.type->create(setup);
+    } catch (const std::exception& e) {
+      d_.error(in.loc, in.name + " (" + in.type->name + "): " + e.what());
+    }
+    if (!in.block && d_.size() == before) d_.error(in.loc, in.name + " (" + in.type->name + ") could not be created");
+  }
+}
+
+void Loader::check_refs() {
+  for (const auto& [ref, loc] : traces_) {
+    Endpoint e;
+    std::size_t before = d_.size();
+    if (!parse_endpoint(ref, loc, e)) {
+      for (std::size_t k = before; k < d_.size(); ++k) d_.prefix_message(k, "trace: ");
+      continue;
+    }
+    if (!e.is_pin && !e.element && tags_[static_cast<std::size_t>(e.tag)].tag.is_array)
+      d_.error(loc, "trace: " + ref + " is an array; trace its elements (" + ref + "[i])");
+  }
+  for (const auto& [ref, loc] : watch_)
+    if (tag_index(ref) < 0 && !failed_names_.count(ref)) d_.error(loc, "watch: unknown tag '" + ref + "'");
+}
+
 std::unique_ptr<Program> Loader::build() {
   auto prog = std::make_unique<Program>();
   prog->name = name_;
@@ -1004,152 +1210,32 @@ std::unique_ptr<Program> Loader::build() {
       std::copy(init.begin(), init.end(), prog->tasks[t]->image.begin() + cell);
     }
   for (std::size_t i = 0; i < insts_.size(); ++i) {
-    const auto& in = insts_[i];
-    auto& img = prog->tasks[static_cast<std::size_t>(in.task)]->image;
-    for (std::size_t p = 0; p < in.type->pins.size(); ++p) {
-      const auto& decl = in.type->pins[p];
-      IecType pt = decl.cls == TypeClass::Exact ? decl.type : in.datatype.value_or(IecType::LREAL);
-      std::optional<Cell> v;
-      if (in.inputs[p]) {
-        if (!in.inputs[p]->is_scalar()) d_.error(in.inputs[p]->loc, in.name + "." + decl.name + ": expected a value");
-        else v = parse_literal(pt, decl.unit, in.inputs[p]->scalar, in.inputs[p]->loc, in.name + "." + decl.name);
-      } else if (!decl.init.empty()) {
-        std::string err;
-        v = parse_value(pt, decl.init, &err);
-      }
-      if (v) img[pin_cells[i][p]] = *v;
-    }
+    auto& img = prog->tasks[static_cast<std::size_t>(insts_[i].task)]->image;
+    for (std::size_t p = 0; p < insts_[i].pin_values.size(); ++p)
+      if (insts_[i].pin_values[p]) img[pin_cells[i][p]] = *insts_[i].pin_values[p];
   }
 
-  // --- execution order per task ------------------------------------------------
-  // Edge a -> b when b reads, in the same scan, a value a writes: directly
-  // (a.out -> b.in) or through a tag of the same task (a.out -> tag -> b.in).
-  std::vector<std::vector<std::pair<int, SourceLoc>>> succ(insts_.size());
-  // Several writers for element-wise writes; a reader of one element depends
-  // only on the writer of that element (or of the whole tag).
-  std::vector<std::vector<std::pair<int, std::optional<std::uint32_t>>>> tag_writers(tags_.size());
-  for (const auto& c : conns_)
-    if (c.src.is_pin && !c.dst.is_pin)
-      tag_writers[static_cast<std::size_t>(c.dst.tag)].emplace_back(c.src.instance, c.dst.element);
-  for (const auto& c : conns_) {
-    if (!c.dst.is_pin) continue;
-    if (insts_[static_cast<std::size_t>(c.dst.instance)].type->unit_delay) continue;  // reads at the end of the scan
-    std::vector<int> from;
-    if (c.src.is_pin) from.push_back(c.src.instance);
-    else
-      for (const auto& [w, element] : tag_writers[static_cast<std::size_t>(c.src.tag)])
-        if (insts_[static_cast<std::size_t>(w)].task == insts_[static_cast<std::size_t>(c.dst.instance)].task &&
-            !(element && c.src.element && *element != *c.src.element))
-          from.push_back(w);
-    for (int f : from) {
-      if (insts_[static_cast<std::size_t>(f)].type->unit_delay) continue;  // its output is ready at the start
-      succ[static_cast<std::size_t>(f)].emplace_back(c.dst.instance, c.loc);
-    }
-  }
-  std::vector<std::vector<int>> order(nt);
-  {
-    std::vector<int> indeg(insts_.size(), 0);
-    for (const auto& s : succ)
-      for (const auto& [to, _] : s) ++indeg[static_cast<std::size_t>(to)];
-    for (std::size_t t = 0; t < nt; ++t) {
-      std::priority_queue<int, std::vector<int>, std::greater<int>> ready;  // declaration order breaks ties
-      std::size_t members = 0;
-      for (std::size_t i = 0; i < insts_.size(); ++i)
-        if (static_cast<std::size_t>(insts_[i].task) == t) {
-          if (insts_[i].type->unit_delay) { order[t].push_back(static_cast<int>(i)); continue; }
-          ++members;
-          if (indeg[i] == 0) ready.push(static_cast<int>(i));
-        }
-      std::size_t delays = order[t].size();
-      while (!ready.empty()) {
-        int i = ready.top();
-        ready.pop();
-        order[t].push_back(i);
-        for (const auto& [to, _] : succ[static_cast<std::size_t>(i)])
-          if (--indeg[static_cast<std::size_t>(to)] == 0) ready.push(to);
-      }
-      if (order[t].size() - delays < members) {
-        // Report one loop, found by walking edges among the unsorted blocks.
-        std::vector<int> colour(insts_.size(), 0), stack;
-        std::vector<SourceLoc> via;
-        std::function<bool(int)> dfs = [&](int u) -> bool {
-          colour[static_cast<std::size_t>(u)] = 1;
-          stack.push_back(u);
-          for (const auto& [v, loc] : succ[static_cast<std::size_t>(u)]) {
-            if (indeg[static_cast<std::size_t>(v)] == 0) continue;
-            via.push_back(loc);
-            if (colour[static_cast<std::size_t>(v)] == 1) {
-              auto it = std::find(stack.begin(), stack.end(), v);
-              std::string path;
-              for (auto p = it; p != stack.end(); ++p) path += insts_[static_cast<std::size_t>(*p)].name + " -> ";
-              path += insts_[static_cast<std::size_t>(v)].name;
-              d_.error(loc, "feedback loop without a one-scan delay: " + path + " (break it with a UNIT_DELAY block)");
-              return true;
-            }
-            if (colour[static_cast<std::size_t>(v)] == 0 && dfs(v)) return true;
-            via.pop_back();
-          }
-          stack.pop_back();
-          colour[static_cast<std::size_t>(u)] = 2;
-          return false;
-        };
-        for (std::size_t i = 0; i < insts_.size(); ++i)
-          if (static_cast<std::size_t>(insts_[i].task) == t && indeg[i] > 0 && colour[i] == 0 && dfs(static_cast<int>(i)))
-            break;
-      }
-      prog->tasks[t]->unit_delays = delays;
-    }
-  }
-  if (!d_.empty()) return nullptr;
+  for (std::size_t t = 0; t < nt; ++t) prog->tasks[t]->unit_delays = delays_[t];
+  const auto& order = order_;
 
-  // --- blocks -----------------------------------------------------------------------
+  // --- blocks, in execution order -------------------------------------------------
   std::vector<std::uint32_t> position(insts_.size(), 0);
   for (std::size_t t = 0; t < nt; ++t) {
     auto& task = *prog->tasks[t];
     for (std::size_t k = 0; k < order[t].size(); ++k) {
       auto i = static_cast<std::size_t>(order[t][k]);
-      const auto& in = insts_[i];
+      auto& in = insts_[i];
       position[i] = static_cast<std::uint32_t>(k);
-      std::vector<Cell> params;
-      for (std::size_t p = 0; p < in.type->params.size(); ++p) {
-        const auto& decl = in.type->params[p];
-        std::string text = decl.default_value;
-        SourceLoc loc = in.loc;
-        if (in.params[p]) { text = in.params[p]->scalar; loc = in.params[p]->loc; }
-        if (!in.param_override[p].empty()) { text = in.param_override[p]; loc = SourceLoc{"command line", 0, 0}; }
-        auto v = parse_literal(decl.type, decl.unit, text, loc, in.name + "." + decl.name);
-        if (v && (decl.min || decl.max)) {
-          double x = cell_as_double(decl.type, *v);
-          if ((decl.min && x < *decl.min) || (decl.max && x > *decl.max)) {
-            auto fmt = [](double d) { char b[32]; std::snprintf(b, sizeof b, "%g", d); return std::string(b); };
-            d_.error(loc, in.name + "." + decl.name + " = " + text + " is outside its range " +
-                              (decl.min ? fmt(*decl.min) : "-inf") + " .. " + (decl.max ? fmt(*decl.max) : "inf") +
-                              (decl.unit.empty() ? "" : " " + decl.unit));
-            v.reset();
-          }
-        }
-        params.push_back(v.value_or(Cell{}));
-      }
-      std::vector<bool> connected;
-      for (std::size_t p = 0; p < in.type->pins.size(); ++p) connected.push_back(in.source[p] >= 0 || in.inputs[p]);
-      LoaderBlockSetup setup(in, params, connected, task.config().period_ns, mix_seed(seed_, in.name), d_);
       BlockInstance bi;
       bi.name = in.name;
       bi.type = in.type;
       bi.datatype = in.datatype.value_or(IecType::LREAL);
       bi.pin_cell = pin_cells[i];
-      std::size_t before = d_.size();
-      try {
-        bi.block = in.type->create(setup);
-      } catch (const std::exception& e) {
-        d_.error(in.loc, in.name + " (" + in.type->name + "): " + e.what());
-      }
-      if (!bi.block && d_.size() == before) d_.error(in.loc, in.name + " (" + in.type->name + ") could not be created");
+      bi.block = std::move(in.block);
       task.blocks.push_back(std::move(bi));
       prog->instances[in.name] = {static_cast<std::uint16_t>(t), static_cast<std::uint32_t>(k)};
     }
   }
-  if (!d_.empty()) return nullptr;
 
   // --- connections as copies -----------------------------------------------------
   for (const auto& c : conns_) {

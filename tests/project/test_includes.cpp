@@ -68,9 +68,8 @@ blocks: [{name: n, type: NOT, inputs: {IN: maybe}}]
   auto r = load_project(main);
   EXPECT_FALSE(r.ok());
   EXPECT_THAT(errors(r), ElementsAre(inc + ":2:32: init of y: value 40000 is out of range for INT (-32768 .. 32767)",
-                                     inc + ":3:12: duplicate name 'x' (first defined at " + main + ":4:12)"));
-  // n.IN: maybe is not reported: constants of pins are parsed while building
-  // the program, which happens only once every check above has passed.
+                                     inc + ":3:12: duplicate name 'x' (first defined at " + main + ":4:12)",
+                                     inc + ":4:44: n.IN: 'maybe' is not a BOOL (TRUE or FALSE)"));
 }
 
 TEST(Includes, ErrorsFoundWhileBuildingNameTheIncludedFileToo) {
@@ -131,10 +130,21 @@ tasks: [{name: main, period: 1ms}]
               ElementsAre("p.yaml:1:11: include: expected a file name"));
 }
 
-TEST(Includes, ACycleStopsAtTheDepthLimit) {
+TEST(Includes, ACycleIsReportedWhereItCloses) {
   std::string main = temp_file("cycle/main.yaml", "include: b.yaml\ntasks: [{name: main, period: 1ms}]\n");
   std::string b = temp_file("cycle/b.yaml", "include: c.yaml\n");
-  temp_file("cycle/c.yaml", "include: b.yaml\n");
+  std::string c = temp_file("cycle/c.yaml", "tags: [{name: x, type: INT}]\ninclude: b.yaml\n");
+  EXPECT_THAT(errors(load_project(main)), ElementsAre(c + ":2:10: include cycle: b.yaml -> c.yaml -> b.yaml"));
+  // Including oneself is the shortest cycle.
+  std::string self = temp_file("cycle/self.yaml", "include: self.yaml\ntasks: [{name: main, period: 1ms}]\n");
+  EXPECT_THAT(errors(load_project(self)), ElementsAre(self + ":1:10: include cycle: self.yaml -> self.yaml"));
+}
+
+TEST(Includes, DeepButAcyclicNestingStopsAtTheDepthLimit) {
+  std::string main = temp_file("deep/main.yaml", "include: d1.yaml\ntasks: [{name: main, period: 1ms}]\n");
+  for (int i = 1; i <= 12; ++i)
+    temp_file("deep/d" + std::to_string(i) + ".yaml", "include: d" + std::to_string(i + 1) + ".yaml\n");
+  temp_file("deep/d13.yaml", "tags: []\n");
   auto e = errors(load_project(main));
   EXPECT_THAT(e, ::testing::Contains(::testing::HasSubstr("includes nested deeper than 8 levels")));
 }

@@ -836,11 +836,11 @@ traces:
   - arr[2]
 watch: [lamp, nosuch2, t.Q]
 )"),
-              ElementsAre("p.yaml:6:5: trace: no tag 'nosuch'",
-                          "p.yaml:8:5: trace: block t (TON) has no pin 'XX'",
-                          "p.yaml:9:5: trace: no block instance 'ghost'",
+              ElementsAre("p.yaml:6:5: trace: unknown tag or instance.pin 'nosuch'",
+                          "p.yaml:8:5: trace: block t (TON) has no pin 'XX' (IN, PT, Q, ET)",
+                          "p.yaml:9:5: trace: unknown block instance 'ghost'",
                           "p.yaml:10:5: trace: arr is an array; trace its elements (arr[i])",
-                          "p.yaml:12:5: trace: index out of range in 'arr[2]'",
+                          "p.yaml:12:5: trace: index 2 is outside arr[0..1]",
                           "p.yaml:13:15: watch: unknown tag 'nosuch2'", "p.yaml:13:24: watch: unknown tag 't.Q'"));
 }
 
@@ -860,7 +860,9 @@ blocks: [{name: g, type: GAIN, inputs: {IN: 1}}]
               ElementsAre("command line:0:0: --set ghost.K: no block instance 'ghost'",
                           "command line:0:0: --set g.Q: GAIN has no parameter 'Q'",
                           "command line:0:0: --set g.IN: that is a pin; --set takes parameters",
-                          "command line:0:0: --set init of lamp: 'maybe' is not a BOOL (TRUE or FALSE)"));
+                          "command line:0:0: --set init of lamp: 'maybe' is not a BOOL (TRUE or FALSE)",
+                          "command line:0:0: g.K = 500 is outside its range 0 .. 100 m/s",
+                          "command line:0:0: g.N: 'x' is not an integer"));
 }
 
 TEST(LoadErrors, OverrideValuesCheckedLikeTheFile) {
@@ -932,6 +934,40 @@ tasks: [{name: main, period: 5q}]
   EXPECT_EQ(d.loc.line, 1);
   EXPECT_EQ(d.loc.col, 30);
   EXPECT_THAT(d.message, ::testing::HasSubstr("unknown unit 'q'"));
+}
+
+}  // namespace
+}  // namespace syncplc::loadertest
+
+namespace syncplc::loadertest {
+namespace {
+
+// One load reports the errors of every phase together, and a declaration that
+// failed causes no follow-on errors where it is used.
+TEST(LoadErrors, EveryPhaseReportsInOneLoadWithoutFollowOnErrors) {
+  EXPECT_THAT(errors(R"(
+tasks: [{name: main, period: 1ms}]
+tags:
+  - {name: lamp, type: BOOL}
+  - {name: bad, type: WIBBLE}
+blocks:
+  - {name: x, type: NOPE}
+  - {name: a, type: AND}
+  - {name: n, type: NOT}
+  - {name: t, type: TON, inputs: {IN: TRUE, PT: soon}}
+connections:
+  - x.Q -> lamp
+  - bad -> a.IN2
+  - a.OUT -> n.IN
+  - n.OUT -> a.IN1
+traces: [x.Q, bad, t.ET, t.QQ]
+)"),
+              ElementsAre("p.yaml:4:23: unknown IEC type 'WIBBLE' (BOOL, SINT, INT, DINT, LINT, USINT, UINT, UDINT, "
+                          "ULINT, BYTE, WORD, DWORD, LWORD, REAL, LREAL, TIME or ARRAY[a..b] OF type)",
+                          "p.yaml:6:21: unknown block type 'NOPE' (see `syncplc blocks`)",
+                          "p.yaml:9:49: t.PT: 'soon' is not a duration (missing number; write e.g. 1ms, 250us, 0.5s, T#1m30s)",
+                          "p.yaml:14:5: feedback loop without a one-scan delay: a -> n -> a (break it with a UNIT_DELAY block)",
+                          "p.yaml:15:26: trace: block t (TON) has no pin 'QQ' (IN, PT, Q, ET)"));
 }
 
 }  // namespace
