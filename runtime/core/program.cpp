@@ -82,7 +82,8 @@ void Program::read_tag(const Tag& tag, Cell* out) const {
 }
 
 bool Program::write_tag(const Tag& tag, std::uint32_t element, const Cell* values, std::uint32_t count) const {
-  if (element + count > tag.length || count == 0 || count > 4096) return false;
+  // Written so that no sum can wrap around: element and count come from outside (HMI, Modbus).
+  if (count == 0 || count > 4096 || element >= tag.length || count > tag.length - element) return false;
   std::vector<QueuedWrite> w(count);
   for (std::uint32_t i = 0; i < count; ++i) w[i] = QueuedWrite{tag.cell + element + i, values[i]};
   return tasks[tag.owner]->enqueue(w.data(), count);

@@ -189,6 +189,8 @@ connections: [setpoint -> r.IN]
   two[1].set<std::int32_t>(-7);
   ASSERT_TRUE(p->write_tag(*pair, 0, two, 2));
   EXPECT_FALSE(p->write_tag(*pair, 1, two, 2));  // past the end: refused
+  EXPECT_FALSE(p->write_tag(*pair, 0xFFFFFFFFu, two, 2));  // an index that would wrap around: refused
+  EXPECT_FALSE(p->write_tag(*pair, 0, two, 0));
   clock.run_until(3'000'000);
   ASSERT_EQ(records().size(), 3u);
   EXPECT_EQ(records()[1].in, 0.0);
