@@ -20,10 +20,12 @@
 // with the same thread setup (SCHED_FIFO, mlockall, optional pinning):
 // clock_nanosleep(TIMER_ABSTIME) on the release, clock_gettime, record. It is a
 // control: it separates what the runner's wake-up path costs from what the
-// machine does to any sleeping SCHED_FIFO thread.
+// machine does to any sleeping SCHED_FIFO thread. --bare-work is the bare loop
+// plus what the runner does each cycle (Task::scan, publish, account; the
+// jitter then goes to Task::stats like under the runner).
 //
 // Usage: bench_rt_jitter [--duration S] [--slices N] [--period-us U] [--priority P]
-//                        [--cpu C] [--pm-qos US] [--between CMD] [--bare]
+//                        [--cpu C] [--pm-qos US] [--between CMD] [--bare] [--bare-work]
 // The last line is machine-readable: "RESULT key=value ...", all times in ns.
 #include <dirent.h>
 #include <fcntl.h>
@@ -44,6 +46,8 @@
 #include <set>
 #include <string>
 #include <thread>
+#include <utility>
+#include <vector>
 
 #include "runtime/core/histogram.hpp"
 #include "runtime/core/realtime.hpp"
@@ -62,12 +66,13 @@ struct Options {
   int pm_qos_us = -1;  // >= 0: hold /dev/cpu_dma_latency at this value while the task runs
   std::string between;
   bool bare = false;   // a minimal clock_nanosleep loop instead of RealtimeRunner (a control)
+  bool bare_work = false;  // the bare loop, plus the task's scan/publish/account each cycle
 };
 
 [[noreturn]] void usage(const char* msg) {
   std::cerr << "bench_rt_jitter: " << msg << "\n"
             << "usage: bench_rt_jitter [--duration S] [--slices N] [--period-us U] [--priority P] [--cpu C]\n"
-            << "                       [--pm-qos US] [--between CMD] [--bare]\n";
+            << "                       [--pm-qos US] [--between CMD] [--bare] [--bare-work]\n";
   std::exit(2);
 }
 
@@ -87,6 +92,7 @@ Options parse(int argc, char** argv) {
     else if (a == "--pm-qos") o.pm_qos_us = std::stoi(value());
     else if (a == "--between") o.between = value();
     else if (a == "--bare") o.bare = true;
+    else if (a == "--bare-work") o.bare = o.bare_work = true;
     else if (a == "-h" || a == "--help") usage("help");
     else usage(("unknown argument " + a).c_str());
   }
@@ -103,6 +109,7 @@ std::string project_text(const Options& o) {
 }
 
 void sleep_ns(std::int64_t ns) {
+  if (ns <= 0) return;
   timespec ts{static_cast<time_t>(ns / 1'000'000'000), static_cast<long>(ns % 1'000'000'000)};
   while (clock_nanosleep(CLOCK_MONOTONIC, 0, &ts, &ts) == EINTR) {
   }
@@ -155,7 +162,8 @@ class PmQos {
 
 // The control loop of --bare: what cyclictest does, recorded in a Histogram
 // like Task::stats.jitter. Returns a warning text, "" when all went well.
-std::string bare_slice(const Options& o, std::int64_t slice_ns, Histogram& jitter, std::uint64_t& scans) {
+std::string bare_slice(const Options& o, std::int64_t slice_ns, Histogram& jitter, std::uint64_t& scans,
+                       Task& task) {
   std::string warning;
   if (mlockall(MCL_CURRENT | MCL_FUTURE) != 0) warning = std::string("mlockall failed: ") + std::strerror(errno);
   std::thread t([&] {
@@ -172,13 +180,28 @@ std::string bare_slice(const Options& o, std::int64_t slice_ns, Histogram& jitte
     }
     const std::int64_t epoch = RealtimeRunner::monotonic_ns() + 20'000'000;
     const std::int64_t period = o.period_us * 1000;
-    for (std::int64_t planned = 0; planned < slice_ns; planned += period) {
+    task.reset_timing();
+    std::int64_t k = 0;
+    for (std::int64_t planned = 0; planned < slice_ns; planned += period, ++k) {
       const std::int64_t deadline = epoch + planned;
       timespec ts{static_cast<time_t>(deadline / 1'000'000'000), static_cast<long>(deadline % 1'000'000'000)};
       while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
       }
-      jitter.record(RealtimeRunner::monotonic_ns() - deadline);
+      const std::int64_t start = RealtimeRunner::monotonic_ns() - epoch;
       ++scans;
+      if (!o.bare_work) {
+        jitter.record(start - planned);
+        continue;
+      }
+      ScanContext ctx;
+      ctx.now_ns = planned;
+      ctx.dt_ns = period;
+      ctx.scan = static_cast<std::uint64_t>(k);
+      ctx.virtual_time = false;
+      task.scan(ctx);
+      const std::int64_t end = RealtimeRunner::monotonic_ns() - epoch;
+      task.publish();
+      task.account(k, planned, start, end);  // the grid stays fixed here: no skipping
     }
   });
   sleep_ns(120'000'000);
@@ -207,7 +230,7 @@ int main(int argc, char** argv) {
   Task& task = *p.tasks[0];
   const auto slice_ns = static_cast<std::int64_t>(std::llround(o.duration_s * 1e9 / o.slices));
 
-  std::cout << "bench_rt_jitter: " << (o.bare ? "bare loop (control)" : "empty task") << ", period " << o.period_us << " us, priority " << o.priority << ", cpu "
+  std::cout << "bench_rt_jitter: " << (o.bare_work ? "bare loop + task work (control)" : o.bare ? "bare loop (control)" : "empty task") << ", period " << o.period_us << " us, priority " << o.priority << ", cpu "
             << (o.cpu >= 0 ? std::to_string(o.cpu) : "any") << ", " << o.slices << " slice(s) of "
             << static_cast<double>(slice_ns) * 1e-9 << " s, pm-qos "
             << (o.pm_qos_us >= 0 ? std::to_string(o.pm_qos_us) + " us" : "untouched") << "\n";
@@ -217,6 +240,7 @@ int main(int argc, char** argv) {
   Histogram bare_jitter;
   bare_jitter.reset();
   std::uint64_t bare_scans = 0;
+  std::vector<std::pair<int, std::int64_t>> late_starts;  // slice, ns after its first release
   std::string policy;
   bool fifo = true;
   for (int s = 0; s < o.slices; ++s) {
@@ -224,12 +248,24 @@ int main(int argc, char** argv) {
     std::string err;
     if (o.pm_qos_us >= 0 && !qos.open(o.pm_qos_us, &err)) warnings.insert("cannot set /dev/cpu_dma_latency: " + err);
     if (o.bare) {
-      std::string w = bare_slice(o, slice_ns, bare_jitter, bare_scans);
+      std::string w = bare_slice(o, slice_ns, bare_jitter, bare_scans, task);
       if (policy.empty()) policy = w.empty() ? "SCHED_FIFO prio " + std::to_string(o.priority) : w;
       if (!w.empty()) { warnings.insert(w); fifo = false; }
     } else {
       RealtimeRunner runner(p);
+      const std::uint64_t scans0 = task.stats.scans.load();
       runner.start();
+      // Was the slice's first scan late? (Its jitter is in the statistics like
+      // any other; this only tells start-up stalls apart from steady state.)
+      sleep_ns(runner.epoch_ns() + 2'000'000 - RealtimeRunner::monotonic_ns());
+      if (task.stats.scans.load() == scans0) {
+        std::int64_t now = RealtimeRunner::monotonic_ns();
+        while (task.stats.scans.load() == scans0 && now - runner.epoch_ns() < 1'000'000'000) {
+          sleep_ns(100'000);
+          now = RealtimeRunner::monotonic_ns();
+        }
+        late_starts.emplace_back(s, now - runner.epoch_ns());
+      }
       sleep_ns(runner.epoch_ns() - RealtimeRunner::monotonic_ns() + 100'000'000);
       std::string pol = thread_policy("empty");
       if (policy.empty()) policy = pol;
@@ -253,15 +289,23 @@ int main(int argc, char** argv) {
     }
   }
 
+  for (const auto& [slice, ns] : late_starts)
+    std::cout << "bench_rt_jitter: slice " << slice << ": first scan not started " << us(ns)
+              << " after its release (thread start-up, not steady state)\n";
+  if (!o.bare)
+    std::cout << "bench_rt_jitter: slices whose first scan was more than 2 ms late: " << late_starts.size() << " of "
+              << o.slices << "\n";
   for (const auto& w : warnings) std::cout << "bench_rt_jitter: warning: " << w << "\n";
   std::cout << "bench_rt_jitter: SCHED_FIFO " << (fifo ? "obtained" : "NOT obtained") << " (thread policy seen: "
             << policy << ")\n";
   auto st = task.stats.summary();
-  if (o.bare) {
+  if (o.bare && !o.bare_work) {
     st = TaskStats::Summary{};
     st.scans = bare_scans;
     st.jitter = bare_jitter.summary();
     std::cout << "bench_rt_jitter: --bare: a minimal clock_nanosleep loop, not RealtimeRunner\n";
+  } else if (o.bare_work) {
+    std::cout << "bench_rt_jitter: --bare-work: the minimal loop plus Task::scan/publish/account, not RealtimeRunner\n";
   }
   std::cout << "bench_rt_jitter: scans " << st.scans << ", overruns " << st.overruns << ", skipped " << st.skipped
             << "\n";

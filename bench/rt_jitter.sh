@@ -14,7 +14,8 @@
 # Usage: sudo bench/rt_jitter.sh [DURATION_S]      (default 60 s for each side)
 # Environment:
 #   BUILD_DIR  build directory (default build)
-#   SLICES     number of interleaved slices (default 6; 1 = one after the other)
+#   SLICES     number of interleaved slices (default 30, i.e. 2 s each for 60 s;
+#              1 = one after the other)
 #   PERIOD_US  period (default 1000)      PRIORITY  SCHED_FIFO priority (default 80)
 #   CPU        pin both to this CPU (syncplc task key cpu:, cyclictest -a)
 #   PM_QOS     hold /dev/cpu_dma_latency at this many us while the syncplc task
@@ -22,13 +23,14 @@
 #   CT_EXTRA   extra cyclictest arguments (e.g. --laptop: leave /dev/cpu_dma_latency alone)
 #   BARE=1     syncplc side replaced by bench_rt_jitter --bare: a minimal
 #              clock_nanosleep loop in the same process (a control, not the runtime)
+#   BARE=2     the same plus Task::scan/publish/account each cycle (bench_rt_jitter --bare-work)
 #   CONTROL=1  no syncplc: cyclictest against itself in the same interleaving, to
 #              see how far two identical measurements differ on this machine
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 duration=${1:-60}
-slices=${SLICES:-6}
+slices=${SLICES:-30}
 period=${PERIOD_US:-1000}
 prio=${PRIORITY:-80}
 bin=${BUILD_DIR:-build}/bench/bench_rt_jitter
@@ -50,6 +52,7 @@ fi
 [ -n "${PM_QOS:-}" ] && plc_args+=(--pm-qos "$PM_QOS")
 [ -n "${CT_EXTRA:-}" ] && ct_cmd+=" $CT_EXTRA"
 [ "${BARE:-0}" = 1 ] && plc_args+=(--bare)
+[ "${BARE:-0}" = 2 ] && plc_args+=(--bare-work)
 
 steal() { awk '/^cpu / { print $9 }' /proc/stat; }
 echo "== machine: $(nproc) CPUs, kernel $(uname -r), $(uname -v)"
@@ -65,6 +68,7 @@ if [ "${CONTROL:-0}" = 1 ]; then
 else
   left="syncplc RealtimeRunner"
   [ "${BARE:-0}" = 1 ] && left="bare loop (control)"
+  [ "${BARE:-0}" = 2 ] && left="bare loop + task work"
   echo "== syncplc: $bin ${plc_args[*]}"
   echo "== cyclictest (after each syncplc slice): $ct_cmd"
   "$bin" "${plc_args[@]}" --between "$ct_cmd >> $tmp/ct.txt 2>&1" | tee "$tmp/plc.txt"
