@@ -49,6 +49,7 @@
 #include <utility>
 #include <vector>
 
+#include "runtime/core/cpu_latency.hpp"
 #include "runtime/core/histogram.hpp"
 #include "runtime/core/realtime.hpp"
 #include "runtime/project/loader.hpp"
@@ -63,7 +64,7 @@ struct Options {
   long period_us = 1000;
   int priority = 80;
   int cpu = -1;
-  int pm_qos_us = -1;  // >= 0: hold /dev/cpu_dma_latency at this value while the task runs
+  int pm_qos_us = 0;  // /dev/cpu_dma_latency while the task runs: RealtimeRunner's default 0; -1 untouched
   std::string between;
   bool bare = false;   // a minimal clock_nanosleep loop instead of RealtimeRunner (a control)
   bool bare_work = false;  // the bare loop, plus the task's scan/publish/account each cycle
@@ -138,27 +139,6 @@ std::string thread_policy(const std::string& name) {
   closedir(d);
   return result;
 }
-
-// Holds /dev/cpu_dma_latency (the PM QoS CPU latency request) at a value while
-// open, as cyclictest does by default with 0.
-class PmQos {
- public:
-  bool open(int us, std::string* err) {
-    fd_ = ::open("/dev/cpu_dma_latency", O_RDWR);
-    if (fd_ < 0) { *err = std::strerror(errno); return false; }
-    std::int32_t v = us;
-    if (::write(fd_, &v, sizeof v) != sizeof v) { *err = std::strerror(errno); close(); return false; }
-    return true;
-  }
-  void close() {
-    if (fd_ >= 0) ::close(fd_);
-    fd_ = -1;
-  }
-  ~PmQos() { close(); }
-
- private:
-  int fd_ = -1;
-};
 
 // The control loop of --bare: what cyclictest does, recorded in a Histogram
 // like Task::stats.jitter. Returns a warning text, "" when all went well.
@@ -244,15 +224,18 @@ int main(int argc, char** argv) {
   std::string policy;
   bool fifo = true;
   for (int s = 0; s < o.slices; ++s) {
-    PmQos qos;
+    CpuLatencyRequest qos;  // the bare loops hold it themselves; RealtimeRunner does through its options
     std::string err;
-    if (o.pm_qos_us >= 0 && !qos.open(o.pm_qos_us, &err)) warnings.insert("cannot set /dev/cpu_dma_latency: " + err);
+    if (o.bare && o.pm_qos_us >= 0 && !qos.hold(o.pm_qos_us, &err))
+      warnings.insert("cannot set /dev/cpu_dma_latency: " + err);
     if (o.bare) {
       std::string w = bare_slice(o, slice_ns, bare_jitter, bare_scans, task);
       if (policy.empty()) policy = w.empty() ? "SCHED_FIFO prio " + std::to_string(o.priority) : w;
       if (!w.empty()) { warnings.insert(w); fifo = false; }
     } else {
-      RealtimeRunner runner(p);
+      RealtimeRunner::Options ro;
+      ro.cpu_latency_us = o.pm_qos_us;
+      RealtimeRunner runner(p, ro);
       const std::uint64_t scans0 = task.stats.scans.load();
       runner.start();
       // Was the slice's first scan late? (Its jitter is in the statistics like
@@ -278,7 +261,7 @@ int main(int argc, char** argv) {
         if (w.find("SCHED_FIFO") != std::string::npos) fifo = false;
       }
     }
-    qos.close();
+    qos.release();
     if (!o.between.empty()) {
       std::cout.flush();
       int rc = std::system(o.between.c_str());

@@ -18,8 +18,9 @@
 #              1 = one after the other)
 #   PERIOD_US  period (default 1000)      PRIORITY  SCHED_FIFO priority (default 80)
 #   CPU        pin both to this CPU (syncplc task key cpu:, cyclictest -a)
-#   PM_QOS     hold /dev/cpu_dma_latency at this many us while the syncplc task
-#              runs (cyclictest holds it at 0 by default; see docs/benchmarks.md)
+#   PM_QOS     /dev/cpu_dma_latency request of the syncplc side, in us (default 0,
+#              as RealtimeRunner and cyclictest both hold by default; -1 leaves
+#              it alone; see docs/benchmarks.md)
 #   CT_EXTRA   extra cyclictest arguments (e.g. --laptop: leave /dev/cpu_dma_latency alone)
 #   BARE=1     syncplc side replaced by bench_rt_jitter --bare: a minimal
 #              clock_nanosleep loop in the same process (a control, not the runtime)

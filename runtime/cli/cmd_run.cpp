@@ -44,7 +44,9 @@ void draw_status(std::ostream& os, Program& p, double elapsed, const std::deque<
 }  // namespace
 
 int cmd_run(const std::string& project, const std::string& duration, const std::vector<std::string>& sets,
-            bool no_status) {
+            bool no_status, int cpu_latency_us) {
+  RealtimeRunner::Options runner_options;
+  runner_options.cpu_latency_us = cpu_latency_us;
   std::optional<std::int64_t> limit;
   if (!duration.empty()) {
     std::string err;
@@ -74,7 +76,7 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
     std::cerr << "syncplc: " << err << "\n";
     return kExitInvalid;
   }
-  auto runner = std::make_unique<RealtimeRunner>(*program);
+  auto runner = std::make_unique<RealtimeRunner>(*program, runner_options);
   runner->start();
   const bool live = !no_status && isatty(STDOUT_FILENO);
   const std::int64_t t0 = RealtimeRunner::monotonic_ns();
@@ -109,7 +111,7 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
           program = std::move(next.program);
           std::cerr << "syncplc: reloaded " << project << " (" << kept << " tag values carried over)\n";
         }
-        runner = std::make_unique<RealtimeRunner>(*program);
+        runner = std::make_unique<RealtimeRunner>(*program, runner_options);
         runner->start();
         warned = false;
       }

@@ -22,7 +22,7 @@ int cmd_blocks(const std::string& name, bool markdown);
 int cmd_sim(const std::string& project, const std::string& duration, std::optional<std::uint64_t> seed,
             const std::string& trace, const std::vector<std::string>& sets, bool quiet);
 int cmd_run(const std::string& project, const std::string& duration, const std::vector<std::string>& sets,
-            bool no_status);
+            bool no_status, int cpu_latency_us);
 int cmd_test(const std::string& project, const std::string& tests, const std::string& junit);
 
 }  // namespace syncplc::cli

@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   std::optional<std::uint64_t> seed;
   std::vector<std::string> sets;
   bool markdown = false, quiet = false, no_status = false;
+  int cpu_latency_us = 0;
 
   auto* check = app.add_subcommand("check", "validate a project; print its task table, execution order and tag map");
   check->add_option("PROJECT", project, "project file (YAML)")->required();
@@ -36,6 +37,9 @@ int main(int argc, char** argv) {
   run->add_option("--duration,-d", duration, "stop after this time, e.g. 60s (default: until Ctrl-C or SIGTERM)");
   run->add_option("--set", sets, "override a parameter: instance.param=value (repeatable)");
   run->add_flag("--no-status", no_status, "no live status screen, even on a terminal");
+  run->add_option("--cpu-latency", cpu_latency_us,
+                  "hold /dev/cpu_dma_latency at this many us while running (default 0; -1 leaves idle states alone)")
+      ->check(CLI::Range(-1, 1000000));
 
   auto* test = app.add_subcommand("test", "run scan-cycle tests against a project in virtual time");
   test->add_option("PROJECT", project, "project file (YAML)")->required();
@@ -52,7 +56,7 @@ int main(int argc, char** argv) {
     if (*check) return cmd_check(project);
     if (*blocks) return cmd_blocks(block, markdown);
     if (*sim) return cmd_sim(project, duration, seed, trace, sets, quiet);
-    if (*run) return cmd_run(project, duration, sets, no_status);
+    if (*run) return cmd_run(project, duration, sets, no_status, cpu_latency_us);
     if (*test) return cmd_test(project, tests, junit);
   } catch (const std::exception& e) {
     std::cerr << "syncplc: " << e.what() << "\n";

@@ -59,6 +59,14 @@ void RealtimeRunner::start() {
     warnings_.push_back(std::string("mlockall failed (") + std::strerror(errno) +
                         "): page faults may delay scans; run as root or raise RLIMIT_MEMLOCK");
   }
+  if (options_.cpu_latency_us >= 0) {
+    std::string err;
+    if (!cpu_latency_.hold(options_.cpu_latency_us, &err)) {
+      std::lock_guard lock(warnings_mutex_);
+      warnings_.push_back("cannot hold /dev/cpu_dma_latency at " + std::to_string(options_.cpu_latency_us) + " us (" +
+                          err + "): idle CPUs may wake tasks late");
+    }
+  }
   stop_.store(false);
   for (auto& t : program_.tasks) t->reset_timing();
   scan_started_ = std::make_unique<std::atomic<std::int64_t>[]>(program_.tasks.size());
@@ -72,6 +80,7 @@ void RealtimeRunner::join() {
   for (auto& t : threads_)
     if (t.joinable()) t.join();
   threads_.clear();
+  cpu_latency_.release();
 }
 
 std::int64_t RealtimeRunner::scan_running_ns(std::size_t task) const {

@@ -13,6 +13,7 @@
 #include <thread>
 #include <vector>
 
+#include "runtime/core/cpu_latency.hpp"
 #include "runtime/core/program.hpp"
 
 namespace syncplc {
@@ -23,6 +24,9 @@ class RealtimeRunner {
     bool lock_memory = true;
     bool fifo = true;
     std::int64_t start_delay_ns = 20'000'000;  // time to set up every thread before the epoch
+    // Hold /dev/cpu_dma_latency at this many microseconds while running
+    // (cpu_latency.hpp); -1 leaves the CPUs' idle states alone.
+    int cpu_latency_us = 0;
   };
   RealtimeRunner(Program& program, Options options);
   explicit RealtimeRunner(Program& program) : RealtimeRunner(program, Options{}) {}
@@ -49,6 +53,7 @@ class RealtimeRunner {
   Program& program_;
   Options options_;
   std::vector<std::thread> threads_;
+  CpuLatencyRequest cpu_latency_;
   std::unique_ptr<std::atomic<std::int64_t>[]> scan_started_;  // per task, -1 between scans
   std::atomic<bool> stop_{false};
   std::atomic<int> alive_{0};

@@ -82,8 +82,13 @@ void Task::scan(ScanContext& ctx) noexcept {
   ctx.events = this;
   now_ = ctx.now_ns;
   Cell* img = image.data();
+  // Pin connections are one cell: copy those inline; memcpy (a library call
+  // for a run-time length) only for arrays.
   auto run_copies = [img](const std::vector<CellCopy>& copies) {
-    for (const auto& c : copies) std::memcpy(static_cast<void*>(img + c.dst), img + c.src, c.n * sizeof(Cell));
+    for (const auto& c : copies) {
+      if (c.n == 1) img[c.dst] = img[c.src];
+      else std::memcpy(static_cast<void*>(img + c.dst), img + c.src, c.n * sizeof(Cell));
+    }
   };
 
   apply_writes();                                       // 1

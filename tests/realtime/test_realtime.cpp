@@ -17,6 +17,7 @@ RealtimeRunner::Options quiet_options() {
   o.fifo = false;         // do not compete with the machine's own real-time work in tests
   o.lock_memory = false;
   o.start_delay_ns = 1'000'000;
+  o.cpu_latency_us = -1;
   return o;
 }
 
