@@ -13,8 +13,6 @@
 // `syncplc sim` user gets. BM_TaskScan calls Task::scan() alone, to separate
 // the per-scan overhead of the scheduler from the block chain. BM_Handwritten
 // is the same LREAL chain as plain C++ over an array of doubles: the floor.
-// BM_ExperimentInlineCopy replays the block loop with 1-cell copies inlined
-// (see there): an experiment for docs/benchmarks.md, not a runtime path.
 //
 // Counters: scans/s and blocks/s (block executions per second of CPU time),
 // t/block (CPU time per block execution, per-scan overhead included).
@@ -193,54 +191,11 @@ void BM_Handwritten(benchmark::State& state) {
   set_counters(state, n);
 }
 
-// Experiment (not the runtime): step 3 of Task::scan (runtime/core/task.cpp,
-// the block loop) replayed over the loaded task's public data, with one
-// change: a one-cell connection is copied as a single 8-byte load and store
-// instead of a call to memcpy with a run-time length. It measures what that
-// call costs per block; keep it in step with Task::scan if the loop changes.
-void BM_ExperimentInlineCopy(benchmark::State& state, Mix mix) {
-  const int n = static_cast<int>(state.range(0));
-  auto p = load_chain(state, n, mix);
-  if (!p) return;
-  Task& task = *p->tasks[0];
-  std::uint64_t k = 0;
-  auto run_copies = [](Cell* img, const std::vector<CellCopy>& copies) {
-    for (const auto& c : copies) {
-      if (c.n == 1) img[c.dst] = img[c.src];
-      else std::memcpy(static_cast<void*>(img + c.dst), img + c.src, c.n * sizeof(Cell));
-    }
-  };
-  for (auto _ : state) {
-    ScanContext ctx;
-    ctx.now_ns = static_cast<std::int64_t>(k) * 1'000'000;
-    ctx.dt_ns = 1'000'000;
-    ctx.scan = k++;
-    ctx.task = task.index();
-    Cell* img = task.image.data();
-    const std::size_t nb = task.blocks.size();
-    for (std::size_t i = 0; i < nb; ++i) {
-      auto& b = task.blocks[i];
-      if (i >= task.unit_delays) run_copies(img, b.copy_in);
-      ctx.block = static_cast<std::int32_t>(i);
-      b.block->execute(ctx);
-      run_copies(img, b.copy_out);
-    }
-    for (std::size_t i = 0; i < task.unit_delays; ++i) {
-      run_copies(img, task.blocks[i].copy_in);
-      task.blocks[i].block->end_of_scan();
-    }
-  }
-  verify(state, *p, n, mix);
-  set_counters(state, n);
-}
-
 BENCHMARK_CAPTURE(BM_VirtualClock, lreal, Mix::Lreal)->Arg(10)->Arg(100)->Arg(1000);
 BENCHMARK_CAPTURE(BM_VirtualClock, bool, Mix::Bool)->Arg(10)->Arg(100)->Arg(1000);
 BENCHMARK_CAPTURE(BM_TaskScan, lreal, Mix::Lreal)->Arg(10)->Arg(100)->Arg(1000);
 BENCHMARK_CAPTURE(BM_TaskScan, bool, Mix::Bool)->Arg(10)->Arg(100)->Arg(1000);
 BENCHMARK(BM_Handwritten)->Arg(10)->Arg(100)->Arg(1000);
-BENCHMARK_CAPTURE(BM_ExperimentInlineCopy, lreal, Mix::Lreal)->Arg(10)->Arg(100)->Arg(1000);
-BENCHMARK_CAPTURE(BM_ExperimentInlineCopy, bool, Mix::Bool)->Arg(10)->Arg(100)->Arg(1000);
 
 }  // namespace
 
