@@ -142,20 +142,26 @@ TEST(Watchdog, SafeStopDrivesOutputsToTheirSafeValuesThenStops) {
   EXPECT_EQ(p->tasks[0]->stats.summary().scans, 5u);
 }
 
-TEST(Overrun, SkipGoesToTheNextGridPointAfterTheLateScan) {
+// Runs 80 ms of a 10 ms task whose scan at 10 ms takes 25 ms (it ends at 35 ms);
+// returns the planned release of every scan, in ms.
+std::vector<std::int64_t> planned_around_one_long_scan(Program& p) {
   records().clear();
-  auto p = load_test_project(project("missed_cycles: skip"));
-  ASSERT_TRUE(p);
-  VirtualClock clock(*p);
-  // The scan at 10 ms takes 25 ms and ends at 35 ms: 20 and 30 are skipped.
+  VirtualClock clock(p);
   clock.run_until(10 * ms);
-  tag_cell(*p, "burn").set<std::int64_t>(25 * ms);
+  tag_cell(p, "burn").set<std::int64_t>(25 * ms);
   clock.run_until(10 * ms, true);
-  tag_cell(*p, "burn").set<std::int64_t>(0);
+  tag_cell(p, "burn").set<std::int64_t>(0);
   clock.run_until(80 * ms);
   std::vector<std::int64_t> planned;
   for (const auto& r : records()) planned.push_back(r.now_ns / ms);
-  EXPECT_EQ(planned, (std::vector<std::int64_t>{0, 10, 40, 50, 60, 70}));
+  return planned;
+}
+
+TEST(Overrun, SkipGoesToTheNextGridPointAfterTheLateScan) {
+  auto p = load_test_project(project("missed_cycles: skip"));
+  ASSERT_TRUE(p);
+  // 20 and 30 are skipped.
+  EXPECT_EQ(planned_around_one_long_scan(*p), (std::vector<std::int64_t>{0, 10, 40, 50, 60, 70}));
   auto s = p->tasks[0]->stats.summary();
   EXPECT_EQ(s.overruns, 1u);
   EXPECT_EQ(s.skipped, 2u);
@@ -164,19 +170,10 @@ TEST(Overrun, SkipGoesToTheNextGridPointAfterTheLateScan) {
 }
 
 TEST(Overrun, ImmediateRunsOnceAtOnceThenReturnsToTheGrid) {
-  records().clear();
   auto p = load_test_project(project("missed_cycles: immediate"));
   ASSERT_TRUE(p);
-  VirtualClock clock(*p);
-  clock.run_until(10 * ms);
-  tag_cell(*p, "burn").set<std::int64_t>(25 * ms);
-  clock.run_until(10 * ms, true);
-  tag_cell(*p, "burn").set<std::int64_t>(0);
-  clock.run_until(80 * ms);
-  std::vector<std::int64_t> planned;
-  for (const auto& r : records()) planned.push_back(r.now_ns / ms);
   // One catch-up scan (planned 30 ms, started at 35 ms), never a burst for 20 and 30.
-  EXPECT_EQ(planned, (std::vector<std::int64_t>{0, 10, 30, 40, 50, 60, 70}));
+  EXPECT_EQ(planned_around_one_long_scan(*p), (std::vector<std::int64_t>{0, 10, 30, 40, 50, 60, 70}));
   auto s = p->tasks[0]->stats.summary();
   EXPECT_EQ(s.overruns, 1u);
   EXPECT_EQ(s.skipped, 1u);
