@@ -6,6 +6,7 @@ const BlockRegistry& builtin_blocks() {
   static const BlockRegistry registry = [] {
     BlockRegistry r;
     register_iec_blocks(r);
+    register_motion_blocks(r);
     return r;
   }();
   return registry;

@@ -9,6 +9,11 @@ namespace syncplc {
 // bistables, arithmetic, comparison, selection, logic, and the one-scan delay.
 void register_iec_blocks(BlockRegistry& registry);
 
+// The motion blocks from the papers (fblocks/motion): nonlinear filter,
+// transient-time synchronizer, Taylor estimator, synchronous and PD/PID
+// controllers, reference generators.
+void register_motion_blocks(BlockRegistry& registry);
+
 // Every block type that ships with syncplc, registered once.
 const BlockRegistry& builtin_blocks();
 

@@ -53,6 +53,12 @@ void BlockRegistry::add(BlockTypeInfo info) {
     }
   }
   for (const auto& p : info.pins) {
+    if (p.is_array()) {
+      int k = info.param_index(p.length_param);
+      if (k < 0 || !is_integer(info.params[static_cast<std::size_t>(k)].type))
+        throw std::logic_error("block type " + info.name + ": array pin " + p.name + " needs integer parameter " +
+                               p.length_param);
+    }
     if (!p.init.empty()) {
       std::string err;
       if (p.cls == TypeClass::Exact && !parse_value(p.type, p.init, &err))

@@ -34,7 +34,16 @@ struct PinDecl {
   bool required = false;     // an input that must be connected or given a value
   std::string doc;
   std::string init;          // value of an unconnected input ("" = the type's zero)
+  // Array pin: ARRAY[1..n] OF type, n the value of this integer parameter of
+  // the instance (set at load). "" = a scalar pin. The pin's elements occupy
+  // consecutive cells; a block reaches element i (0-based) with in<T>(pin, i).
+  std::string length_param;
+
+  bool is_array() const { return !length_param.empty(); }
 };
+
+// Longest array pin a block may declare through its length parameter.
+inline constexpr std::uint32_t kMaxPinLength = 4096;
 
 struct ParamDecl {
   std::string name;
@@ -62,6 +71,11 @@ class Block {
   T in(int pin) const noexcept { return pins_[pin]->get<T>(); }
   template <class T>
   void out(int pin, T v) noexcept { pins_[pin]->set<T>(v); }
+  // Element i (0-based) of an array pin.
+  template <class T>
+  T in(int pin, std::uint32_t i) const noexcept { return pins_[pin][i].get<T>(); }
+  template <class T>
+  void out(int pin, std::uint32_t i, T v) noexcept { pins_[pin][i].set<T>(v); }
   Cell* pin_cell(int pin) const noexcept { return pins_[pin]; }
 
   // Bound by the loader (or a test harness) before the first scan.
@@ -103,7 +117,8 @@ class BlockSetup {
   virtual const BlockTypeInfo& type() const = 0;
   virtual IecType datatype() const = 0;                   // generic type (LREAL if not generic)
   virtual Cell param_cell(int index) const = 0;           // by ParamDecl index
-  virtual bool connected(int pin) const = 0;               // wired or given a constant
+  virtual bool connected(int pin) const = 0;               // wired (whole or any element) or given a constant
+  virtual std::uint32_t pin_length(int pin) const = 0;     // elements of an array pin, 1 for a scalar
   virtual std::int64_t task_period_ns() const = 0;
   virtual std::uint64_t seed() const = 0;                  // project seed mixed with instance name
   virtual void error(const std::string& message) = 0;

@@ -8,9 +8,10 @@ namespace {
 class HarnessSetup final : public BlockSetup {
  public:
   HarnessSetup(const BlockTypeInfo& t, std::string name, IecType dt, std::vector<Cell> params,
-               std::vector<bool> connected, std::int64_t period, std::uint64_t seed, std::vector<std::string>& errors)
+               std::vector<bool> connected, std::vector<std::uint32_t> lengths, std::int64_t period,
+               std::uint64_t seed, std::vector<std::string>& errors)
       : t_(t), name_(std::move(name)), dt_(dt), params_(std::move(params)), connected_(std::move(connected)),
-        period_(period), seed_(seed), errors_(errors) {}
+        lengths_(std::move(lengths)), period_(period), seed_(seed), errors_(errors) {}
   const std::string& instance_name() const override { return name_; }
   const BlockTypeInfo& type() const override { return t_; }
   IecType datatype() const override { return dt_; }
@@ -20,6 +21,7 @@ class HarnessSetup final : public BlockSetup {
     return params_[static_cast<std::size_t>(index)];
   }
   bool connected(int pin) const override { return connected_.at(static_cast<std::size_t>(pin)); }
+  std::uint32_t pin_length(int pin) const override { return lengths_.at(static_cast<std::size_t>(pin)); }
   std::int64_t task_period_ns() const override { return period_; }
   std::uint64_t seed() const override { return seed_; }
   void error(const std::string& message) override { errors_.push_back(message); }
@@ -30,6 +32,7 @@ class HarnessSetup final : public BlockSetup {
   IecType dt_;
   std::vector<Cell> params_;
   std::vector<bool> connected_;
+  std::vector<std::uint32_t> lengths_;
   std::int64_t period_;
   std::uint64_t seed_;
   std::vector<std::string>& errors_;
@@ -61,19 +64,36 @@ BlockHarness::BlockHarness(const BlockRegistry& registry, const std::string& typ
   for (const auto& [k, _] : o.params)
     if (type_->param_index(k) < 0) errors_.push_back("unknown parameter " + k);
   std::vector<bool> connected;
-  cells_.resize(type_->pins.size());
+  std::uint32_t total = 0;
+  for (const auto& p : type_->pins) {
+    std::uint32_t n = 1;
+    if (p.is_array()) {
+      auto k = static_cast<std::size_t>(type_->param_index(p.length_param));
+      double len = cell_as_double(type_->params[k].type, params[k]);
+      if (len < 1 || len > kMaxPinLength) {
+        errors_.push_back("array pin " + p.name + ": " + p.length_param + " must be 1.." + std::to_string(kMaxPinLength));
+        len = 1;
+      }
+      n = static_cast<std::uint32_t>(len);
+    }
+    first_.push_back(total);
+    length_.push_back(n);
+    total += n;
+  }
+  cells_.resize(total);
   for (std::size_t i = 0; i < type_->pins.size(); ++i) {
     const auto& p = type_->pins[i];
     connected.push_back(p.dir == PinDir::In && (!o.connected || o.connected->count(p.name) > 0));
     IecType pt = p.cls == TypeClass::Exact ? p.type : dt;
     if (!p.init.empty()) {
       std::string err;
-      if (auto v = parse_value(pt, p.init, &err)) cells_[i] = *v;
+      if (auto v = parse_value(pt, p.init, &err))
+        for (std::uint32_t k = 0; k < length_[i]; ++k) cells_[first_[i] + k] = *v;
     }
   }
-  for (auto& c : cells_) pin_ptrs_.push_back(&c);
+  for (std::size_t i = 0; i < type_->pins.size(); ++i) pin_ptrs_.push_back(&cells_[first_[i]]);
   if (!errors_.empty()) return;
-  HarnessSetup setup(*type_, "harness", dt, params, connected, period_, o.seed, errors_);
+  HarnessSetup setup(*type_, "harness", dt, params, connected, length_, period_, o.seed, errors_);
   block_ = type_->create(setup);
   if (!errors_.empty()) {
     block_.reset();
@@ -82,10 +102,19 @@ BlockHarness::BlockHarness(const BlockRegistry& registry, const std::string& typ
   if (block_) block_->bind_pins(pin_ptrs_.data());
 }
 
-Cell& BlockHarness::cell(const std::string& pin) {
-  int i = type_ ? type_->pin_index(pin) : -1;
-  if (i < 0) throw std::out_of_range("no pin " + pin);
-  return cells_[static_cast<std::size_t>(i)];
+Cell& BlockHarness::cell(const std::string& pin) { return cell(pin, 0); }
+
+Cell& BlockHarness::cell(const std::string& pin, std::uint32_t i) {
+  int p = type_ ? type_->pin_index(pin) : -1;
+  if (p < 0) throw std::out_of_range("no pin " + pin);
+  if (i >= length_[static_cast<std::size_t>(p)]) throw std::out_of_range("pin " + pin + " has no element " + std::to_string(i));
+  return cells_[first_[static_cast<std::size_t>(p)] + i];
+}
+
+std::uint32_t BlockHarness::length(const std::string& pin) const {
+  int p = type_ ? type_->pin_index(pin) : -1;
+  if (p < 0) throw std::out_of_range("no pin " + pin);
+  return length_[static_cast<std::size_t>(p)];
 }
 
 void BlockHarness::scan() {

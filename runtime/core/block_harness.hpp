@@ -35,6 +35,13 @@ class BlockHarness : private EventSink {
   template <class T>
   T get(const std::string& pin) { return cell(pin).get<T>(); }
   Cell& cell(const std::string& pin);
+  // Element i (0-based) of an array pin.
+  template <class T>
+  void set(const std::string& pin, std::uint32_t i, T v) { cell(pin, i).set<T>(v); }
+  template <class T>
+  T get(const std::string& pin, std::uint32_t i) { return cell(pin, i).get<T>(); }
+  Cell& cell(const std::string& pin, std::uint32_t i);
+  std::uint32_t length(const std::string& pin) const;
 
   // One scan at the current time, then time advances by one period.
   void scan();
@@ -51,7 +58,8 @@ class BlockHarness : private EventSink {
   void push(const Event& e) noexcept override { events_.push_back(e); }
 
   const BlockTypeInfo* type_ = nullptr;
-  std::vector<Cell> cells_;
+  std::vector<Cell> cells_;               // every pin's elements, pin after pin
+  std::vector<std::uint32_t> first_, length_;  // per pin: first cell, elements
   std::vector<Cell*> pin_ptrs_;
   std::unique_ptr<Block> block_;
   std::vector<std::string> errors_;

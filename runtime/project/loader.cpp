@@ -66,6 +66,7 @@ struct InstanceDecl {
   std::vector<std::string> param_override;
   std::vector<const ConfigNode*> inputs;  // constant inputs by pin index
   std::vector<int> source;                // connection index feeding each input pin, -1 none, kBrokenSource
+  std::vector<std::uint32_t> pin_length;  // elements per pin (1 for a scalar), set from parameters
   SourceLoc loc;
   // Filled by the checking phases, used by build():
   std::vector<std::optional<Cell>> pin_values;  // constants and pin inits, by pin index
@@ -586,6 +587,7 @@ void Loader::read_blocks(const ConfigNode& n) {
     in.param_override.assign(T.params.size(), "");
     in.inputs.assign(T.pins.size(), nullptr);
     in.source.assign(T.pins.size(), -1);
+    in.pin_length.assign(T.pins.size(), 1);
     if (params) {
       if (!params->is_map()) d_.error(params->loc, "params: expected a map of parameter: value");
       else
@@ -986,6 +988,7 @@ class LoaderBlockSetup final : public BlockSetup {
     return params_[static_cast<std::size_t>(index)];
   }
   bool connected(int pin) const override { return connected_.at(static_cast<std::size_t>(pin)); }
+  std::uint32_t pin_length(int pin) const override { return in_.pin_length.at(static_cast<std::size_t>(pin)); }
   std::int64_t task_period_ns() const override { return period_; }
   std::uint64_t seed() const override { return seed_; }
   void error(const std::string& message) override { d_.error(in_.loc, in_.name + " (" + in_.type->name + "): " + message); }

@@ -37,8 +37,8 @@ class Stamp final : public Block {
   }
 };
 
-PinDecl in_pin(const char* n) { return PinDecl{n, PinDir::In, TypeClass::Exact, IecType::LREAL, "", false, "", ""}; }
-PinDecl out_pin(const char* n) { return PinDecl{n, PinDir::Out, TypeClass::Exact, IecType::LREAL, "", false, "", ""}; }
+PinDecl in_pin(const char* n) { return PinDecl{n, PinDir::In, TypeClass::Exact, IecType::LREAL, "", false, "", "", ""}; }
+PinDecl out_pin(const char* n) { return PinDecl{n, PinDir::Out, TypeClass::Exact, IecType::LREAL, "", false, "", "", ""}; }
 
 }  // namespace
 

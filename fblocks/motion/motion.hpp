@@ -1,0 +1,11 @@
+// Internal: the registration functions of the motion block families in
+// fblocks/motion, one per file, called by register_motion_blocks().
+#pragma once
+
+#include "runtime/core/block.hpp"
+
+namespace syncplc::motion {
+
+inline constexpr const char* kCategory = "Motion";
+
+}  // namespace syncplc::motion
