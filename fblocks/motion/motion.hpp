@@ -8,4 +8,7 @@ namespace syncplc::motion {
 
 inline constexpr const char* kCategory = "Motion";
 
+void register_taylor_estimator(BlockRegistry& r);      // taylor_estimator.cpp
+void register_reference_generators(BlockRegistry& r);  // reference_generators.cpp
+
 }  // namespace syncplc::motion

@@ -4,7 +4,8 @@
 namespace syncplc {
 
 void register_motion_blocks(BlockRegistry& r) {
-  (void)r;
+  motion::register_taylor_estimator(r);
+  motion::register_reference_generators(r);
 }
 
 }  // namespace syncplc
