@@ -86,12 +86,15 @@ class CosineTrajectory final : public Block {
   enum : int { kEnable = 0, kX, kV, kA, kDone };
 
  public:
-  explicit CosineTrajectory(const BlockSetup& s)
+  explicit CosineTrajectory(BlockSetup& s)
       : amp_(s.param<double>("amplitude")),
         w_(s.param<double>("omega")),
         cycles_(s.param<double>("cycles")),
         delay_(s.param<double>("delay")),
-        offset_(s.param<double>("offset")) {}
+        offset_(s.param<double>("offset")) {
+    if (!(w_ > 0)) s.error(s.type().name + ": omega must be positive");
+    if (cycles_ < 0 || delay_ < 0) s.error(s.type().name + ": cycles and delay must not be negative");
+  }
 
   void execute(ScanContext& ctx) override {
     double x = offset_, v = 0, a = 0;
@@ -206,7 +209,10 @@ class Circle final : public Block {
         cy_(s.param<double>("cy")),
         th0_(s.param<double>("start_angle")),
         dir_(s.param<bool>("clockwise") ? -1.0 : 1.0) {
-    path_.init(s.param<double>("feed"), 2 * kPi * r_ * s.param<double>("turns"), s.param<double>("ramp_time"));
+    const double feed = s.param<double>("feed"), turns = s.param<double>("turns"), ramp = s.param<double>("ramp_time");
+    if (!(r_ > 0) || !(feed > 0)) s.error(s.type().name + ": radius and feed must be positive");
+    if (turns < 0 || ramp < 0) s.error(s.type().name + ": turns and ramp_time must not be negative");
+    path_.init(feed, 2 * kPi * r_ * turns, ramp);
   }
 
   void execute(ScanContext& ctx) override {
@@ -310,7 +316,10 @@ class StepRampSequence final : public Block {
         slope_max_(s.param<double>("slope_max")),
         p_ramp_(s.param<double>("ramp_probability")),
         seed_(s.seed()) {
+    if (!(min_hold_ > 0)) s.error(s.type().name + ": min_hold must be positive");
     if (max_hold_ < min_hold_) s.error(s.type().name + ": max_hold must not be below min_hold");
+    if (slope_max_ < 0 || p_ramp_ < 0 || p_ramp_ > 1)
+      s.error(s.type().name + ": slope_max must not be negative, ramp_probability must be 0..1");
     if (rmax_ < rmin_) s.error(s.type().name + ": r_max must not be below r_min");
     restart();
   }

@@ -102,7 +102,12 @@ void register_taylor_estimator(BlockRegistry& r) {
       param("max_extrapolation", IecType::UDINT, "20", 0, 1'000'000,
             "consecutive estimates that extrapolate; later ones hold the last estimate (0 = hold at once)"),
   };
-  t.create = [](BlockSetup& s) -> std::unique_ptr<Block> { return std::make_unique<TaylorEstimator>(s); };
+  t.create = [](BlockSetup& s) -> std::unique_ptr<Block> {
+    const auto order = s.param<std::int16_t>("order"), history = s.param<std::int16_t>("history");
+    if (order < 0 || order > MessageEstimator::kMaxOrder) s.error("TAYLOR_ESTIMATOR: order must be 0..3");
+    if (history < 0 || history > 2) s.error("TAYLOR_ESTIMATOR: history must be 0 (robust), 1 (recursive) or 2 (zero)");
+    return std::make_unique<TaylorEstimator>(s);
+  };
   r.add(std::move(t));
 }
 

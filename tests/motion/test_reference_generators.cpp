@@ -67,6 +67,8 @@ TEST(CosineTrajectory, AmplitudeAndOmegaAreRequired) {
   EXPECT_FALSE(h.ok());
   auto g = make("COSINE_TRAJECTORY", {{"amplitude", "1"}, {"omega", "1"}});
   EXPECT_TRUE(g.ok()) << errors_of(g);
+  EXPECT_FALSE(make("COSINE_TRAJECTORY", {{"amplitude", "1"}, {"omega", "0"}}).ok());
+  EXPECT_FALSE(make("COSINE_TRAJECTORY", {{"amplitude", "1"}, {"omega", "1"}, {"cycles", "-1"}}).ok());
 }
 
 // Paper 000: A = 4 pi rad, w = 1 rad/s; peak speed A w = 4 pi rad/s = 753.98 rad/min.
@@ -233,6 +235,14 @@ TEST(Circle, PaperExecutionTimes) {
   }
 }
 
+TEST(Circle, BadParametersAreErrors) {
+  EXPECT_FALSE(make("CIRCLE", {{"feed", "1"}}).ok());  // radius required
+  EXPECT_FALSE(make("CIRCLE", {{"radius", "0"}, {"feed", "1"}}).ok());
+  EXPECT_FALSE(make("CIRCLE", {{"radius", "1"}, {"feed", "-1"}}).ok());
+  EXPECT_FALSE(make("CIRCLE", {{"radius", "1"}, {"feed", "1"}, {"ramp_time", "-0.1"}}).ok());
+  EXPECT_TRUE(make("CIRCLE", {{"radius", "1"}, {"feed", "1"}}).ok());
+}
+
 TEST(Circle, ShortPathLowersTheFeedAndEndlessTurns) {
   // A quarter turn of R = 0.1 m (0.157 m) with a 2 s ramp at 1 m/s: too short to
   // cruise; the top speed drops to 0.157/2 m/s and the motion takes 2 Ta.
@@ -345,6 +355,9 @@ TEST(StepRampSequence, BadRangesAreLoadErrors) {
   EXPECT_FALSE(h.ok());
   auto g = make("STEP_RAMP_SEQUENCE", {{"min_hold", "0.5"}, {"max_hold", "0.2"}});
   EXPECT_FALSE(g.ok());
+  EXPECT_FALSE(make("STEP_RAMP_SEQUENCE", {{"min_hold", "0"}}).ok());
+  EXPECT_FALSE(make("STEP_RAMP_SEQUENCE", {{"ramp_probability", "1.5"}}).ok());
+  EXPECT_TRUE(make("STEP_RAMP_SEQUENCE", {}).ok());
 }
 
 TEST(StepRampSequence, ScriptedSegments) {

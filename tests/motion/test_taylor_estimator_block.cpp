@@ -38,6 +38,15 @@ TEST(TaylorEstimatorBlock, Declaration) {
   EXPECT_TRUE(t->pins[static_cast<std::size_t>(t->pin_index("in"))].required);
 }
 
+// The loader checks the declared ranges; the factory refuses the rest too
+// (BlockHarness passes parameters unchecked).
+TEST(TaylorEstimatorBlock, OutOfRangeParametersAreErrors) {
+  EXPECT_FALSE(make({{"order", "4"}}).ok());
+  EXPECT_FALSE(make({{"order", "-1"}}).ok());
+  EXPECT_FALSE(make({{"history", "3"}}).ok());
+  EXPECT_TRUE(make({{"history", "2"}, {"order", "0"}}).ok());
+}
+
 TEST(TaylorEstimatorBlock, PassesValidSamplesAndEstimatesLostOnes) {
   auto h = make();
   ASSERT_TRUE(h.ok()) << errors_of(h);
