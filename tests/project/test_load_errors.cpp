@@ -582,7 +582,7 @@ connections:
   - b -> n.IN
   - a -> m.IN
 )"),
-              ElementsAre("p.yaml:6:10: n.IN already has a source (a at p.yaml:5:5)",
+              ElementsAre("p.yaml:6:10: n.IN already has a source (a -> n.IN at p.yaml:5:5)",
                           "p.yaml:7:10: m.IN is connected and also given a constant in inputs:"));
 }
 
