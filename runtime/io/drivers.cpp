@@ -1,6 +1,7 @@
 #include "runtime/io/drivers.hpp"
 
 #include "runtime/io/memory_driver.hpp"
+#include "runtime/io/sim_table.hpp"
 
 namespace syncplc {
 
@@ -8,6 +9,7 @@ const DriverRegistry& builtin_drivers() {
   static const DriverRegistry registry = [] {
     DriverRegistry r;
     r.add(memory_driver_type());
+    r.add(sim_table_driver_type());
     return r;
   }();
   return registry;
