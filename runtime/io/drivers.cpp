@@ -1,6 +1,7 @@
 #include "runtime/io/drivers.hpp"
 
 #include "runtime/io/memory_driver.hpp"
+#include "runtime/io/sim_ring.hpp"
 #include "runtime/io/sim_table.hpp"
 
 namespace syncplc {
@@ -10,6 +11,7 @@ const DriverRegistry& builtin_drivers() {
     DriverRegistry r;
     r.add(memory_driver_type());
     r.add(sim_table_driver_type());
+    r.add(sim_ring_driver_type());
     return r;
   }();
   return registry;

@@ -13,13 +13,6 @@ namespace {
 const std::vector<double> kPaperTau = {0.055, 0.056, 0.040, 0.056};
 const std::vector<double> kPaperGain = {35.6206, 36.3872, 52.2836, 36.3872};
 
-std::uint64_t splitmix64(std::uint64_t& s) noexcept {
-  std::uint64_t z = (s += 0x9E3779B97F4A7C15ULL);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-  return z ^ (z >> 31);
-}
-
 }  // namespace
 
 SimTableDriver::SimTableDriver(SimTableConfig cfg) : cfg_(std::move(cfg)), rng_(cfg_.seed) {
@@ -61,22 +54,8 @@ double SimTableDriver::disturbance(std::size_t axis, std::int64_t t) const noexc
   return d;
 }
 
-double SimTableDriver::gaussian() noexcept {
-  // Box-Muller on splitmix64: the same numbers on every platform and library.
-  if (spare_valid_) {
-    spare_valid_ = false;
-    return spare_;
-  }
-  double u1 = (static_cast<double>(splitmix64(rng_) >> 11) + 1.0) * 0x1.0p-53;  // (0, 1]
-  double u2 = static_cast<double>(splitmix64(rng_) >> 11) * 0x1.0p-53;
-  double r = std::sqrt(-2.0 * std::log(u1));
-  spare_ = r * std::sin(2 * std::numbers::pi * u2);
-  spare_valid_ = true;
-  return r * std::cos(2 * std::numbers::pi * u2);
-}
-
 double SimTableDriver::measure(double theta) noexcept {
-  if (cfg_.noise > 0) theta += cfg_.noise * gaussian();
+  if (cfg_.noise > 0) theta += cfg_.noise * rng_.gaussian();
   if (quantum_ > 0) theta = std::floor(theta / quantum_) * quantum_;  // the position counter truncates
   return theta;
 }

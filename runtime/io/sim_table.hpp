@@ -22,6 +22,7 @@
 
 #include "runtime/core/io_driver.hpp"
 #include "runtime/io/axis_plant.hpp"
+#include "runtime/io/sim_random.hpp"
 
 namespace syncplc {
 
@@ -66,7 +67,6 @@ class SimTableDriver final : public IoDriver {
   void advance_to(std::int64_t t) noexcept;
   double disturbance(std::size_t axis, std::int64_t t) const noexcept;
   double measure(double theta) noexcept;
-  double gaussian() noexcept;
 
   SimTableConfig cfg_;
   std::vector<DriverChannel> channels_;
@@ -78,9 +78,7 @@ class SimTableDriver final : public IoDriver {
   std::int64_t switch_at_ = 0;       // when pending_ becomes active
   bool started_ = false, have_pending_ = false;
   double quantum_ = 0;               // rad per count, 0 = ideal
-  std::uint64_t rng_;
-  bool spare_valid_ = false;
-  double spare_ = 0;
+  SimRandom rng_;
   std::uint64_t bad_commands_ = 0;
 };
 
