@@ -125,6 +125,7 @@ class Loader : public DriverSetup {
   void read_blocks(const ConfigNode& n);
   void read_drivers(const ConfigNode& n);
   void read_connections(const ConfigNode& n);
+  void read_metrics(const ConfigNode& n);
   bool parse_endpoint(const std::string& text, const SourceLoc& loc, Endpoint& e);
   void apply_overrides();
   void check_params();
@@ -159,6 +160,8 @@ class Loader : public DriverSetup {
   std::vector<DriverDecl> drvs_;
   std::vector<ConnectionDecl> conns_;
   std::vector<std::pair<std::string, SourceLoc>> traces_, watch_;
+  std::vector<std::pair<std::string, SourceLoc>> axis_errors_;  // metrics: axis_errors
+  std::int64_t metrics_from_ns_ = 0;
   std::vector<std::vector<int>> order_;     // per task: instance indices, unit delays first
   std::vector<std::size_t> delays_;         // per task: how many unit delays lead the order
   std::set<std::string> failed_names_;      // declarations already reported: no follow-on errors
@@ -187,7 +190,7 @@ int Loader::instance_index(const std::string& name) const {
 }
 
 const std::set<std::string> kTopKeys = {"project", "include", "tasks", "tags", "blocks", "connections",
-                                        "drivers", "traces", "watch"};
+                                        "drivers", "traces", "watch", "metrics"};
 
 void Loader::merge_includes(ConfigNode& root, const std::string& path, int depth) {
   const ConfigNode* inc = root.find("include");
@@ -258,7 +261,7 @@ LoadResult Loader::run(ConfigNode root, const std::string& path) {
   merge_includes(root_, path, 0);
   for (const auto& [k, v] : root_.map)
     if (!kTopKeys.count(k))
-      d_.error(v.loc, "unknown top-level key '" + k + "' (project, include, tasks, tags, blocks, connections, drivers, traces, watch)");
+      d_.error(v.loc, "unknown top-level key '" + k + "' (project, include, tasks, tags, blocks, connections, drivers, traces, watch, metrics)");
   if (auto* n = root_.find("project")) read_project(*n);
   if (opts_.seed) seed_ = *opts_.seed;
   if (auto* n = root_.find("tasks")) read_tasks(*n);
@@ -280,6 +283,7 @@ LoadResult Loader::run(ConfigNode root, const std::string& path) {
   };
   read_refs("traces", traces_);
   read_refs("watch", watch_);
+  if (auto* n = root_.find("metrics")) read_metrics(*n);
   infer_types();
   check_connections();
   find_owners();
@@ -821,6 +825,29 @@ void Loader::read_connections(const ConfigNode& n) {
   }
 }
 
+void Loader::read_metrics(const ConfigNode& n) {
+  if (!n.is_map()) { d_.error(n.loc, "metrics: expected a map {axis_errors, from}"); return; }
+  for (const auto& [k, v] : n.map) {
+    if (k == "axis_errors") {
+      if (v.is_scalar()) axis_errors_.emplace_back(v.scalar, v.loc);
+      else if (v.is_list())
+        for (const auto& i : v.items) {
+          if (i.is_scalar()) axis_errors_.emplace_back(i.scalar, i.loc);
+          else d_.error(i.loc, "metrics axis_errors: expected a tag, tag[i] or instance.pin");
+        }
+      else d_.error(v.loc, "metrics axis_errors: an array tag or a list of tags, in axis order");
+    } else if (k == "from") {
+      std::string err;
+      auto ns = v.is_scalar() ? parse_duration_ns(v.scalar, &err) : std::nullopt;
+      if (!ns || *ns < 0) d_.error(v.loc, "metrics from: " + (err.empty() ? "'" + v.scalar + "' must not be negative" : err));
+      else metrics_from_ns_ = *ns;
+    } else {
+      d_.error(v.loc, "unknown key '" + k + "' in metrics (axis_errors, from)");
+    }
+  }
+  if (axis_errors_.empty()) d_.error(n.loc, "metrics: axis_errors is missing");
+}
+
 void Loader::apply_overrides() {
   SourceLoc cli{"command line", 0, 0};
   for (const auto& o : opts_.overrides) {
@@ -1252,6 +1279,12 @@ void Loader::check_refs() {
   }
   for (const auto& [ref, loc] : watch_)
     if (tag_index(ref) < 0 && !failed_names_.count(ref)) d_.error(loc, "watch: unknown tag '" + ref + "'");
+  for (const auto& [ref, loc] : axis_errors_) {
+    Endpoint e;
+    std::size_t before = d_.size();
+    if (!parse_endpoint(ref, loc, e))
+      for (std::size_t k = before; k < d_.size(); ++k) d_.prefix_message(k, "metrics: ");
+  }
 }
 
 std::unique_ptr<Program> Loader::build() {
@@ -1423,6 +1456,24 @@ std::unique_ptr<Program> Loader::build() {
     if (!prog->find_tag(ref)) d_.error(loc, "watch: unknown tag '" + ref + "'");
     else prog->watch.push_back(ref);
   }
+  for (const auto& [ref, loc] : axis_errors_) {
+    std::string err;
+    auto r = prog->resolve(ref, &err);
+    if (!r) continue;  // reported by check_refs
+    if (r->type != IecType::LREAL && r->type != IecType::REAL) {
+      d_.error(loc, "metrics: " + ref + " is " + std::string(type_name(r->type)) + "; axis errors are REAL or LREAL");
+      continue;
+    }
+    const Tag* t = prog->find_tag(ref);
+    for (std::uint32_t k = 0; k < r->length; ++k) {
+      CellRef one = *r;
+      one.cell += k;
+      one.length = 1;
+      std::string label = r->length == 1 ? ref : ref + "[" + std::to_string((t ? t->array_lower : 1) + k) + "]";
+      prog->axis_errors.push_back({label, one});
+    }
+  }
+  prog->metrics_from_ns = metrics_from_ns_;
   if (!d_.empty()) return nullptr;
   return prog;
 }
