@@ -8,11 +8,12 @@
 namespace syncplc {
 
 SimRingDriver::SimRingDriver(SimRingConfig cfg) : cfg_(std::move(cfg)), rng_(cfg_.seed), frame_loss_(cfg_.loss) {
-  const std::uint32_t n = cfg_.nodes;
+  const std::uint32_t n = cfg_.nodes, w = cfg_.command_words;
   channels_ = {
-      {"master_cmd", PinDir::Out, IecType::LREAL, n, "", "x_d(k+1) for every axis, sent by the master in frame k"},
+      {"master_cmd", PinDir::Out, IecType::LREAL, n * w, "",
+       "x_d(k+1) for every axis (command_words values an axis, axis after axis), sent by the master in frame k"},
       {"err_tx", PinDir::Out, IecType::LREAL, n, "", "element i: node i's feedback error e_i(k), written into frame k"},
-      {"cmd", PinDir::In, IecType::LREAL, n, "", "element i: the command node i received (held when lost)"},
+      {"cmd", PinDir::In, IecType::LREAL, n * w, "", "the command words node i received (held when lost)"},
       {"cmd_valid", PinDir::In, IecType::BOOL, n, "", "element i: node i received the last frame in time"},
   };
   for (std::uint32_t k = 1; k <= n; ++k) {
@@ -27,19 +28,18 @@ SimRingDriver::SimRingDriver(SimRingConfig cfg) : cfg_(std::move(cfg)), rng_(cfg
   channels_.push_back({"frames_late", PinDir::In, IecType::ULINT, 1, "", "frames that arrived after the deadline"});
   bound_.assign(channels_.size(), nullptr);
   link_loss_.assign(n, LossProcess(cfg_.loss));
-  frame_cmd_.assign(n, 0.0);
+  frame_cmd_.assign(static_cast<std::size_t>(n) * w, 0.0);
   frame_err_.assign(n, 0.0);
   received_.assign(n, 0);
-  held_cmd_.assign(n, 0.0);
+  held_cmd_.assign(static_cast<std::size_t>(n) * w, 0.0);
   held_err_.assign(static_cast<std::size_t>(n) * n, 0.0);
 }
 
 void SimRingDriver::write_outputs(const ScanContext&) noexcept {
   const std::uint32_t n = cfg_.nodes;
-  for (std::uint32_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < frame_cmd_.size(); ++i)
     frame_cmd_[i] = bound_[kMasterCmd] ? bound_[kMasterCmd][i].get<double>() : 0.0;
-    frame_err_[i] = bound_[kErrTx] ? bound_[kErrTx][i].get<double>() : 0.0;
-  }
+  for (std::uint32_t i = 0; i < n; ++i) frame_err_[i] = bound_[kErrTx] ? bound_[kErrTx][i].get<double>() : 0.0;
   // Which nodes the frame reaches: a lost link cuts off every node after it.
   bool reach = true;
   if (cfg_.per_link) {
@@ -63,14 +63,15 @@ void SimRingDriver::write_outputs(const ScanContext&) noexcept {
 }
 
 void SimRingDriver::latch_inputs(const ScanContext&) noexcept {
-  const std::uint32_t n = cfg_.nodes;
+  const std::uint32_t n = cfg_.nodes, w = cfg_.command_words;
   for (std::uint32_t i = 0; i < n; ++i) {
     const bool fresh = frame_pending_ && received_[i];
     if (fresh) {
-      held_cmd_[i] = frame_cmd_[i];
+      for (std::uint32_t k = 0; k < w; ++k) held_cmd_[i * w + k] = frame_cmd_[i * w + k];
       for (std::uint32_t j = 0; j < i; ++j) held_err_[static_cast<std::size_t>(i) * n + j] = frame_err_[j];
     }
-    if (Cell* c = bound_[kCmd]) c[i].set<double>(held_cmd_[i]);
+    if (Cell* c = bound_[kCmd])
+      for (std::uint32_t k = 0; k < w; ++k) c[i * w + k].set<double>(held_cmd_[i * w + k]);
     if (Cell* c = bound_[kCmdValid]) c[i].set<bool>(fresh);
     Cell* e = bound_[static_cast<std::size_t>(node_err_channel(i))];
     Cell* v = bound_[static_cast<std::size_t>(node_err_channel(i)) + 1];
@@ -107,17 +108,19 @@ DriverTypeInfo sim_ring_driver_type() {
   t.name = "sim_ring";
   t.doc =
       "Simulated real-time ring (paper 000 §4.1, Fig. 2): one lumped frame per cycle carries the master's x_d(k+1) "
-      "and every node's error e_i(k); node k sees e_1..e_{k-1} one frame late. Keys: nodes (default 4); loss: "
+      "and every node's error e_i(k); node k sees e_1..e_{k-1} one frame late. Keys: nodes (default 4); "
+      "command_words (LREALs of command per axis: 1 = position, 3 = position, velocity, acceleration); loss: "
       "{model: none | bernoulli | gilbert_elliott, p, p_good_bad, p_bad_good, loss_good, loss_bad, scope: frame | "
       "link}; late (probability per frame); bus: {type: ethercat | ieee1394, bandwidth (Mbit/s), payload (bytes), "
       "overhead (bytes), hop_delay, gap_count, exec_time, alpha} — the bus time per cycle is checked against the "
       "period at load (paper 002 eqs. (1)-(11); paper 000 §6.2). Channels: master_cmd, err_tx (out); cmd, cmd_valid, "
       "node<k>_err, node<k>_err_valid, frames_sent, frames_lost, frames_late (in).";
   t.create = [](const ConfigNode& node, DriverSetup& setup) -> std::unique_ptr<IoDriver> {
-    DriverConfig c(node, setup, "sim_ring", {"nodes", "loss", "late", "bus"});
+    DriverConfig c(node, setup, "sim_ring", {"nodes", "command_words", "loss", "late", "bus"});
     SimRingConfig cfg;
     cfg.seed = setup.seed();
     cfg.nodes = static_cast<std::uint32_t>(c.integer("nodes", 4, 1, 64));
+    cfg.command_words = static_cast<std::uint32_t>(c.integer("command_words", 1, 1, 8));
     cfg.late = c.number("late", "", 0.0, 0.0, 1.0);
     const int n = static_cast<int>(cfg.nodes);
     if (const ConfigNode* l = c.node("loss")) {

@@ -16,9 +16,11 @@
 // of the last frame it did receive. All draws come from the driver's seed.
 //
 // Channels, n = nodes:
-//   master_cmd        out  ARRAY[1..n] OF LREAL  x_d(k+1) for every axis
+//   master_cmd        out  ARRAY[1..n*w] OF LREAL  x_d(k+1) for every axis, w words an axis
+//                                                  (command_words: 1 = position; 3 = position,
+//                                                  velocity, acceleration), axis after axis
 //   err_tx            out  ARRAY[1..n] OF LREAL  element i: e_i(k) written by node i
-//   cmd               in   ARRAY[1..n] OF LREAL  element i: the command node i received
+//   cmd               in   ARRAY[1..n*w] OF LREAL  the words of axis i: the command node i received
 //   cmd_valid         in   ARRAY[1..n] OF BOOL
 //   node<k>_err       in   ARRAY[1..n] OF LREAL  node k's copy of e_1..e_{k-1} (elements >= k are 0)
 //   node<k>_err_valid in   ARRAY[1..n] OF BOOL
@@ -37,6 +39,7 @@ namespace syncplc {
 
 struct SimRingConfig {
   std::uint32_t nodes = 4;
+  std::uint32_t command_words = 1;  // LREALs of command per axis in the frame
   LossConfig loss;
   bool per_link = false;  // loss scope: false = per frame, true = per link
   double late = 0;        // probability that a frame misses the nodes' deadline

@@ -81,6 +81,20 @@ TEST(SimRing, DeliversExactlyOneFrameOfDelay) {
   EXPECT_EQ(r.drv.lost(), 0u);
 }
 
+TEST(SimRing, CarriesSeveralCommandWordsPerAxis) {
+  SimRingConfig c;
+  c.command_words = 3;  // position, velocity, acceleration
+  RingRig r(c);
+  ASSERT_EQ(r.drv.channels()[SimRingDriver::kMasterCmd].length, 12u);
+  ASSERT_EQ(r.drv.channels()[SimRingDriver::kCmd].length, 12u);
+  std::vector<double> m;
+  for (int i = 0; i < 12; ++i) m.push_back(10 + i);
+  r.scan(m, {0, 0, 0, 0});
+  r.latch();
+  for (int i = 0; i < 12; ++i) EXPECT_EQ(r.cmd(i), 10 + i);
+  EXPECT_TRUE(r.cmd_valid(3));
+}
+
 SimRingConfig lossy(double p, bool per_link, std::uint64_t seed) {
   SimRingConfig c;
   c.loss.model = LossConfig::Model::Bernoulli;
