@@ -177,7 +177,7 @@ void register_nonlinear_filter(BlockRegistry& r) {
   t.doc =
       "Velocity- and acceleration-limited discrete-time nonlinear filter (paper 004, Section II): turns a "
       "rough reference r (steps and ramps) into a smooth x with v_min <= x_dot <= v_max and "
-      "a_min <= x_ddot <= a_max, reaching r in minimum time without overshoot, and predicts how many scans "
+      "a_min <= x_ddot <= a_max, reaching r in minimum time (a step without overshoot), and predicts how many scans "
       "that takes (Table I). Bounds are inputs and may change at any scan; asymmetric bounds are allowed.\n\n"
       "Plant (eqs. 1-2), T the task period: x' = x + T x_dot + T^2/2 u, x_dot' = x_dot + T u. "
       "Coordinates (eqs. 5-8): y = x - r, z1 = y1/T^2 + y2/(2T), z2 = y2/T, so z1' = z1 + z2 + u, z2' = z2 + u "
@@ -194,7 +194,8 @@ void register_nonlinear_filter(BlockRegistry& r) {
       "(Table I with the corrections of docs/motion/nonlinear-filter.md; it counts down by one per scan); "
       "-1 when r_dot is outside [v_min, v_max], where the output runs at the velocity bound and never tracks. "
       "r_dot, when not connected, is (r_k - r_(k-1)) divided by the time between the scans, 0 on the first "
-      "scan: a step of r then looks like a one-scan ramp. A velocity beyond a newly reduced bound is braked at "
+      "scan: a step of r then looks like a one-scan ramp and may overshoot, so give r_dot: 0 for a reference made of "
+      "steps only. A velocity beyond a newly reduced bound is braked at "
       "the full acceleration bound first. A scan that follows skipped releases (an overrun) first advances the "
       "missed samples (up to 10000) with its inputs, r taken as a ramp backwards, so x stays on the time grid. "
       "Start: at x = r, x_dot = r_dot (start_at_r TRUE) or at (x0, v0); reset TRUE holds the filter at "
@@ -210,7 +211,8 @@ void register_nonlinear_filter(BlockRegistry& r) {
   t.pins = {
       pin("r", In, IecType::LREAL, "m", "reference position (steps and ramps)", true),
       pin("r_dot", In, IecType::LREAL, "m/s",
-          "reference velocity; when not connected, derived as (r_k - r_(k-1))/T (0 on the first scan)"),
+          "reference velocity; when not connected, derived as (r_k - r_(k-1))/T (0 on the first scan); "
+          "give 0 for steps only"),
       pin("v_min", In, IecType::LREAL, "m/s", "lower velocity bound (xdot-), below v_max", true),
       pin("v_max", In, IecType::LREAL, "m/s", "upper velocity bound (xdot+), above v_min", true),
       pin("a_min", In, IecType::LREAL, "m/s^2", "lower acceleration bound (U-), negative", true),

@@ -193,6 +193,28 @@ TEST(NonlinearFilterBlock, DerivesRDotWhenNotConnected) {
   }
 }
 
+// The documented price of a derived r_dot: a step of r looks like a one-scan
+// ramp, and a step much smaller than a_max T^2 then overshoots. With r_dot
+// given as 0 (a constant counts as connected) the same step does not.
+TEST(NonlinearFilterBlock, DerivedRDotMakesAStepARampForOneScan) {
+  auto run = [](bool derive) {
+    Filter f(derive ? options(without_r_dot()) : options());
+    f.bounds(kBounds);
+    f.ref(0.0, 0.0);
+    f.h.scan();
+    f.ref(1e-7, 0.0);  // 0.1 um, a_max T^2 = 5 um
+    double overshoot = 0;
+    for (int k = 0; k < 20; ++k) {
+      f.h.scan();
+      overshoot = std::fmax(overshoot, f.x() - 1e-7);
+    }
+    EXPECT_TRUE(f.tracking());
+    return overshoot;
+  };
+  EXPECT_GT(run(true), 0.5e-7);  // most of the step again, past r
+  EXPECT_LE(run(false), 1e-18);
+}
+
 // Reducing v_max below the current velocity mid-transient: full braking at
 // a_min, never beyond it, then the new bound; steps_to_go re-predicts at the
 // change and counts down exactly from there.
