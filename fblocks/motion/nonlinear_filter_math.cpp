@@ -104,6 +104,12 @@ Layer layer_left(const ZState& z, const ZBounds& zb) noexcept {
     }
     if (!(v > 0)) return out;  // behind and not allowed to move closer: never
     j_tol = ceil_nonneg((-tol - z1b) / v);
+    if (!(j_tol <= static_cast<double>(kMaxSteps))) return out;
+    if (z1_plus(zb) >= -tol) {  // the curved part starts inside the tolerance: j_tol comes first
+      out.k_cruise = 1 + j_tol;
+      out.steps = 1 + j_tol;
+      return out;
+    }
   }
   const double hi_est = ceil_nonneg((z1_plus(zb) - z1b) / v);
   if (!(hi_est <= static_cast<double>(kMaxSteps))) return out;
