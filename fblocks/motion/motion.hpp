@@ -10,5 +10,7 @@ inline constexpr const char* kCategory = "Motion";
 
 void register_taylor_estimator(BlockRegistry& r);      // taylor_estimator.cpp
 void register_reference_generators(BlockRegistry& r);  // reference_generators.cpp
+// NONLINEAR_FILTER (nonlinear_filter.cpp): paper 004, Section II.
+void register_nonlinear_filter(BlockRegistry& r);
 
 }  // namespace syncplc::motion

@@ -6,6 +6,7 @@ namespace syncplc {
 void register_motion_blocks(BlockRegistry& r) {
   motion::register_taylor_estimator(r);
   motion::register_reference_generators(r);
+  motion::register_nonlinear_filter(r);
 }
 
 }  // namespace syncplc
