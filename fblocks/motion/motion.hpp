@@ -8,4 +8,7 @@ namespace syncplc::motion {
 
 inline constexpr const char* kCategory = "Motion";
 
+void register_sync_controller(BlockRegistry& r);   // sync_controller.cpp: SYNC_CONTROLLER
+void register_pid_controllers(BlockRegistry& r);   // pid.cpp: PD_CONTROLLER, PID
+
 }  // namespace syncplc::motion

@@ -4,7 +4,8 @@
 namespace syncplc {
 
 void register_motion_blocks(BlockRegistry& r) {
-  (void)r;
+  motion::register_sync_controller(r);
+  motion::register_pid_controllers(r);
 }
 
 }  // namespace syncplc
