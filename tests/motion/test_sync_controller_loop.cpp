@@ -190,6 +190,10 @@ TEST(SyncLoop, SignChattersBoundaryLayerDoesNot) {
   const RunResult none = run(o, "sync K_N 0");
   o.params = {{"robust", "0"}, {"out_min", "-1e9"}, {"out_max", "1e9"}};
   const RunResult sign = run(o, "sync sign K_N 10, unlimited");
+  // A layer too thin adds a derivative gain K_N/φ the own loop cannot take:
+  // m + (1+κ)(K_D + K_N/φ) must stay below ≈ 2τ_3/(k_3 T_s) = 1.53 (φ > 18 rad/s).
+  o.params = {{"phi", "10"}, {"out_min", "-1e9"}, {"out_max", "1e9"}};
+  const RunResult thin = run(o, "sync sat K_N 10 phi 10, unlimited");
   o.params = {{"robust", "0"}};
   const RunResult sign_lim = run(o, "sync sign K_N 10, limit +-1 PWM");
   // Eq. (9) with Δ_H, Δ_C the true model mismatch bounds (H = τ/k, C = 1/k).
@@ -211,6 +215,7 @@ TEST(SyncLoop, SignChattersBoundaryLayerDoesNot) {
   EXPECT_GT(sign_lim.track_rsme, 5 * sat.track_rsme);  // saturated chatter destroys tracking
   EXPECT_EQ(sat.sat_fraction, 0.0);
   EXPECT_GT(eq9.dtau_rms, 10 * sat.dtau_rms);  // eq. (9) still switches, at a smaller amplitude
+  EXPECT_GT(thin.tau_rms, 10 * sat.tau_rms);   // unstable inside the layer: a limit cycle of amplitude K_N
 }
 
 // Lost messages of the preceding axes (Bernoulli, seeded) are filled by the
