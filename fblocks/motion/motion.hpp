@@ -8,6 +8,8 @@ namespace syncplc::motion {
 
 inline constexpr const char* kCategory = "Motion";
 
+void register_taylor_estimator(BlockRegistry& r);      // taylor_estimator.cpp
+void register_reference_generators(BlockRegistry& r);  // reference_generators.cpp
 void register_sync_controller(BlockRegistry& r);   // sync_controller.cpp: SYNC_CONTROLLER
 void register_pid_controllers(BlockRegistry& r);   // pid.cpp: PD_CONTROLLER, PID
 
