@@ -7,7 +7,9 @@
 #include <cmath>
 #include <array>
 #include <cstdio>
+#include <fstream>
 #include <random>
+#include <sstream>
 
 #include "fblocks/motion/sync_control_math.hpp"
 #include "tests/motion/control_sim.hpp"
@@ -234,6 +236,38 @@ TEST(SyncLoop, LossIsFilledByTheEstimator) {
   EXPECT_GT(lossy.estimated, 6000u);  // ≈ 0.2 × 6283 × (0 + 1 + 2 + 3) preceding elements
   EXPECT_LT(std::abs(lossy.sync_rsme / clean.sync_rsme - 1), 0.01);
   EXPECT_LT(std::abs(lossy.track_rsme / clean.track_rsme - 1), 0.01);
+}
+
+// The same loop as a project (projects/paper000_sync): the blocks loaded from
+// YAML, the array pins wired to the simulated table and ring drivers (their
+// own exact ZOH and one-frame delay), metrics by `syncplc sim --metrics`.
+// Independent plant and network code, same numbers.
+double json_number(const std::string& json, const std::string& key) {
+  const auto i = json.find("\"" + key + "\":");
+  if (i == std::string::npos) return -1;
+  return std::stod(json.substr(i + key.size() + 3));
+}
+
+TEST(SyncLoop, ProjectOnTheSimulatedTableMatchesTheTestLoop) {
+  for (const auto& [file, ctl] : {std::pair{"sync.yaml", Ctl::Sync}, std::pair{"pd.yaml", Ctl::Pd}}) {
+    const std::string out = ::testing::TempDir() + "paper000_" + file + ".json";
+    const std::string cmd = std::string(SYNCPLC_BINARY) + " sim -q -d 6.283s --metrics " + out + " " +
+                            SYNCPLC_SOURCE_DIR + "/projects/paper000_sync/" + file + " > /dev/null 2>&1";
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    std::ifstream in(out);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    const std::string json = ss.str();
+    ASSERT_EQ(json_number(json, "samples"), 6283) << json.substr(0, 300);
+    RunOptions o;
+    o.ctl = ctl;
+    const RunResult r = run_paper_loop(o);
+    const double track = json_number(json, "track_rsme"), sync = json_number(json, "sync_rsme");
+    std::printf("paper000: project %-9s Track-RSME %.9f Sync-RSME %.9f (test loop %.9f %.9f)\n", file, track, sync,
+                r.track_rsme, r.sync_rsme);
+    EXPECT_NEAR(track, r.track_rsme, 1e-6 * r.track_rsme) << file;
+    EXPECT_NEAR(sync, r.sync_rsme, 1e-6 * r.sync_rsme) << file;
+  }
 }
 
 }  // namespace
