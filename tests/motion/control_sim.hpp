@@ -182,7 +182,8 @@ inline RunResult run_paper_loop(const RunOptions& o) {
       if (o.ctl == Ctl::Sync) {
         h.set<double>("a_d", ad);
         for (int i = 0; i < n; ++i) {
-          const bool lost = i < k && o.lost && o.lost(j, i);
+          // Nothing has been sent before the first scan: element invalid, as sim_ring does.
+          const bool lost = i < k && (j == 0 || (o.lost && o.lost(j, i)));
           h.set<double>("e_rx", static_cast<std::uint32_t>(i),
                         lost ? 1e6 : (rx_now ? e[static_cast<std::size_t>(i)] : e_sent[static_cast<std::size_t>(i)]));
           h.set<bool>("e_valid", static_cast<std::uint32_t>(i), !lost);
