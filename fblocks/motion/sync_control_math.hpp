@@ -32,7 +32,7 @@
 namespace syncplc::motion {
 
 // Largest n (axes of one synchronized group) the blocks accept.
-inline constexpr int kMaxSyncAxes = 64;
+inline constexpr int kMaxSyncAxes = 256;  // as the sim_table driver
 
 enum class RobustTerm : std::uint8_t {
   Sign = 0,  // K_N sign(Ė)                      paper eqs. (11), (16)

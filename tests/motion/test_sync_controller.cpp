@@ -53,7 +53,7 @@ TEST(SyncController, InvalidParametersFailAtLoad) {
   const std::vector<Bad> bad = {
       {{{"axis", "4"}, {"n", "3"}}, "axis 4 is not one of"},
       {{{"axis", "0"}, {"n", "3"}}, "axis must be in"},
-      {{{"axis", "1"}, {"n", "65"}}, "n must be in"},
+      {{{"axis", "1"}, {"n", "257"}}, "n must be in"},
       {{{"axis", "1"}, {"n", "2"}, {"alpha", "-0.1"}}, "alpha must be >="},
       {{{"axis", "1"}, {"n", "2"}, {"m", "-1"}}, "m must be >="},
       {{{"axis", "1"}, {"n", "2"}, {"robust", "3"}}, "robust must be in"},
