@@ -421,10 +421,10 @@ BlockTypeInfo step_ramp_info() {
   t.reference = "Synchronous reference generation (paper 004), Figs. 1, 5 and 10";
   t.pins = {
       enable_pin(),
-      pin("t", PinDir::In, IecType::LREAL, "s", "scripted: start time of each segment, non-decreasing (ARRAY of length segments)", "",
+      pin("t", PinDir::In, IecType::LREAL, "s", "scripted: start time of each segment, non-decreasing", "",
           "segments"),
-      pin("value", PinDir::In, IecType::LREAL, "", "scripted: r at the start of each segment (ARRAY of length segments)", "", "segments"),
-      pin("slope", PinDir::In, IecType::LREAL, "", "scripted: r_dot during each segment, unit of r per second (ARRAY of length segments)", "",
+      pin("value", PinDir::In, IecType::LREAL, "", "scripted: r at the start of each segment", "", "segments"),
+      pin("slope", PinDir::In, IecType::LREAL, "", "scripted: r_dot during each segment, unit of r per second", "",
           "segments"),
       pin("r", PinDir::Out, IecType::LREAL, "", "reference"),
       pin("r_dot", PinDir::Out, IecType::LREAL, "", "reference slope (unit of r per second)"),

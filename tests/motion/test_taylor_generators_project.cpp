@@ -84,5 +84,38 @@ TEST(MotionProject, GeneratorsAndEstimatorLoadAndRun) {
   EXPECT_NEAR(x_est, x_true, 2e-6);  // centripetal 0.087 m/s^2: a (5 ms)^2 / 2 ~ 1.1e-6 m
 }
 
+// Scripted STEP_RAMP_SEQUENCE with list constants on its array pins, times
+// written with units, as docs/motion/reference-generators.md shows.
+TEST(MotionProject, ScriptedStepRampSequenceFromListConstants) {
+  auto p = load(R"(
+tasks: [{name: fast, period: 1ms}]
+tags:
+  - {name: r, type: LREAL}
+  - {name: r_dot, type: LREAL}
+  - {name: seg, type: DINT}
+blocks:
+  - name: script
+    type: STEP_RAMP_SEQUENCE
+    params: {mode: 1, segments: 3}
+    inputs: {t: [200 ms, 0.5 s, 1.2 s], value: [1, 2, -1], slope: [0, 4, -0.5]}
+connections:
+  - script.r -> r
+  - script.r_dot -> r_dot
+  - script.segment -> seg
+)");
+  ASSERT_TRUE(p);
+  VirtualClock clock(*p);
+  clock.run_until(100'000'000, true);  // last scan at 100 ms: before t[0]
+  EXPECT_EQ(tag_cell(*p, "r").get<double>(), 1.0);
+  EXPECT_EQ(tag_cell(*p, "seg").get<std::int32_t>(), -1);
+  clock.run_until(750'000'000, true);  // 750 ms: the ramp, 2 + 4 * 0.25
+  EXPECT_NEAR(tag_cell(*p, "r").get<double>(), 3.0, 1e-12);
+  EXPECT_EQ(tag_cell(*p, "r_dot").get<double>(), 4.0);
+  EXPECT_EQ(tag_cell(*p, "seg").get<std::int32_t>(), 1);
+  clock.run_until(1'400'000'000, true);
+  EXPECT_NEAR(tag_cell(*p, "r").get<double>(), -1.1, 1e-12);
+  EXPECT_EQ(tag_cell(*p, "seg").get<std::int32_t>(), 2);
+}
+
 }  // namespace
 }  // namespace syncplc

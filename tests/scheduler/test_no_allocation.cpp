@@ -30,6 +30,57 @@ void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 namespace syncplc {
 namespace {
 
+// TAYLOR_ESTIMATOR (every history form, under alternating loss) and the
+// reference generators (random and scripted STEP_RAMP_SEQUENCE included) on
+// the scan path: no allocation.
+TEST(ScanPath, EstimatorAndReferenceGeneratorsDoNotAllocate) {
+  LoadOptions lo;
+  lo.blocks = &builtin_blocks();
+  auto r = load_project_text(R"(
+tasks:
+  - {name: servo, period: 1ms, priority: 80}
+tags:
+  - {name: x, type: LREAL}
+  - {name: ok, type: BOOL}
+blocks:
+  - {name: circle, type: CIRCLE, task: servo, params: {radius: 320 mm, feed: 10000 mm/min, ramp_time: 100 ms}}
+  - {name: cosine, type: COSINE_TRAJECTORY, task: servo, params: {amplitude: 1, omega: 10, cycles: 0}}
+  - {name: steps, type: STEP_RAMP_SEQUENCE, task: servo, params: {min_hold: 10 ms, max_hold: 50 ms}}
+  - name: script
+    type: STEP_RAMP_SEQUENCE
+    task: servo
+    params: {mode: 1, segments: 3}
+    inputs: {t: [0, 0.2 s, 0.4 s], value: [0, 1, 2], slope: [1, 0, -1]}
+  - {name: robust, type: TAYLOR_ESTIMATOR, task: servo}
+  - {name: recursive, type: TAYLOR_ESTIMATOR, task: servo, params: {history: 1}}
+  - {name: zero, type: TAYLOR_ESTIMATOR, task: servo, params: {history: 2, order: 2}}
+  - {name: flip, type: NOT, task: servo}
+  - {name: fb, type: UNIT_DELAY, task: servo, datatype: BOOL}
+connections:
+  - fb.OUT -> flip.IN
+  - flip.OUT -> fb.IN
+  - flip.OUT -> ok
+  - circle.x -> x
+  - x -> robust.in
+  - ok -> robust.valid
+  - cosine.x -> recursive.in
+  - ok -> recursive.valid
+  - steps.r -> zero.in
+  - ok -> zero.valid
+)", "motion_refs.yaml", lo);
+  for (const auto& d : r.diagnostics.list()) ADD_FAILURE() << d.text();
+  auto& p = r.program;
+  ASSERT_TRUE(p);
+  VirtualClock clock(*p);
+  clock.run_until(10'000'000);  // warm up
+  g_allocations = 0;
+  g_counting = true;
+  clock.run_until(1'000'000'000);
+  g_counting = false;
+  EXPECT_EQ(g_allocations.load(), 0);
+  EXPECT_GT(p->tasks[0]->stats.summary().scans, 990u);
+}
+
 TEST(ScanPath, DoesNotAllocate) {
   auto p = load_test_project(R"(
 tasks:
