@@ -12,5 +12,7 @@ void register_taylor_estimator(BlockRegistry& r);      // taylor_estimator.cpp
 void register_reference_generators(BlockRegistry& r);  // reference_generators.cpp
 // NONLINEAR_FILTER (nonlinear_filter.cpp): paper 004, Section II.
 void register_nonlinear_filter(BlockRegistry& r);
+void register_sync_controller(BlockRegistry& r);   // sync_controller.cpp: SYNC_CONTROLLER
+void register_pid_controllers(BlockRegistry& r);   // pid.cpp: PD_CONTROLLER, PID
 
 }  // namespace syncplc::motion

@@ -7,6 +7,8 @@ void register_motion_blocks(BlockRegistry& r) {
   motion::register_taylor_estimator(r);
   motion::register_reference_generators(r);
   motion::register_nonlinear_filter(r);
+  motion::register_sync_controller(r);
+  motion::register_pid_controllers(r);
 }
 
 }  // namespace syncplc

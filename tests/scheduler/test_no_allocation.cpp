@@ -167,5 +167,52 @@ drivers:
   EXPECT_GT(p->tasks[1]->stats.summary().overruns, 0u);  // the overrun path ran too
 }
 
+// The controller blocks of fblocks/motion (SYNC_CONTROLLER with its message
+// estimators, PD_CONTROLLER, PID) on the scan path: no allocation either.
+TEST(ScanPath, MotionControllersDoNotAllocate) {
+  LoadOptions lo;
+  lo.blocks = &builtin_blocks();
+  auto r = load_project_text(R"(
+tasks:
+  - {name: servo, period: 1ms, priority: 80}
+tags:
+  - {name: xd, type: LREAL}
+  - {name: x3, type: LREAL}
+  - {name: u3, type: LREAL}
+  - {name: u, type: LREAL}
+blocks:
+  - {name: ax3, type: SYNC_CONTROLLER, task: servo, params: {axis: 3, n: 3}, inputs: {v_d: 0.1, a_d: 0.2}}
+  - {name: ax3c, type: SYNC_CONTROLLER, task: servo, params: {axis: 3, n: 3, compensation: FALSE, robust: 0}}
+  - {name: pd, type: PD_CONTROLLER, task: servo}
+  - {name: pid, type: PID, task: servo, params: {Ti: 1s, Td: 10ms, Tf: 1ms, anti_windup: 2}, inputs: {setpoint: 1.0}}
+  - {name: ramp, type: ADD, task: servo, datatype: LREAL, inputs: {IN2: 0.001}}
+  - {name: fb, type: UNIT_DELAY, task: servo}
+connections:
+  - fb.OUT -> ramp.IN1
+  - ramp.OUT -> fb.IN
+  - ramp.OUT -> xd
+  - xd -> ax3.x_d
+  - x3 -> ax3.x
+  - xd -> ax3c.x_d
+  - x3 -> ax3c.x
+  - ax3.tau -> u3
+  - xd -> pd.x_d
+  - x3 -> pd.x
+  - xd -> pid.actual
+  - pid.y -> u
+)", "motion.yaml", lo);
+  for (const auto& d : r.diagnostics.list()) ADD_FAILURE() << d.text();
+  auto& p = r.program;
+  ASSERT_TRUE(p);
+  VirtualClock clock(*p);
+  clock.run_until(10'000'000);  // warm up
+  g_allocations = 0;
+  g_counting = true;
+  clock.run_until(1'000'000'000);
+  g_counting = false;
+  EXPECT_EQ(g_allocations.load(), 0);
+  EXPECT_GT(p->tasks[0]->stats.summary().scans, 990u);
+}
+
 }  // namespace
 }  // namespace syncplc

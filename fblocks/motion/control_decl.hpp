@@ -1,0 +1,94 @@
+// Internal: declaration helpers of the controller blocks (SYNC_CONTROLLER,
+// PD_CONTROLLER, PID) and the checks their factories run on parameters.
+// The block harness does not range-check parameters; the loader does, but the
+// factories check again so a bad value is a load error from either path.
+#pragma once
+
+#include <cmath>
+#include <optional>
+#include <string>
+#include <utility>
+
+#include "runtime/core/block.hpp"
+
+namespace syncplc::motion::ctl {
+
+inline PinDecl in(std::string name, IecType type, std::string unit, std::string doc, bool required = false,
+                  std::string init = {}) {
+  PinDecl p;
+  p.name = std::move(name);
+  p.dir = PinDir::In;
+  p.type = type;
+  p.unit = std::move(unit);
+  p.required = required;
+  p.doc = std::move(doc);
+  p.init = std::move(init);
+  return p;
+}
+
+inline PinDecl out(std::string name, IecType type, std::string unit, std::string doc) {
+  PinDecl p;
+  p.name = std::move(name);
+  p.dir = PinDir::Out;
+  p.type = type;
+  p.unit = std::move(unit);
+  p.doc = std::move(doc);
+  return p;
+}
+
+inline PinDecl array_in(std::string name, IecType type, std::string unit, std::string length_param, std::string doc,
+                        std::string init = {}) {
+  PinDecl p = in(std::move(name), type, std::move(unit), std::move(doc), false, std::move(init));
+  p.length_param = std::move(length_param);
+  return p;
+}
+
+inline ParamDecl param(std::string name, IecType type, std::string def, std::optional<double> min,
+                       std::optional<double> max, std::string unit, std::string doc) {
+  ParamDecl p;
+  p.name = std::move(name);
+  p.type = type;
+  p.default_value = std::move(def);
+  p.min = min;
+  p.max = max;
+  p.unit = std::move(unit);
+  p.doc = std::move(doc);
+  return p;
+}
+
+// Reads an LREAL parameter; reports a non-finite value or one outside the
+// declared range as a load error (returns the value anyway).
+inline double real_param(BlockSetup& s, const char* name, bool* ok) {
+  const BlockTypeInfo& t = s.type();
+  const int i = t.param_index(name);
+  const ParamDecl& d = t.params[static_cast<std::size_t>(i)];
+  const double v = s.param_cell(i).get<double>();
+  auto fail = [&](const std::string& why) {
+    s.error(t.name + ": parameter " + name + " " + why);
+    *ok = false;
+  };
+  if (!std::isfinite(v)) fail("must be finite");
+  else if (d.min && v < *d.min) fail("must be >= " + std::to_string(*d.min));
+  else if (d.max && v > *d.max) fail("must be <= " + std::to_string(*d.max));
+  return v;
+}
+
+// Reads an integer parameter (any IEC integer type) with its declared range.
+inline long long int_param(BlockSetup& s, const char* name, bool* ok) {
+  const BlockTypeInfo& t = s.type();
+  const int i = t.param_index(name);
+  const ParamDecl& d = t.params[static_cast<std::size_t>(i)];
+  const double v = cell_as_double(d.type, s.param_cell(i));
+  if ((d.min && v < *d.min) || (d.max && v > *d.max)) {
+    s.error(t.name + ": parameter " + name + " must be in " + (d.min ? std::to_string(static_cast<long long>(*d.min)) : "") +
+            ".." + (d.max ? std::to_string(static_cast<long long>(*d.max)) : ""));
+    *ok = false;
+  }
+  return static_cast<long long>(v);
+}
+
+inline bool bool_param(BlockSetup& s, const char* name) {
+  return s.param_cell(s.type().param_index(name)).get<bool>();
+}
+
+}  // namespace syncplc::motion::ctl

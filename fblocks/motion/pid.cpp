@@ -1,0 +1,257 @@
+// PD_CONTROLLER: the uncoupled baseline of paper 000 (section 5, "an uncoupled
+// controller with only a standard PD position loop"), τ = K_P e + K_D ė, with
+// the gain conventions and SI units of SYNC_CONTROLLER, so a comparison of the
+// two changes only the controller.
+//
+// PID: a general standard-form PID (in the manner of CODESYS PID and TwinCAT
+// FB_CTRL_PID), discretized as in Åström & Hägglund, "Advanced PID Control"
+// (2006), section 3.6 / 13.4 (backward-difference derivative with a
+// first-order filter, integral updated after the output, anti-windup by
+// conditional integration or by back-calculation with tracking time Tt).
+// See docs/motion/pid.md.
+#include <cmath>
+#include <memory>
+
+#include "fblocks/motion/control_decl.hpp"
+#include "fblocks/motion/motion.hpp"
+#include "fblocks/motion/sync_control_math.hpp"
+
+namespace syncplc::motion {
+namespace {
+
+using ctl::in;
+using ctl::out;
+using ctl::param;
+
+// ---- PD_CONTROLLER ----------------------------------------------------------
+
+enum : int { kPdXd = 0, kPdVd, kPdX, kPdV, kPdTau, kPdE, kPdEdot, kPdSat };
+
+class PdController final : public Block {
+ public:
+  PdController(double kp, double kd, double lo, double hi, bool use_v)
+      : kp_(kp), kd_(kd), lo_(lo), hi_(hi), use_v_(use_v) {}
+
+  void execute(ScanContext& ctx) override {
+    const double e = in<double>(kPdXd) - in<double>(kPdX);
+    double ed;
+    if (use_v_) {
+      ed = in<double>(kPdVd) - in<double>(kPdV);
+    } else {
+      ed = first_ ? 0.0 : backward_difference(e, e_prev_, ctx.dt_ns);
+      e_prev_ = e;
+    }
+    first_ = false;
+    bool clipped = false;
+    const double tau = limit(kp_ * e + kd_ * ed, lo_, hi_, &clipped);
+    out<double>(kPdTau, tau);
+    out<double>(kPdE, e);
+    out<double>(kPdEdot, ed);
+    out<bool>(kPdSat, clipped);
+  }
+
+ private:
+  double kp_, kd_, lo_, hi_;
+  bool use_v_;
+  bool first_ = true;
+  double e_prev_ = 0;
+};
+
+std::unique_ptr<Block> make_pd(BlockSetup& s) {
+  bool ok = true;
+  const double kp = ctl::real_param(s, "K_P", &ok);
+  const double kd = ctl::real_param(s, "K_D", &ok);
+  const double lo = ctl::real_param(s, "out_min", &ok);
+  const double hi = ctl::real_param(s, "out_max", &ok);
+  if (ok && !(lo < hi)) {
+    s.error(s.type().name + ": out_min must be less than out_max");
+    ok = false;
+  }
+  if (!ok) return nullptr;
+  return std::make_unique<PdController>(kp, kd, lo, hi, s.connected(kPdV));
+}
+
+// ---- PID --------------------------------------------------------------------
+
+enum : int {
+  kSp = 0, kPv, kFf, kManual, kManualValue, kReset,  // inputs
+  kY, kErr, kSat,                                     // outputs
+};
+
+enum class AntiWindup : int { None = 0, Clamping = 1, BackCalculation = 2 };
+
+struct PidConfig {
+  double kp = 1, ti = 0, td = 0, tf = 0, tt = 0, lo = -1, hi = 1;
+  AntiWindup aw = AntiWindup::Clamping;
+  bool d_on_error = false;
+};
+
+class Pid final : public Block {
+ public:
+  explicit Pid(const PidConfig& c) : c_(c) {}
+
+  void execute(ScanContext& ctx) override {
+    const double h = ctx.dt_ns > 0 ? static_cast<double>(ctx.dt_ns) * 1e-9 : 0.0;
+    const double e = in<double>(kSp) - in<double>(kPv);
+    const double s = c_.d_on_error ? e : -in<double>(kPv);  // the signal the D term differentiates
+    const double ff = in<double>(kFf);
+    if (first_) {
+      s_prev_ = s;  // no derivative kick on the first scan
+      first_ = false;
+    }
+    bool clipped = false;
+    if (in<bool>(kReset)) {
+      integral_ = 0;
+      d_ = 0;
+      s_prev_ = s;
+      out<double>(kY, limit(0.0, c_.lo, c_.hi, &clipped));
+      out<double>(kErr, e);
+      out<bool>(kSat, clipped);
+      return;
+    }
+    // D: Kp·Td·s / (Tf·s + 1) on `s`, backward difference.
+    if (h > 0) {
+      d_ = (c_.tf * d_ + c_.kp * c_.td * (s - s_prev_)) / (c_.tf + h);
+    }
+    s_prev_ = s;
+    const double p = c_.kp * e;
+    if (in<bool>(kManual)) {
+      const double y = limit(in<double>(kManualValue), c_.lo, c_.hi, &clipped);
+      integral_ = y - p - d_ - ff;  // tracking: the first automatic scan continues from y
+      out<double>(kY, y);
+      out<double>(kErr, e);
+      out<bool>(kSat, clipped);
+      return;
+    }
+    const double v = p + integral_ + d_ + ff;
+    const double y = limit(v, c_.lo, c_.hi, &clipped);
+    if (c_.ti > 0 && h > 0) {
+      const double inc = c_.kp * h / c_.ti * e;
+      switch (c_.aw) {
+        case AntiWindup::None: integral_ += inc; break;
+        case AntiWindup::Clamping:
+          // Conditional integration: hold the integral while the output is
+          // beyond a limit and integrating would push it further out.
+          if (!((v > c_.hi && inc > 0) || (v < c_.lo && inc < 0))) integral_ += inc;
+          break;
+        case AntiWindup::BackCalculation: integral_ += inc + h / c_.tt * (y - v); break;
+      }
+    }
+    out<double>(kY, y);
+    out<double>(kErr, e);
+    out<bool>(kSat, clipped);
+  }
+
+ private:
+  PidConfig c_;
+  bool first_ = true;
+  double integral_ = 0;  // integral part (or, with Ti = 0, a bias set by manual tracking)
+  double d_ = 0;         // filtered derivative part
+  double s_prev_ = 0;
+};
+
+std::unique_ptr<Block> make_pid(BlockSetup& s) {
+  bool ok = true;
+  PidConfig c;
+  c.kp = ctl::real_param(s, "Kp", &ok);
+  c.ti = ctl::real_param(s, "Ti", &ok);
+  c.td = ctl::real_param(s, "Td", &ok);
+  c.tf = ctl::real_param(s, "Tf", &ok);
+  c.tt = ctl::real_param(s, "Tt", &ok);
+  c.lo = ctl::real_param(s, "out_min", &ok);
+  c.hi = ctl::real_param(s, "out_max", &ok);
+  c.aw = static_cast<AntiWindup>(ctl::int_param(s, "anti_windup", &ok));
+  c.d_on_error = ctl::bool_param(s, "d_on_error");
+  if (ok && !(c.lo < c.hi)) {
+    s.error(s.type().name + ": out_min must be less than out_max");
+    ok = false;
+  }
+  if (!ok) return nullptr;
+  if (c.tt == 0) c.tt = c.td > 0 ? std::sqrt(c.ti * c.td) : c.ti;
+  return std::make_unique<Pid>(c);
+}
+
+}  // namespace
+
+void register_pid_controllers(BlockRegistry& r) {
+  {
+    BlockTypeInfo t;
+    t.name = "PD_CONTROLLER";
+    t.category = kCategory;
+    t.doc =
+        "Uncoupled PD position controller, the baseline of paper 000: e = x_d - x, e_dot = v_d - v when v is "
+        "connected, else the backward difference (e(j) - e(j-1))/T_s (0 on the first scan), "
+        "tau = LIMIT(out_min, K_P e + K_D e_dot, out_max); saturated is TRUE when the limit cut tau. Same pins, "
+        "gain conventions and SI units as SYNC_CONTROLLER, so swapping the two changes only the controller. "
+        "Defaults are the paper's section 5 gains in SI (K_D printed 0.6221 PWM.ms/rad = 0.0006221 PWM.s/rad).";
+    t.reference = "Xu et al., ISA Transactions 2017 (paper 000), section 5: standard PD baseline";
+    t.pins = {
+        in("x_d", IecType::LREAL, "rad", "desired position", true),
+        in("v_d", IecType::LREAL, "rad/s", "desired velocity (used with v)"),
+        in("x", IecType::LREAL, "rad", "measured position", true),
+        in("v", IecType::LREAL, "rad/s", "measured velocity; unconnected: e_dot is the backward difference of e"),
+        out("tau", IecType::LREAL, "PWM", "command, limited to out_min..out_max"),
+        out("e", IecType::LREAL, "rad", "position error x_d - x"),
+        out("e_dot", IecType::LREAL, "rad/s", "error rate used"),
+        out("saturated", IecType::BOOL, "", "TRUE when the output limit cut tau"),
+    };
+    t.params = {
+        param("K_P", IecType::LREAL, "0.6221", 0.0, std::nullopt, "PWM/rad", "proportional gain"),
+        param("K_D", IecType::LREAL, "0.0006221", 0.0, std::nullopt, "PWM.s/rad", "derivative gain"),
+        param("out_min", IecType::LREAL, "-1", std::nullopt, std::nullopt, "PWM", "lower output limit"),
+        param("out_max", IecType::LREAL, "1", std::nullopt, std::nullopt, "PWM", "upper output limit"),
+    };
+    t.create = make_pd;
+    r.add(std::move(t));
+  }
+  {
+    BlockTypeInfo t;
+    t.name = "PID";
+    t.category = kCategory;
+    t.doc =
+        "Standard-form PID with output limits, anti-windup, feed-forward, manual mode with bumpless transfer and "
+        "reset. Per scan (h = time since the previous scan): error = setpoint - actual; P = Kp error; "
+        "D = (Tf D + Kp Td (s - s_prev)) / (Tf + h), the backward difference of Kp Td s/(Tf s + 1), where "
+        "s = -actual (derivative on measurement, default: no setpoint kick) or s = error (d_on_error); "
+        "v = P + I + D + ff; y = LIMIT(out_min, v, out_max). The integral part I is updated after the output: "
+        "I += Kp h/Ti error (Ti = 0: no integral action, I stays a constant bias), with anti_windup 0 = none, "
+        "1 = clamping (conditional integration: no increment while v is beyond a limit and the increment points "
+        "further out), 2 = back-calculation (I += Kp h/Ti error + h/Tt (y - v)). manual: y = "
+        "LIMIT(out_min, manual_value, out_max) and I tracks y - P - D - ff, so the return to automatic is "
+        "bumpless. reset (priority over manual): I = D = 0, y = LIMIT(out_min, 0, out_max).";
+    t.reference =
+        "Astrom & Hagglund, Advanced PID Control (ISA 2006), sections 3.5-3.6 and 13.4; behaviour as CODESYS "
+        "PID / TwinCAT FB_CTRL_PID";
+    t.pins = {
+        in("setpoint", IecType::LREAL, "", "setpoint", true),
+        in("actual", IecType::LREAL, "", "actual (measured) value", true),
+        in("ff", IecType::LREAL, "", "feed-forward, added to the controller output before the limit"),
+        in("manual", IecType::BOOL, "", "TRUE: manual mode, y = manual_value"),
+        in("manual_value", IecType::LREAL, "", "output in manual mode"),
+        in("reset", IecType::BOOL, "", "TRUE: clear the integral and derivative parts, y = 0 (limited)"),
+        out("y", IecType::LREAL, "", "controller output, limited to out_min..out_max"),
+        out("error", IecType::LREAL, "", "setpoint - actual"),
+        out("saturated", IecType::BOOL, "", "TRUE when the output limit cut y"),
+    };
+    t.params = {
+        param("Kp", IecType::LREAL, "1", std::nullopt, std::nullopt, "",
+              "proportional gain (negative for reverse action)"),
+        param("Ti", IecType::LREAL, "0", 0.0, std::nullopt, "s", "integral time; 0 = no integral action"),
+        param("Td", IecType::LREAL, "0", 0.0, std::nullopt, "s", "derivative time; 0 = no derivative action"),
+        param("Tf", IecType::LREAL, "0", 0.0, std::nullopt, "s",
+              "derivative filter time constant (typically Td/10); 0 = unfiltered"),
+        param("Tt", IecType::LREAL, "0", 0.0, std::nullopt, "s",
+              "back-calculation tracking time; 0 = sqrt(Ti Td) if Td > 0, else Ti"),
+        param("anti_windup", IecType::INT, "1", 0.0, 2.0, "",
+              "0 = none, 1 = clamping (conditional integration), 2 = back-calculation"),
+        param("d_on_error", IecType::BOOL, "FALSE", std::nullopt, std::nullopt, "",
+              "FALSE: derivative of -actual (no kick on setpoint steps); TRUE: derivative of the error"),
+        param("out_min", IecType::LREAL, "-100", std::nullopt, std::nullopt, "", "lower output limit"),
+        param("out_max", IecType::LREAL, "100", std::nullopt, std::nullopt, "", "upper output limit"),
+    };
+    t.create = make_pid;
+    r.add(std::move(t));
+  }
+}
+
+}  // namespace syncplc::motion
