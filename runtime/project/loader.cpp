@@ -124,6 +124,7 @@ class Loader : public DriverSetup {
   void read_tags(const ConfigNode& n);
   void read_blocks(const ConfigNode& n);
   void read_drivers(const ConfigNode& n);
+  void override_driver_settings(ConfigNode& drivers);
   void read_connections(const ConfigNode& n);
   void read_metrics(const ConfigNode& n);
   bool parse_endpoint(const std::string& text, const SourceLoc& loc, Endpoint& e);
@@ -162,6 +163,7 @@ class Loader : public DriverSetup {
   std::vector<std::pair<std::string, SourceLoc>> traces_, watch_;
   std::vector<std::pair<std::string, SourceLoc>> axis_errors_;  // metrics: axis_errors
   std::int64_t metrics_from_ns_ = 0;
+  std::set<std::string> driver_overrides_;  // names of drivers whose settings --set changed
   std::vector<std::vector<int>> order_;     // per task: instance indices, unit delays first
   std::vector<std::size_t> delays_;         // per task: how many unit delays lead the order
   std::set<std::string> failed_names_;      // declarations already reported: no follow-on errors
@@ -268,6 +270,8 @@ LoadResult Loader::run(ConfigNode root, const std::string& path) {
   if (tasks_.empty()) d_.error(root_.loc, "the project has no tasks");
   if (auto* n = root_.find("tags")) read_tags(*n);
   if (auto* n = root_.find("blocks")) read_blocks(*n);
+  for (auto& [k, v] : root_.map)
+    if (k == "drivers") override_driver_settings(v);
   if (auto* n = root_.find("drivers")) read_drivers(*n);
   apply_overrides();
   check_params();  // before connections: parameters size the array pins
@@ -627,6 +631,59 @@ void Loader::read_blocks(const ConfigNode& n) {
   }
 }
 
+// --set driver.key=value and driver.key.subkey=value change a driver's settings
+// before it is created, as if the project file said so (the value's errors
+// are reported at "command line").
+void Loader::override_driver_settings(ConfigNode& drivers) {
+  if (!drivers.is_list()) return;
+  for (const auto& o : opts_.overrides) {
+    for (auto& dn : drivers.items) {
+      const ConfigNode* nm = dn.is_map() ? dn.find("name") : nullptr;
+      if (!nm || nm->scalar != o.instance || o.param.empty()) continue;
+      driver_overrides_.insert(o.instance);
+      ConfigNode* at = &dn;
+      std::string path = o.param;
+      SourceLoc cli{"command line", 0, 0};
+      bool ok = true;
+      while (ok) {
+        auto dot = path.find('.');
+        std::string key = path.substr(0, dot);
+        if (key == "name" || key == "type" || key == "task") {
+          d_.error(cli, "--set " + o.instance + "." + o.param + ": a driver's " + key + " cannot be overridden");
+          ok = false;
+          break;
+        }
+        ConfigNode* child = nullptr;
+        for (auto& [k, v] : at->map)
+          if (k == key) child = &v;
+        if (!child) {
+          at->map.emplace_back(key, ConfigNode{});
+          child = &at->map.back().second;
+        }
+        if (dot == std::string::npos) {
+          child->kind = ConfigNode::Kind::Scalar;
+          child->scalar = o.value;
+          child->items.clear();
+          child->map.clear();
+          child->loc = cli;
+          break;
+        }
+        if (!child->is_map()) {
+          if (child->kind != ConfigNode::Kind::Null) {
+            d_.error(cli, "--set " + o.instance + "." + o.param + ": " + key + " is not a map of settings");
+            ok = false;
+            break;
+          }
+          child->kind = ConfigNode::Kind::Map;
+          child->loc = cli;
+        }
+        at = child;
+        path = path.substr(dot + 1);
+      }
+    }
+  }
+}
+
 void Loader::read_drivers(const ConfigNode& n) {
   if (!n.is_list()) { d_.error(n.loc, "drivers: expected a list"); return; }
   for (const auto& dn : n.items) {
@@ -851,6 +908,7 @@ void Loader::read_metrics(const ConfigNode& n) {
 void Loader::apply_overrides() {
   SourceLoc cli{"command line", 0, 0};
   for (const auto& o : opts_.overrides) {
+    if (driver_overrides_.count(o.instance)) continue;  // applied to the driver's settings
     int ii = instance_index(o.instance);
     if (ii < 0) {
       int ti = tag_index(o.instance);

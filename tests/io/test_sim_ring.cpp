@@ -296,3 +296,45 @@ drivers:
 
 }  // namespace
 }  // namespace syncplc
+
+namespace syncplc {
+namespace {
+
+TEST(DriverOverrides, SetChangesADriversSettingsBeforeItIsCreated) {
+  LoadOptions o;
+  o.overrides = {{"ring", "loss.p", "0.25"}, {"ring", "late", "0.5"}, {"ring", "loss.scope", "link"}};
+  auto r = load_project_text(R"(
+tasks: [{name: servo, period: 1ms}]
+drivers:
+  - {name: ring, type: sim_ring, loss: {model: bernoulli, p: 0}}
+)",
+                             "p.yaml", o);
+  ASSERT_TRUE(r.ok()) << loadertest::joined(r);
+  auto& ring = static_cast<SimRingDriver&>(*r.program->drivers[0].driver);
+  std::vector<std::vector<Cell>> st;
+  for (const auto& c : ring.channels()) st.emplace_back(c.length, Cell{});
+  std::vector<Cell*> cells;
+  for (auto& x : st) cells.push_back(x.data());
+  ring.bind(cells);
+  ScanContext ctx;
+  for (int k = 0; k < 4000; ++k) ring.write_outputs(ctx);
+  EXPECT_GT(ring.lost(), 4000 * 0.6);  // per link at 25 %: node 4 receives (0.75)^4 = 32 %
+  EXPECT_GT(ring.late(), 0u);
+}
+
+TEST(DriverOverrides, BadOverridesAreReportedAtTheCommandLine) {
+  LoadOptions o;
+  o.overrides = {{"ring", "loss.p", "2"}, {"ring", "type", "sim_table"}, {"ring", "nodes.x", "1"}};
+  auto e = loadertest::errors(load_project_text(R"(
+tasks: [{name: servo, period: 1ms}]
+drivers:
+  - {name: ring, type: sim_ring, nodes: 4, loss: {model: bernoulli, p: 0}}
+)",
+                                                "p.yaml", o));
+  EXPECT_THAT(e, ::testing::Contains("command line:0:0: --set ring.type: a driver's type cannot be overridden"));
+  EXPECT_THAT(e, ::testing::Contains("command line:0:0: --set ring.nodes.x: nodes is not a map of settings"));
+  EXPECT_THAT(e, ::testing::Contains("command line:0:0: p = 2 is outside 0 .. 1"));
+}
+
+}  // namespace
+}  // namespace syncplc
