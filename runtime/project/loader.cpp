@@ -231,6 +231,12 @@ void Loader::merge_includes(ConfigNode& root, const std::string& path, int depth
       ConfigNode* target = nullptr;
       for (auto& [rk, rv] : root.map)
         if (rk == k) target = &rv;
+      if (k == "metrics") {
+        // A map section comes from one file only.
+        if (target) d_.error(v.loc, "'" + k + "' is also set at " + target->loc.text() + ": a map section may come from one file only");
+        else root.map.emplace_back(k, v);
+        continue;
+      }
       if (!target) {
         root.map.emplace_back(k, ConfigNode{ConfigNode::Kind::List, "", {}, {}, v.loc});
         target = &root.map.back().second;

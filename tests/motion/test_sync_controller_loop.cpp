@@ -238,7 +238,7 @@ TEST(SyncLoop, LossIsFilledByTheEstimator) {
   EXPECT_LT(std::abs(lossy.track_rsme / clean.track_rsme - 1), 0.01);
 }
 
-// The same loop as a project (projects/paper000_sync): the blocks loaded from
+// The same loop as a project (tests/motion/projects/paper000_loop): the blocks loaded from
 // YAML, the array pins wired to the simulated table and ring drivers (their
 // own exact ZOH and one-frame delay), metrics by `syncplc sim --metrics`.
 // Independent plant and network code, same numbers.
@@ -252,7 +252,7 @@ TEST(SyncLoop, ProjectOnTheSimulatedTableMatchesTheTestLoop) {
   for (const auto& [file, ctl] : {std::pair{"sync.yaml", Ctl::Sync}, std::pair{"pd.yaml", Ctl::Pd}}) {
     const std::string out = ::testing::TempDir() + "paper000_" + file + ".json";
     const std::string cmd = std::string(SYNCPLC_BINARY) + " sim -q -d 6.283s --metrics " + out + " " +
-                            SYNCPLC_SOURCE_DIR + "/projects/paper000_sync/" + file + " > /dev/null 2>&1";
+                            SYNCPLC_SOURCE_DIR + "/tests/motion/projects/paper000_loop/" + file + " > /dev/null 2>&1";
     ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
     std::ifstream in(out);
     std::stringstream ss;

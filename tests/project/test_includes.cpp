@@ -117,6 +117,27 @@ colour: red
                           sub + ":2:7: 'tags' must be a list to be included", sub + ":3:9: unknown top-level key 'colour'"));
 }
 
+TEST(Includes, MetricsComeFromOneFile) {
+  std::string main = temp_file("metrics/main.yaml", yaml(R"(
+include: [sub.yaml]
+tasks: [{name: main, period: 1ms}]
+)"));
+  temp_file("metrics/sub.yaml", yaml(R"(
+tags: [{name: e, type: "ARRAY[1..2] OF LREAL"}]
+metrics: {axis_errors: e}
+)"));
+  auto r = load_project(main);
+  ASSERT_TRUE(r.ok()) << joined(r);
+  EXPECT_EQ(r.program->axis_errors.size(), 2u);
+  std::string twice = temp_file("metrics/twice.yaml", yaml(R"(
+include: [sub.yaml]
+tasks: [{name: main, period: 1ms}]
+metrics: {axis_errors: e}
+)"));
+  EXPECT_THAT(errors(load_project(twice)),
+              ElementsAre(::testing::HasSubstr("sub.yaml:2:10: 'metrics' is also set at ")));
+}
+
 TEST(Includes, IncludeMustNameFiles) {
   EXPECT_THAT(errors(R"(
 include: {file: a.yaml}
