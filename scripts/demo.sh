@@ -5,4 +5,4 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 bash scripts/build.sh build
-exec build/syncplc run projects/bottle_line/bottle_line.yaml --duration "${1:-20s}"
+exec build/syncplc run projects/four_axis_table/sync.yaml --duration "${1:-20s}"

@@ -8,13 +8,16 @@
 
 #include "runtime/core/units.hpp"
 #include "runtime/core/virtual_clock.hpp"
+#include "runtime/project/metrics.hpp"
 #include "runtime/project/yaml_tree.hpp"
 
 namespace syncplc {
 namespace {
 
 struct Target {
-  enum Kind { Image, DriverIn, DriverOut } kind = Image;
+  enum Kind { Image, DriverIn, DriverOut, Metric } kind = Image;
+  enum class MetricKind { TrackRsme, SyncRsme, MaxAbsError, MaxAbsSyncError } metric = MetricKind::TrackRsme;
+  std::size_t axis = 0;  // 0-based, for the per-axis metrics
   CellRef ref;
   int driver = -1;
   int channel = -1;
@@ -28,6 +31,7 @@ struct Assignment {
   Target target;
   std::vector<Cell> values;
   std::optional<double> tolerance;  // expect only; in the value's unit (TIME: seconds)
+  std::optional<double> max, min;   // expect only: a bound instead of a value
   SourceLoc loc;
 };
 
@@ -46,7 +50,50 @@ struct Case {
   SourceLoc loc;
 };
 
+// metrics.track_rsme, metrics.sync_rsme, metrics.max_abs_error[i],
+// metrics.max_abs_sync_error[i]: the motion metrics (paper 000 eqs. 26-27)
+// over the project's metrics axis_errors, from the start of the case.
+std::optional<Target> resolve_metric(const Program& p, const std::string& text, std::string* err) {
+  Target t;
+  t.text = text;
+  t.kind = Target::Metric;
+  t.type = IecType::LREAL;
+  if (p.axis_errors.empty()) {
+    *err = text + ": the project names no metrics axis_errors";
+    return std::nullopt;
+  }
+  std::string name = text.substr(8), index;
+  if (auto lb = name.find('['); lb != std::string::npos && name.back() == ']') {
+    index = name.substr(lb + 1, name.size() - lb - 2);
+    name = name.substr(0, lb);
+  }
+  const bool per_axis = name == "max_abs_error" || name == "max_abs_sync_error";
+  if (name == "track_rsme") t.metric = Target::MetricKind::TrackRsme;
+  else if (name == "sync_rsme") t.metric = Target::MetricKind::SyncRsme;
+  else if (name == "max_abs_error") t.metric = Target::MetricKind::MaxAbsError;
+  else if (name == "max_abs_sync_error") t.metric = Target::MetricKind::MaxAbsSyncError;
+  else {
+    *err = "unknown metric '" + name + "' (track_rsme, sync_rsme, max_abs_error[i], max_abs_sync_error[i])";
+    return std::nullopt;
+  }
+  if (per_axis != !index.empty()) {
+    *err = per_axis ? "metrics." + name + " needs an axis: metrics." + name + "[1]" : "metrics." + name + " takes no index";
+    return std::nullopt;
+  }
+  if (per_axis) {
+    char* end = nullptr;
+    long a = std::strtol(index.c_str(), &end, 10);
+    if (*end || a < 1 || static_cast<std::size_t>(a) > p.axis_errors.size()) {
+      *err = "axis " + index + " is outside 1.." + std::to_string(p.axis_errors.size());
+      return std::nullopt;
+    }
+    t.axis = static_cast<std::size_t>(a - 1);
+  }
+  return t;
+}
+
 std::optional<Target> resolve_target(const Program& p, const std::string& text, std::string* err) {
+  if (text.rfind("metrics.", 0) == 0) return resolve_metric(p, text, err);
   Target t;
   t.text = text;
   std::string base = text.substr(0, text.find('['));
@@ -207,6 +254,7 @@ class TestsReader {
     if (!t) { d_.error(v.loc, err); return; }
     if (!a.expect && t->kind == Target::DriverOut) { d_.error(v.loc, target + " is a driver output: it can only be expected"); return; }
     if (a.expect && t->kind == Target::DriverIn) { d_.error(v.loc, target + " is a driver input: set it, expect the tag it feeds"); return; }
+    if (!a.expect && t->kind == Target::Metric) { d_.error(v.loc, target + " is a metric: it can only be expected"); return; }
     Assignment as;
     as.target = *t;
     as.loc = v.loc;
@@ -216,7 +264,23 @@ class TestsReader {
       val = v.find("value");
       const ConfigNode* tol = v.find("tolerance");
       for (const auto& [k, x] : v.map)
-        if (k != "value" && k != "tolerance") d_.error(x.loc, "unknown key '" + k + "' (value, tolerance)");
+        if (k != "value" && k != "tolerance" && k != "max" && k != "min")
+          d_.error(x.loc, "unknown key '" + k + "' (value, tolerance, or max and/or min)");
+      for (const char* bound : {"max", "min"})
+        if (const ConfigNode* b = v.find(bound)) {
+          if (val) { d_.error(b->loc, std::string(bound) + " and value exclude each other"); return; }
+          if (t->length != 1 || (!is_real(t->type) && !is_integer(t->type))) {
+            d_.error(b->loc, std::string(bound) + " needs a single number: " + target);
+            return;
+          }
+          auto q = parse_quantity(b->scalar, t->unit, &err);
+          if (!q) { d_.error(b->loc, std::string(bound) + ": " + err); return; }
+          (std::string(bound) == "max" ? as.max : as.min) = *q;
+        }
+      if (as.max || as.min) {
+        a.items.push_back(std::move(as));
+        return;
+      }
       if (!val) { d_.error(v.loc, "expected value missing"); return; }
       if (tol) {
         if (t->type == IecType::TIME) {
@@ -285,10 +349,44 @@ ScanTestCaseResult run_case(const std::string& project, const LoadOptions& base,
     return x->order < y->order;
   });
   VirtualClock clock(p);
+  MotionMetrics metrics(p);
+  if (metrics.enabled())
+    clock.on_time_point([&](std::int64_t t) { metrics.sample(p, t, clock.scans(metrics.task())); });
+  auto metric_value = [&](const Target& t) {
+    switch (t.metric) {
+      case Target::MetricKind::TrackRsme: return metrics.track_rsme();
+      case Target::MetricKind::SyncRsme: return metrics.sync_rsme();
+      case Target::MetricKind::MaxAbsError: return metrics.max_abs_error(t.axis);
+      case Target::MetricKind::MaxAbsSyncError: return metrics.max_abs_sync_error(t.axis);
+    }
+    return 0.0;
+  };
   for (const Action* a : actions) {
     clock.run_until(a->time, a->expect);
     for (const auto& as : a->items) {
       const Target& t = as.target;
+      if (as.max || as.min || t.kind == Target::Metric) {
+        ++r.steps_checked;
+        double x = 0;
+        if (t.kind == Target::Metric) x = metric_value(t);
+        else if (t.kind == Target::DriverOut) {
+          Cell c;
+          p.drivers[static_cast<std::size_t>(t.driver)].driver->read_output(t.channel, &c);
+          x = cell_as_double(t.type, c);
+        } else x = cell_as_double(t.type, *p.live_cell(t.ref));
+        if (as.max || as.min) {
+          if ((as.max && !(x <= *as.max)) || (as.min && !(x >= *as.min)))
+            r.failures.push_back(fmt::format("{}: case '{}' {}: {} is {}, expected{}{}", as.loc.text(), c.name, a->when,
+                                             t.text, x, as.min ? fmt::format(" >= {}", *as.min) : "",
+                                             as.max ? fmt::format(" <= {}", *as.max) : ""));
+        } else {
+          double want = as.values[0].get<double>();
+          if (!(std::fabs(x - want) <= as.tolerance.value_or(0)))
+            r.failures.push_back(fmt::format("{}: case '{}' {}: {} is {}, expected {}{}", as.loc.text(), c.name, a->when,
+                                             t.text, x, want, as.tolerance ? fmt::format(" ± {}", *as.tolerance) : ""));
+        }
+        continue;
+      }
       if (!a->expect) {
         if (t.kind == Target::DriverIn) p.drivers[static_cast<std::size_t>(t.driver)].driver->force_input(t.channel, as.values.data());
         else std::copy(as.values.begin(), as.values.end(), p.live_cell(t.ref));

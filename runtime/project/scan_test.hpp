@@ -9,6 +9,12 @@
 //         - at: 501ms
 //           expect: {lamp: true, t1.ET: {value: 500ms, tolerance: 1ms}}
 //
+// An expectation may be a bound instead of a value: {max: 0.06}, {min: 2},
+// or both. `metrics.track_rsme`, `metrics.sync_rsme`,
+// `metrics.max_abs_error[i]` and `metrics.max_abs_sync_error[i]` are the
+// motion metrics (paper 000 eqs. 26-27) of the project's `metrics:
+// axis_errors`, accumulated from the start of the case.
+//
 // Each case starts from a fresh load of the project and runs in virtual time.
 // `set` at time t is applied before any scan released at t; `expect` at t is
 // checked after every scan released at or before t has run. `cycle: n` of a

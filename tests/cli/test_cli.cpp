@@ -10,36 +10,16 @@
 #include <sstream>
 #include <thread>
 
+#include "tests/support/cli_runner.hpp"
 #include "tests/support/test_blocks.hpp"
 
 namespace {
 
 using syncplc::testing::write_temp_file;
 
-struct Result {
-  int rc = -1;
-  std::string out, err;
-};
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-Result run(const std::string& args) {
-  static int n = 0;
-  std::string o = write_temp_file("cli" + std::to_string(++n) + ".out", "");
-  std::string e = o + ".err";
-  std::string cmd = std::string(SYNCPLC_BINARY) + " " + args + " >" + o + " 2>" + e + " </dev/null";
-  int status = std::system(cmd.c_str());
-  Result r;
-  r.rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = slurp(o);
-  r.err = slurp(e);
-  return r;
-}
+using Result = syncplc::testing::CliResult;
+using syncplc::testing::slurp;
+Result run(const std::string& args) { return syncplc::testing::run_cli(args); }
 
 const std::string kSrc = SYNCPLC_SOURCE_DIR;
 const std::string kDemo = kSrc + "/projects/bottle_line/bottle_line.yaml";

@@ -1,0 +1,42 @@
+// Runs the built `syncplc` command for end-to-end tests: exit status, stdout
+// and stderr of one invocation.
+#pragma once
+
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "tests/support/test_blocks.hpp"
+
+namespace syncplc::testing {
+
+struct CliResult {
+  int rc = -1;
+  std::string out, err;
+};
+
+inline std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// `args` after the program name, shell-quoted by the caller where needed.
+inline CliResult run_cli(const std::string& args) {
+  static int n = 0;
+  std::string o = write_temp_file("cli" + std::to_string(++n) + ".out", "");
+  std::string e = o + ".err";
+  std::string cmd = std::string(SYNCPLC_BINARY) + " " + args + " >" + o + " 2>" + e + " </dev/null";
+  int status = std::system(cmd.c_str());
+  CliResult r;
+  r.rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = slurp(o);
+  r.err = slurp(e);
+  return r;
+}
+
+}  // namespace syncplc::testing
