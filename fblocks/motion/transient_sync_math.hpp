@@ -1,0 +1,99 @@
+// Velocity-bound scaling of the n-axis synchronizer, paper 004 Section III
+// (eqs. 23-34), with the corrections of /work/shared/design/motion-math.md
+// ("Synchronizer (Section III), every scan"). Pure functions, no state, no
+// allocation; the block TRANSIENT_SYNC (transient_sync.cpp) calls them every
+// scan for every filter that is neither tracking, nor the slowest, nor in its
+// final approach.
+//
+// Continuous-time model (Fig. 6). A filter at x0 with velocity v0 must meet the
+// reference r(t) = r0 + rdot*t at t = tf with velocity rdot. With r0 > x0 it
+// changes its velocity to v̂ with the acceleration bound (U+ when v̂ > v0),
+// cruises at v̂, and brakes to rdot with U- (eqs. 25-29). The distance covered
+// (eq. 30) equals the reference's displacement rdot*tf (eq. 31, the text's
+// "r0 + rdot*tf" counts r0 twice) plus the gap r0 - x0 (eq. 32). That is a
+// quadratic in v̂; with dU = U- - U+, dv = v0 - rdot, dx = x0 - r0:
+//
+//   (33) r0 > x0:  v̂ = (U-U+ tf + U- v0 - U+ rdot + G~) / dU,
+//        G~ = sqrt(U-U+ [tf U- (tf U+ + 2 dv) + 2 dx dU + dv^2])
+//   (34) r0 < x0:  v̂ = -(U-U+ tf + U+ v0 - U- rdot + G^) / dU,
+//        G^ = sqrt(U-U+ [tf U+ (tf U- + 2 dv) - 2 dx dU + dv^2])
+//
+// Both roots of the quadratic can be positive. The cruise time t2 (eq. 29) is
+// the derivative of the covered distance with respect to v̂, so the profile is
+// physical (t2 >= 0) only at the smaller root for (33) (the larger for (34),
+// the mirror image); the printed "+G" is that root. A negative radicand means tf
+// is shorter than the profile allows; a v̂ on the wrong side of rdot means the
+// gap cannot be closed with a positive cruise speed relative to the reference:
+// in both cases the nominal bounds stay.
+//
+// Extension (unified rule): eqs. (25)-(27) assume v0 <= v̂ (the first phase
+// accelerates). When the filter already moves towards the reference faster
+// than the solution, its controller first brakes with U- down to the new bound;
+// that profile is linear in v̂ (see cruise_bound_up). The paper's rule keeps
+// the printed closed form.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+
+namespace syncplc::motion {
+
+// How the synchronizer chooses the scaled bound (the block's parameter `rule`).
+enum class SyncRule : std::uint8_t {
+  Unified = 0,  // (33) whenever r > x, (34) whenever r < x, whatever the sign of rdot
+  Paper = 1,    // (33) only with rdot >= 0, (34) only with rdot <= 0; otherwise park at 0
+  Off = 2,      // no synchronization: n independent filters
+};
+
+// What happened to a filter's velocity bounds this scan.
+enum class BoundAction : std::uint8_t {
+  Nominal = 0,      // both nominal
+  ScaledUpper = 1,  // x+ := v̂ of eq. (33)
+  ScaledLower = 2,  // x- := v̂ of eq. (34)
+  ParkedUpper = 3,  // paper rule, rdot < 0 with r > x: x+ := 0 (Fig. 7)
+  ParkedLower = 4,  // paper rule, rdot > 0 with r < x: x- := 0
+};
+
+inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// Both roots of the quadratic behind eq. (33) (r0 > x0, upper bound scaled),
+// as printed: `printed` takes +G~, `other` takes -G~. real = false (and NaNs)
+// when the radicand is negative or dU is not negative.
+struct CruiseRoots {
+  bool real = false;
+  double printed = kNaN;
+  double other = kNaN;
+};
+CruiseRoots eq33_roots(double x0, double v0, double r0, double rdot, double tf, double u_min,
+                       double u_max) noexcept;
+// Same for eq. (34) (r0 < x0, lower bound scaled): printed takes +G^.
+CruiseRoots eq34_roots(double x0, double v0, double r0, double rdot, double tf, double u_min,
+                       double u_max) noexcept;
+
+// The cruise velocity v̂ that makes the continuous profile of a filter behind
+// its reference (r0 > x0) meet it exactly at tf, or NaN if there is none
+// (radicand negative, tf <= 0, gap not positive, v̂ <= rdot, or the gap too
+// short to brake without overshoot). brake_first = false: eq. (33) as printed
+// (smaller root). brake_first = true: also the profile that starts by braking
+// with U- when v0 is above the solution (linear:
+// v̂ - rdot = (D - dv^2/(2|U-|)) / (tf - dv/|U-|), D = r0 - x0).
+double cruise_bound_up(double x0, double v0, double r0, double rdot, double tf, double u_min, double u_max,
+                       bool brake_first) noexcept;
+// Mirror image for a filter ahead of its reference (r0 < x0): the new lower
+// bound v̂ < rdot of eq. (34), or NaN.
+double cruise_bound_down(double x0, double v0, double r0, double rdot, double tf, double u_min, double u_max,
+                         bool brake_first) noexcept;
+
+// Decision of one filter's applied velocity bounds, given that the
+// synchronizer wants it to arrive at tf (> 0). Nominal bounds v_min < rdot <
+// v_max and u_min < 0 < u_max. Applied bounds never leave [v_min, v_max] and
+// always keep v_min <= rdot <= v_max.
+struct ScaledBounds {
+  double v_min = 0;
+  double v_max = 0;
+  BoundAction action = BoundAction::Nominal;
+};
+ScaledBounds scale_bounds(SyncRule rule, double x0, double v0, double r0, double rdot, double tf, double v_min,
+                          double v_max, double u_min, double u_max) noexcept;
+
+}  // namespace syncplc::motion
