@@ -1,0 +1,448 @@
+// TRANSIENT_SYNC: n velocity/acceleration-limited nonlinear filters whose
+// velocity bounds are rescaled every scan so that all transients end on the
+// same scan, and the energy index E of their transients. Paper 004
+// (C. Guarino Lo Bianco, "An efficient algorithm for the real-time generation
+// of synchronous reference signals"), Section III, eqs. (23)-(34), with the
+// corrections and the "unified" rule of /work/shared/design/motion-math.md
+// ("Synchronizer (Section III), every scan"); see docs/motion/transient-sync.md.
+//
+// The filters are those of NONLINEAR_FILTER (nonlinear_filter_math.hpp: the
+// controller C and the Table I transient-time prediction); the bound scaling is
+// in transient_sync_math.hpp. Per scan k, T = the time since the previous
+// scan's planned release, for every axis i:
+//   1. n_i = Table I steps from sample k with the nominal bounds (-1: never);
+//      t_M = the largest finite n_i.
+//   2. nominal bounds if: rule off, tracking, cannot track, n_i = t_M (the
+//      slowest), or in the final approach judged with the bounds applied at
+//      scan k-1;
+//   3./4. otherwise the velocity bound scaled by eq. (33) (r > x) or (34)
+//      (r < x) with tf = t_M T (unified rule), or the paper's sign-of-rdot rule
+//      with zero-bound parking;
+//   5. look-ahead guard: the reduced bound is kept only if the nominal
+//      transient time of the resulting state k+1 is at most t_M - 1;
+//   6. outputs at sample k, then state_{k+1} = plant_step(state_k, u_k, T).
+// Everything is recomputed every scan; execute() allocates nothing.
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "fblocks/motion/motion.hpp"
+#include "fblocks/motion/nonlinear_filter_math.hpp"
+#include "fblocks/motion/transient_sync_math.hpp"
+
+namespace syncplc::motion {
+namespace {
+
+enum : int {
+  // array inputs
+  kR = 0,
+  kRDot,
+  kVMin,
+  kVMax,
+  kAMin,
+  kAMax,
+  kX0,
+  kV0,
+  // scalar input
+  kReset,
+  // array outputs
+  kX,
+  kXDot,
+  kXDDot,
+  kVMinApplied,
+  kVMaxApplied,
+  kTracking,
+  kStepsToGo,
+  kError,
+  // scalar outputs
+  kArrival,
+  kSynchronized,
+  kScaled,
+  kEnergy,
+  kEnergyLast,
+  kWindows,
+  kWindowScans,
+  kSpread,
+};
+
+inline constexpr std::int64_t kMaxAxes = 1024;
+
+class TransientSync final : public Block {
+ public:
+  explicit TransientSync(BlockSetup& s)
+      : n_(static_cast<std::uint32_t>(s.param<std::int32_t>("n"))),
+        rule_(static_cast<SyncRule>(s.param<std::int32_t>("rule"))),
+        derive_r_dot_(!s.connected(kRDot)),
+        start_at_r_(s.param<bool>("start_at_r")),
+        period_s_(static_cast<double>(s.task_period_ns()) * 1e-9),
+        x_(n_), v_(n_), r_prev_(n_), vmin_prev_(n_), vmax_prev_(n_), last_(n_), z_(n_), zb_(n_), ref_(n_),
+        steps_(n_), arrival_(n_), flags_(n_) {}
+
+  void execute(ScanContext& ctx) override {
+    const double T = ctx.dt_ns > 0 ? static_cast<double>(ctx.dt_ns) * 1e-9 : period_s_;
+    const bool first = first_;
+    first_ = false;
+    const bool hold = in<bool>(kReset);
+
+    // Pass 1: references, validity, z, nominal transient times, t_M.
+    std::int64_t t_max = 0;
+    bool all_tracking = true;
+    int faults = 0;
+    for (std::uint32_t i = 0; i < n_; ++i) {
+      const double r = in<double>(kR, i);
+      double r_dot = 0;
+      if (!derive_r_dot_) r_dot = in<double>(kRDot, i);
+      else if (!first) r_dot = (r - r_prev_[i]) / T;
+      r_prev_[i] = r;
+      const FilterBounds b{in<double>(kVMin, i), in<double>(kVMax, i), in<double>(kAMin, i), in<double>(kAMax, i)};
+      const bool valid = std::isfinite(r) && std::isfinite(r_dot) && bounds_valid(b);
+      std::uint8_t f = flags_[i];
+      if (first) {
+        if (start_at_r_ && std::isfinite(r) && std::isfinite(r_dot)) {
+          x_[i] = r;
+          v_[i] = r_dot;
+        } else {
+          start_from_inputs(i);
+        }
+      }
+      if (hold) start_from_inputs(i);
+      ref_[i] = Reference{r, r_dot};
+      std::int64_t n = kNever;
+      if (valid) {
+        if (f & kFaulting) f &= static_cast<std::uint8_t>(~kFaulting);
+        last_[i] = b;
+        f |= kValid | kHaveLast;
+        if (first) {  // nothing was applied before: the nominal bounds
+          vmin_prev_[i] = b.v_min;
+          vmax_prev_[i] = b.v_max;
+        }
+        const ZState z = to_z(FilterState{x_[i], v_[i]}, ref_[i], T);
+        const ZBounds zb = z_bounds(b, r_dot, T);
+        z_[i] = z;
+        zb_[i] = zb;
+        if (is_tracking(z, zb)) {
+          f |= kTrackingNow;
+          n = 0;
+        } else {
+          n = transient_steps(z, zb);
+        }
+      } else if (!(f & kFaulting)) {
+        f |= kFaulting;
+        ++faults;
+      }
+      if (!(f & kTrackingNow)) all_tracking = false;
+      if (n > t_max) t_max = n;
+      steps_[i] = n;
+      flags_[i] = f;
+    }
+    if (faults > 0)
+      ctx.fault("TRANSIENT_SYNC: invalid bounds or non-finite reference on an axis (count in value)",
+                static_cast<double>(faults));
+
+    // Transient window bookkeeping (before this scan's contribution).
+    if (!all_tracking && !window_open_) {
+      window_open_ = true;
+      energy_ = 0;
+      window_scans_ = 0;
+      for (std::uint32_t i = 0; i < n_; ++i) {
+        arrival_[i] = -1;
+        flags_[i] &= static_cast<std::uint8_t>(~kParticipant);
+      }
+    }
+
+    // Pass 2: bounds, look-ahead guard, control, outputs, state update.
+    const double tf = static_cast<double>(t_max) * T;
+    std::int64_t scaled = 0;
+    double e_scan = 0;
+    for (std::uint32_t i = 0; i < n_; ++i) {
+      std::uint8_t f = flags_[i];
+      const FilterState s{x_[i], v_[i]};
+      double u = 0;
+      double vmin_applied = 0, vmax_applied = 0;
+      if (f & kValid) {
+        const FilterBounds& b = last_[i];
+        const std::int64_t n = steps_[i];
+        vmin_applied = b.v_min;
+        vmax_applied = b.v_max;
+        const ZState z = z_[i];
+        const ZBounds& zb = zb_[i];
+        bool applied_scaled = false;
+        bool nominal = rule_ == SyncRule::Off || (f & kTrackingNow) || n == kNever || n >= t_max;
+        if (!nominal) {
+          // Final approach under the bounds applied at the previous scan.
+          const ZBounds zb_prev =
+              z_bounds(FilterBounds{vmin_prev_[i], vmax_prev_[i], b.a_min, b.a_max}, ref_[i].v, T);
+          nominal = in_final_approach(z, zb_prev);
+        }
+        if (!nominal) {
+          const ScaledBounds sb = scale_bounds(rule_, s.x, s.v, ref_[i].r, ref_[i].v, tf, b.v_min, b.v_max,
+                                               b.a_min, b.a_max);
+          if (sb.action != BoundAction::Nominal) {
+            const ZBounds zs = z_bounds(FilterBounds{sb.v_min, sb.v_max, b.a_min, b.a_max}, ref_[i].v, T);
+            const double us = control(z, zs);
+            // Look-ahead guard: the state after this scan must still make t_M - 1
+            // with the nominal bounds.
+            const FilterState next = plant_step(s, us, T);
+            const Reference ref_next{ref_[i].r + T * ref_[i].v, ref_[i].v};
+            const ZState zn = to_z(next, ref_next, T);
+            const std::int64_t n_next = is_tracking(zn, zb) ? 0 : transient_steps(zn, zb);
+            if (n_next != kNever && n_next <= t_max - 1) {
+              u = us;
+              applied_scaled = true;
+              vmin_applied = sb.v_min;
+              vmax_applied = sb.v_max;
+              ++scaled;
+            }
+          }
+        }
+        if (!applied_scaled) u = control(z, zb);
+        if (hold) u = 0;
+      } else {
+        // Invalid bounds or reference: controlled stop with the last valid
+        // acceleration bounds (at once if there never were any).
+        u = -s.v / T;
+        if (f & kHaveLast) u = u > last_[i].a_max ? last_[i].a_max : (u < last_[i].a_min ? last_[i].a_min : u);
+        if (hold) u = 0;
+        vmin_applied = (f & kHaveLast) ? last_[i].v_min : 0;
+        vmax_applied = (f & kHaveLast) ? last_[i].v_max : 0;
+      }
+      const bool tracking = (f & kTrackingNow) != 0;
+      out<double>(kX, i, s.x);
+      out<double>(kXDot, i, s.v);
+      out<double>(kXDDot, i, u);
+      out<double>(kVMinApplied, i, vmin_applied);
+      out<double>(kVMaxApplied, i, vmax_applied);
+      out<bool>(kTracking, i, tracking);
+      out<std::int64_t>(kStepsToGo, i, steps_[i]);
+      out<bool>(kError, i, !(f & kValid));
+      e_scan += s.v * s.v;
+      if (window_open_) {
+        if (!tracking) f |= kParticipant;
+        else if (!(f & kWasTracking)) arrival_[i] = window_scans_;  // (re)arrived at this scan
+      }
+      f = static_cast<std::uint8_t>((f & ~(kValid | kTrackingNow | kWasTracking)) | (tracking ? kWasTracking : 0));
+      flags_[i] = f;
+      vmin_prev_[i] = vmin_applied;
+      vmax_prev_[i] = vmax_applied;
+      if (!hold) {
+        const FilterState nx = plant_step(s, u, T);
+        x_[i] = nx.x;
+        v_[i] = nx.v;
+      }
+    }
+
+    if (window_open_) {
+      if (all_tracking) {  // the window closes at its first all-tracking scan
+        window_open_ = false;
+        energy_last_ = energy_;
+        window_scans_last_ = window_scans_;
+        ++windows_;
+        std::int64_t lo = std::numeric_limits<std::int64_t>::max(), hi = -1;
+        for (std::uint32_t i = 0; i < n_; ++i) {
+          if (!(flags_[i] & kParticipant)) continue;
+          if (arrival_[i] < lo) lo = arrival_[i];
+          if (arrival_[i] > hi) hi = arrival_[i];
+        }
+        spread_ = hi >= 0 ? hi - lo : 0;
+      } else {
+        energy_ += e_scan * T;
+        ++window_scans_;
+      }
+    }
+
+    out<std::int64_t>(kArrival, t_max);
+    out<bool>(kSynchronized, all_tracking);
+    out<std::int64_t>(kScaled, scaled);
+    out<double>(kEnergy, energy_);
+    out<double>(kEnergyLast, energy_last_);
+    out<std::int64_t>(kWindows, windows_);
+    out<std::int64_t>(kWindowScans, window_open_ ? window_scans_ : window_scans_last_);
+    out<std::int64_t>(kSpread, spread_);
+  }
+
+ private:
+  enum : std::uint8_t {
+    kValid = 1,         // this scan: bounds and reference valid
+    kTrackingNow = 2,   // this scan: tracking at sample k
+    kWasTracking = 4,   // tracking at the previous scan
+    kParticipant = 8,   // not tracking at some scan of the open window
+    kFaulting = 16,     // inside a series of invalid scans (one fault per series)
+    kHaveLast = 32,     // last_ holds valid bounds
+  };
+
+  void start_from_inputs(std::uint32_t i) {
+    const double x0 = in<double>(kX0, i), v0 = in<double>(kV0, i);
+    if (std::isfinite(x0) && std::isfinite(v0)) {
+      x_[i] = x0;
+      v_[i] = v0;
+    }
+  }
+
+  const std::uint32_t n_;
+  const SyncRule rule_;
+  const bool derive_r_dot_;
+  const bool start_at_r_;
+  const double period_s_;
+  // Per-axis state and per-scan scratch, sized once (structure of arrays).
+  std::vector<double> x_, v_, r_prev_, vmin_prev_, vmax_prev_;
+  std::vector<FilterBounds> last_;  // last valid nominal bounds
+  std::vector<ZState> z_;
+  std::vector<ZBounds> zb_;         // nominal, this scan
+  std::vector<Reference> ref_;
+  std::vector<std::int64_t> steps_;    // n_i of this scan (kNever: cannot track or invalid)
+  std::vector<std::int64_t> arrival_;  // scan of the window at which the axis last began tracking
+  std::vector<std::uint8_t> flags_;
+  bool first_ = true;
+  bool window_open_ = false;
+  double energy_ = 0, energy_last_ = 0;
+  std::int64_t windows_ = 0, window_scans_ = 0, window_scans_last_ = 0, spread_ = 0;
+};
+
+PinDecl pin(std::string name, PinDir dir, IecType type, std::string unit, std::string doc, bool array,
+            bool required = false, std::string init = {}) {
+  PinDecl p;
+  p.name = std::move(name);
+  p.dir = dir;
+  p.type = type;
+  p.unit = std::move(unit);
+  p.doc = std::move(doc);
+  p.required = required;
+  p.init = std::move(init);
+  if (array) p.length_param.assign(1, 'n');  // (not = "n": a GCC 12 -Wrestrict false positive)
+  return p;
+}
+
+ParamDecl param(std::string name, IecType type, std::string def, std::optional<double> min,
+                std::optional<double> max, std::string doc) {
+  ParamDecl p;
+  p.name = std::move(name);
+  p.type = type;
+  p.default_value = std::move(def);
+  p.min = min;
+  p.max = max;
+  p.doc = std::move(doc);
+  return p;
+}
+
+}  // namespace
+
+void register_transient_sync(BlockRegistry& r) {
+  constexpr auto In = PinDir::In;
+  constexpr auto Out = PinDir::Out;
+  constexpr bool A = true, S = false;
+  BlockTypeInfo t;
+  t.name = "TRANSIENT_SYNC";
+  t.category = kCategory;
+  t.doc =
+      "Synchronizer of n nonlinear filters (paper 004, Section III): n velocity/acceleration-limited filters "
+      "(those of NONLINEAR_FILTER, Section II) turn n rough references r[i] (steps and ramps) into smooth "
+      "x[i]; every scan the velocity bound of each filter that is faster than the slowest is reduced so that "
+      "all transients end on the same scan, which also lowers the viscous-friction energy index "
+      "E = integral of x_dot^2 (eq. 24).\n\n"
+      "Every scan k, T the time since the previous scan, for every axis: (1) n_i = transient time with the "
+      "nominal bounds (Table I; -1 when r_dot is outside [v_min, v_max]); t_M = the largest finite n_i "
+      "(output arrival). (2) The nominal bounds stay for axes that track, cannot track, have n_i = t_M, or "
+      "are in their final approach (the curved part of the boundary layer) under the bounds applied at the "
+      "previous scan. (3) The others get, with tf = t_M T, dU = a_min - a_max, dv = x_dot - r_dot, "
+      "dx = x - r: if r > x, v_max := v^ = (a_min a_max tf + a_min x_dot - a_max r_dot + G1)/dU, "
+      "G1 = sqrt(a_min a_max (tf a_min (tf a_max + 2 dv) + 2 dx dU + dv^2)) (eq. 33, the smaller root: both "
+      "can be positive); if r < x, v_min := v^ = -(a_min a_max tf + a_max x_dot - a_min r_dot + G2)/dU, "
+      "G2 = sqrt(a_min a_max (tf a_max (tf a_min + 2 dv) - 2 dx dU + dv^2)) (eq. 34). These make the "
+      "continuous profile (accelerate to v^, cruise, brake to r_dot; eqs. 25-32 with eq. 31 read as "
+      "s_f2 = r_dot tf) meet the reference at tf. A negative radicand, or v^ not strictly between r_dot and "
+      "the nominal bound, keeps the nominal bounds. rule 0 (unified, default) applies (33) whenever r > x "
+      "and (34) whenever r < x, and when x_dot already exceeds the solution it models a first phase that "
+      "brakes with a_min (linear in v^); rule 1 (paper) applies (33) only with r_dot >= 0 and (34) only with "
+      "r_dot <= 0 and otherwise parks the filter with v_max := min(0, v_max) (resp. v_min := max(0, v_min)) "
+      "as in Fig. 7; rule 2 (off) never scales: n independent filters. (5) Look-ahead guard: a reduced bound "
+      "is applied only if the nominal transient time of the state it leads to at k+1 is at most t_M - 1; "
+      "otherwise the nominal bounds are used this scan. All of it is recomputed every scan.\n\n"
+      "Outputs at scan k are the filter states at sample k and the accelerations u_k applied from them (as "
+      "NONLINEAR_FILTER). Transient window: opens at the first scan at which some axis does not track "
+      "(synchronized FALSE) and closes at the next scan at which all track; its scans are those from the "
+      "opening one to the last non-tracking one (window_scans of them). energy = T * sum over the window's "
+      "scans and over all n axes of x_dot^2 (eq. 24, left rectangle rule), running while the window is open "
+      "and held once it closes; energy_last = the value of the last closed window; windows counts closed "
+      "windows; spread = in the last closed window, the latest minus the earliest scan at which an axis "
+      "that did not track during it (last) began tracking (0: all arrived together). r_dot, when not "
+      "connected, is (r_k - r_(k-1))/T (0 on the first scan). Start, reset and invalid inputs as "
+      "NONLINEAR_FILTER: invalid bounds or a non-finite reference on an axis set its error, exclude it from "
+      "the synchronization (steps_to_go -1, so synchronized stays FALSE) and stop it with its last valid "
+      "acceleration bounds; one block-fault event per series of invalid scans.";
+  t.reference =
+      "C. Guarino Lo Bianco, \"An efficient algorithm for the real-time generation of synchronous reference "
+      "signals\" (paper 004), Section III, eqs. (23)-(34), Figs. 6-8, Tables II-IV; corrections (eq. 31, "
+      "roots of eqs. 33-34, the unified rule, the look-ahead guard) in /work/shared/design/motion-math.md "
+      "and docs/motion/transient-sync.md";
+  t.pins = {
+      pin("r", In, IecType::LREAL, "m", "reference positions (steps and ramps)", A, true),
+      pin("r_dot", In, IecType::LREAL, "m/s",
+          "reference velocities; when not connected, derived as (r_k - r_(k-1))/T (0 on the first scan)", A),
+      pin("v_min", In, IecType::LREAL, "m/s", "nominal lower velocity bounds (xdot-), below v_max", A, true),
+      pin("v_max", In, IecType::LREAL, "m/s", "nominal upper velocity bounds (xdot+), above v_min", A, true),
+      pin("a_min", In, IecType::LREAL, "m/s^2", "lower acceleration bounds (U-), negative", A, true),
+      pin("a_max", In, IecType::LREAL, "m/s^2", "upper acceleration bounds (U+), positive", A, true),
+      pin("x0", In, IecType::LREAL, "m", "start positions for reset (and the first scan when start_at_r is FALSE)",
+          A),
+      pin("v0", In, IecType::LREAL, "m/s",
+          "start velocities for reset (and the first scan when start_at_r is FALSE)", A),
+      pin("reset", In, IecType::BOOL, "", "while TRUE every filter is held at x = x0, x_dot = v0 (x_ddot = 0)", S),
+      pin("x", Out, IecType::LREAL, "m", "filtered positions at this scan", A),
+      pin("x_dot", Out, IecType::LREAL, "m/s", "filtered velocities at this scan", A),
+      pin("x_ddot", Out, IecType::LREAL, "m/s^2", "accelerations applied from this scan to the next", A),
+      pin("v_min_applied", Out, IecType::LREAL, "m/s",
+          "lower velocity bounds applied this scan (v_min, or the scaled/parked bound)", A),
+      pin("v_max_applied", Out, IecType::LREAL, "m/s",
+          "upper velocity bounds applied this scan (v_max, or the scaled/parked bound)", A),
+      pin("tracking", Out, IecType::BOOL, "", "TRUE when x and x_dot equal r and r_dot (within the tolerance)", A),
+      pin("steps_to_go", Out, IecType::LINT, "",
+          "each axis's own transient time with its nominal bounds (Table I): scans until tracking if it were "
+          "not synchronized (0 tracking, -1 never)",
+          A),
+      pin("error", Out, IecType::BOOL, "", "TRUE while the axis's bounds or reference are invalid", A),
+      pin("arrival", Out, IecType::LINT, "",
+          "t_M: scans until the common arrival, the largest finite steps_to_go (0 when all track)", S),
+      pin("synchronized", Out, IecType::BOOL, "", "TRUE when every axis tracks its reference", S),
+      pin("scaled", Out, IecType::LINT, "", "number of axes running on a reduced velocity bound this scan", S),
+      pin("energy", Out, IecType::LREAL, "m^2/s",
+          "E of eq. (24) of the open transient window (held after it closes): T * sum of x_dot^2 over its scans "
+          "and all axes",
+          S),
+      pin("energy_last", Out, IecType::LREAL, "m^2/s", "E of the last closed transient window", S),
+      pin("windows", Out, IecType::LINT, "", "number of closed transient windows", S),
+      pin("window_scans", Out, IecType::LINT, "",
+          "scans in the open transient window so far (held after it closes: its length)", S),
+      pin("spread", Out, IecType::LINT, "",
+          "arrival spread of the last closed window: latest minus earliest arrival scan of the axes that "
+          "moved (0 = synchronous)",
+          S),
+  };
+  t.params = {
+      param("n", IecType::DINT, "", 1, static_cast<double>(kMaxAxes), "number of axes (sets the array pin lengths)"),
+      param("rule", IecType::DINT, "0", 0, 2,
+            "bound-scaling rule: 0 unified (eqs. 33/34 by the sign of r - x), 1 the paper's (by the sign of r_dot, "
+            "zero-bound parking otherwise), 2 off (independent filters)"),
+      param("start_at_r", IecType::BOOL, "TRUE", std::nullopt, std::nullopt,
+            "TRUE: the first scan starts every filter at x = r, x_dot = r_dot; FALSE: at (x0, v0)"),
+  };
+  t.create = [](BlockSetup& s) -> std::unique_ptr<Block> {
+    const auto n = s.param<std::int32_t>("n");
+    const auto rule = s.param<std::int32_t>("rule");
+    if (n < 1 || n > kMaxAxes) {
+      s.error("TRANSIENT_SYNC: n must be 1.." + std::to_string(kMaxAxes));
+      return nullptr;
+    }
+    if (rule < 0 || rule > 2) {
+      s.error("TRANSIENT_SYNC: rule must be 0 (unified), 1 (paper) or 2 (off)");
+      return nullptr;
+    }
+    return std::make_unique<TransientSync>(s);
+  };
+  r.add(std::move(t));
+}
+
+}  // namespace syncplc::motion
