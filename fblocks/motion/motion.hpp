@@ -8,4 +8,7 @@ namespace syncplc::motion {
 
 inline constexpr const char* kCategory = "Motion";
 
+// NONLINEAR_FILTER (nonlinear_filter.cpp): paper 004, Section II.
+void register_nonlinear_filter(BlockRegistry& r);
+
 }  // namespace syncplc::motion

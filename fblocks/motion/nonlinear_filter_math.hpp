@@ -102,6 +102,7 @@ struct TransientInfo {
   std::int64_t k_entry = 0;     // samples of full acceleration before the BL (k_d, k_e, k_f)
   std::int64_t k_cruise = 0;    // samples on the velocity bound (k_b, incl. the entry step for C/D/E)
   std::int64_t m = 0;           // samples in the curved part of the BL (eq. 11)
+  bool closed_form = true;      // false: a closed-form index failed its check and was searched
 };
 
 // ---- validation and coordinates ----------------------------------------------

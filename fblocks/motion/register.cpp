@@ -4,7 +4,7 @@
 namespace syncplc {
 
 void register_motion_blocks(BlockRegistry& r) {
-  (void)r;
+  motion::register_nonlinear_filter(r);
 }
 
 }  // namespace syncplc

@@ -1,0 +1,213 @@
+// NONLINEAR_FILTER: the velocity/acceleration-limited discrete-time nonlinear
+// filter of paper 004 (C. Guarino Lo Bianco, "An efficient algorithm for the
+// real-time generation of synchronous reference signals"), Section II,
+// eqs. (1)-(22) — the filter of the paper's reference [21] — with the
+// transient-time prediction of its Table I. The controller C, which the paper
+// does not print, and the corrections of Table I are derived in
+// /work/shared/design/motion-math.md ("Paper 004") and
+// docs/motion/nonlinear-filter.md; the math lives in nonlinear_filter_math.*.
+//
+// Per scan k (T = the time since the previous scan's planned release):
+//   outputs   x_k, xdot_k (the filter state at sample k), xddot = u_k,
+//             tracking = state within the tracking tolerance of (r_k, rdot_k),
+//             steps_to_go = Table I prediction from sample k (-1: never);
+//   then      state_{k+1} = plant_step(state_k, u_k, T) (eqs. 1-2).
+// A change of r at scan k shows in xddot at scan k and in x from scan k+1.
+#include <cmath>
+
+#include "fblocks/motion/motion.hpp"
+#include "fblocks/motion/nonlinear_filter_math.hpp"
+
+namespace syncplc::motion {
+namespace {
+
+enum : int {
+  kR = 0,
+  kRDot,
+  kVMin,
+  kVMax,
+  kAMin,
+  kAMax,
+  kReset,
+  kX0,
+  kV0,
+  kX,
+  kXDot,
+  kXDDot,
+  kTracking,
+  kStepsToGo,
+  kError,
+};
+
+class NonlinearFilter final : public Block {
+ public:
+  explicit NonlinearFilter(BlockSetup& s)
+      : derive_r_dot_(!s.connected(kRDot)),
+        start_at_r_(s.param<bool>("start_at_r")),
+        period_s_(static_cast<double>(s.task_period_ns()) * 1e-9) {}
+
+  void execute(ScanContext& ctx) override {
+    const double T = ctx.dt_ns > 0 ? static_cast<double>(ctx.dt_ns) * 1e-9 : period_s_;
+    const double r = in<double>(kR);
+    double r_dot = 0;
+    if (!derive_r_dot_) r_dot = in<double>(kRDot);
+    else if (have_r_prev_) r_dot = (r - r_prev_) / T;
+    r_prev_ = r;
+    have_r_prev_ = true;
+    const Reference ref{r, r_dot};
+    const FilterBounds b{in<double>(kVMin), in<double>(kVMax), in<double>(kAMin), in<double>(kAMax)};
+    const bool ref_ok = std::isfinite(r) && std::isfinite(r_dot);
+    const bool bounds_ok = bounds_valid(b);
+
+    if (first_) {
+      first_ = false;
+      if (start_at_r_ && ref_ok) state_ = {r, r_dot};
+      else start_from_inputs(ctx);
+    }
+    const bool hold = in<bool>(kReset);
+    if (hold) start_from_inputs(ctx);
+
+    if (!ref_ok || !bounds_ok) {
+      // Controlled stop with the last valid acceleration bounds (at once if
+      // there never were any), fault once per series of invalid scans.
+      if (!faulting_) {
+        if (!bounds_ok) ctx.fault("NONLINEAR_FILTER: invalid bounds (need finite v_min < v_max, a_min < 0 < a_max)");
+        else ctx.fault("NONLINEAR_FILTER: non-finite r or r_dot", ref_ok ? 0.0 : r);
+        faulting_ = true;
+      }
+      double u = -state_.v / T;
+      if (have_last_) u = u > last_.a_max ? last_.a_max : (u < last_.a_min ? last_.a_min : u);
+      if (hold) u = 0;
+      publish(u, false, kNever, true);
+      if (!hold) state_ = plant_step(state_, u, T);
+      return;
+    }
+    faulting_ = false;
+    last_ = b;
+    have_last_ = true;
+
+    const ZBounds zb = z_bounds(b, r_dot, T);
+    const ZState z = to_z(state_, ref, T);
+    const double u = hold ? 0.0 : control(z, zb);
+    publish(u, is_tracking(z, zb), transient_steps(z, zb), false);
+    if (!hold) state_ = plant_step(state_, u, T);
+  }
+
+ private:
+  void start_from_inputs(ScanContext& ctx) {
+    const double x0 = in<double>(kX0);
+    const double v0 = in<double>(kV0);
+    if (std::isfinite(x0) && std::isfinite(v0)) {
+      state_ = {x0, v0};
+    } else if (!init_fault_) {
+      ctx.fault("NONLINEAR_FILTER: non-finite x0 or v0, state kept");
+      init_fault_ = true;
+      return;
+    }
+    init_fault_ = false;
+  }
+
+  void publish(double u, bool tracking, std::int64_t steps, bool error) {
+    out<double>(kX, state_.x);
+    out<double>(kXDot, state_.v);
+    out<double>(kXDDot, u);
+    out<bool>(kTracking, tracking);
+    out<std::int64_t>(kStepsToGo, steps);
+    out<bool>(kError, error);
+  }
+
+  const bool derive_r_dot_;
+  const bool start_at_r_;
+  const double period_s_;
+  FilterState state_{};
+  FilterBounds last_{};
+  double r_prev_ = 0;
+  bool have_r_prev_ = false;
+  bool have_last_ = false;
+  bool first_ = true;
+  bool faulting_ = false;
+  bool init_fault_ = false;
+};
+
+PinDecl pin(std::string name, PinDir dir, IecType type, std::string unit, std::string doc, bool required = false,
+            std::string init = {}) {
+  PinDecl p;
+  p.name = std::move(name);
+  p.dir = dir;
+  p.type = type;
+  p.unit = std::move(unit);
+  p.doc = std::move(doc);
+  p.required = required;
+  p.init = std::move(init);
+  return p;
+}
+
+}  // namespace
+
+void register_nonlinear_filter(BlockRegistry& r) {
+  constexpr auto In = PinDir::In;
+  constexpr auto Out = PinDir::Out;
+  BlockTypeInfo t;
+  t.name = "NONLINEAR_FILTER";
+  t.category = kCategory;
+  t.doc =
+      "Velocity- and acceleration-limited discrete-time nonlinear filter (paper 004, Section II): turns a "
+      "rough reference r (steps and ramps) into a smooth x with v_min <= x_dot <= v_max and "
+      "a_min <= x_ddot <= a_max, reaching r in minimum time without overshoot, and predicts how many scans "
+      "that takes (Table I). Bounds are inputs and may change at any scan; asymmetric bounds are allowed.\n\n"
+      "Plant (eqs. 1-2), T the time since the previous scan: x' = x + T x_dot + T^2/2 u, x_dot' = x_dot + T u. "
+      "Coordinates (eqs. 5-8): y = x - r, z1 = y1/T^2 + y2/(2T), z2 = y2/T, so z1' = z1 + z2 + u, z2' = z2 + u "
+      "while r is a ramp. Velocity bounds in z: z2+ = (v_max - r_dot)/T, z2- = (v_min - r_dot)/T. "
+      "Controller C (derived; the paper does not print it): for z1 < 0, Ub = -a_min, a = -z1/Ub, "
+      "m = smallest N >= 2 with N(N-1)/2 >= a (eq. 11), target w = Ub (a/(m-1) + (m-2)/2); for z1 > 0 the "
+      "mirror image with Ub = a_max and w negative; w = 0 at z1 = 0. Then w_t = clamp(w, z2-, z2+) and "
+      "u = clamp(w_t - z2, a_min, a_max), a value beyond a bound by at most 1e-7 max(a_max, -a_min) being "
+      "applied as is. Inside the boundary layer the velocity falls by Ub per scan and z reaches 0 after m "
+      "scans; where w is cut by a velocity bound the filter cruises on the bound.\n\n"
+      "Outputs at scan k are the filter state at sample k and the acceleration u_k applied from it; a change "
+      "of r therefore moves x from the next scan on. tracking: abs(z1), abs(z2) <= 1e-6 max(a_max, -a_min). "
+      "steps_to_go: scans until tracking with the present bounds and r continuing as a ramp of slope r_dot "
+      "(Table I with the corrections of docs/motion/nonlinear-filter.md; it counts down by one per scan); "
+      "-1 when r_dot is outside [v_min, v_max], where the output runs at the velocity bound and never tracks. "
+      "r_dot, when not connected, is (r_k - r_(k-1))/T, 0 on the first scan: a step of r then looks like a "
+      "one-scan ramp. A velocity beyond a newly reduced bound is braked at the full acceleration bound first. "
+      "Start: at x = r, x_dot = r_dot (start_at_r TRUE) or at (x0, v0); reset TRUE holds the filter at "
+      "(x0, v0) with x_ddot = 0. Invalid bounds (not finite, v_min >= v_max, a_min >= 0 or a_max <= 0) or a "
+      "non-finite r/r_dot raise one block-fault event per series of invalid scans, set error, tracking FALSE "
+      "and steps_to_go -1, and stop the output with the last valid acceleration bounds (at once if there "
+      "never were valid bounds), holding position once stopped.";
+  t.reference =
+      "C. Guarino Lo Bianco, \"An efficient algorithm for the real-time generation of synchronous reference "
+      "signals\" (paper 004), Section II, eqs. (1)-(22), Fig. 3, Table I; filter of its ref. [21] "
+      "(Guarino Lo Bianco and Wahl, ICRA 2011); controller and Table I corrections in "
+      "docs/motion/nonlinear-filter.md";
+  t.pins = {
+      pin("r", In, IecType::LREAL, "m", "reference position (steps and ramps)", true),
+      pin("r_dot", In, IecType::LREAL, "m/s",
+          "reference velocity; when not connected, derived as (r_k - r_(k-1))/T (0 on the first scan)"),
+      pin("v_min", In, IecType::LREAL, "m/s", "lower velocity bound (xdot-), below v_max", true),
+      pin("v_max", In, IecType::LREAL, "m/s", "upper velocity bound (xdot+), above v_min", true),
+      pin("a_min", In, IecType::LREAL, "m/s^2", "lower acceleration bound (U-), negative", true),
+      pin("a_max", In, IecType::LREAL, "m/s^2", "upper acceleration bound (U+), positive", true),
+      pin("reset", In, IecType::BOOL, "", "while TRUE the filter is held at x = x0, x_dot = v0 (x_ddot = 0)"),
+      pin("x0", In, IecType::LREAL, "m", "start position for reset (and the first scan when start_at_r is FALSE)"),
+      pin("v0", In, IecType::LREAL, "m/s", "start velocity for reset (and the first scan when start_at_r is FALSE)"),
+      pin("x", Out, IecType::LREAL, "m", "filtered position at this scan"),
+      pin("x_dot", Out, IecType::LREAL, "m/s", "filtered velocity at this scan"),
+      pin("x_ddot", Out, IecType::LREAL, "m/s^2", "acceleration applied from this scan to the next"),
+      pin("tracking", Out, IecType::BOOL, "", "TRUE when x and x_dot equal r and r_dot (within the tolerance)"),
+      pin("steps_to_go", Out, IecType::LINT, "",
+          "scans until tracking with the present bounds and r as a ramp (0 when tracking, -1 never)"),
+      pin("error", Out, IecType::BOOL, "", "TRUE while the bounds or the reference are invalid"),
+  };
+  ParamDecl start;
+  start.name = "start_at_r";
+  start.type = IecType::BOOL;
+  start.default_value = "TRUE";
+  start.doc = "TRUE: the first scan starts at x = r, x_dot = r_dot (tracking at once); FALSE: at (x0, v0)";
+  t.params = {start};
+  t.create = [](BlockSetup& s) -> std::unique_ptr<Block> { return std::make_unique<NonlinearFilter>(s); };
+  r.add(std::move(t));
+}
+
+}  // namespace syncplc::motion

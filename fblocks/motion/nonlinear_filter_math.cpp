@@ -1,0 +1,344 @@
+// Nonlinear filter of paper 004, Section II: controller C and the transient
+// time of Table I. See nonlinear_filter_math.hpp for the notation and
+// docs/motion/nonlinear-filter.md for the derivations.
+#include "fblocks/motion/nonlinear_filter_math.hpp"
+
+#include <cmath>
+
+namespace syncplc::motion {
+namespace {
+
+constexpr double kDeadbandRel = 1e-7;  // of max(U+, -U-)
+constexpr double kTrackingRel = 1e-6;  // of max(U+, -U-)
+
+// The mirror image: z -> -z with (U-, U+, z2-, z2+) -> (-U+, -U-, -z2+, -z2-).
+ZState mirror(const ZState& z) noexcept { return {-z.z1, -z.z2}; }
+ZBounds mirror(const ZBounds& b) noexcept { return {-b.z2_max, -b.z2_min, -b.u_max, -b.u_min}; }
+
+double max_accel(const ZBounds& zb) noexcept { return std::fmax(zb.u_max, -zb.u_min); }
+
+// The controller's unclamped acceleration w_t - z2 (before saturation).
+double raw_control(const ZState& z, const ZBounds& zb) noexcept {
+  return clamped_target_velocity(z.z1, zb) - z.z2;
+}
+
+// State after k samples of constant acceleration u (eq. 12, as in eqs. 15/17):
+// z1 + k z2 + k(k+1)/2 u, z2 + k u.
+ZState after_constant(const ZState& z, double k, double u) noexcept {
+  return {z.z1 + k * z.z2 + 0.5 * k * (k + 1) * u, z.z2 + k * u};
+}
+
+// Below the BL: the controller saturates at U+.
+bool below_layer(const ZState& z, const ZBounds& zb) noexcept {
+  return raw_control(z, zb) > zb.u_max + accel_deadband(zb);
+}
+
+// Above the BL: the controller saturates at U-.
+bool above_layer(const ZState& z, const ZBounds& zb) noexcept {
+  return raw_control(z, zb) < zb.u_min - accel_deadband(zb);
+}
+
+// ceil/floor of a double that may be huge, as a double; callers check the
+// range against kMaxSteps before converting.
+double ceil_nonneg(double v) noexcept { return v > 0 ? std::ceil(v) : 0.0; }
+
+// ---- the final approach (eq. 11) ---------------------------------------------
+
+// Samples from a left-half state (z1 <= 0) inside the curved part of the BL
+// until is_tracking(): m = approach_steps(|z1|/Ub). The velocity profile of the
+// approach is Ub (m-2+f), Ub (m-3+f), ..., Ub f, 0 with
+// f = (a - (m-1)(m-2)/2)/(m-1) in (0, 1]; the state at sample m-1 is (0, Ub f),
+// already tracking when Ub f <= tol.
+struct Approach {
+  double steps = 0;
+  double m = 0;
+};
+
+Approach final_approach(double z1, const ZBounds& zb) noexcept {
+  const double ub = -zb.u_min;
+  if (z1 >= 0) return {1, 1};  // z1 = 0 and z2 != 0: u = -z2 lands on the origin
+  const double a = -z1 / ub;
+  const double m = approach_steps(a);
+  const double f = (a - 0.5 * (m - 1) * (m - 2)) / (m - 1);
+  const double steps = f * ub <= tracking_tolerance(zb) ? m - 1 : m;
+  return {steps, m};
+}
+
+// ---- the flat part of the BL: cruise on z2 = z2+ (eqs. 13-14) ---------------
+
+// In the curved part at abscissa z1: the target is not cut by z2+.
+bool curved_at(double z1, const ZBounds& zb) noexcept { return target_velocity(z1, zb) <= zb.z2_max; }
+
+struct Layer {
+  double steps = -1;  // < 0: never
+  double k_cruise = 0;
+  double m = 0;
+  bool flat = false;
+  bool on_bound = false;
+  bool closed_form = true;
+};
+
+// Samples from a state inside the BL in the left half (z1 < 0) until tracking.
+Layer layer_left(const ZState& z, const ZBounds& zb) noexcept {
+  Layer out;
+  if (curved_at(z.z1, zb)) {  // z_a
+    const Approach ap = final_approach(z.z1, zb);
+    out.steps = ap.steps;
+    out.m = ap.steps;
+    return out;
+  }
+  out.flat = true;
+  out.on_bound = std::fabs(z.z2 - zb.z2_max) <= accel_deadband(zb);  // z_b rather than z_c
+  const double v = zb.z2_max;
+  if (!(v > 0)) return out;  // behind and not allowed to move closer: never
+  // First sample: w_t = z2+, the state lands on the bound. Then u = 0 until
+  // the target drops to z2+, at z1 >= z1+ (eq. 14), j samples later.
+  const double z1b = z.z1 + v;
+  const double hi_est = ceil_nonneg((z1_plus(zb) - z1b) / v);
+  if (!(hi_est <= static_cast<double>(kMaxSteps))) return out;
+  auto first = [&](double j) { return curved_at(z1b + j * v, zb) && (j == 0 || !curved_at(z1b + (j - 1) * v, zb)); };
+  double j = hi_est;
+  if (!first(j)) {
+    out.closed_form = false;
+    // curved_at is monotone along the cruise (z1 grows, w* falls): bisect.
+    double lo = 0, hi = std::fmax(hi_est, 1.0);
+    while (!curved_at(z1b + hi * v, zb)) {
+      lo = hi;
+      hi *= 2;
+      if (hi > static_cast<double>(kMaxSteps)) return out;
+    }
+    if (curved_at(z1b + lo * v, zb)) hi = lo;
+    while (hi - lo > 1) {
+      const double mid = std::floor(0.5 * (lo + hi));
+      (curved_at(z1b + mid * v, zb) ? hi : lo) = mid;
+    }
+    j = hi;
+  }
+  // With z2+ within the tracking tolerance the cruise itself may enter it.
+  const double tol = tracking_tolerance(zb);
+  if (v <= tol) {
+    const double jt = ceil_nonneg((-tol - z1b) / v);
+    if (jt < j) {
+      out.k_cruise = 1 + jt;
+      out.steps = 1 + jt;
+      return out;
+    }
+  }
+  const Approach ap = final_approach(z1b + j * v, zb);
+  out.k_cruise = 1 + j;
+  out.m = ap.steps;
+  out.steps = 1 + j + ap.steps;
+  return out;
+}
+
+// ---- full acceleration towards the BL (eqs. 15-22) -------------------------------
+
+struct Entry {
+  double k = -1;  // < 0: never (beyond kMaxSteps)
+  bool closed_form = true;
+};
+
+// From a state below the BL (u = U+), the first sample k >= 1 at which the
+// state is no longer below it. Along a trajectory of constant U+ "below" holds
+// on a prefix only (docs/motion/nonlinear-filter.md), so the closed-form
+// candidates are verified at k and k-1 and, should all fail, a bisection
+// between the bounds k_lo and k_hi finds the index.
+Entry entry_from_below(const ZState& z, const ZBounds& zb) noexcept {
+  const double up = zb.u_max;
+  const double ub = -zb.u_min;
+  // Necessary: z2_k >= z2- - U+ (the BL's lower edge is >= z2- - U+).
+  const double k_lo = std::fmax(1.0, ceil_nonneg((zb.z2_min - up - z.z2) / up));
+  // Sufficient: z2_k >= z2+ - U+ (the edge is <= z2+ - U+): eq. (18) + 1.
+  const double k_hi = std::fmax(1.0, ceil_nonneg((zb.z2_max - up - z.z2) / up));
+  if (!(k_hi <= static_cast<double>(kMaxSteps))) return {};
+  auto below = [&](double k) { return below_layer(after_constant(z, k, up), zb); };
+  auto first = [&](double k) { return k >= k_lo && k <= k_hi && !below(k) && (k == 1 || below(k - 1)); };
+  // Candidates: the necessary bound (mirror of z_d), eq. (20) rounded up
+  // (eq. 21) and down (eq. 22), the crossing of z1 = 0 when (20) has no real
+  // root, and the flat-part entry (eq. 18).
+  if (first(k_lo)) return {k_lo};
+  const double disc = z.z2 * z.z2 + up * z.z2 - 2 * up * z.z1;
+  if (disc >= 0) {
+    const double k20 = -1 - z.z2 / up + std::sqrt((up + ub) * ub * disc) / (up * (up + ub));
+    if (first(std::ceil(k20))) return {std::ceil(k20)};
+    if (first(std::floor(k20))) return {std::floor(k20)};
+  } else {
+    const double k0 = std::floor((-up - z.z2) / up) + 1;
+    if (first(k0)) return {k0};
+  }
+  if (first(k_hi)) return {k_hi};
+  // Fallback: bisection for the first k in [k_lo, k_hi] that is not below.
+  double lo = k_lo - 1, hi = k_hi;  // below(lo) or lo = k_lo - 1; !below(hi)
+  while (hi - lo > 1) {
+    const double mid = std::floor(0.5 * (lo + hi));
+    (below(mid) ? lo : hi) = mid;
+  }
+  return {hi, false};
+}
+
+}  // namespace
+
+// ---- validation and coordinates ----------------------------------------------
+
+bool bounds_valid(const FilterBounds& b) noexcept {
+  return std::isfinite(b.v_min) && std::isfinite(b.v_max) && std::isfinite(b.a_min) && std::isfinite(b.a_max) &&
+         b.v_min < b.v_max && b.a_min < 0 && b.a_max > 0;
+}
+
+ZState to_z(const FilterState& s, const Reference& ref, double T) noexcept {
+  const double y1 = s.x - ref.r;
+  const double y2 = s.v - ref.v;
+  return {y1 / (T * T) + y2 / (2 * T), y2 / T};
+}
+
+FilterState from_z(const ZState& z, const Reference& ref, double T) noexcept {
+  const double y2 = T * z.z2;
+  const double y1 = T * T * (z.z1 - 0.5 * z.z2);
+  return {ref.r + y1, ref.v + y2};
+}
+
+ZBounds z_bounds(const FilterBounds& b, double r_dot, double T) noexcept {
+  return {(b.v_min - r_dot) / T, (b.v_max - r_dot) / T, b.a_min, b.a_max};
+}
+
+double z1_plus(const ZBounds& zb) noexcept {
+  if (!(zb.z2_max > 0)) return 0;
+  const double q = std::floor(-zb.z2_max / zb.u_min);
+  return -(q + 1) * (zb.z2_max + q * zb.u_min / 2);
+}
+
+double z1_minus(const ZBounds& zb) noexcept { return -z1_plus(mirror(zb)); }
+
+// ---- plant --------------------------------------------------------------------
+
+FilterState plant_step(const FilterState& s, double u, double T) noexcept {
+  return {s.x + T * s.v + 0.5 * T * T * u, s.v + T * u};
+}
+
+ZState z_step(const ZState& z, double u) noexcept { return {z.z1 + z.z2 + u, z.z2 + u}; }
+
+// ---- controller C ---------------------------------------------------------------
+
+double approach_steps(double a) noexcept {
+  if (!(a > 0)) return 2;
+  double n = std::ceil(0.5 + std::sqrt(0.25 + 2 * a));  // eq. (11)
+  if (!(n < 9.0e15)) return n;                          // beyond exact integers: as computed
+  if (n < 2) n = 2;
+  // Correct a rounding of the square root by one either way.
+  for (int i = 0; i < 2 && n > 2 && 0.5 * (n - 1) * (n - 2) >= a; ++i) n -= 1;
+  for (int i = 0; i < 2 && 0.5 * n * (n - 1) < a; ++i) n += 1;
+  return n;
+}
+
+double target_velocity(double z1, const ZBounds& zb) noexcept {
+  if (z1 == 0) return 0;
+  const double ub = z1 < 0 ? -zb.u_min : zb.u_max;  // braking bound of the final approach
+  const double a = std::fabs(z1) / ub;
+  const double m = approach_steps(a);
+  const double w = ub * (a / (m - 1) + 0.5 * (m - 2));
+  return z1 < 0 ? w : -w;
+}
+
+double clamped_target_velocity(double z1, const ZBounds& zb) noexcept {
+  const double w = target_velocity(z1, zb);
+  return w > zb.z2_max ? zb.z2_max : (w < zb.z2_min ? zb.z2_min : w);
+}
+
+double accel_deadband(const ZBounds& zb) noexcept { return kDeadbandRel * max_accel(zb); }
+
+double control(const ZState& z, const ZBounds& zb) noexcept {
+  const double u = raw_control(z, zb);
+  const double eps = accel_deadband(zb);
+  if (u > zb.u_max + eps) return zb.u_max;
+  if (u < zb.u_min - eps) return zb.u_min;
+  return u;
+}
+
+FilterStep filter_step(const FilterState& s, const Reference& ref, const FilterBounds& b, double T) noexcept {
+  const double u = control(to_z(s, ref, T), z_bounds(b, ref.v, T));
+  return {plant_step(s, u, T), u};
+}
+
+// ---- predicates -----------------------------------------------------------------
+
+double tracking_tolerance(const ZBounds& zb) noexcept { return kTrackingRel * max_accel(zb); }
+
+bool is_tracking(const ZState& z, const ZBounds& zb) noexcept {
+  const double tol = tracking_tolerance(zb);
+  return std::fabs(z.z1) <= tol && std::fabs(z.z2) <= tol;
+}
+
+bool in_boundary_layer(const ZState& z, const ZBounds& zb) noexcept {
+  const double u = raw_control(z, zb);
+  const double eps = accel_deadband(zb);
+  return u <= zb.u_max + eps && u >= zb.u_min - eps;
+}
+
+bool in_final_approach(const ZState& z, const ZBounds& zb) noexcept {
+  const double w = target_velocity(z.z1, zb);
+  return in_boundary_layer(z, zb) && w <= zb.z2_max && w >= zb.z2_min;
+}
+
+// ---- transient time (Table I) ------------------------------------------------------
+
+TransientInfo transient_info(const ZState& z0, const ZBounds& zb) noexcept {
+  TransientInfo info;
+  if (!(zb.z2_max >= 0 && zb.z2_min <= 0) || !std::isfinite(z0.z1) || !std::isfinite(z0.z2)) return info;
+  if (is_tracking(z0, zb)) {
+    info.steps = 0;
+    info.region = TransientRegion::Tracking;
+    return info;
+  }
+  // 1. Full acceleration until the BL (z_d, z_e, z_f and their mirrors). In
+  //    exact arithmetic one saturated phase at most; the loop tolerates a
+  //    second one from rounding.
+  ZState z = z0;
+  double k_entry = 0;
+  int sat = 0;  // +1: came from below (U+), -1: from above (U-), in the original frame
+  bool closed_form = true;
+  for (int phase = 0; phase < 3; ++phase) {
+    Entry e;
+    if (below_layer(z, zb)) {
+      e = entry_from_below(z, zb);
+      if (e.k < 0) return info;
+      z = after_constant(z, e.k, zb.u_max);
+      sat = +1;
+    } else if (above_layer(z, zb)) {
+      e = entry_from_below(mirror(z), mirror(zb));
+      if (e.k < 0) return info;
+      z = after_constant(z, e.k, zb.u_min);
+      sat = -1;
+    } else {
+      break;
+    }
+    k_entry += e.k;
+    closed_form = closed_form && e.closed_form;
+  }
+  // 2. Inside the BL: the half decides the frame (mirror for z1 > 0).
+  const bool mirrored = z.z1 > 0;
+  const ZState zc = mirrored ? mirror(z) : z;
+  const ZBounds bc = mirrored ? mirror(zb) : zb;
+  const int sat_c = mirrored ? -sat : sat;
+  const Layer layer = layer_left(zc, bc);
+  if (layer.steps < 0) return info;
+  const double total = k_entry + layer.steps;
+  if (!(total <= static_cast<double>(kMaxSteps))) return info;
+  info.steps = static_cast<std::int64_t>(total);
+  info.mirrored = mirrored;
+  info.k_entry = static_cast<std::int64_t>(k_entry);
+  info.k_cruise = static_cast<std::int64_t>(layer.k_cruise);
+  info.m = static_cast<std::int64_t>(layer.m);
+  info.closed_form = closed_form && layer.closed_form;
+  if (sat_c == 0) info.region = layer.flat ? (layer.on_bound ? TransientRegion::B : TransientRegion::C) : TransientRegion::A;
+  else if (sat_c > 0) info.region = layer.flat ? TransientRegion::E : TransientRegion::F;
+  else info.region = layer.flat ? TransientRegion::D : TransientRegion::G;
+  return info;
+}
+
+std::int64_t transient_steps(const ZState& z, const ZBounds& zb) noexcept { return transient_info(z, zb).steps; }
+
+std::int64_t transient_steps(const FilterState& s, const Reference& ref, const FilterBounds& b, double T) noexcept {
+  return transient_steps(to_z(s, ref, T), z_bounds(b, ref.v, T));
+}
+
+}  // namespace syncplc::motion
