@@ -10,5 +10,7 @@ inline constexpr const char* kCategory = "Motion";
 
 // NONLINEAR_FILTER (nonlinear_filter.cpp): paper 004, Section II.
 void register_nonlinear_filter(BlockRegistry& r);
+// TRANSIENT_SYNC (transient_sync.cpp): paper 004, Section III.
+void register_transient_sync(BlockRegistry& r);
 
 }  // namespace syncplc::motion

@@ -5,6 +5,7 @@ namespace syncplc {
 
 void register_motion_blocks(BlockRegistry& r) {
   motion::register_nonlinear_filter(r);
+  motion::register_transient_sync(r);
 }
 
 }  // namespace syncplc
