@@ -80,7 +80,7 @@ class TransientSync final : public Block {
         start_at_r_(s.param<bool>("start_at_r")),
         period_s_(static_cast<double>(s.task_period_ns()) * 1e-9),
         x_(n_), v_(n_), r_prev_(n_), vmin_prev_(n_), vmax_prev_(n_), last_(n_), z_(n_), zb_(n_), ref_(n_),
-        steps_(n_), arrival_(n_), flags_(n_) {}
+        steps_(n_), arrival_(n_), flags_(n_), pred_(n_) {}
 
   void execute(ScanContext& ctx) override {
     const double T = ctx.dt_ns > 0 ? static_cast<double>(ctx.dt_ns) * 1e-9 : period_s_;
@@ -100,7 +100,7 @@ class TransientSync final : public Block {
       r_prev_[i] = r;
       const FilterBounds b{in<double>(kVMin, i), in<double>(kVMax, i), in<double>(kAMin, i), in<double>(kAMax, i)};
       const bool valid = std::isfinite(r) && std::isfinite(r_dot) && bounds_valid(b);
-      std::uint8_t f = flags_[i];
+      std::uint16_t f = flags_[i];
       if (first) {
         if (start_at_r_ && std::isfinite(r) && std::isfinite(r_dot)) {
           x_[i] = r;
@@ -113,7 +113,7 @@ class TransientSync final : public Block {
       ref_[i] = Reference{r, r_dot};
       std::int64_t n = kNever;
       if (valid) {
-        if (f & kFaulting) f &= static_cast<std::uint8_t>(~kFaulting);
+        if (f & kFaulting) f &= static_cast<std::uint16_t>(~kFaulting);
         last_[i] = b;
         f |= kValid | kHaveLast;
         if (first) {  // nothing was applied before: the nominal bounds
@@ -127,6 +127,8 @@ class TransientSync final : public Block {
         if (is_tracking(z, zb)) {
           f |= kTrackingNow;
           n = 0;
+        } else if ((f & kPredicted) && pred_[i].matches(r, r_dot, b, T)) {
+          n = pred_[i].n;  // the look-ahead guard of the previous scan computed it for this very state
         } else {
           n = transient_steps(z, zb);
         }
@@ -150,7 +152,7 @@ class TransientSync final : public Block {
       window_scans_ = 0;
       for (std::uint32_t i = 0; i < n_; ++i) {
         arrival_[i] = -1;
-        flags_[i] &= static_cast<std::uint8_t>(~kParticipant);
+        flags_[i] &= static_cast<std::uint16_t>(~kParticipant);
       }
     }
 
@@ -159,7 +161,7 @@ class TransientSync final : public Block {
     std::int64_t scaled = 0;
     double e_scan = 0;
     for (std::uint32_t i = 0; i < n_; ++i) {
-      std::uint8_t f = flags_[i];
+      std::uint16_t f = flags_[i];
       const FilterState s{x_[i], v_[i]};
       double u = 0;
       double vmin_applied = 0, vmax_applied = 0;
@@ -173,10 +175,15 @@ class TransientSync final : public Block {
         bool applied_scaled = false;
         bool nominal = rule_ == SyncRule::Off || (f & kTrackingNow) || n == kNever || n >= t_max;
         if (!nominal) {
-          // Final approach under the bounds applied at the previous scan.
-          const ZBounds zb_prev =
-              z_bounds(FilterBounds{vmin_prev_[i], vmax_prev_[i], b.a_min, b.a_max}, ref_[i].v, T);
-          nominal = in_final_approach(z, zb_prev);
+          // Final approach under the reduced bounds applied at the previous
+          // scan: the filter has committed to its arrival, leave it alone. (Not
+          // after nominal bounds: a small transient can start in the curved
+          // layer and must still be slowed down.)
+          if (f & kPrevReduced) {
+            const ZBounds zb_prev =
+                z_bounds(FilterBounds{vmin_prev_[i], vmax_prev_[i], b.a_min, b.a_max}, ref_[i].v, T);
+            nominal = in_final_approach(z, zb_prev);
+          }
         }
         if (!nominal) {
           const ScaledBounds sb = scale_bounds(rule_, s.x, s.v, ref_[i].r, ref_[i].v, tf, b.v_min, b.v_max,
@@ -191,8 +198,11 @@ class TransientSync final : public Block {
             const ZState zn = to_z(next, ref_next, T);
             const std::int64_t n_next = is_tracking(zn, zb) ? 0 : transient_steps(zn, zb);
             if (n_next != kNever && n_next <= t_max - 1) {
+              pred_[i] = Prediction{ref_next.r, ref_next.v, T, b, n_next};
+              f |= kPredictedNow;
               u = us;
               applied_scaled = true;
+              f |= kReducedNow;
               vmin_applied = sb.v_min;
               vmax_applied = sb.v_max;
               ++scaled;
@@ -224,7 +234,11 @@ class TransientSync final : public Block {
         if (!tracking) f |= kParticipant;
         else if (!(f & kWasTracking)) arrival_[i] = window_scans_;  // (re)arrived at this scan
       }
-      f = static_cast<std::uint8_t>((f & ~(kValid | kTrackingNow | kWasTracking)) | (tracking ? kWasTracking : 0));
+      if (hold) f &= static_cast<std::uint16_t>(~kPredictedNow);
+      f = static_cast<std::uint16_t>(
+          (f & ~(kValid | kTrackingNow | kWasTracking | kPrevReduced | kReducedNow | kPredicted | kPredictedNow)) |
+          (tracking ? kWasTracking : 0) | ((f & kReducedNow) ? kPrevReduced : 0) |
+          ((f & kPredictedNow) ? kPredicted : 0));
       flags_[i] = f;
       vmin_prev_[i] = vmin_applied;
       vmax_prev_[i] = vmax_applied;
@@ -265,13 +279,30 @@ class TransientSync final : public Block {
   }
 
  private:
-  enum : std::uint8_t {
+  enum : std::uint16_t {
     kValid = 1,         // this scan: bounds and reference valid
     kTrackingNow = 2,   // this scan: tracking at sample k
     kWasTracking = 4,   // tracking at the previous scan
     kParticipant = 8,   // not tracking at some scan of the open window
     kFaulting = 16,     // inside a series of invalid scans (one fault per series)
     kHaveLast = 32,     // last_ holds valid bounds
+    kPrevReduced = 64,    // a reduced (scaled or parked) bound was applied at the previous scan
+    kReducedNow = 128,    // this scan: a reduced bound is applied
+    kPredicted = 256,     // pred_ holds the nominal transient time of the present state
+    kPredictedNow = 512,  // this scan: pred_ set for the next state
+  };
+
+  // The look-ahead guard's nominal transient time of the next state, with the
+  // reference, bounds and period it assumed. Reused by the next scan when its
+  // inputs are exactly those (the same function on the same inputs).
+  struct Prediction {
+    double r = 0, r_dot = 0, T = 0;
+    FilterBounds b{};
+    std::int64_t n = 0;
+    bool matches(double r_, double r_dot_, const FilterBounds& b_, double T_) const noexcept {
+      return r == r_ && r_dot == r_dot_ && T == T_ && b.v_min == b_.v_min && b.v_max == b_.v_max &&
+             b.a_min == b_.a_min && b.a_max == b_.a_max;
+    }
   };
 
   void start_from_inputs(std::uint32_t i) {
@@ -295,7 +326,8 @@ class TransientSync final : public Block {
   std::vector<Reference> ref_;
   std::vector<std::int64_t> steps_;    // n_i of this scan (kNever: cannot track or invalid)
   std::vector<std::int64_t> arrival_;  // scan of the window at which the axis last began tracking
-  std::vector<std::uint8_t> flags_;
+  std::vector<std::uint16_t> flags_;
+  std::vector<Prediction> pred_;
   bool first_ = true;
   bool window_open_ = false;
   double energy_ = 0, energy_last_ = 0;
