@@ -187,7 +187,7 @@ class TransientSync final : public Block {
         }
         if (!nominal) {
           const ScaledBounds sb = scale_bounds(rule_, s.x, s.v, ref_[i].r, ref_[i].v, tf, b.v_min, b.v_max,
-                                               b.a_min, b.a_max);
+                                               b.a_min, b.a_max, T);
           if (sb.action != BoundAction::Nominal) {
             const ZBounds zs = z_bounds(FilterBounds{sb.v_min, sb.v_max, b.a_min, b.a_max}, ref_[i].v, T);
             const double us = control(z, zs);

@@ -34,10 +34,19 @@ CruiseRoots eq34_roots(double x0, double v0, double r0, double rdot, double tf, 
   return r;
 }
 
+double stopping_offset(double x0, double v0, double r0, double rdot, double u_min, double u_max) noexcept {
+  const double w0 = v0 - rdot;
+  return (x0 - r0) + (w0 > 0 ? w0 * w0 / (2 * -u_min) : -w0 * w0 / (2 * u_max));
+}
+
 double cruise_bound_up(double x0, double v0, double r0, double rdot, double tf, double u_min, double u_max,
                        bool brake_first) noexcept {
-  const double gap = r0 - x0;  // D > 0: the reference is ahead
-  if (!(gap > 0) || !(tf > 0) || !(u_min < 0) || !(u_max > 0)) return kNaN;
+  const double gap = r0 - x0;  // D: how far the reference is ahead
+  if (!(tf > 0) || !(u_min < 0) || !(u_max > 0)) return kNaN;
+  // Printed form: the reference ahead. Extended form: the filter ends behind
+  // the reference when it brakes now (it may be past the reference, moving
+  // back towards it).
+  if (brake_first ? !(stopping_offset(x0, v0, r0, rdot, u_min, u_max) < 0) : !(gap > 0)) return kNaN;
   const double a = u_max, d = u_min;
   const double w0 = v0 - rdot;  // velocity relative to the reference
   if (brake_first && w0 > 0) {
@@ -71,12 +80,38 @@ double cruise_bound_down(double x0, double v0, double r0, double rdot, double tf
   return -cruise_bound_up(-x0, -v0, -r0, -rdot, tf, -u_max, -u_min, brake_first);
 }
 
+double discrete_stopping_offset(double x0, double v0, double r0, double rdot, double u_min, double u_max,
+                                double T) noexcept {
+  const double w = v0 - rdot;
+  const double z2 = w / T;
+  double z1 = (x0 - r0) / (T * T) + w / (2 * T);  // eq. (6)
+  if (z2 > 0) {
+    const double ub = -u_min, j = std::floor(z2 / ub);
+    z1 += j * z2 - ub * j * (j + 1) / 2;
+  } else if (z2 < 0) {
+    const double ub = u_max, j = std::floor(-z2 / ub);
+    z1 += j * z2 + ub * j * (j + 1) / 2;
+  }
+  return z1 * T * T;
+}
+
 ScaledBounds scale_bounds(SyncRule rule, double x0, double v0, double r0, double rdot, double tf, double v_min,
-                          double v_max, double u_min, double u_max) noexcept {
+                          double v_max, double u_min, double u_max, double T) noexcept {
   ScaledBounds out{v_min, v_max, BoundAction::Nominal};
   if (rule == SyncRule::Off || !(tf > 0) || !(v_min <= rdot && rdot <= v_max)) return out;
   const bool brake_first = rule == SyncRule::Unified;
-  if (r0 > x0) {
+  if (brake_first && T > 0) {
+    // Feed the continuous model the discrete filter's stopping point: shift x0
+    // so that its continuous stopping offset equals the discrete one.
+    const double shift = discrete_stopping_offset(x0, v0, r0, rdot, u_min, u_max, T) -
+                         stopping_offset(x0, v0, r0, rdot, u_min, u_max);
+    if (std::isfinite(shift)) x0 += shift;
+  }
+  // The side of the final approach: the paper's sign of r0 - x0, or (unified)
+  // the side on which the filter comes to rest relative to the reference when
+  // it brakes at once, which differs when it cannot stop before passing it.
+  const double side = rule == SyncRule::Paper ? x0 - r0 : stopping_offset(x0, v0, r0, rdot, u_min, u_max);
+  if (side < 0) {
     if (rule == SyncRule::Paper && rdot < 0) {  // Fig. 7: park with x+ = 0
       out.v_max = std::fmin(0.0, v_max);
       out.action = BoundAction::ParkedUpper;
@@ -87,7 +122,7 @@ ScaledBounds scale_bounds(SyncRule rule, double x0, double v0, double r0, double
       out.v_max = v;
       out.action = BoundAction::ScaledUpper;
     }
-  } else if (r0 < x0) {
+  } else if (side > 0) {
     if (rule == SyncRule::Paper && rdot > 0) {  // mirror of Fig. 7: x- = 0
       out.v_min = std::fmax(0.0, v_min);
       out.action = BoundAction::ParkedLower;

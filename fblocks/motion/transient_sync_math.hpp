@@ -26,11 +26,16 @@
 // gap cannot be closed with a positive cruise speed relative to the reference:
 // in both cases the nominal bounds stay.
 //
-// Extension (unified rule): eqs. (25)-(27) assume v0 <= v̂ (the first phase
-// accelerates). When the filter already moves towards the reference faster
-// than the solution, its controller first brakes with U- down to the new bound;
-// that profile is linear in v̂ (see cruise_bound_up). The paper's rule keeps
-// the printed closed form.
+// Extensions (unified rule). (a) Eqs. (25)-(27) assume v0 <= v̂ (the first
+// phase accelerates). When the filter already moves towards the reference
+// faster than the solution, its controller first brakes with U- down to the
+// new bound; that profile is linear in v̂ (see cruise_bound_up). (b) The side
+// of the final approach is not the sign of r0 - x0 but that of the stopping
+// offset (where the filter would come to rest relative to the reference if it
+// braked at once): a filter just behind the reference but too fast to stop
+// before it ends up ahead, and is synchronized with (34), whose quadratic holds
+// for either sign of dx. The paper's rule keeps the printed closed form and
+// the sign of r0 - x0.
 #pragma once
 
 #include <cstdint>
@@ -70,30 +75,51 @@ CruiseRoots eq33_roots(double x0, double v0, double r0, double rdot, double tf, 
 CruiseRoots eq34_roots(double x0, double v0, double r0, double rdot, double tf, double u_min,
                        double u_max) noexcept;
 
+// Where the filter comes to rest relative to the reference if it brakes at
+// once with its acceleration bounds (continuous time): (x0 - r0) + dv|dv|/(2Ub),
+// dv = v0 - rdot, Ub = -U- for dv > 0 and U+ for dv < 0. Negative: it ends
+// behind the reference.
+double stopping_offset(double x0, double v0, double r0, double rdot, double u_min, double u_max) noexcept;
+
 // The cruise velocity v̂ that makes the continuous profile of a filter behind
-// its reference (r0 > x0) meet it exactly at tf, or NaN if there is none
-// (radicand negative, tf <= 0, gap not positive, v̂ <= rdot, or the gap too
-// short to brake without overshoot). brake_first = false: eq. (33) as printed
-// (smaller root). brake_first = true: also the profile that starts by braking
-// with U- when v0 is above the solution (linear:
+// its reference meet it exactly at tf, or NaN if there is none (radicand
+// negative, tf <= 0, v̂ <= rdot, or no solution of the branch). brake_first =
+// false: eq. (33) as printed (smaller root), for r0 > x0. brake_first = true
+// (unified): for stopping_offset < 0, eq. (33) or, when v0 is above the
+// solution, the profile that starts by braking with U- (linear:
 // v̂ - rdot = (D - dv^2/(2|U-|)) / (tf - dv/|U-|), D = r0 - x0).
 double cruise_bound_up(double x0, double v0, double r0, double rdot, double tf, double u_min, double u_max,
                        bool brake_first) noexcept;
-// Mirror image for a filter ahead of its reference (r0 < x0): the new lower
-// bound v̂ < rdot of eq. (34), or NaN.
+// Mirror image for a filter ahead of its reference (r0 < x0, or
+// stopping_offset > 0 with brake_first): the new lower bound v̂ < rdot of
+// eq. (34), or NaN.
 double cruise_bound_down(double x0, double v0, double r0, double rdot, double tf, double u_min, double u_max,
                          bool brake_first) noexcept;
+
+// The same for the discrete filter with sampling time T > 0: the relative
+// position at which it comes to rest if it brakes at full acceleration from
+// now, in z-coordinates (eq. 6) z1 + sum of the next J velocities,
+// J = floor(|z2|/Ub) full braking samples (a last partial sample lands on
+// z2 = 0 without moving z1), times T^2. It differs from stopping_offset by up
+// to about |dv| T/2 + Ub T^2: near zero the two can disagree on the side.
+double discrete_stopping_offset(double x0, double v0, double r0, double rdot, double u_min, double u_max,
+                                double T) noexcept;
 
 // Decision of one filter's applied velocity bounds, given that the
 // synchronizer wants it to arrive at tf (> 0). Nominal bounds v_min < rdot <
 // v_max and u_min < 0 < u_max. Applied bounds never leave [v_min, v_max] and
-// always keep v_min <= rdot <= v_max.
+// always keep v_min <= rdot <= v_max. With the unified rule and T > 0, x0 is
+// first shifted so that the continuous stopping offset equals the discrete
+// one (side and gap then agree with what the discrete filter can do; without
+// it a filter whose braking ends within a few mm of the reference was
+// released early in about 1 of 1000 random transients at 10 ms); T = 0: the
+// continuous model as is.
 struct ScaledBounds {
   double v_min = 0;
   double v_max = 0;
   BoundAction action = BoundAction::Nominal;
 };
 ScaledBounds scale_bounds(SyncRule rule, double x0, double v0, double r0, double rdot, double tf, double v_min,
-                          double v_max, double u_min, double u_max) noexcept;
+                          double v_max, double u_min, double u_max, double T = 0) noexcept;
 
 }  // namespace syncplc::motion

@@ -175,6 +175,82 @@ TEST(TransientSyncMath, BrakeFirstBranchVersusPrintedForm) {
   EXPECT_TRUE(std::isnan(cruise_bound_up(0, 6, 5.0, 0, 0.1, um, up, true)));
 }
 
+TEST(TransientSyncMath, TooFastToStopIsSynchronizedFromTheOtherSide) {
+  // 1 mm behind the reference, closing at 1 m/s: braking takes 2 cm, so the
+  // filter ends ahead of the reference and comes back (eq. 34 with dx < 0).
+  const double x0 = 0, v0 = 1.0, r0 = 0.001, rdot = 0, tf = 1.0, um = -25, up = 40;
+  EXPECT_GT(stopping_offset(x0, v0, r0, rdot, um, up), 0);
+  EXPECT_TRUE(std::isnan(cruise_bound_up(x0, v0, r0, rdot, tf, um, up, true)));
+  const double v = cruise_bound_down(x0, v0, r0, rdot, tf, um, up, true);
+  ASSERT_FALSE(std::isnan(v));
+  EXPECT_LT(v, rdot);
+  const auto p = integrate(x0, v0, v, rdot, tf, um, up);
+  EXPECT_GE(p.t2, 0);
+  EXPECT_NEAR(p.x_end, r0 + rdot * tf, 1e-8);
+  const auto u = scale_bounds(SyncRule::Unified, x0, v0, r0, rdot, tf, -6, 6, um, up);
+  EXPECT_EQ(u.action, BoundAction::ScaledLower);
+  EXPECT_DOUBLE_EQ(u.v_min, v);
+  // The paper's rule decides by r0 > x0 and applies (33) as printed, whose
+  // profile cannot meet the reference at tf here.
+  const auto pr = scale_bounds(SyncRule::Paper, x0, v0, r0, rdot, tf, -6, 6, um, up);
+  if (pr.action == BoundAction::ScaledUpper) {
+    const auto q = integrate(x0, v0, pr.v_max, rdot, tf, um, up);
+    EXPECT_GT(std::fabs(q.x_end - r0), 1e-3);
+  }
+  // Mirror: 1 mm ahead, closing from above.
+  const double vm = cruise_bound_up(-x0, -v0, -r0, -rdot, tf, -up, -um, true);
+  EXPECT_NEAR(vm, -v, 1e-12);
+  // Stopping offsets: at rest it is x0 - r0; moving it adds the braking distance.
+  EXPECT_DOUBLE_EQ(stopping_offset(1, 0, 3, 0, um, up), -2);
+  EXPECT_DOUBLE_EQ(stopping_offset(0, 5, 0, 0, um, up), 25.0 / 50);
+  EXPECT_DOUBLE_EQ(stopping_offset(0, -4, 0, 0, um, up), -16.0 / 80);
+}
+
+// Full braking simulated in z-coordinates (eqs. 7-8): z1 where z2 reaches 0.
+double simulated_stop(double x0, double v0, double r0, double rdot, double um, double up, double T) {
+  double z2 = (v0 - rdot) / T, z1 = (x0 - r0) / (T * T) + (v0 - rdot) / (2 * T);
+  while (z2 != 0) {
+    const double u = z2 > 0 ? std::fmax(um, -z2) : std::fmin(up, -z2);
+    z2 += u;
+    z1 += z2;
+  }
+  return z1 * T * T;
+}
+
+TEST(TransientSyncMath, DiscreteStoppingOffset) {
+  std::mt19937_64 rng(77);
+  std::uniform_real_distribution<double> uni(-1, 1);
+  for (int k = 0; k < 2000; ++k) {
+    const Bounds& b = kTable2[k % 3];
+    const double T = k % 2 ? 0.01 : 0.001;
+    const double x0 = uni(rng), r0 = uni(rng), v0 = 6 * uni(rng), rdot = 3 * uni(rng);
+    const double d = discrete_stopping_offset(x0, v0, r0, rdot, b.u_min, b.u_max, T);
+    EXPECT_NEAR(d, simulated_stop(x0, v0, r0, rdot, b.u_min, b.u_max, T), 1e-12) << k;
+    // Within about |dv| T/2 + Ub T^2 of the continuous offset.
+    const double ub = std::fmax(-b.u_min, b.u_max);
+    EXPECT_LE(std::fabs(d - stopping_offset(x0, v0, r0, rdot, b.u_min, b.u_max)),
+              std::fabs(v0 - rdot) * T / 2 + ub * T * T + 1e-12)
+        << k;
+  }
+}
+
+TEST(TransientSyncMath, KnifeEdgeSideFollowsTheDiscreteFilter) {
+  // Found in a 100-axis random run at 10 ms (Table II, signal 1): at rest 19 mm
+  // below a reference that descends at 0.97 m/s. Braking to the reference's
+  // speed ends 15 um behind it in continuous time but 0.1 mm ahead of it in
+  // discrete time; with the continuous side the filter landed on the
+  // reference 156 scans early.
+  const double x0 = -7.346804271, v0 = 0, r0 = -7.327798996, rdot = -0.974416109, um = -25, up = 40, T = 0.01;
+  EXPECT_LT(stopping_offset(x0, v0, r0, rdot, um, up), 0);
+  EXPECT_GT(discrete_stopping_offset(x0, v0, r0, rdot, um, up, T), 0);
+  const double tf = 161 * T;
+  EXPECT_EQ(scale_bounds(SyncRule::Unified, x0, v0, r0, rdot, tf, -6, 6, um, up).action, BoundAction::ScaledUpper);
+  const auto s = scale_bounds(SyncRule::Unified, x0, v0, r0, rdot, tf, -6, 6, um, up, T);
+  EXPECT_EQ(s.action, BoundAction::ScaledLower);
+  EXPECT_LT(s.v_min, rdot);
+  EXPECT_GT(s.v_min, rdot - 1e-3);  // a creep of well under 1 mm/s relative to the reference
+}
+
 TEST(TransientSyncMath, DegenerateCasesGiveNoBound) {
   EXPECT_TRUE(std::isnan(cruise_bound_up(1, 0, 1, 0, 1, -25, 40, true)));   // no gap
   EXPECT_TRUE(std::isnan(cruise_bound_up(2, 0, 1, 0, 1, -25, 40, true)));   // wrong side
