@@ -13,13 +13,19 @@
 //   1. n_i = Table I steps from sample k with the nominal bounds (-1: never);
 //      t_M = the largest finite n_i.
 //   2. nominal bounds if: rule off, tracking, cannot track, n_i = t_M (the
-//      slowest), or in the final approach judged with the bounds applied at
-//      scan k-1;
-//   3./4. otherwise the velocity bound scaled by eq. (33) (r > x) or (34)
-//      (r < x) with tf = t_M T (unified rule), or the paper's sign-of-rdot rule
-//      with zero-bound parking;
+//      slowest), or in the final approach of the reduced bound it ran on at
+//      scan k-1 (motion-math.md judges the final approach with the bounds
+//      applied at the previous scan; after nominal bounds that would also
+//      exempt a small transient that starts in the curved layer, which then
+//      arrives early, so only reduced bounds count);
+//   3./4. otherwise the velocity bound scaled by eq. (33) (ends behind the
+//      reference) or (34) (ends ahead) with tf = t_M T: unified rule, side
+//      from the discrete stopping point (transient_sync_math.hpp), or the
+//      paper's sign-of-rdot rule with zero-bound parking;
 //   5. look-ahead guard: the reduced bound is kept only if the nominal
-//      transient time of the resulting state k+1 is at most t_M - 1;
+//      transient time of the resulting state k+1 is at most t_M - 1 (that
+//      prediction is reused as n_i at scan k+1 when the inputs are exactly the
+//      ones it assumed);
 //   6. outputs at sample k, then state_{k+1} = plant_step(state_k, u_k, T).
 // Everything is recomputed every scan; execute() allocates nothing.
 #include <cmath>
@@ -374,25 +380,27 @@ void register_transient_sync(BlockRegistry& r) {
       "(those of NONLINEAR_FILTER, Section II) turn n rough references r[i] (steps and ramps) into smooth "
       "x[i]; every scan the velocity bound of each filter that is faster than the slowest is reduced so that "
       "all transients end on the same scan, which also lowers the viscous-friction energy index "
-      "E = integral of x_dot^2 (eq. 24).\n\n"
+      "E = integral of x_dot^2 dt (24).\n\n"
       "Every scan k, T the time since the previous scan, for every axis: (1) n_i = transient time with the "
       "nominal bounds (Table I; -1 when r_dot is outside [v_min, v_max]); t_M = the largest finite n_i "
       "(output arrival). (2) The nominal bounds stay for axes that track, cannot track, have n_i = t_M, or "
-      "are in their final approach (the curved part of the boundary layer) under the bounds applied at the "
-      "previous scan. (3) The others get, with tf = t_M T, dU = a_min - a_max, dv = x_dot - r_dot, "
-      "dx = x - r: if r > x, v_max := v^ = (a_min a_max tf + a_min x_dot - a_max r_dot + G1)/dU, "
-      "G1 = sqrt(a_min a_max (tf a_min (tf a_max + 2 dv) + 2 dx dU + dv^2)) (eq. 33, the smaller root: both "
-      "can be positive); if r < x, v_min := v^ = -(a_min a_max tf + a_max x_dot - a_min r_dot + G2)/dU, "
-      "G2 = sqrt(a_min a_max (tf a_max (tf a_min + 2 dv) - 2 dx dU + dv^2)) (eq. 34). These make the "
-      "continuous profile (accelerate to v^, cruise, brake to r_dot; eqs. 25-32 with eq. 31 read as "
-      "s_f2 = r_dot tf) meet the reference at tf. A negative radicand, or v^ not strictly between r_dot and "
-      "the nominal bound, keeps the nominal bounds. rule 0 (unified, default) applies (33) whenever r > x "
-      "and (34) whenever r < x, and when x_dot already exceeds the solution it models a first phase that "
-      "brakes with a_min (linear in v^); rule 1 (paper) applies (33) only with r_dot >= 0 and (34) only with "
-      "r_dot <= 0 and otherwise parks the filter with v_max := min(0, v_max) (resp. v_min := max(0, v_min)) "
-      "as in Fig. 7; rule 2 (off) never scales: n independent filters. (5) Look-ahead guard: a reduced bound "
-      "is applied only if the nominal transient time of the state it leads to at k+1 is at most t_M - 1; "
-      "otherwise the nominal bounds are used this scan. All of it is recomputed every scan.\n\n"
+      "ran on a reduced bound at the previous scan and are in the final approach (curved part of the "
+      "boundary layer) of that bound. (3) The others get, with tf = t_M T, dU = a_min - a_max, "
+      "dv = x_dot - r_dot, dx = x - r: behind the reference, v_max := v^ = (a_min a_max tf + a_min x_dot - "
+      "a_max r_dot + G1)/dU, G1 = sqrt(a_min a_max (tf a_min (tf a_max + 2 dv) + 2 dx dU + dv^2)) (33), the "
+      "smaller root (both can be positive); ahead of it, v_min := v^ = -(a_min a_max tf + a_max x_dot - "
+      "a_min r_dot + G2)/dU, G2 = sqrt(a_min a_max (tf a_max (tf a_min + 2 dv) - 2 dx dU + dv^2)) (34). These "
+      "make the continuous profile (reach v^ at full acceleration, cruise, brake to r_dot; eqs. 25-32 with "
+      "(31) read as s_f2 = r_dot tf) meet the reference at tf. A negative radicand, or v^ not strictly "
+      "between r_dot and the nominal bound, keeps the nominal bounds. rule 0 (unified, default): (33) or (34) "
+      "by the side on which the discrete filter comes to rest if it brakes at full acceleration now (dx is "
+      "shifted so that the continuous model has the same stopping point), whatever the sign of r_dot; when "
+      "x_dot already exceeds the solution the first phase brakes with a_min (linear in v^). rule 1 (paper): "
+      "(33) only with r > x and r_dot >= 0, (34) only with r < x and r_dot <= 0, as printed; otherwise the "
+      "filter is parked with v_max := min(0, v_max) (r > x) or v_min := max(0, v_min) (r < x) as in Fig. 7. "
+      "rule 2 (off): never scales, n independent filters. (5) look-ahead guard: a reduced bound is applied "
+      "only if the nominal transient time of the state it leads to at k+1 is at most t_M - 1; otherwise the "
+      "nominal bounds are used this scan. All of it is recomputed every scan.\n\n"
       "Outputs at scan k are the filter states at sample k and the accelerations u_k applied from them (as "
       "NONLINEAR_FILTER). Transient window: opens at the first scan at which some axis does not track "
       "(synchronized FALSE) and closes at the next scan at which all track; its scans are those from the "
@@ -401,10 +409,11 @@ void register_transient_sync(BlockRegistry& r) {
       "and held once it closes; energy_last = the value of the last closed window; windows counts closed "
       "windows; spread = in the last closed window, the latest minus the earliest scan at which an axis "
       "that did not track during it (last) began tracking (0: all arrived together). r_dot, when not "
-      "connected, is (r_k - r_(k-1))/T (0 on the first scan). Start, reset and invalid inputs as "
-      "NONLINEAR_FILTER: invalid bounds or a non-finite reference on an axis set its error, exclude it from "
-      "the synchronization (steps_to_go -1, so synchronized stays FALSE) and stop it with its last valid "
-      "acceleration bounds; one block-fault event per series of invalid scans.";
+      "connected, is (r_k - r_(k-1))/T (0 on the first scan). Start and reset as NONLINEAR_FILTER "
+      "(non-finite x0/v0 keep the state). Invalid bounds or a non-finite reference on an axis set its error, "
+      "exclude it from the synchronization (steps_to_go -1, so synchronized stays FALSE) and stop it with "
+      "its last valid acceleration bounds; one block-fault event per scan at which axes start a series of "
+      "invalid scans (value: their count).";
   t.reference =
       "C. Guarino Lo Bianco, \"An efficient algorithm for the real-time generation of synchronous reference "
       "signals\" (paper 004), Section III, eqs. (23)-(34), Figs. 6-8, Tables II-IV; corrections (eq. 31, "

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "fblocks/motion/nonlinear_filter_math.hpp"
 #include "tests/motion/transient_sync_test_util.hpp"
 
 namespace syncplc::motion::synctest {
@@ -225,6 +226,39 @@ TEST(TransientSync, OverlappingIndependentChanges) {
     EXPECT_EQ(rig.bounds_test().violations, 0) << rig.bounds_test().first;
     EXPECT_EQ(rig.bounds_off().violations, 0) << rig.bounds_off().first;
     EXPECT_LT(e_test, e_off);
+  }
+}
+
+// A transient small enough to start inside the final approach (the curved
+// part of the boundary layer) of its nominal bounds is still slowed down:
+// the final-approach exemption only applies after a reduced bound.
+TEST(TransientSync, SmallTransientStartingInTheFinalApproach) {
+  const double T = 0.01;
+  const AxisBounds b = table2()[0];
+  const double tiny = 0.0015;  // m, below |U-| T^2 = 2.5 mm
+  const FilterBounds fb{b.v_min, b.v_max, b.a_min, b.a_max};
+  ASSERT_TRUE(in_final_approach(to_z(FilterState{0, 0}, Reference{tiny, 0}, T), z_bounds(fb, 0, T)));
+  for (int rule : {kUnified, kPaper}) {
+    Instance in(2, rule, k10ms);
+    ASSERT_TRUE(in.ok());
+    in.set_bounds({b, b});
+    in.set_ref(0, 0, 0);
+    in.set_ref(1, 0, 0);
+    in.scan();
+    in.set_ref(0, 2.0, 0);
+    in.set_ref(1, tiny, 0);
+    in.scan();
+    const std::int64_t t_m = in.scalar<std::int64_t>("arrival");
+    EXPECT_LE(in.steps_to_go(1), 3);
+    EXPECT_GT(t_m, 50);
+    for (std::int64_t k = 1; k < t_m; ++k) {
+      in.scan();
+      EXPECT_FALSE(in.tracking(1)) << "scan " << k;
+    }
+    in.scan();
+    EXPECT_TRUE(in.tracking(0));
+    EXPECT_TRUE(in.tracking(1));
+    EXPECT_EQ(in.scalar<std::int64_t>("spread"), 0);
   }
 }
 
