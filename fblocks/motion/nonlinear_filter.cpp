@@ -7,12 +7,14 @@
 // /work/shared/design/motion-math.md ("Paper 004") and
 // docs/motion/nonlinear-filter.md; the math lives in nonlinear_filter_math.*.
 //
-// Per scan k (T = the time since the previous scan's planned release):
+// Per scan k (T = the task period, the filter's sampling time):
 //   outputs   x_k, xdot_k (the filter state at sample k), xddot = u_k,
 //             tracking = state within the tracking tolerance of (r_k, rdot_k),
 //             steps_to_go = Table I prediction from sample k (-1: never);
 //   then      state_{k+1} = plant_step(state_k, u_k, T) (eqs. 1-2).
 // A change of r at scan k shows in xddot at scan k and in x from scan k+1.
+// After skipped releases (an overrun), the scan first advances the missed
+// samples so that x stays the trajectory at the scan's planned release time.
 #include <cmath>
 
 #include "fblocks/motion/motion.hpp"
@@ -20,6 +22,10 @@
 
 namespace syncplc::motion {
 namespace {
+
+// Most samples one scan catches up after skipped releases (10 s at 1 ms);
+// beyond, the output falls behind the time grid.
+constexpr double kMaxCatchUp = 10000;
 
 enum : int {
   kR = 0,
@@ -47,45 +53,53 @@ class NonlinearFilter final : public Block {
         period_s_(static_cast<double>(s.task_period_ns()) * 1e-9) {}
 
   void execute(ScanContext& ctx) override {
-    const double T = ctx.dt_ns > 0 ? static_cast<double>(ctx.dt_ns) * 1e-9 : period_s_;
+    const double T = period_s_;
+    const double dt = ctx.dt_ns > 0 ? static_cast<double>(ctx.dt_ns) * 1e-9 : T;
     const double r = in<double>(kR);
     double r_dot = 0;
     if (!derive_r_dot_) r_dot = in<double>(kRDot);
-    else if (have_r_prev_) r_dot = (r - r_prev_) / T;
+    else if (have_r_prev_) r_dot = (r - r_prev_) / dt;
     r_prev_ = r;
     have_r_prev_ = true;
     const Reference ref{r, r_dot};
     const FilterBounds b{in<double>(kVMin), in<double>(kVMax), in<double>(kAMin), in<double>(kAMax)};
     const bool ref_ok = std::isfinite(r) && std::isfinite(r_dot);
     const bool bounds_ok = bounds_valid(b);
+    const bool valid = ref_ok && bounds_ok;
+    const bool hold = in<bool>(kReset);
+    if (valid) {
+      faulting_ = false;
+      last_ = b;
+      have_last_ = true;
+    } else if (!faulting_) {  // one event per series of invalid scans
+      if (!bounds_ok) ctx.fault("NONLINEAR_FILTER: invalid bounds (need finite v_min < v_max, a_min < 0 < a_max)");
+      else ctx.fault("NONLINEAR_FILTER: non-finite r or r_dot", r);
+      faulting_ = true;
+    }
 
     if (first_) {
       first_ = false;
       if (start_at_r_ && ref_ok) state_ = {r, r_dot};
       else start_from_inputs(ctx);
+    } else if (!hold) {
+      // Skipped releases (dt = n periods): advance the n - 1 missed samples
+      // with this scan's inputs, r taken as a ramp backwards, so that x stays
+      // on the time grid and every sample keeps the bounds.
+      const double n = std::round(dt / T);
+      const int missed = n > 1 ? static_cast<int>(std::fmin(n - 1, kMaxCatchUp)) : 0;
+      for (int j = missed; j >= 1; --j) {
+        const Reference past{r - j * T * r_dot, r_dot};
+        state_ = plant_step(state_, acceleration(past, b, valid, T), T);
+      }
     }
-    const bool hold = in<bool>(kReset);
     if (hold) start_from_inputs(ctx);
 
-    if (!ref_ok || !bounds_ok) {
-      // Controlled stop with the last valid acceleration bounds (at once if
-      // there never were any), fault once per series of invalid scans.
-      if (!faulting_) {
-        if (!bounds_ok) ctx.fault("NONLINEAR_FILTER: invalid bounds (need finite v_min < v_max, a_min < 0 < a_max)");
-        else ctx.fault("NONLINEAR_FILTER: non-finite r or r_dot", ref_ok ? 0.0 : r);
-        faulting_ = true;
-      }
-      double u = -state_.v / T;
-      if (have_last_) u = u > last_.a_max ? last_.a_max : (u < last_.a_min ? last_.a_min : u);
-      if (hold) u = 0;
+    if (!valid) {
+      const double u = hold ? 0.0 : acceleration(ref, b, false, T);
       publish(u, false, kNever, true);
       if (!hold) state_ = plant_step(state_, u, T);
       return;
     }
-    faulting_ = false;
-    last_ = b;
-    have_last_ = true;
-
     const ZBounds zb = z_bounds(b, r_dot, T);
     const ZState z = to_z(state_, ref, T);
     const double u = hold ? 0.0 : control(z, zb);
@@ -105,6 +119,16 @@ class NonlinearFilter final : public Block {
       return;
     }
     init_fault_ = false;
+  }
+
+  // The filter's acceleration from the present state: controller C, or with
+  // invalid inputs a stop with the last valid acceleration bounds (at once if
+  // there never were any).
+  double acceleration(const Reference& ref, const FilterBounds& b, bool valid, double T) const noexcept {
+    if (valid) return control(to_z(state_, ref, T), z_bounds(b, ref.v, T));
+    double u = -state_.v / T;
+    if (have_last_) u = u > last_.a_max ? last_.a_max : (u < last_.a_min ? last_.a_min : u);
+    return u;
   }
 
   void publish(double u, bool tracking, std::int64_t steps, bool error) {
@@ -153,9 +177,9 @@ void register_nonlinear_filter(BlockRegistry& r) {
   t.doc =
       "Velocity- and acceleration-limited discrete-time nonlinear filter (paper 004, Section II): turns a "
       "rough reference r (steps and ramps) into a smooth x with v_min <= x_dot <= v_max and "
-      "a_min <= x_ddot <= a_max, reaching r in minimum time without overshoot, and predicts how many scans "
+      "a_min <= x_ddot <= a_max, reaching r in minimum time (a step without overshoot), and predicts how many scans "
       "that takes (Table I). Bounds are inputs and may change at any scan; asymmetric bounds are allowed.\n\n"
-      "Plant (eqs. 1-2), T the time since the previous scan: x' = x + T x_dot + T^2/2 u, x_dot' = x_dot + T u. "
+      "Plant (eqs. 1-2), T the task period: x' = x + T x_dot + T^2/2 u, x_dot' = x_dot + T u. "
       "Coordinates (eqs. 5-8): y = x - r, z1 = y1/T^2 + y2/(2T), z2 = y2/T, so z1' = z1 + z2 + u, z2' = z2 + u "
       "while r is a ramp. Velocity bounds in z: z2+ = (v_max - r_dot)/T, z2- = (v_min - r_dot)/T. "
       "Controller C (derived; the paper does not print it): for z1 < 0, Ub = -a_min, a = -z1/Ub, "
@@ -169,8 +193,11 @@ void register_nonlinear_filter(BlockRegistry& r) {
       "steps_to_go: scans until tracking with the present bounds and r continuing as a ramp of slope r_dot "
       "(Table I with the corrections of docs/motion/nonlinear-filter.md; it counts down by one per scan); "
       "-1 when r_dot is outside [v_min, v_max], where the output runs at the velocity bound and never tracks. "
-      "r_dot, when not connected, is (r_k - r_(k-1))/T, 0 on the first scan: a step of r then looks like a "
-      "one-scan ramp. A velocity beyond a newly reduced bound is braked at the full acceleration bound first. "
+      "r_dot, when not connected, is (r_k - r_(k-1)) divided by the time between the scans, 0 on the first "
+      "scan: a step of r then looks like a one-scan ramp and may overshoot, so give r_dot: 0 for a reference made of "
+      "steps only. A velocity beyond a newly reduced bound is braked at "
+      "the full acceleration bound first. A scan that follows skipped releases (an overrun) first advances the "
+      "missed samples (up to 10000) with its inputs, r taken as a ramp backwards, so x stays on the time grid. "
       "Start: at x = r, x_dot = r_dot (start_at_r TRUE) or at (x0, v0); reset TRUE holds the filter at "
       "(x0, v0) with x_ddot = 0. Invalid bounds (not finite, v_min >= v_max, a_min >= 0 or a_max <= 0) or a "
       "non-finite r/r_dot raise one block-fault event per series of invalid scans, set error, tracking FALSE "
@@ -184,7 +211,8 @@ void register_nonlinear_filter(BlockRegistry& r) {
   t.pins = {
       pin("r", In, IecType::LREAL, "m", "reference position (steps and ramps)", true),
       pin("r_dot", In, IecType::LREAL, "m/s",
-          "reference velocity; when not connected, derived as (r_k - r_(k-1))/T (0 on the first scan)"),
+          "reference velocity; when not connected, derived as (r_k - r_(k-1))/T (0 on the first scan); "
+          "give 0 for steps only"),
       pin("v_min", In, IecType::LREAL, "m/s", "lower velocity bound (xdot-), below v_max", true),
       pin("v_max", In, IecType::LREAL, "m/s", "upper velocity bound (xdot+), above v_min", true),
       pin("a_min", In, IecType::LREAL, "m/s^2", "lower acceleration bound (U-), negative", true),

@@ -89,11 +89,28 @@ Layer layer_left(const ZState& z, const ZBounds& zb) noexcept {
   }
   out.flat = true;
   out.on_bound = std::fabs(z.z2 - zb.z2_max) <= accel_deadband(zb);  // z_b rather than z_c
-  const double v = zb.z2_max;
-  if (!(v > 0)) return out;  // behind and not allowed to move closer: never
   // First sample: w_t = z2+, the state lands on the bound. Then u = 0 until
   // the target drops to z2+, at z1 >= z1+ (eq. 14), j samples later.
+  const double v = zb.z2_max;
   const double z1b = z.z1 + v;
+  // With z2+ within the tracking tolerance the cruise itself may enter it.
+  const double tol = tracking_tolerance(zb);
+  double j_tol = -1;  // first cruise sample inside the tolerance, < 0: none
+  if (v <= tol) {
+    if (std::fabs(z1b) <= tol) {
+      out.k_cruise = 1;
+      out.steps = 1;
+      return out;
+    }
+    if (!(v > 0)) return out;  // behind and not allowed to move closer: never
+    j_tol = ceil_nonneg((-tol - z1b) / v);
+    if (!(j_tol <= static_cast<double>(kMaxSteps))) return out;
+    if (z1_plus(zb) >= -tol) {  // the curved part starts inside the tolerance: j_tol comes first
+      out.k_cruise = 1 + j_tol;
+      out.steps = 1 + j_tol;
+      return out;
+    }
+  }
   const double hi_est = ceil_nonneg((z1_plus(zb) - z1b) / v);
   if (!(hi_est <= static_cast<double>(kMaxSteps))) return out;
   auto first = [&](double j) { return curved_at(z1b + j * v, zb) && (j == 0 || !curved_at(z1b + (j - 1) * v, zb)); };
@@ -114,15 +131,10 @@ Layer layer_left(const ZState& z, const ZBounds& zb) noexcept {
     }
     j = hi;
   }
-  // With z2+ within the tracking tolerance the cruise itself may enter it.
-  const double tol = tracking_tolerance(zb);
-  if (v <= tol) {
-    const double jt = ceil_nonneg((-tol - z1b) / v);
-    if (jt < j) {
-      out.k_cruise = 1 + jt;
-      out.steps = 1 + jt;
-      return out;
-    }
+  if (j_tol >= 0 && j_tol < j) {
+    out.k_cruise = 1 + j_tol;
+    out.steps = 1 + j_tol;
+    return out;
   }
   const Approach ap = final_approach(z1b + j * v, zb);
   out.k_cruise = 1 + j;

@@ -27,10 +27,10 @@ struct Rng {
 
 // Random asymmetric bounds: accelerations 0.5..20 m/s^2 each way, velocity
 // bounds 0.05..2 m/s each way around 0, or (20 %) both on the same side of 0.
-inline FilterBounds random_bounds(Rng& rng) {
+// An acceleration too small to cross the velocity range in about 300 scans of
+// period T is raised (to keep the transients, and the test time, bounded).
+inline FilterBounds random_bounds(Rng& rng, double T) {
   FilterBounds b;
-  b.a_max = rng.logu(0.5, 20);
-  b.a_min = -rng.logu(0.5, 20);
   b.v_max = rng.logu(0.05, 2);
   b.v_min = -rng.logu(0.05, 2);
   if (rng.chance(0.2)) {
@@ -38,11 +38,20 @@ inline FilterBounds random_bounds(Rng& rng) {
     b.v_max -= shift;
     b.v_min -= shift;
   }
+  const double a_floor = (b.v_max - b.v_min) / (300 * T);
+  b.a_max = std::fmax(rng.logu(0.5, 20), a_floor * rng.uni(1, 3));
+  b.a_min = -std::fmax(rng.logu(0.5, 20), a_floor * rng.uni(1, 3));
   return b;
 }
 
 // Sampling period 0.5..10 ms.
 inline double random_period(Rng& rng) { return rng.logu(5e-4, 1e-2); }
+
+// Room for the relative velocity towards the reference: behind (dir > 0) the
+// filter may gain v_max - rdot on it, ahead (dir < 0) rdot - v_min.
+inline double closing_speed(const FilterBounds& b, double r_dot, int dir) {
+  return dir > 0 ? b.v_max - r_dot : r_dot - b.v_min;
+}
 
 // A reference slope strictly inside the velocity bounds (0 when allowed, 30 %).
 inline double random_slope(Rng& rng, const FilterBounds& b) {

@@ -230,6 +230,25 @@ TEST(NonlinearFilterMath, NeverWhenTheReferenceIsTooFast) {
   EXPECT_EQ(transient_steps({-1e30, 0}, ZBounds{-1e-20, 1e-20, -2, 2}), kNever);
 }
 
+// A reference moving at (almost) the velocity bound: z2+ within the tracking
+// tolerance, so the cruise itself ends inside it.
+TEST(NonlinearFilterMath, CruiseOnABoundWithinTheTolerance) {
+  Rng rng(17);
+  long flat = 0;
+  for (int i = 0; i < 2000; ++i) {
+    ZBounds zb{-rng.logu(1, 100), 0, -rng.logu(0.5, 5), rng.logu(0.5, 5)};
+    const double tol = tracking_tolerance(zb);
+    zb.z2_max = rng.chance(0.1) ? 0.0 : rng.logu(0.05, 1) * tol;
+    // Small offsets and velocities, so that the cruise stays short.
+    const ZState z{-rng.logu(1e-8, 1e-4), rng.uni(-1e-3, 1e-3)};
+    const std::int64_t sim = simulate_z(z, zb, zb.z2_max > 0 ? 100'000 : 1000);
+    const TransientInfo info = transient_info(z, zb);
+    ASSERT_EQ(info.steps, sim) << std::setprecision(17) << i << " z=(" << z.z1 << ", " << z.z2 << ") zb=(" << zb.z2_min << ", " << zb.z2_max << ", " << zb.u_min << ", " << zb.u_max << ")";
+    flat += info.k_cruise > 0;
+  }
+  EXPECT_GT(flat, 500);
+}
+
 // ---- Table I as the paper and motion-math.md give it -------------------------
 
 // The left half of Table I computed from the paper's formulas with the
