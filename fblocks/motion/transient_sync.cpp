@@ -8,8 +8,8 @@
 //
 // The filters are those of NONLINEAR_FILTER (nonlinear_filter_math.hpp: the
 // controller C and the Table I transient-time prediction); the bound scaling is
-// in transient_sync_math.hpp. Per scan k, T = the time since the previous
-// scan's planned release, for every axis i:
+// in transient_sync_math.hpp. Per scan k, T = the task period (the filters'
+// sampling time), for every axis i:
 //   1. n_i = Table I steps from sample k with the nominal bounds (-1: never);
 //      t_M = the largest finite n_i.
 //   2. nominal bounds if: rule off, tracking, cannot track, n_i = t_M (the
@@ -27,6 +27,9 @@
 //      prediction is reused as n_i at scan k+1 when the inputs are exactly the
 //      ones it assumed);
 //   6. outputs at sample k, then state_{k+1} = plant_step(state_k, u_k, T).
+// After skipped releases (an overrun) the scan first runs the missed samples
+// (filters and synchronizer) with its inputs, r taken as a ramp backwards, so
+// x stays on the time grid, as NONLINEAR_FILTER does.
 // Everything is recomputed every scan; execute() allocates nothing.
 #include <cmath>
 #include <cstdint>
@@ -76,6 +79,8 @@ enum : int {
 };
 
 inline constexpr std::int64_t kMaxAxes = 1024;
+// Most samples one scan catches up after skipped releases (as NONLINEAR_FILTER).
+inline constexpr double kMaxCatchUp = 10000;
 
 class TransientSync final : public Block {
  public:
@@ -85,28 +90,37 @@ class TransientSync final : public Block {
         derive_r_dot_(!s.connected(kRDot)),
         start_at_r_(s.param<bool>("start_at_r")),
         period_s_(static_cast<double>(s.task_period_ns()) * 1e-9),
-        x_(n_), v_(n_), r_prev_(n_), vmin_prev_(n_), vmax_prev_(n_), last_(n_), z_(n_), zb_(n_), ref_(n_),
-        steps_(n_), arrival_(n_), flags_(n_), pred_(n_) {}
+        x_(n_), v_(n_), r_prev_(n_), vmin_prev_(n_), vmax_prev_(n_), nom_(n_), last_(n_), rin_(n_), z_(n_),
+        zb_(n_), ref_(n_), steps_(n_), arrival_(n_), flags_(n_), pred_(n_) {}
 
   void execute(ScanContext& ctx) override {
-    const double T = ctx.dt_ns > 0 ? static_cast<double>(ctx.dt_ns) * 1e-9 : period_s_;
+    const double T = period_s_;  // the filters' sampling time
+    const double dt = ctx.dt_ns > 0 ? static_cast<double>(ctx.dt_ns) * 1e-9 : T;
     const bool first = first_;
     first_ = false;
     const bool hold = in<bool>(kReset);
 
-    // Pass 1: references, validity, z, nominal transient times, t_M.
-    std::int64_t t_max = 0;
-    bool all_tracking = true;
+    // Inputs, validity, start.
     int faults = 0;
     for (std::uint32_t i = 0; i < n_; ++i) {
       const double r = in<double>(kR, i);
       double r_dot = 0;
       if (!derive_r_dot_) r_dot = in<double>(kRDot, i);
-      else if (!first) r_dot = (r - r_prev_[i]) / T;
+      else if (!first) r_dot = (r - r_prev_[i]) / dt;
       r_prev_[i] = r;
       const FilterBounds b{in<double>(kVMin, i), in<double>(kVMax, i), in<double>(kAMin, i), in<double>(kAMax, i)};
-      const bool valid = std::isfinite(r) && std::isfinite(r_dot) && bounds_valid(b);
       std::uint16_t f = flags_[i];
+      if (std::isfinite(r) && std::isfinite(r_dot) && bounds_valid(b)) {
+        f = static_cast<std::uint16_t>((f & ~kFaulting) | kValid | kHaveLast);
+        last_[i] = b;
+        if (first) {  // nothing was applied before: the nominal bounds
+          vmin_prev_[i] = b.v_min;
+          vmax_prev_[i] = b.v_max;
+        }
+      } else if (!(f & kFaulting)) {
+        f |= kFaulting;
+        ++faults;
+      }
       if (first) {
         if (start_at_r_ && std::isfinite(r) && std::isfinite(r_dot)) {
           x_[i] = r;
@@ -115,43 +129,88 @@ class TransientSync final : public Block {
           start_from_inputs(i);
         }
       }
-      if (hold) start_from_inputs(i);
-      ref_[i] = Reference{r, r_dot};
+      rin_[i] = Reference{r, r_dot};
+      nom_[i] = b;
+      flags_[i] = f;
+    }
+    if (faults > 0)
+      ctx.fault("TRANSIENT_SYNC: invalid bounds or non-finite reference on an axis (count in value)",
+                static_cast<double>(faults));
+    if (!first && !hold) {
+      // Skipped releases (dt = n periods): run the n - 1 missed samples with
+      // this scan's inputs, r taken as a ramp backwards, so that x stays on the
+      // time grid (as NONLINEAR_FILTER does).
+      const double periods = std::round(dt / T);
+      const int missed = periods > 1 ? static_cast<int>(std::fmin(periods - 1, kMaxCatchUp)) : 0;
+      for (int j = missed; j >= 1; --j) sample(T, static_cast<double>(j), false, false);
+    }
+    if (hold)
+      for (std::uint32_t i = 0; i < n_; ++i) start_from_inputs(i);
+    sample(T, 0, true, hold);
+    for (std::uint32_t i = 0; i < n_; ++i) flags_[i] &= static_cast<std::uint16_t>(~kValid);
+  }
+
+ private:
+  enum : std::uint16_t {
+    kValid = 1,           // this scan: bounds and reference valid
+    kTrackingNow = 2,     // this sample: tracking
+    kWasTracking = 4,     // tracking at the previous sample
+    kParticipant = 8,     // not tracking at some sample of the open window
+    kFaulting = 16,       // inside a series of invalid scans (one fault per series)
+    kHaveLast = 32,       // last_ holds valid bounds
+    kPrevReduced = 64,    // a reduced (scaled or parked) bound was applied at the previous sample
+    kReducedNow = 128,    // this sample: a reduced bound is applied
+    kPredicted = 256,     // pred_ holds the nominal transient time of the present state
+    kPredictedNow = 512,  // this sample: pred_ set for the next state
+  };
+
+  // The look-ahead guard's nominal transient time of the next state, with the
+  // reference, bounds and period it assumed. Reused by the next sample when its
+  // inputs are exactly those (the same function on the same inputs).
+  struct Prediction {
+    double r = 0, r_dot = 0, T = 0;
+    FilterBounds b{};
+    std::int64_t n = 0;
+    bool matches(double r_, double r_dot_, const FilterBounds& b_, double T_) const noexcept {
+      return r == r_ && r_dot == r_dot_ && T == T_ && b.v_min == b_.v_min && b.v_max == b_.v_max &&
+             b.a_min == b_.a_min && b.a_max == b_.a_max;
+    }
+  };
+
+  // One sample of all filters and of the synchronizer. `back`: the sample lies
+  // back * T before this scan (catch-up), r taken as a ramp backwards.
+  // publish: write the outputs. hold: reset is TRUE (u = 0, state kept).
+  void sample(double T, double back, bool publish, bool hold) {
+    // Pass 1: z, nominal transient times, t_M.
+    std::int64_t t_max = 0;
+    bool all_tracking = true;
+    for (std::uint32_t i = 0; i < n_; ++i) {
+      std::uint16_t f = static_cast<std::uint16_t>(flags_[i] & ~kTrackingNow);
       std::int64_t n = kNever;
-      if (valid) {
-        if (f & kFaulting) f &= static_cast<std::uint16_t>(~kFaulting);
-        last_[i] = b;
-        f |= kValid | kHaveLast;
-        if (first) {  // nothing was applied before: the nominal bounds
-          vmin_prev_[i] = b.v_min;
-          vmax_prev_[i] = b.v_max;
-        }
-        const ZState z = to_z(FilterState{x_[i], v_[i]}, ref_[i], T);
-        const ZBounds zb = z_bounds(b, r_dot, T);
+      if (f & kValid) {
+        const Reference ref{rin_[i].r - back * T * rin_[i].v, rin_[i].v};
+        const FilterBounds& b = nom_[i];
+        const ZState z = to_z(FilterState{x_[i], v_[i]}, ref, T);
+        const ZBounds zb = z_bounds(b, ref.v, T);
+        ref_[i] = ref;
         z_[i] = z;
         zb_[i] = zb;
         if (is_tracking(z, zb)) {
           f |= kTrackingNow;
           n = 0;
-        } else if ((f & kPredicted) && pred_[i].matches(r, r_dot, b, T)) {
-          n = pred_[i].n;  // the look-ahead guard of the previous scan computed it for this very state
+        } else if ((f & kPredicted) && pred_[i].matches(ref.r, ref.v, b, T)) {
+          n = pred_[i].n;  // the look-ahead guard of the previous sample computed it for this very state
         } else {
           n = transient_steps(z, zb);
         }
-      } else if (!(f & kFaulting)) {
-        f |= kFaulting;
-        ++faults;
       }
       if (!(f & kTrackingNow)) all_tracking = false;
       if (n > t_max) t_max = n;
       steps_[i] = n;
       flags_[i] = f;
     }
-    if (faults > 0)
-      ctx.fault("TRANSIENT_SYNC: invalid bounds or non-finite reference on an axis (count in value)",
-                static_cast<double>(faults));
 
-    // Transient window bookkeeping (before this scan's contribution).
+    // Transient window bookkeeping (before this sample's contribution).
     if (!all_tracking && !window_open_) {
       window_open_ = true;
       energy_ = 0;
@@ -165,84 +224,82 @@ class TransientSync final : public Block {
     // Pass 2: bounds, look-ahead guard, control, outputs, state update.
     const double tf = static_cast<double>(t_max) * T;
     std::int64_t scaled = 0;
-    double e_scan = 0;
+    double e_sample = 0;
     for (std::uint32_t i = 0; i < n_; ++i) {
       std::uint16_t f = flags_[i];
       const FilterState s{x_[i], v_[i]};
-      double u = 0;
-      double vmin_applied = 0, vmax_applied = 0;
+      double u = 0, vmin_applied = 0, vmax_applied = 0;
       if (f & kValid) {
-        const FilterBounds& b = last_[i];
+        const FilterBounds& b = nom_[i];
+        const Reference& ref = ref_[i];
         const std::int64_t n = steps_[i];
-        vmin_applied = b.v_min;
-        vmax_applied = b.v_max;
         const ZState z = z_[i];
         const ZBounds& zb = zb_[i];
-        bool applied_scaled = false;
+        vmin_applied = b.v_min;
+        vmax_applied = b.v_max;
+        bool reduced = false;
         bool nominal = rule_ == SyncRule::Off || (f & kTrackingNow) || n == kNever || n >= t_max;
-        if (!nominal) {
-          // Final approach under the reduced bounds applied at the previous
-          // scan: the filter has committed to its arrival, leave it alone. (Not
-          // after nominal bounds: a small transient can start in the curved
-          // layer and must still be slowed down.)
-          if (f & kPrevReduced) {
-            const ZBounds zb_prev =
-                z_bounds(FilterBounds{vmin_prev_[i], vmax_prev_[i], b.a_min, b.a_max}, ref_[i].v, T);
-            nominal = in_final_approach(z, zb_prev);
-          }
+        // Final approach under the reduced bound applied at the previous sample:
+        // the filter has committed to its arrival, leave it alone. (Not after
+        // nominal bounds: a small transient can start in the curved layer and
+        // must still be slowed down.)
+        if (!nominal && (f & kPrevReduced)) {
+          const ZBounds zb_prev = z_bounds(FilterBounds{vmin_prev_[i], vmax_prev_[i], b.a_min, b.a_max}, ref.v, T);
+          nominal = in_final_approach(z, zb_prev);
         }
         if (!nominal) {
-          const ScaledBounds sb = scale_bounds(rule_, s.x, s.v, ref_[i].r, ref_[i].v, tf, b.v_min, b.v_max,
-                                               b.a_min, b.a_max, T);
+          const ScaledBounds sb =
+              scale_bounds(rule_, s.x, s.v, ref.r, ref.v, tf, b.v_min, b.v_max, b.a_min, b.a_max, T);
           if (sb.action != BoundAction::Nominal) {
-            const ZBounds zs = z_bounds(FilterBounds{sb.v_min, sb.v_max, b.a_min, b.a_max}, ref_[i].v, T);
+            const ZBounds zs = z_bounds(FilterBounds{sb.v_min, sb.v_max, b.a_min, b.a_max}, ref.v, T);
             const double us = control(z, zs);
-            // Look-ahead guard: the state after this scan must still make t_M - 1
-            // with the nominal bounds.
-            const FilterState next = plant_step(s, us, T);
-            const Reference ref_next{ref_[i].r + T * ref_[i].v, ref_[i].v};
-            const ZState zn = to_z(next, ref_next, T);
+            // Look-ahead guard: the state after this sample must still make
+            // t_M - 1 with the nominal bounds.
+            const Reference ref_next{ref.r + T * ref.v, ref.v};
+            const ZState zn = to_z(plant_step(s, us, T), ref_next, T);
             const std::int64_t n_next = is_tracking(zn, zb) ? 0 : transient_steps(zn, zb);
             if (n_next != kNever && n_next <= t_max - 1) {
               pred_[i] = Prediction{ref_next.r, ref_next.v, T, b, n_next};
-              f |= kPredictedNow;
+              f |= kPredictedNow | kReducedNow;
               u = us;
-              applied_scaled = true;
-              f |= kReducedNow;
+              reduced = true;
               vmin_applied = sb.v_min;
               vmax_applied = sb.v_max;
               ++scaled;
             }
           }
         }
-        if (!applied_scaled) u = control(z, zb);
-        if (hold) u = 0;
+        if (!reduced) u = control(z, zb);
       } else {
         // Invalid bounds or reference: controlled stop with the last valid
         // acceleration bounds (at once if there never were any).
         u = -s.v / T;
         if (f & kHaveLast) u = u > last_[i].a_max ? last_[i].a_max : (u < last_[i].a_min ? last_[i].a_min : u);
-        if (hold) u = 0;
         vmin_applied = (f & kHaveLast) ? last_[i].v_min : 0;
         vmax_applied = (f & kHaveLast) ? last_[i].v_max : 0;
       }
+      if (hold) {
+        u = 0;
+        f &= static_cast<std::uint16_t>(~kPredictedNow);
+      }
       const bool tracking = (f & kTrackingNow) != 0;
-      out<double>(kX, i, s.x);
-      out<double>(kXDot, i, s.v);
-      out<double>(kXDDot, i, u);
-      out<double>(kVMinApplied, i, vmin_applied);
-      out<double>(kVMaxApplied, i, vmax_applied);
-      out<bool>(kTracking, i, tracking);
-      out<std::int64_t>(kStepsToGo, i, steps_[i]);
-      out<bool>(kError, i, !(f & kValid));
-      e_scan += s.v * s.v;
+      if (publish) {
+        out<double>(kX, i, s.x);
+        out<double>(kXDot, i, s.v);
+        out<double>(kXDDot, i, u);
+        out<double>(kVMinApplied, i, vmin_applied);
+        out<double>(kVMaxApplied, i, vmax_applied);
+        out<bool>(kTracking, i, tracking);
+        out<std::int64_t>(kStepsToGo, i, steps_[i]);
+        out<bool>(kError, i, !(f & kValid));
+      }
+      e_sample += s.v * s.v;
       if (window_open_) {
         if (!tracking) f |= kParticipant;
-        else if (!(f & kWasTracking)) arrival_[i] = window_scans_;  // (re)arrived at this scan
+        else if (!(f & kWasTracking)) arrival_[i] = window_scans_;  // (re)arrived at this sample
       }
-      if (hold) f &= static_cast<std::uint16_t>(~kPredictedNow);
       f = static_cast<std::uint16_t>(
-          (f & ~(kValid | kTrackingNow | kWasTracking | kPrevReduced | kReducedNow | kPredicted | kPredictedNow)) |
+          (f & ~(kTrackingNow | kWasTracking | kPrevReduced | kReducedNow | kPredicted | kPredictedNow)) |
           (tracking ? kWasTracking : 0) | ((f & kReducedNow) ? kPrevReduced : 0) |
           ((f & kPredictedNow) ? kPredicted : 0));
       flags_[i] = f;
@@ -256,7 +313,7 @@ class TransientSync final : public Block {
     }
 
     if (window_open_) {
-      if (all_tracking) {  // the window closes at its first all-tracking scan
+      if (all_tracking) {  // the window closes at its first all-tracking sample
         window_open_ = false;
         energy_last_ = energy_;
         window_scans_last_ = window_scans_;
@@ -269,11 +326,12 @@ class TransientSync final : public Block {
         }
         spread_ = hi >= 0 ? hi - lo : 0;
       } else {
-        energy_ += e_scan * T;
+        energy_ += e_sample * T;
         ++window_scans_;
       }
     }
 
+    if (!publish) return;
     out<std::int64_t>(kArrival, t_max);
     out<bool>(kSynchronized, all_tracking);
     out<std::int64_t>(kScaled, scaled);
@@ -283,33 +341,6 @@ class TransientSync final : public Block {
     out<std::int64_t>(kWindowScans, window_open_ ? window_scans_ : window_scans_last_);
     out<std::int64_t>(kSpread, spread_);
   }
-
- private:
-  enum : std::uint16_t {
-    kValid = 1,         // this scan: bounds and reference valid
-    kTrackingNow = 2,   // this scan: tracking at sample k
-    kWasTracking = 4,   // tracking at the previous scan
-    kParticipant = 8,   // not tracking at some scan of the open window
-    kFaulting = 16,     // inside a series of invalid scans (one fault per series)
-    kHaveLast = 32,     // last_ holds valid bounds
-    kPrevReduced = 64,    // a reduced (scaled or parked) bound was applied at the previous scan
-    kReducedNow = 128,    // this scan: a reduced bound is applied
-    kPredicted = 256,     // pred_ holds the nominal transient time of the present state
-    kPredictedNow = 512,  // this scan: pred_ set for the next state
-  };
-
-  // The look-ahead guard's nominal transient time of the next state, with the
-  // reference, bounds and period it assumed. Reused by the next scan when its
-  // inputs are exactly those (the same function on the same inputs).
-  struct Prediction {
-    double r = 0, r_dot = 0, T = 0;
-    FilterBounds b{};
-    std::int64_t n = 0;
-    bool matches(double r_, double r_dot_, const FilterBounds& b_, double T_) const noexcept {
-      return r == r_ && r_dot == r_dot_ && T == T_ && b.v_min == b_.v_min && b.v_max == b_.v_max &&
-             b.a_min == b_.a_min && b.a_max == b_.a_max;
-    }
-  };
 
   void start_from_inputs(std::uint32_t i) {
     const double x0 = in<double>(kX0, i), v0 = in<double>(kV0, i);
@@ -326,12 +357,14 @@ class TransientSync final : public Block {
   const double period_s_;
   // Per-axis state and per-scan scratch, sized once (structure of arrays).
   std::vector<double> x_, v_, r_prev_, vmin_prev_, vmax_prev_;
+  std::vector<FilterBounds> nom_;   // nominal bounds of this scan
   std::vector<FilterBounds> last_;  // last valid nominal bounds
+  std::vector<Reference> rin_;      // reference of this scan
   std::vector<ZState> z_;
-  std::vector<ZBounds> zb_;         // nominal, this scan
-  std::vector<Reference> ref_;
-  std::vector<std::int64_t> steps_;    // n_i of this scan (kNever: cannot track or invalid)
-  std::vector<std::int64_t> arrival_;  // scan of the window at which the axis last began tracking
+  std::vector<ZBounds> zb_;         // nominal, this sample
+  std::vector<Reference> ref_;      // reference of this sample
+  std::vector<std::int64_t> steps_;    // n_i of this sample (kNever: cannot track or invalid)
+  std::vector<std::int64_t> arrival_;  // sample of the window at which the axis last began tracking
   std::vector<std::uint16_t> flags_;
   std::vector<Prediction> pred_;
   bool first_ = true;
@@ -381,7 +414,7 @@ void register_transient_sync(BlockRegistry& r) {
       "x[i]; every scan the velocity bound of each filter that is faster than the slowest is reduced so that "
       "all transients end on the same scan, which also lowers the viscous-friction energy index "
       "E = integral of x_dot^2 dt (24).\n\n"
-      "Every scan k, T the time since the previous scan, for every axis: (1) n_i = transient time with the "
+      "Every scan k, T the task period, for every axis: (1) n_i = transient time with the "
       "nominal bounds (Table I; -1 when r_dot is outside [v_min, v_max]); t_M = the largest finite n_i "
       "(output arrival). (2) The nominal bounds stay for axes that track, cannot track, have n_i = t_M, or "
       "ran on a reduced bound at the previous scan and are in the final approach (curved part of the "
@@ -409,7 +442,10 @@ void register_transient_sync(BlockRegistry& r) {
       "and held once it closes; energy_last = the value of the last closed window; windows counts closed "
       "windows; spread = in the last closed window, the latest minus the earliest scan at which an axis "
       "that did not track during it (last) began tracking (0: all arrived together). r_dot, when not "
-      "connected, is (r_k - r_(k-1))/T (0 on the first scan). Start and reset as NONLINEAR_FILTER "
+      "connected, is (r_k - r_(k-1)) divided by the time between the scans (0 on the first scan; a step then "
+      "looks like a one-scan ramp: give r_dot for references made of steps). A scan that follows skipped "
+      "releases first runs the missed samples (up to 10000; filters, synchronizer and window, which count "
+      "samples) with its inputs, r taken as a ramp backwards. Start and reset as NONLINEAR_FILTER "
       "(non-finite x0/v0 keep the state). Invalid bounds or a non-finite reference on an axis set its error, "
       "exclude it from the synchronization (steps_to_go -1, so synchronized stays FALSE) and stop it with "
       "its last valid acceleration bounds; one block-fault event per scan at which axes start a series of "
@@ -422,7 +458,9 @@ void register_transient_sync(BlockRegistry& r) {
   t.pins = {
       pin("r", In, IecType::LREAL, "m", "reference positions (steps and ramps)", A, true),
       pin("r_dot", In, IecType::LREAL, "m/s",
-          "reference velocities; when not connected, derived as (r_k - r_(k-1))/T (0 on the first scan)", A),
+          "reference velocities; when not connected, derived as (r_k - r_(k-1)) / (time between the scans), 0 on "
+          "the first scan",
+          A),
       pin("v_min", In, IecType::LREAL, "m/s", "nominal lower velocity bounds (xdot-), below v_max", A, true),
       pin("v_max", In, IecType::LREAL, "m/s", "nominal upper velocity bounds (xdot+), above v_min", A, true),
       pin("a_min", In, IecType::LREAL, "m/s^2", "lower acceleration bounds (U-), negative", A, true),
