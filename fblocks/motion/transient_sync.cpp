@@ -237,6 +237,7 @@ class TransientSync final : public Block {
         const ZBounds& zb = zb_[i];
         vmin_applied = b.v_min;
         vmax_applied = b.v_max;
+        const double w = target_velocity(z.z1, zb);  // controller C's target, common to all bounds below
         bool reduced = false;
         bool nominal = rule_ == SyncRule::Off || (f & kTrackingNow) || n == kNever || n >= t_max;
         // Final approach under the reduced bound applied at the previous sample:
@@ -245,14 +246,14 @@ class TransientSync final : public Block {
         // must still be slowed down.)
         if (!nominal && (f & kPrevReduced)) {
           const ZBounds zb_prev = z_bounds(FilterBounds{vmin_prev_[i], vmax_prev_[i], b.a_min, b.a_max}, ref.v, T);
-          nominal = in_final_approach(z, zb_prev);
+          nominal = final_approach_from_target(z, zb_prev, w);
         }
         if (!nominal) {
           const ScaledBounds sb =
               scale_bounds(rule_, s.x, s.v, ref.r, ref.v, tf, b.v_min, b.v_max, b.a_min, b.a_max, T);
           if (sb.action != BoundAction::Nominal) {
             const ZBounds zs = z_bounds(FilterBounds{sb.v_min, sb.v_max, b.a_min, b.a_max}, ref.v, T);
-            const double us = control(z, zs);
+            const double us = control_from_target(z, zs, w);
             // Look-ahead guard: the state after this sample must still make
             // t_M - 1 with the nominal bounds.
             const Reference ref_next{ref.r + T * ref.v, ref.v};
@@ -269,7 +270,7 @@ class TransientSync final : public Block {
             }
           }
         }
-        if (!reduced) u = control(z, zb);
+        if (!reduced) u = control_from_target(z, zb, w);
       } else {
         // Invalid bounds or reference: controlled stop with the last valid
         // acceleration bounds (at once if there never were any).

@@ -41,6 +41,8 @@
 #include <cstdint>
 #include <limits>
 
+#include "fblocks/motion/nonlinear_filter_math.hpp"
+
 namespace syncplc::motion {
 
 // How the synchronizer chooses the scaled bound (the block's parameter `rule`).
@@ -121,5 +123,31 @@ struct ScaledBounds {
 };
 ScaledBounds scale_bounds(SyncRule rule, double x0, double v0, double r0, double rdot, double tf, double v_min,
                           double v_max, double u_min, double u_max, double T = 0) noexcept;
+
+// ---- controller C from a precomputed target -----------------------------------
+// The synchronizer evaluates controller C of nonlinear_filter_math.hpp for up
+// to three velocity bounds per filter and scan (nominal, reduced, previous).
+// The target w* = target_velocity(z1, zb) depends on z1 and the acceleration
+// bounds only, so one evaluation (a square root) serves all of them. These two
+// restate control() and in_final_approach() with w* given; the tests check
+// that they agree with them exactly.
+
+// control(z, zb) with w = target_velocity(z.z1, zb).
+inline double control_from_target(const ZState& z, const ZBounds& zb, double w) noexcept {
+  const double wt = w > zb.z2_max ? zb.z2_max : (w < zb.z2_min ? zb.z2_min : w);
+  const double u = wt - z.z2;
+  const double eps = accel_deadband(zb);
+  if (u > zb.u_max + eps) return zb.u_max;
+  if (u < zb.u_min - eps) return zb.u_min;
+  return u;
+}
+
+// in_final_approach(z, zb) with w = target_velocity(z.z1, zb).
+inline bool final_approach_from_target(const ZState& z, const ZBounds& zb, double w) noexcept {
+  const double wt = w > zb.z2_max ? zb.z2_max : (w < zb.z2_min ? zb.z2_min : w);
+  const double u = wt - z.z2;
+  const double eps = accel_deadband(zb);
+  return u <= zb.u_max + eps && u >= zb.u_min - eps && w <= zb.z2_max && w >= zb.z2_min;
+}
 
 }  // namespace syncplc::motion

@@ -251,6 +251,33 @@ TEST(TransientSyncMath, KnifeEdgeSideFollowsTheDiscreteFilter) {
   EXPECT_GT(s.v_min, rdot - 1e-3);  // a creep of well under 1 mm/s relative to the reference
 }
 
+// The block's restatement of controller C from a precomputed target must
+// agree exactly with control() and in_final_approach() of the filter math.
+TEST(TransientSyncMath, ControlFromTargetIsControllerC) {
+  std::mt19937_64 rng(99);
+  std::uniform_real_distribution<double> uni(-1, 1);
+  int final_approach = 0;
+  for (int k = 0; k < 200000; ++k) {
+    ZBounds zb;
+    zb.u_max = 1 + 40 * (uni(rng) + 1);
+    zb.u_min = -1 - 40 * (uni(rng) + 1);
+    zb.z2_max = k % 4 == 0 ? 0.0 : 300 * uni(rng);
+    zb.z2_min = zb.z2_max - (k % 5 == 0 ? 1e-3 : 600 * (uni(rng) + 1));
+    const double scale = std::pow(10.0, 4 * (uni(rng) + 1) - 3);
+    const ZState z{scale * uni(rng), k % 7 == 0 ? zb.z2_max : scale * uni(rng)};
+    const double w = target_velocity(z.z1, zb);
+    ASSERT_EQ(control_from_target(z, zb, w), control(z, zb)) << k;
+    ASSERT_EQ(final_approach_from_target(z, zb, w), in_final_approach(z, zb)) << k;
+    final_approach += in_final_approach(z, zb);
+    // The target does not depend on the velocity bounds.
+    ZBounds other = zb;
+    other.z2_max += 10;
+    other.z2_min -= 10;
+    ASSERT_EQ(target_velocity(z.z1, other), w);
+  }
+  EXPECT_GT(final_approach, 1000);
+}
+
 TEST(TransientSyncMath, DegenerateCasesGiveNoBound) {
   EXPECT_TRUE(std::isnan(cruise_bound_up(1, 0, 1, 0, 1, -25, 40, true)));   // no gap
   EXPECT_TRUE(std::isnan(cruise_bound_up(2, 0, 1, 0, 1, -25, 40, true)));   // wrong side
