@@ -504,8 +504,9 @@ void register_transient_sync(BlockRegistry& r) {
   t.params = {
       param("n", IecType::DINT, "", 1, static_cast<double>(kMaxAxes), "number of axes (sets the array pin lengths)"),
       param("rule", IecType::DINT, "0", 0, 2,
-            "bound-scaling rule: 0 unified (eqs. 33/34 by the sign of r - x), 1 the paper's (by the sign of r_dot, "
-            "zero-bound parking otherwise), 2 off (independent filters)"),
+            "bound-scaling rule: 0 unified (eq. 33 or 34 by the side on which the filter comes to rest, any sign of "
+            "r_dot), 1 the paper's (by the signs of r - x and r_dot, zero-bound parking otherwise), 2 off "
+            "(independent filters)"),
       param("start_at_r", IecType::BOOL, "TRUE", std::nullopt, std::nullopt,
             "TRUE: the first scan starts every filter at x = r, x_dot = r_dot; FALSE: at (x0, v0)"),
   };
