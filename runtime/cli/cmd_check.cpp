@@ -15,6 +15,14 @@ int cmd_check(const std::string& project) {
   print_execution_order(std::cout, p);
   std::cout << "\n";
   print_tag_map(std::cout, p);
+  bool header = false;
+  for (const auto& d : p.drivers) {
+    std::string s = d.driver->summary();
+    if (s.empty()) continue;
+    if (!header) std::cout << "\nDrivers:\n";
+    header = true;
+    std::cout << "  " << d.driver->name() << " (" << d.type << "): " << s << "\n";
+  }
   if (!p.traces.empty()) {
     std::cout << "\nTraces:";
     for (const auto& t : p.traces) std::cout << " " << t.label;

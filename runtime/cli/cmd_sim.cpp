@@ -7,13 +7,14 @@
 
 #include "runtime/cli/commands.hpp"
 #include "runtime/core/virtual_clock.hpp"
+#include "runtime/project/metrics.hpp"
 #include "runtime/project/report.hpp"
 #include "runtime/project/trace_csv.hpp"
 
 namespace syncplc::cli {
 
 int cmd_sim(const std::string& project, const std::string& duration, std::optional<std::uint64_t> seed,
-            const std::string& trace, const std::vector<std::string>& sets, bool quiet) {
+            const std::string& trace, const std::vector<std::string>& sets, bool quiet, const std::string& metrics_path) {
   std::string err;
   auto d = parse_duration_ns(duration, &err);
   if (!d || *d <= 0) {
@@ -41,8 +42,22 @@ int cmd_sim(const std::string& project, const std::string& duration, std::option
     std::cerr << "syncplc: " << err << "\n";
     return kExitInvalid;
   }
+  std::ofstream metrics_out;
+  if (!metrics_path.empty()) {
+    metrics_out.open(metrics_path, std::ios::binary | std::ios::trunc);
+    if (!metrics_out) {
+      std::cerr << "syncplc: cannot write metrics file " << metrics_path << "\n";
+      return kExitInvalid;
+    }
+    if (p.axis_errors.empty())
+      std::cerr << "syncplc: warning: the project names no metrics axis_errors: the metrics hold statistics only\n";
+  }
   VirtualClock clock(p);
-  if (out.is_open()) clock.on_time_point([&](std::int64_t t) { write_trace_row(out, p, t); });
+  MotionMetrics metrics(p);
+  clock.on_time_point([&](std::int64_t t) {
+    if (out.is_open()) write_trace_row(out, p, t);
+    if (metrics.enabled()) metrics.sample(p, t, clock.scans(metrics.task()));
+  });
 
   // Progress is shown only on a terminal; it never changes what is simulated.
   const bool progress = !quiet && isatty(STDERR_FILENO);
@@ -76,6 +91,18 @@ int cmd_sim(const std::string& project, const std::string& duration, std::option
       return kExitInvalid;
     }
     std::cout << "Trace: " << trace << " (" << p.traces.size() << " columns)\n";
+  }
+  if (metrics.enabled())
+    std::cout << fmt::format("Track-RSME {:.6g}  Sync-RSME {:.6g}  ({} samples, paper 000 eqs. 26-27)\n",
+                             metrics.track_rsme(), metrics.sync_rsme(), metrics.samples());
+  if (metrics_out.is_open()) {
+    metrics_out << metrics.json(p, *d, wall);
+    metrics_out.flush();
+    if (!metrics_out) {
+      std::cerr << "syncplc: error writing " << metrics_path << "\n";
+      return kExitInvalid;
+    }
+    std::cout << "Metrics: " << metrics_path << "\n";
   }
   return kExitOk;
 }

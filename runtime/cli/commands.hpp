@@ -20,7 +20,7 @@ bool parse_sets(const std::vector<std::string>& sets, LoadOptions& options);
 int cmd_check(const std::string& project);
 int cmd_blocks(const std::string& name, bool markdown);
 int cmd_sim(const std::string& project, const std::string& duration, std::optional<std::uint64_t> seed,
-            const std::string& trace, const std::vector<std::string>& sets, bool quiet);
+            const std::string& trace, const std::vector<std::string>& sets, bool quiet, const std::string& metrics_path);
 int cmd_run(const std::string& project, const std::string& duration, const std::vector<std::string>& sets,
             bool no_status, int cpu_latency_us);
 int cmd_test(const std::string& project, const std::string& tests, const std::string& junit);

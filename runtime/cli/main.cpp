@@ -11,7 +11,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", "syncplc 0.1.0");
 
-  std::string project, duration, trace, tests, junit, block;
+  std::string project, duration, trace, tests, junit, block, metrics;
   std::optional<std::uint64_t> seed;
   std::vector<std::string> sets;
   bool markdown = false, quiet = false, no_status = false;
@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
   sim->add_option("--seed", seed, "seed for drivers and blocks that use randomness");
   sim->add_option("--trace", trace, "write the traced pins to this CSV file");
   sim->add_option("--set", sets, "override a parameter: instance.param=value (repeatable)");
+  sim->add_option("--metrics", metrics, "write statistics, motion metrics (Track/Sync-RSME) and driver counters as JSON");
   sim->add_flag("--quiet,-q", quiet, "no progress display");
 
   auto* run = app.add_subcommand("run", "run a project in real time");
@@ -55,7 +56,7 @@ int main(int argc, char** argv) {
   try {
     if (*check) return cmd_check(project);
     if (*blocks) return cmd_blocks(block, markdown);
-    if (*sim) return cmd_sim(project, duration, seed, trace, sets, quiet);
+    if (*sim) return cmd_sim(project, duration, seed, trace, sets, quiet, metrics);
     if (*run) return cmd_run(project, duration, sets, no_status, cpu_latency_us);
     if (*test) return cmd_test(project, tests, junit);
   } catch (const std::exception& e) {

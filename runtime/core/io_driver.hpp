@@ -50,6 +50,10 @@ class IoDriver {
   virtual bool force_input(int /*channel*/, const Cell* /*values*/) { return false; }
   // Tests and status display: the value last written to an output channel.
   virtual bool read_output(int /*channel*/, Cell* /*values*/) const { return false; }
+  // One line for `syncplc check` (bus time, model, ...); "" for nothing. Not on the scan path.
+  virtual std::string summary() const { return {}; }
+  // Named counters for reports and metrics (frames sent, lost ...). Not on the scan path.
+  virtual std::vector<std::pair<std::string, double>> counters() const { return {}; }
 
  private:
   std::string name_;

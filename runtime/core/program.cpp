@@ -59,7 +59,11 @@ std::optional<CellRef> Program::resolve(const std::string& ref, std::string* err
     r.task = it->second.first;
     r.cell = bi.pin_cell[static_cast<std::size_t>(p)];
     r.type = decl.cls == TypeClass::Exact ? decl.type : bi.datatype;
-    r.length = 1;
+    r.length = p < static_cast<int>(bi.pin_length.size()) ? bi.pin_length[static_cast<std::size_t>(p)] : 1;
+    if (element) {
+      if (!decl.is_array()) return fail("pin " + base + " is not an array");
+      *element -= 1;  // array pins are ARRAY[1..n]
+    }
   } else {
     const Tag* t = find_tag(base);
     if (!t) return fail("no tag '" + base + "'");

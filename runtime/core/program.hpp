@@ -72,6 +72,10 @@ class Program {
   std::vector<DriverBinding> drivers;
   std::vector<TraceColumn> traces;
   std::vector<std::string> watch;  // tags shown by the live status
+  // metrics: in the project file: the axes' tracking errors, in axis order,
+  // for the motion metrics of `syncplc sim --metrics` (paper 000 eqs. 26-27).
+  std::vector<TraceColumn> axis_errors;
+  std::int64_t metrics_from_ns = 0;  // samples before this time are not counted
 
   const Tag* find_tag(const std::string& name) const;
   int find_task(const std::string& name) const;

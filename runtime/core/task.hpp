@@ -85,7 +85,8 @@ struct BlockInstance {
   IecType datatype = IecType::LREAL;
   std::unique_ptr<Block> block;
   std::vector<Cell*> pins;          // bound pin cells, by declaration index
-  std::vector<std::uint32_t> pin_cell;  // image index of each pin
+  std::vector<std::uint32_t> pin_cell;  // image index of each pin (its first element)
+  std::vector<std::uint32_t> pin_length;  // elements of each pin: 1, or n for an array pin
   std::vector<CellCopy> copy_in;    // before execute (for a unit delay: before end_of_scan)
   std::vector<CellCopy> copy_out;   // after execute: output -> tags
 };

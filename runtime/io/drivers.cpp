@@ -1,6 +1,8 @@
 #include "runtime/io/drivers.hpp"
 
 #include "runtime/io/memory_driver.hpp"
+#include "runtime/io/sim_ring.hpp"
+#include "runtime/io/sim_table.hpp"
 
 namespace syncplc {
 
@@ -8,6 +10,8 @@ const DriverRegistry& builtin_drivers() {
   static const DriverRegistry registry = [] {
     DriverRegistry r;
     r.add(memory_driver_type());
+    r.add(sim_table_driver_type());
+    r.add(sim_ring_driver_type());
     return r;
   }();
   return registry;

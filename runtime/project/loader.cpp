@@ -67,9 +67,11 @@ struct InstanceDecl {
   std::vector<const ConfigNode*> inputs;  // constant inputs by pin index
   std::vector<int> source;                // connection index feeding each input pin, -1 none, kBrokenSource
   std::vector<std::uint32_t> pin_length;  // elements per pin (1 for a scalar), set from parameters
+  std::vector<std::vector<int>> element_source;  // array input pins: connection feeding each element, -1 none
+  bool params_ok = true;                  // parameters parsed (so array pin lengths are known)
   SourceLoc loc;
   // Filled by the checking phases, used by build():
-  std::vector<std::optional<Cell>> pin_values;  // constants and pin inits, by pin index
+  std::vector<std::vector<Cell>> pin_values;  // constants and pin inits by pin index: none, one (every element) or one per element
   std::vector<Cell> param_cells;                // by ParamDecl index
   bool values_ok = true;
   std::unique_ptr<Block> block;
@@ -123,8 +125,11 @@ class Loader : public DriverSetup {
   void read_blocks(const ConfigNode& n);
   void read_drivers(const ConfigNode& n);
   void read_connections(const ConfigNode& n);
+  void read_metrics(const ConfigNode& n);
   bool parse_endpoint(const std::string& text, const SourceLoc& loc, Endpoint& e);
   void apply_overrides();
+  void check_params();
+  bool pin_connected(const InstanceDecl& in, std::size_t pin) const;
   void infer_types();
   void check_connections();
   void find_owners();
@@ -155,6 +160,8 @@ class Loader : public DriverSetup {
   std::vector<DriverDecl> drvs_;
   std::vector<ConnectionDecl> conns_;
   std::vector<std::pair<std::string, SourceLoc>> traces_, watch_;
+  std::vector<std::pair<std::string, SourceLoc>> axis_errors_;  // metrics: axis_errors
+  std::int64_t metrics_from_ns_ = 0;
   std::vector<std::vector<int>> order_;     // per task: instance indices, unit delays first
   std::vector<std::size_t> delays_;         // per task: how many unit delays lead the order
   std::set<std::string> failed_names_;      // declarations already reported: no follow-on errors
@@ -183,7 +190,7 @@ int Loader::instance_index(const std::string& name) const {
 }
 
 const std::set<std::string> kTopKeys = {"project", "include", "tasks", "tags", "blocks", "connections",
-                                        "drivers", "traces", "watch"};
+                                        "drivers", "traces", "watch", "metrics"};
 
 void Loader::merge_includes(ConfigNode& root, const std::string& path, int depth) {
   const ConfigNode* inc = root.find("include");
@@ -254,7 +261,7 @@ LoadResult Loader::run(ConfigNode root, const std::string& path) {
   merge_includes(root_, path, 0);
   for (const auto& [k, v] : root_.map)
     if (!kTopKeys.count(k))
-      d_.error(v.loc, "unknown top-level key '" + k + "' (project, include, tasks, tags, blocks, connections, drivers, traces, watch)");
+      d_.error(v.loc, "unknown top-level key '" + k + "' (project, include, tasks, tags, blocks, connections, drivers, traces, watch, metrics)");
   if (auto* n = root_.find("project")) read_project(*n);
   if (opts_.seed) seed_ = *opts_.seed;
   if (auto* n = root_.find("tasks")) read_tasks(*n);
@@ -263,6 +270,7 @@ LoadResult Loader::run(ConfigNode root, const std::string& path) {
   if (auto* n = root_.find("blocks")) read_blocks(*n);
   if (auto* n = root_.find("drivers")) read_drivers(*n);
   apply_overrides();
+  check_params();  // before connections: parameters size the array pins
   if (auto* n = root_.find("connections")) read_connections(*n);
   auto read_refs = [&](const char* key, std::vector<std::pair<std::string, SourceLoc>>& out) {
     const ConfigNode* n = root_.find(key);
@@ -275,6 +283,7 @@ LoadResult Loader::run(ConfigNode root, const std::string& path) {
   };
   read_refs("traces", traces_);
   read_refs("watch", watch_);
+  if (auto* n = root_.find("metrics")) read_metrics(*n);
   infer_types();
   check_connections();
   find_owners();
@@ -588,6 +597,7 @@ void Loader::read_blocks(const ConfigNode& n) {
     in.inputs.assign(T.pins.size(), nullptr);
     in.source.assign(T.pins.size(), -1);
     in.pin_length.assign(T.pins.size(), 1);
+    in.element_source.assign(T.pins.size(), {});
     if (params) {
       if (!params->is_map()) d_.error(params->loc, "params: expected a map of parameter: value");
       else
@@ -713,8 +723,19 @@ bool Loader::parse_endpoint(const std::string& raw, const SourceLoc& loc, Endpoi
       d_.error(loc, "block " + inst + " (" + T.name + ") has no pin '" + pin + "' (" + names + ")");
       return false;
     }
-    if (idx) { d_.error(loc, "pin " + base + " is not an array"); return false; }
     e.is_pin = true;
+    if (idx) {
+      const auto& in = insts_[static_cast<std::size_t>(e.instance)];
+      const auto& decl = T.pins[static_cast<std::size_t>(e.pin)];
+      if (!decl.is_array()) { d_.error(loc, "pin " + base + " is not an array"); return false; }
+      if (!in.params_ok) return false;  // its length is unknown; the parameter's error says why
+      std::uint32_t len = in.pin_length[static_cast<std::size_t>(e.pin)];
+      if (*idx < 1 || *idx > static_cast<long long>(len)) {
+        d_.error(loc, "index " + std::to_string(*idx) + " is outside " + base + "[1.." + std::to_string(len) + "]");
+        return false;
+      }
+      e.element = static_cast<std::uint32_t>(*idx - 1);  // array pins are ARRAY[1..n]
+    }
     return true;
   }
   e.tag = tag_index(base);
@@ -763,6 +784,7 @@ void Loader::read_connections(const ConfigNode& n) {
       auto& di = insts_[static_cast<std::size_t>(cd.dst.instance)];
       if (di.source[static_cast<std::size_t>(cd.dst.pin)] == -1) di.source[static_cast<std::size_t>(cd.dst.pin)] = kBrokenSource;
     }
+
     if (!ok) continue;
     if (cd.src.is_pin) {
       const auto& p = insts_[static_cast<std::size_t>(cd.src.instance)].type->pins[static_cast<std::size_t>(cd.src.pin)];
@@ -781,12 +803,49 @@ void Loader::read_connections(const ConfigNode& n) {
     if (cd.dst.is_pin) {
       auto& di = insts_[static_cast<std::size_t>(cd.dst.instance)];
       auto pi = static_cast<std::size_t>(cd.dst.pin);
-      if (di.source[pi] >= 0) { d_.error(dl, cd.dst.text + " already has a source (" + conns_[static_cast<std::size_t>(di.source[pi])].src.text + " at " + conns_[static_cast<std::size_t>(di.source[pi])].loc.text() + ")"); continue; }
+      auto already = [&](int ci) {
+        const auto& o = conns_[static_cast<std::size_t>(ci)];
+        d_.error(dl, cd.dst.text + " already has a source (" + o.src.text + " -> " + o.dst.text + " at " + o.loc.text() + ")");
+      };
+      auto& es = di.element_source[pi];
+      if (di.source[pi] >= 0) { already(di.source[pi]); continue; }
       if (di.inputs[pi]) { d_.error(dl, cd.dst.text + " is connected and also given a constant in inputs:"); continue; }
-      di.source[pi] = static_cast<int>(conns_.size());
+      if (cd.dst.element) {
+        if (es.empty()) es.assign(di.pin_length[pi], -1);
+        int& slot = es[*cd.dst.element];
+        if (slot >= 0) { already(slot); continue; }
+        slot = static_cast<int>(conns_.size());
+      } else {
+        auto taken = std::find_if(es.begin(), es.end(), [](int c) { return c >= 0; });
+        if (taken != es.end()) { already(*taken); continue; }
+        di.source[pi] = static_cast<int>(conns_.size());
+      }
     }
     conns_.push_back(std::move(cd));
   }
+}
+
+void Loader::read_metrics(const ConfigNode& n) {
+  if (!n.is_map()) { d_.error(n.loc, "metrics: expected a map {axis_errors, from}"); return; }
+  for (const auto& [k, v] : n.map) {
+    if (k == "axis_errors") {
+      if (v.is_scalar()) axis_errors_.emplace_back(v.scalar, v.loc);
+      else if (v.is_list())
+        for (const auto& i : v.items) {
+          if (i.is_scalar()) axis_errors_.emplace_back(i.scalar, i.loc);
+          else d_.error(i.loc, "metrics axis_errors: expected a tag, tag[i] or instance.pin");
+        }
+      else d_.error(v.loc, "metrics axis_errors: an array tag or a list of tags, in axis order");
+    } else if (k == "from") {
+      std::string err;
+      auto ns = v.is_scalar() ? parse_duration_ns(v.scalar, &err) : std::nullopt;
+      if (!ns || *ns < 0) d_.error(v.loc, "metrics from: " + (err.empty() ? "'" + v.scalar + "' must not be negative" : err));
+      else metrics_from_ns_ = *ns;
+    } else {
+      d_.error(v.loc, "unknown key '" + k + "' in metrics (axis_errors, from)");
+    }
+  }
+  if (axis_errors_.empty()) d_.error(n.loc, "metrics: axis_errors is missing");
 }
 
 void Loader::apply_overrides() {
@@ -833,9 +892,9 @@ IecType Loader::endpoint_type(const Endpoint& e, std::uint32_t* length) const {
     if (length) *length = e.element ? 1 : t.length;
     return t.type;
   }
-  if (length) *length = 1;
   const auto& in = insts_[static_cast<std::size_t>(e.instance)];
   const auto& p = in.type->pins[static_cast<std::size_t>(e.pin)];
+  if (length) *length = e.element ? 1 : in.pin_length[static_cast<std::size_t>(e.pin)];
   return p.cls == TypeClass::Exact ? p.type : in.datatype.value_or(IecType::LREAL);
 }
 
@@ -899,6 +958,10 @@ void Loader::check_connections() {
     auto show = [&](IecType t, std::uint32_t l) {
       return std::string(type_name(t)) + (l > 1 ? "[" + std::to_string(l) + "]" : "");
     };
+    auto lengths_known = [&](const Endpoint& e) {
+      return !e.is_pin || insts_[static_cast<std::size_t>(e.instance)].params_ok;
+    };
+    if (ts == td && ls != ld && (!lengths_known(c.src) || !lengths_known(c.dst))) continue;
     if (ts != td || ls != ld)
       d_.error(c.loc, "type mismatch: " + c.src.text + " is " + show(ts, ls) + ", " + c.dst.text + " is " + show(td, ld));
     else if (c.dst.is_pin) {
@@ -912,8 +975,14 @@ void Loader::check_connections() {
   for (const auto& in : insts_)
     for (std::size_t i = 0; i < in.type->pins.size(); ++i) {
       const auto& p = in.type->pins[i];
-      if (p.dir == PinDir::In && p.required && in.source[i] == -1 && !in.inputs[i])
+      if (p.dir != PinDir::In || !p.required || in.source[i] != -1 || in.inputs[i]) continue;
+      const auto& es = in.element_source[i];
+      if (es.empty()) {
         d_.error(in.loc, "input " + in.name + "." + p.name + " must be connected or given a value in inputs:");
+      } else if (auto open = std::find(es.begin(), es.end(), -1); open != es.end()) {
+        d_.error(in.loc, "input " + in.name + "." + p.name + "[" + std::to_string(open - es.begin() + 1) +
+                             "] must be connected: connect every element of a required array input, or the whole array");
+      }
     }
 }
 
@@ -1002,21 +1071,55 @@ class LoaderBlockSetup final : public BlockSetup {
   Diagnostics& d_;
 };
 
+bool Loader::pin_connected(const InstanceDecl& in, std::size_t p) const {
+  const auto& es = in.element_source[p];
+  return in.source[p] >= 0 || in.source[p] == kBrokenSource || in.inputs[p] ||
+         std::any_of(es.begin(), es.end(), [](int c) { return c >= 0; });
+}
+
 void Loader::check_values() {
   for (auto& in : insts_) {
-    in.pin_values.assign(in.type->pins.size(), std::nullopt);
+    in.pin_values.assign(in.type->pins.size(), {});
     for (std::size_t p = 0; p < in.type->pins.size(); ++p) {
       const auto& decl = in.type->pins[p];
       IecType pt = decl.cls == TypeClass::Exact ? decl.type : in.datatype.value_or(IecType::LREAL);
-      if (in.inputs[p]) {
-        if (!in.inputs[p]->is_scalar()) d_.error(in.inputs[p]->loc, in.name + "." + decl.name + ": expected a value");
-        else in.pin_values[p] = parse_literal(pt, decl.unit, in.inputs[p]->scalar, in.inputs[p]->loc, in.name + "." + decl.name);
-        if (!in.pin_values[p]) in.values_ok = false;
+      const std::string what = in.name + "." + decl.name;
+      if (const ConfigNode* v = in.inputs[p]) {
+        if (v->is_scalar()) {
+          // One value: the scalar pin's value, or every element of an array pin.
+          if (auto c = parse_literal(pt, decl.unit, v->scalar, v->loc, what)) in.pin_values[p].push_back(*c);
+          else in.values_ok = false;
+        } else if (v->is_list() && decl.is_array()) {
+          if (!in.params_ok) continue;  // its length is unknown
+          const std::uint32_t len = in.pin_length[p];
+          if (v->items.size() != len) {
+            d_.error(v->loc, what + ": " + std::to_string(v->items.size()) + " values for ARRAY[1.." + std::to_string(len) +
+                                 "] (give one value for every element, or a single value for all)");
+            in.values_ok = false;
+            continue;
+          }
+          for (std::size_t k = 0; k < v->items.size(); ++k) {
+            const auto& item = v->items[k];
+            std::optional<Cell> c;
+            if (!item.is_scalar()) d_.error(item.loc, what + "[" + std::to_string(k + 1) + "]: expected a value");
+            else c = parse_literal(pt, decl.unit, item.scalar, item.loc, what + "[" + std::to_string(k + 1) + "]");
+            if (c) in.pin_values[p].push_back(*c);
+            else in.values_ok = false;
+          }
+        } else {
+          d_.error(v->loc, what + (decl.is_array() ? ": expected a value or a list of values" : ": expected a value"));
+          in.values_ok = false;
+        }
       } else if (!decl.init.empty()) {
         std::string err;
-        in.pin_values[p] = parse_value(pt, decl.init, &err);
+        if (auto c = parse_value(pt, decl.init, &err)) in.pin_values[p].push_back(*c);
       }
     }
+  }
+}
+
+void Loader::check_params() {
+  for (auto& in : insts_) {
     for (std::size_t p = 0; p < in.type->params.size(); ++p) {
       const auto& decl = in.type->params[p];
       std::string text = decl.default_value;
@@ -1024,7 +1127,7 @@ void Loader::check_values() {
       if (in.params[p]) { text = in.params[p]->scalar; loc = in.params[p]->loc; }
       if (!in.param_override[p].empty()) { text = in.param_override[p]; loc = SourceLoc{"command line", 0, 0}; }
       if (text.empty()) {  // a mandatory parameter left out: reported by read_blocks
-        in.values_ok = false;
+        in.values_ok = in.params_ok = false;
         in.param_cells.emplace_back();
         continue;
       }
@@ -1039,8 +1142,24 @@ void Loader::check_values() {
           v.reset();
         }
       }
-      if (!v) in.values_ok = false;
+      if (!v) { in.values_ok = false; in.params_ok = false; }
       in.param_cells.push_back(v.value_or(Cell{}));
+    }
+    if (!in.params_ok) continue;
+    for (std::size_t p = 0; p < in.type->pins.size(); ++p) {
+      const auto& decl = in.type->pins[p];
+      if (!decl.is_array()) continue;
+      auto k = static_cast<std::size_t>(in.type->param_index(decl.length_param));
+      double len = cell_as_double(in.type->params[k].type, in.param_cells[k]);
+      if (len < 1 || len > kMaxPinLength) {
+        SourceLoc loc = in.params[k] ? in.params[k]->loc : in.loc;
+        if (!in.param_override[k].empty()) loc = SourceLoc{"command line", 0, 0};
+        d_.error(loc, in.name + "." + decl.length_param + " = " + format_value(in.type->params[k].type, in.param_cells[k]) +
+                          ": array pin " + decl.name + " needs 1.." + std::to_string(kMaxPinLength) + " elements");
+        in.params_ok = in.values_ok = false;
+        break;
+      }
+      in.pin_length[p] = static_cast<std::uint32_t>(len);
     }
   }
 }
@@ -1133,7 +1252,7 @@ void Loader::create_blocks() {
   for (auto& in : insts_) {
     if (!in.values_ok || (in.type->is_generic() && !in.datatype)) continue;  // already reported
     std::vector<bool> connected;
-    for (std::size_t p = 0; p < in.type->pins.size(); ++p) connected.push_back(in.source[p] >= 0 || in.inputs[p]);
+    for (std::size_t p = 0; p < in.type->pins.size(); ++p) connected.push_back(pin_connected(in, p));
     LoaderBlockSetup setup(in, in.param_cells, connected, tasks_[static_cast<std::size_t>(in.task)].cfg.period_ns,
                            mix_seed(seed_, in.name), d_);
     std::size_t before = d_.size();
@@ -1154,11 +1273,18 @@ void Loader::check_refs() {
       for (std::size_t k = before; k < d_.size(); ++k) d_.prefix_message(k, "trace: ");
       continue;
     }
-    if (!e.is_pin && !e.element && tags_[static_cast<std::size_t>(e.tag)].tag.is_array)
-      d_.error(loc, "trace: " + ref + " is an array; trace its elements (" + ref + "[i])");
+    bool array = e.is_pin ? insts_[static_cast<std::size_t>(e.instance)].type->pins[static_cast<std::size_t>(e.pin)].is_array()
+                          : tags_[static_cast<std::size_t>(e.tag)].tag.is_array;
+    if (array && !e.element) d_.error(loc, "trace: " + ref + " is an array; trace its elements (" + ref + "[i])");
   }
   for (const auto& [ref, loc] : watch_)
     if (tag_index(ref) < 0 && !failed_names_.count(ref)) d_.error(loc, "watch: unknown tag '" + ref + "'");
+  for (const auto& [ref, loc] : axis_errors_) {
+    Endpoint e;
+    std::size_t before = d_.size();
+    if (!parse_endpoint(ref, loc, e))
+      for (std::size_t k = before; k < d_.size(); ++k) d_.prefix_message(k, "metrics: ");
+  }
 }
 
 std::unique_ptr<Program> Loader::build() {
@@ -1198,7 +1324,10 @@ std::unique_ptr<Program> Loader::build() {
   std::vector<std::vector<std::uint32_t>> pin_cells(insts_.size());
   for (std::size_t i = 0; i < insts_.size(); ++i) {
     auto t = static_cast<std::size_t>(insts_[i].task);
-    for (std::size_t p = 0; p < insts_[i].type->pins.size(); ++p) pin_cells[i].push_back(next[t]++);
+    for (std::size_t p = 0; p < insts_[i].type->pins.size(); ++p) {
+      pin_cells[i].push_back(next[t]);
+      next[t] += insts_[i].pin_length[p];
+    }
   }
   for (std::size_t t = 0; t < nt; ++t) prog->tasks[t]->image.assign(next[t], Cell{});
 
@@ -1214,8 +1343,11 @@ std::unique_ptr<Program> Loader::build() {
     }
   for (std::size_t i = 0; i < insts_.size(); ++i) {
     auto& img = prog->tasks[static_cast<std::size_t>(insts_[i].task)]->image;
-    for (std::size_t p = 0; p < insts_[i].pin_values.size(); ++p)
-      if (insts_[i].pin_values[p]) img[pin_cells[i][p]] = *insts_[i].pin_values[p];
+    for (std::size_t p = 0; p < insts_[i].pin_values.size(); ++p) {
+      const auto& v = insts_[i].pin_values[p];
+      for (std::uint32_t k = 0; !v.empty() && k < insts_[i].pin_length[p]; ++k)
+        img[pin_cells[i][p] + k] = v.size() == 1 ? v[0] : v[k];
+    }
   }
 
   for (std::size_t t = 0; t < nt; ++t) prog->tasks[t]->unit_delays = delays_[t];
@@ -1234,6 +1366,7 @@ std::unique_ptr<Program> Loader::build() {
       bi.type = in.type;
       bi.datatype = in.datatype.value_or(IecType::LREAL);
       bi.pin_cell = pin_cells[i];
+      bi.pin_length = in.pin_length;
       bi.block = std::move(in.block);
       task.blocks.push_back(std::move(bi));
       prog->instances[in.name] = {static_cast<std::uint16_t>(t), static_cast<std::uint32_t>(k)};
@@ -1241,22 +1374,25 @@ std::unique_ptr<Program> Loader::build() {
   }
 
   // --- connections as copies -----------------------------------------------------
+  // A connection copies its length: 1 for scalars and elements, n for whole arrays.
+  auto pin_at = [&](const Endpoint& e) {
+    return pin_cells[static_cast<std::size_t>(e.instance)][static_cast<std::size_t>(e.pin)] + e.element.value_or(0);
+  };
   for (const auto& c : conns_) {
+    std::uint32_t n = 1;
+    endpoint_type(c.dst, &n);
     if (c.dst.is_pin) {
       const auto& di = insts_[static_cast<std::size_t>(c.dst.instance)];
       auto t = static_cast<std::size_t>(di.task);
-      std::uint32_t src;
-      if (c.src.is_pin) src = pin_cells[static_cast<std::size_t>(c.src.instance)][static_cast<std::size_t>(c.src.pin)];
-      else src = local_cell(c.src.tag, t) + c.src.element.value_or(0);
+      std::uint32_t src = c.src.is_pin ? pin_at(c.src) : local_cell(c.src.tag, t) + c.src.element.value_or(0);
       auto& bi = prog->tasks[t]->blocks[position[static_cast<std::size_t>(c.dst.instance)]];
-      bi.copy_in.push_back({src, pin_cells[static_cast<std::size_t>(c.dst.instance)][static_cast<std::size_t>(c.dst.pin)], 1});
+      bi.copy_in.push_back({src, pin_at(c.dst), n});
     } else {
       const auto& si = insts_[static_cast<std::size_t>(c.src.instance)];
       auto t = static_cast<std::size_t>(si.task);
       const auto& tg = tags_[static_cast<std::size_t>(c.dst.tag)].tag;
       auto& bi = prog->tasks[t]->blocks[position[static_cast<std::size_t>(c.src.instance)]];
-      bi.copy_out.push_back({pin_cells[static_cast<std::size_t>(c.src.instance)][static_cast<std::size_t>(c.src.pin)],
-                             tg.cell + c.dst.element.value_or(0), 1});
+      bi.copy_out.push_back({pin_at(c.src), tg.cell + c.dst.element.value_or(0), n});
     }
   }
 
@@ -1320,6 +1456,24 @@ std::unique_ptr<Program> Loader::build() {
     if (!prog->find_tag(ref)) d_.error(loc, "watch: unknown tag '" + ref + "'");
     else prog->watch.push_back(ref);
   }
+  for (const auto& [ref, loc] : axis_errors_) {
+    std::string err;
+    auto r = prog->resolve(ref, &err);
+    if (!r) continue;  // reported by check_refs
+    if (r->type != IecType::LREAL && r->type != IecType::REAL) {
+      d_.error(loc, "metrics: " + ref + " is " + std::string(type_name(r->type)) + "; axis errors are REAL or LREAL");
+      continue;
+    }
+    const Tag* t = prog->find_tag(ref);
+    for (std::uint32_t k = 0; k < r->length; ++k) {
+      CellRef one = *r;
+      one.cell += k;
+      one.length = 1;
+      std::string label = r->length == 1 ? ref : ref + "[" + std::to_string((t ? t->array_lower : 1) + k) + "]";
+      prog->axis_errors.push_back({label, one});
+    }
+  }
+  prog->metrics_from_ns = metrics_from_ns_;
   if (!d_.empty()) return nullptr;
   return prog;
 }

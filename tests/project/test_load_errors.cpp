@@ -51,7 +51,7 @@ tag:
   - {name: x, type: BOOL}
 )"),
               ElementsAre("p.yaml:4:3: unknown top-level key 'tag' (project, include, tasks, tags, blocks, "
-                          "connections, drivers, traces, watch)"));
+                          "connections, drivers, traces, watch, metrics)"));
 }
 
 TEST(LoadErrors, DuplicateKeyInAMap) {
@@ -582,7 +582,7 @@ connections:
   - b -> n.IN
   - a -> m.IN
 )"),
-              ElementsAre("p.yaml:6:10: n.IN already has a source (a at p.yaml:5:5)",
+              ElementsAre("p.yaml:6:10: n.IN already has a source (a -> n.IN at p.yaml:5:5)",
                           "p.yaml:7:10: m.IN is connected and also given a constant in inputs:"));
 }
 
@@ -806,7 +806,7 @@ drivers:
     channels: [{name: c, dir: in, type: INT}]
     bind: {c: b}
 )");
-  EXPECT_THAT(e, ElementsAre("p.yaml:4:22: unknown driver type 'modbus' (memory)", "p.yaml:5:5: driver without a name",
+  EXPECT_THAT(e, ElementsAre("p.yaml:4:22: unknown driver type 'modbus' (memory, sim_ring, sim_table)", "p.yaml:5:5: driver without a name",
                              "p.yaml:6:5: memory driver needs a list 'channels'",
                              "p.yaml:7:56: dir must be 'in' or 'out', not 'sideways'",
                              "p.yaml:7:85: length must be 1..65536",
@@ -921,7 +921,7 @@ bogus: 1
                           "p.yaml:17:5: blocks in different tasks exchange data through a tag: connect t2.Q -> a tag "
                           "-> t3.IN",
                           "p.yaml:18:8: unknown top-level key 'bogus' (project, include, tasks, tags, blocks, "
-                          "connections, drivers, traces, watch)"));
+                          "connections, drivers, traces, watch, metrics)"));
 }
 
 TEST(LoadErrors, DiagnosticsCarryStructuredPlaces) {

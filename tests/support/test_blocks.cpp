@@ -37,6 +37,28 @@ class Stamp final : public Block {
   }
 };
 
+// OUT[i] := GAIN * IN[i] (i = 1..N); SUM := sum of IN; FLAGS[i] := IN[i] > 0.
+class ArrayGain final : public Block {
+ public:
+  explicit ArrayGain(BlockSetup& s) : n_(s.pin_length(0)), gain_(s.param<double>("GAIN")) {
+    if (s.pin_length(1) != n_) s.error("pin lengths disagree");
+  }
+  void execute(ScanContext&) override {
+    double sum = 0;
+    for (std::uint32_t i = 0; i < n_; ++i) {
+      double v = in<double>(0, i);
+      out<double>(1, i, gain_ * v);
+      out<bool>(3, i, v > 0);
+      sum += v;
+    }
+    out<double>(2, sum);
+  }
+
+ private:
+  std::uint32_t n_;
+  double gain_;
+};
+
 PinDecl in_pin(const char* n) { return PinDecl{n, PinDir::In, TypeClass::Exact, IecType::LREAL, "", false, "", "", ""}; }
 PinDecl out_pin(const char* n) { return PinDecl{n, PinDir::Out, TypeClass::Exact, IecType::LREAL, "", false, "", "", ""}; }
 
@@ -63,6 +85,15 @@ const BlockRegistry& test_blocks() {
     r.add(BlockTypeInfo{"STAMP", "test", "four copies of the scan time in ms", "",
                         {out_pin("A"), out_pin("B"), out_pin("C"), out_pin("D")}, {}, std::nullopt, false,
                         [](BlockSetup&) { return std::make_unique<Stamp>(); }});
+    PinDecl ain = in_pin("IN"), aout = out_pin("OUT"), flags = out_pin("FLAGS");
+    ain.length_param = aout.length_param = flags.length_param = "N";
+    ain.unit = aout.unit = "m";
+    flags.type = IecType::BOOL;
+    ParamDecl n{"N", IecType::INT, "3", 0, 5000, "", "elements"};
+    ParamDecl gain{"GAIN", IecType::LREAL, "2", std::nullopt, std::nullopt, "", "gain"};
+    r.add(BlockTypeInfo{"ARRAY_GAIN", "test", "OUT[i] := GAIN*IN[i]; SUM := sum of IN", "",
+                        {ain, aout, out_pin("SUM"), flags}, {n, gain}, std::nullopt, false,
+                        [](BlockSetup& s) { return std::make_unique<ArrayGain>(s); }});
     return r;
   }();
   return reg;

@@ -31,6 +31,9 @@ std::function<void(ScanContext&)>& hook();
 //   HOOK   (IN LREAL -> OUT LREAL): calls hook(), OUT := IN
 //   STAMP  (-> OUT LREAL[pins A,B,C,D]): writes ctx.now_ns in ms to four outputs,
 //          so a reader can check that four values published together stay together
+//   ARRAY_GAIN (IN ARRAY[1..N] OF LREAL -> OUT ARRAY[1..N], SUM, FLAGS ARRAY[1..N] OF BOOL;
+//          params N (INT, default 3), GAIN (LREAL, default 2)): OUT[i] := GAIN*IN[i], SUM := sum IN,
+//          FLAGS[i] := IN[i] > 0 — the array-pin test block
 const BlockRegistry& test_blocks();
 
 // Writes `text` to a temporary file and returns its path.
