@@ -9,6 +9,7 @@ void register_motion_blocks(BlockRegistry& r) {
   motion::register_nonlinear_filter(r);
   motion::register_sync_controller(r);
   motion::register_pid_controllers(r);
+  motion::register_transient_sync(r);
 }
 
 }  // namespace syncplc
