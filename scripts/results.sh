@@ -1,0 +1,11 @@
+#!/usr/bin/env bash
+# Reproduces docs/results.md: runs every row's command, prints the tables as
+# Markdown, and redraws the figures in docs/figures/ from the traces.
+# Usage: scripts/results.sh [OUTDIR]   (traces and metrics land in OUTDIR, default /tmp/syncplc-results)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+if ! /usr/bin/python3 -c 'import matplotlib' 2>/dev/null; then
+  apt-get install -y -q python3-matplotlib >/dev/null
+fi
+[ -x build/syncplc ] || bash scripts/build.sh build
+exec /usr/bin/python3 scripts/results.py tables "${1:-/tmp/syncplc-results}"
