@@ -9,52 +9,26 @@
 #include <string>
 #include <utility>
 
+#include "fblocks/motion/decl.hpp"
 #include "runtime/core/block.hpp"
 
 namespace syncplc::motion::ctl {
 
 inline PinDecl in(std::string name, IecType type, std::string unit, std::string doc, bool required = false,
                   std::string init = {}) {
-  PinDecl p;
-  p.name = std::move(name);
-  p.dir = PinDir::In;
-  p.type = type;
-  p.unit = std::move(unit);
-  p.required = required;
-  p.doc = std::move(doc);
-  p.init = std::move(init);
-  return p;
+  return pin(std::move(name), PinDir::In, type, std::move(unit), std::move(doc), std::move(init), {}, required);
 }
 
 inline PinDecl out(std::string name, IecType type, std::string unit, std::string doc) {
-  PinDecl p;
-  p.name = std::move(name);
-  p.dir = PinDir::Out;
-  p.type = type;
-  p.unit = std::move(unit);
-  p.doc = std::move(doc);
-  return p;
+  return pin(std::move(name), PinDir::Out, type, std::move(unit), std::move(doc));
 }
 
 inline PinDecl array_in(std::string name, IecType type, std::string unit, std::string length_param, std::string doc,
                         std::string init = {}) {
-  PinDecl p = in(std::move(name), type, std::move(unit), std::move(doc), false, std::move(init));
-  p.length_param = std::move(length_param);
-  return p;
+  return pin(std::move(name), PinDir::In, type, std::move(unit), std::move(doc), std::move(init), std::move(length_param));
 }
 
-inline ParamDecl param(std::string name, IecType type, std::string def, std::optional<double> min,
-                       std::optional<double> max, std::string unit, std::string doc) {
-  ParamDecl p;
-  p.name = std::move(name);
-  p.type = type;
-  p.default_value = std::move(def);
-  p.min = min;
-  p.max = max;
-  p.unit = std::move(unit);
-  p.doc = std::move(doc);
-  return p;
-}
+using motion::param;
 
 // Reads an LREAL parameter; reports a non-finite value or one outside the
 // declared range as a load error (returns the value anyway).

@@ -19,38 +19,13 @@
 #include <string>
 #include <utility>
 
+#include "fblocks/motion/decl.hpp"
 #include "fblocks/motion/motion.hpp"
 
 namespace syncplc::motion {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-
-PinDecl pin(std::string name, PinDir dir, IecType type, std::string unit, std::string doc, std::string init = {},
-            std::string length_param = {}) {
-  PinDecl p;
-  p.name = std::move(name);
-  p.dir = dir;
-  p.type = type;
-  p.unit = std::move(unit);
-  p.doc = std::move(doc);
-  p.init = std::move(init);
-  p.length_param = std::move(length_param);
-  return p;
-}
-
-ParamDecl param(std::string name, IecType type, std::string def, std::optional<double> min,
-                std::optional<double> max, std::string unit, std::string doc) {
-  ParamDecl p;
-  p.name = std::move(name);
-  p.type = type;
-  p.default_value = std::move(def);
-  p.min = min;
-  p.max = max;
-  p.unit = std::move(unit);
-  p.doc = std::move(doc);
-  return p;
-}
 
 PinDecl enable_pin() {
   return pin("enable", PinDir::In, IecType::BOOL, "",

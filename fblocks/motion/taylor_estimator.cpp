@@ -9,35 +9,13 @@
 #include <utility>
 
 #include "fblocks/motion/message_estimator.hpp"
+#include "fblocks/motion/decl.hpp"
 #include "fblocks/motion/motion.hpp"
 
 namespace syncplc::motion {
 namespace {
 
 enum : int { kIn = 0, kValid, kOut, kEstimated, kConsecutive, kNext };
-
-PinDecl pin(std::string name, PinDir dir, IecType type, std::string doc, std::string init = {},
-            bool required = false) {
-  PinDecl p;
-  p.required = required;
-  p.name = std::move(name);
-  p.dir = dir;
-  p.type = type;
-  p.doc = std::move(doc);
-  p.init = std::move(init);
-  return p;
-}
-
-ParamDecl param(std::string name, IecType type, std::string def, double min, double max, std::string doc) {
-  ParamDecl p;
-  p.name = std::move(name);
-  p.type = type;
-  p.default_value = std::move(def);
-  p.min = min;
-  p.max = max;
-  p.doc = std::move(doc);
-  return p;
-}
 
 class TaylorEstimator final : public Block {
  public:
@@ -83,23 +61,23 @@ void register_taylor_estimator(BlockRegistry& r) {
       "Hsieh, Hsu, Wang: The motion message estimator in networked control systems (paper 003), eqs. (3)-(5), "
       "Fig. 3; decentralized multi-axis synchronous control (paper 000), eq. (15)";
   t.pins = {
-      pin("in", PinDir::In, IecType::LREAL, "received sample (any unit; out, next are in the same unit)", "", true),
-      pin("valid", PinDir::In, IecType::BOOL, "TRUE: in is this scan's sample; FALSE: lost or late", "TRUE"),
-      pin("out", PinDir::Out, IecType::LREAL, "in when valid, else the estimate"),
-      pin("estimated", PinDir::Out, IecType::BOOL, "TRUE when out is an estimate"),
-      pin("consecutive", PinDir::Out, IecType::UDINT, "estimates in a row, 0 after a valid sample"),
-      pin("next", PinDir::Out, IecType::LREAL,
+      pin("in", PinDir::In, IecType::LREAL, "", "received sample (any unit; out, next are in the same unit)", "", "", true),
+      pin("valid", PinDir::In, IecType::BOOL, "", "TRUE: in is this scan's sample; FALSE: lost or late", "TRUE"),
+      pin("out", PinDir::Out, IecType::LREAL, "", "in when valid, else the estimate"),
+      pin("estimated", PinDir::Out, IecType::BOOL, "", "TRUE when out is an estimate"),
+      pin("consecutive", PinDir::Out, IecType::UDINT, "", "estimates in a row, 0 after a valid sample"),
+      pin("next", PinDir::Out, IecType::LREAL, "",
           "one-step prediction of the next sample from the current history (the estimate out would take if the "
           "next sample were lost)"),
   };
   t.params = {
-      param("order", IecType::INT, "3", 0, 3,
+      param("order", IecType::INT, "3", 0, 3, "",
             "predictor order: 0 hold, 1 [2, -1], 2 [5/2, -2, 1/2], 3 [21/8, -19/8, 7/8, -1/8] (paper 003 eq. 5)"),
-      param("history", IecType::INT, "0", 0, 2,
+      param("history", IecType::INT, "0", 0, 2, "",
             "what the history holds after a loss: 0 robust (received samples only, frozen-velocity ramp across "
             "gaps; bounded), 1 recursive (estimates fed back, paper 003 Fig. 3; unstable above ~12 % loss), "
             "2 zero (lost samples as 0, zero-padded start; catastrophic, for comparison)"),
-      param("max_extrapolation", IecType::UDINT, "20", 0, 1'000'000,
+      param("max_extrapolation", IecType::UDINT, "20", 0, 1'000'000, "",
             "consecutive estimates that extrapolate; later ones hold the last estimate (0 = hold at once)"),
   };
   t.create = [](BlockSetup& s) -> std::unique_ptr<Block> {
