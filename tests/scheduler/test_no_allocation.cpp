@@ -224,6 +224,43 @@ namespace {
 // the estimators and the ring's loss draws run too: the table's plant, the
 // ring, the controllers and the metrics' sources, scan after scan, allocate
 // nothing.
+// The paper 004 projects: TRANSIENT_SYNC (every rule) and scripted and random
+// STEP_RAMP_SEQUENCE; plus NONLINEAR_FILTER on its own.
+TEST(ScanPath, SynchronizedFiltersDoNotAllocate) {
+  for (const char* file : {"three_signals.yaml", "six_axes.yaml"})
+    for (const char* rule : {"0", "1", "2"}) {
+      LoadOptions lo;
+      lo.overrides = {{"sync", "rule", rule}};
+      auto r = load_project(std::string(SYNCPLC_SOURCE_DIR) + "/projects/paper004_sync/" + file, lo);
+      for (const auto& d : r.diagnostics.list()) ADD_FAILURE() << d.text();
+      ASSERT_TRUE(r.program);
+      VirtualClock clock(*r.program);
+      clock.run_until(100'000'000);
+      g_allocations = 0;
+      g_counting = true;
+      clock.run_until(30'000'000'000);  // 30 s: many transients
+      g_counting = false;
+      EXPECT_EQ(g_allocations.load(), 0) << file << " rule " << rule;
+    }
+  auto p = load_test_project(R"(
+tasks: [{name: servo, period: 1ms}]
+blocks:
+  - {name: steps, type: STEP_RAMP_SEQUENCE, params: {min_hold: 0.2, max_hold: 0.6, r_min: -1, r_max: 1}, inputs: {enable: TRUE}}
+  - {name: f, type: NONLINEAR_FILTER, inputs: {v_min: -2, v_max: 3, a_min: -20, a_max: 15}}
+connections:
+  - steps.r -> f.r
+  - steps.r_dot -> f.r_dot
+)");
+  ASSERT_TRUE(p);
+  VirtualClock clock(*p);
+  clock.run_until(10'000'000);
+  g_allocations = 0;
+  g_counting = true;
+  clock.run_until(5'000'000'000);
+  g_counting = false;
+  EXPECT_EQ(g_allocations.load(), 0);
+}
+
 TEST(ScanPath, FourAxisDemoDoesNotAllocate) {
   for (const char* file : {"sync.yaml", "pd.yaml"}) {
     LoadOptions lo;

@@ -78,6 +78,7 @@ const BlockRegistry& test_blocks() {
   static const BlockRegistry reg = [] {
     BlockRegistry r;
     register_iec_blocks(r);
+    register_motion_blocks(r);
     r.add(BlockTypeInfo{"RECORD", "test", "records every scan", "", {in_pin("IN"), out_pin("OUT")}, {}, std::nullopt, false,
                         [](BlockSetup& s) { return std::make_unique<Record>(s.instance_name()); }});
     r.add(BlockTypeInfo{"HOOK", "test", "calls the test's hook", "", {in_pin("IN"), out_pin("OUT")}, {}, std::nullopt, false,
