@@ -68,3 +68,27 @@ TEST(FourAxisTable, CheckReportsTheBusTime) {
 }
 
 }  // namespace
+
+namespace {
+
+// The other papers' projects are reproducible too: same seed, same bytes.
+TEST(PaperProjects, SimIsBitForBitReproducible) {
+  const std::string src = SYNCPLC_SOURCE_DIR;
+  const std::pair<std::string, std::string> runs[] = {
+      {src + "/projects/paper003_estimator/estimator.yaml", "-d 5s --set ring.loss.p=0.3"},
+      {src + "/projects/paper004_sync/three_signals.yaml", "-d 60s"},
+      {src + "/projects/paper004_sync/six_axes.yaml", "-d 60s --set sync.rule=1"},
+  };
+  for (const auto& [project, args] : runs) {
+    std::string t1 = write_temp_file("pp1.csv", ""), t2 = write_temp_file("pp2.csv", "");
+    auto a = run_cli("sim " + project + " -q --seed 3 " + args + " --trace " + t1);
+    auto b = run_cli("sim " + project + " -q --seed 3 " + args + " --trace " + t2);
+    ASSERT_EQ(a.rc, 0) << project << a.err;
+    ASSERT_EQ(b.rc, 0) << project << b.err;
+    const std::string x = slurp(t1);
+    EXPECT_GT(x.size(), 10000u) << project;
+    EXPECT_EQ(x, slurp(t2)) << project;
+  }
+}
+
+}  // namespace
