@@ -6,7 +6,7 @@
 // Pure functions, double precision, noexcept, no allocation. Each function does
 // one job; the comments cite the paper's equations. The controller C is not
 // printed in the paper: the law here is the one derived in
-// /work/shared/design/motion-math.md ("Paper 004") and in
+// ../shared/design/motion-math.md ("Paper 004") and in
 // docs/motion/nonlinear-filter.md, which also lists the corrections of Table I.
 //
 // Notation (paper): T sampling time; state x = [x, xdot] (eq. 1-2); reference

@@ -3,7 +3,7 @@
 // same scan, and the energy index E of their transients. Paper 004
 // (C. Guarino Lo Bianco, "An efficient algorithm for the real-time generation
 // of synchronous reference signals"), Section III, eqs. (23)-(34), with the
-// corrections and the "unified" rule of /work/shared/design/motion-math.md
+// corrections and the "unified" rule of ../shared/design/motion-math.md
 // ("Synchronizer (Section III), every scan"); see docs/motion/transient-sync.md.
 //
 // The filters are those of NONLINEAR_FILTER (nonlinear_filter_math.hpp: the
@@ -454,7 +454,7 @@ void register_transient_sync(BlockRegistry& r) {
   t.reference =
       "C. Guarino Lo Bianco, \"An efficient algorithm for the real-time generation of synchronous reference "
       "signals\" (paper 004), Section III, eqs. (23)-(34), Figs. 6-8, Tables II-IV; corrections (eq. 31, "
-      "roots of eqs. 33-34, the unified rule, the look-ahead guard) in /work/shared/design/motion-math.md "
+      "roots of eqs. 33-34, the unified rule, the look-ahead guard) in ../shared/design/motion-math.md "
       "and docs/motion/transient-sync.md";
   t.pins = {
       pin("r", In, IecType::LREAL, "m", "reference positions (steps and ramps)", A, true),
