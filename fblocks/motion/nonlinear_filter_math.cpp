@@ -4,6 +4,7 @@
 #include "fblocks/motion/nonlinear_filter_math.hpp"
 
 #include <cmath>
+#include <limits>
 
 namespace syncplc::motion {
 namespace {
@@ -15,12 +16,70 @@ constexpr double kTrackingRel = 1e-6;  // of max(U+, -U-)
 ZState mirror(const ZState& z) noexcept { return {-z.z1, -z.z2}; }
 ZBounds mirror(const ZBounds& b) noexcept { return {-b.z2_max, -b.z2_min, -b.u_max, -b.u_min}; }
 
-double max_accel(const ZBounds& zb) noexcept { return std::fmax(zb.u_max, -zb.u_min); }
+// std::fmax as the x86-64 libm computes it (maxsd with NaN handling): the
+// larger of x and y, y when they compare equal (+0/-0), the other one when one
+// is a NaN. Inline: the library call is a noticeable part of a prediction.
+inline double fmax_libm(double x, double y) noexcept { return (x > y || std::isnan(y)) ? x : y; }
+
+double max_accel(const ZBounds& zb) noexcept { return fmax_libm(zb.u_max, -zb.u_min); }
+
+// approach_steps, inline for the prediction's inner loops.
+inline double approach_steps_inl(double a) noexcept {
+  if (!(a > 0)) return 2;
+  double n = std::ceil(0.5 + std::sqrt(0.25 + 2 * a));  // eq. (11)
+  if (!(n < 9.0e15)) return n;                          // beyond exact integers: as computed
+  if (n < 2) n = 2;
+  // Correct a rounding of the square root by one either way.
+  for (int i = 0; i < 2 && n > 2 && 0.5 * (n - 1) * (n - 2) >= a; ++i) n -= 1;
+  for (int i = 0; i < 2 && 0.5 * n * (n - 1) < a; ++i) n += 1;
+  return n;
+}
+
+// True when the target speed target_velocity computes for a state at distance
+// d = |z1| > 0 with braking bound ub, ub (a/(m-1) + (m-2)/2) with a = d/ub and
+// m = approach_steps(a), rounded, is certainly greater than v >= 0, decided
+// without the square root. For every real m > 1, a/(m-1) + (m-2)/2 >=
+// sqrt(2a) - 1/2 (AM-GM), so the exact value is >= sqrt(2 d ub) - ub/2 and it
+// exceeds v when 2 d ub > (v + ub/2)^2. The test asks for a relative margin of
+// 1e-9, far above the rounding of the test (5 ulps) and of target_velocity
+// (a, the quotient, the sum, the product: 5 ulps), and for normal, finite
+// operands, so that the rounded target is > v whenever the test holds. False
+// means "not decided" (the caller computes the target).
+inline bool target_surely_above(double d, double ub, double v) noexcept {
+  if (!(v >= 0) || !(ub > 0)) return false;
+  const double p = v + 0.5 * ub;
+  const double pp = p * p;
+  const double lhs = 2 * d * ub;
+  return pp >= std::numeric_limits<double>::min() && lhs <= std::numeric_limits<double>::max() &&
+         lhs >= pp * (1 + 1e-9);
+}
+
+// target_velocity (as declared) with the mirror image exact: the left half
+// (z1 < 0) and the right half use the same arithmetic on |z1|.
+inline double target_velocity_inl(double z1, const ZBounds& zb) noexcept {
+  if (z1 == 0) return 0;
+  const double ub = z1 < 0 ? -zb.u_min : zb.u_max;  // braking bound of the final approach
+  const double a = std::fabs(z1) / ub;
+  const double m = approach_steps_inl(a);
+  const double w = ub * (a / (m - 1) + 0.5 * (m - 2));
+  return z1 < 0 ? w : -w;
+}
+
+// clamped_target_velocity: the clamp of target_velocity to [z2-, z2+], with the
+// far field (target certainly beyond the bound it is clamped to) decided
+// without the square root. Exact: returns what the clamp of the rounded target
+// returns.
+inline double clamped_target_inl(double z1, const ZBounds& zb) noexcept {
+  if (zb.z2_min <= zb.z2_max) {
+    if (z1 < 0 && target_surely_above(-z1, -zb.u_min, zb.z2_max)) return zb.z2_max;    // w > z2+
+    if (z1 > 0 && target_surely_above(z1, zb.u_max, -zb.z2_min)) return zb.z2_min;    // w < z2- <= z2+
+  }
+  const double w = target_velocity_inl(z1, zb);
+  return w > zb.z2_max ? zb.z2_max : (w < zb.z2_min ? zb.z2_min : w);
+}
 
 // The controller's unclamped acceleration w_t - z2 (before saturation).
-double raw_control(const ZState& z, const ZBounds& zb) noexcept {
-  return clamped_target_velocity(z.z1, zb) - z.z2;
-}
+double raw_control(const ZState& z, const ZBounds& zb) noexcept { return clamped_target_inl(z.z1, zb) - z.z2; }
 
 // State after k samples of constant acceleration u (eq. 12, as in eqs. 15/17):
 // z1 + k z2 + k(k+1)/2 u, z2 + k u.
@@ -28,19 +87,85 @@ ZState after_constant(const ZState& z, double k, double u) noexcept {
   return {z.z1 + k * z.z2 + 0.5 * k * (k + 1) * u, z.z2 + k * u};
 }
 
-// Below the BL: the controller saturates at U+.
-bool below_layer(const ZState& z, const ZBounds& zb) noexcept {
-  return raw_control(z, zb) > zb.u_max + accel_deadband(zb);
-}
-
-// Above the BL: the controller saturates at U-.
-bool above_layer(const ZState& z, const ZBounds& zb) noexcept {
-  return raw_control(z, zb) < zb.u_min - accel_deadband(zb);
-}
-
 // ceil/floor of a double that may be huge, as a double; callers check the
 // range against kMaxSteps before converting.
 double ceil_nonneg(double v) noexcept { return v > 0 ? std::ceil(v) : 0.0; }
+
+// ---- one prediction: its frame and its target velocities ----------------------
+
+// The target velocities of one prediction, memoized: target_velocity(z1, zb)
+// and its approach_steps m for the bounds zb of the original frame. The
+// prediction evaluates controller C at the same abscissa several times (the
+// region tests, the entry index and its predecessor, the final approach);
+// each distinct z1 costs one square root. Exact: the same function of the same
+// operands.
+class Targets {
+ public:
+  struct Entry {
+    double z1 = 0, m = 0, w = 0;
+  };
+  explicit Targets(const ZBounds& zb) noexcept : zb_(zb) {}
+  // z1 != 0 (original frame).
+  const Entry& at(double z1) noexcept {
+    for (int i = 0; i < count_; ++i)
+      if (e_[i].z1 == z1) return e_[i];
+    Entry& e = e_[next_];
+    next_ = (next_ + 1) % kSize;
+    if (count_ < kSize) ++count_;
+    const double ub = z1 < 0 ? -zb_.u_min : zb_.u_max;
+    const double a = std::fabs(z1) / ub;
+    const double m = approach_steps_inl(a);
+    const double w = ub * (a / (m - 1) + 0.5 * (m - 2));
+    e = Entry{z1, m, z1 < 0 ? w : -w};
+    return e;
+  }
+
+ private:
+  static constexpr int kSize = 6;
+  const ZBounds& zb_;
+  Entry e_[kSize];
+  int count_ = 0, next_ = 0;
+};
+
+// A half of the state space as the prediction sees it: the bounds b of the
+// frame (zb, or mirror(zb) when mirrored) and the shared memo of the original
+// frame. The mirror image is exact: target_velocity(-z1, mirror(zb)) is
+// -target_velocity(z1, zb) bit for bit (same |z1|, same braking bound).
+struct Frame {
+  Targets& t;
+  ZBounds b;
+  bool mirrored;
+  double eps;  // accel_deadband(b)
+
+  Frame(Targets& targets, const ZBounds& bounds, bool mirror_frame) noexcept
+      : t(targets), b(bounds), mirrored(mirror_frame), eps(accel_deadband(bounds)) {}
+
+  // target_velocity(z1, b).
+  double target(double z1) const noexcept {
+    if (z1 == 0) return 0;
+    return mirrored ? -t.at(-z1).w : t.at(z1).w;
+  }
+  // approach_steps(-z1 / -b.u_min) for z1 < 0 (that target's m).
+  double m_left(double z1) const noexcept { return mirrored ? t.at(-z1).m : t.at(z1).m; }
+  // clamped_target_velocity(z1, b).
+  double clamped(double z1) const noexcept {
+    if (b.z2_min <= b.z2_max) {
+      if (z1 < 0 && target_surely_above(-z1, -b.u_min, b.z2_max)) return b.z2_max;
+      if (z1 > 0 && target_surely_above(z1, b.u_max, -b.z2_min)) return b.z2_min;
+    }
+    const double w = target(z1);
+    return w > b.z2_max ? b.z2_max : (w < b.z2_min ? b.z2_min : w);
+  }
+  // Below the BL: the controller saturates at U+.
+  bool below(const ZState& z) const noexcept { return clamped(z.z1) - z.z2 > b.u_max + eps; }
+  // Above the BL: the controller saturates at U-.
+  bool above(const ZState& z) const noexcept { return clamped(z.z1) - z.z2 < b.u_min - eps; }
+  // In the curved part at abscissa z1: the target is not cut by z2+.
+  bool curved_at(double z1) const noexcept {
+    if (z1 < 0 && target_surely_above(-z1, -b.u_min, b.z2_max)) return false;
+    return target(z1) <= b.z2_max;
+  }
+};
 
 // ---- the final approach (eq. 11) ---------------------------------------------
 
@@ -54,20 +179,18 @@ struct Approach {
   double m = 0;
 };
 
-Approach final_approach(double z1, const ZBounds& zb) noexcept {
+Approach final_approach(double z1, const Frame& fr) noexcept {
+  const ZBounds& zb = fr.b;
   const double ub = -zb.u_min;
   if (z1 >= 0) return {1, 1};  // z1 = 0 and z2 != 0: u = -z2 lands on the origin
   const double a = -z1 / ub;
-  const double m = approach_steps(a);
+  const double m = fr.m_left(z1);  // approach_steps(a)
   const double f = (a - 0.5 * (m - 1) * (m - 2)) / (m - 1);
   const double steps = f * ub <= tracking_tolerance(zb) ? m - 1 : m;
   return {steps, m};
 }
 
 // ---- the flat part of the BL: cruise on z2 = z2+ (eqs. 13-14) ---------------
-
-// In the curved part at abscissa z1: the target is not cut by z2+.
-bool curved_at(double z1, const ZBounds& zb) noexcept { return target_velocity(z1, zb) <= zb.z2_max; }
 
 struct Layer {
   double steps = -1;  // < 0: never
@@ -79,16 +202,17 @@ struct Layer {
 };
 
 // Samples from a state inside the BL in the left half (z1 < 0) until tracking.
-Layer layer_left(const ZState& z, const ZBounds& zb) noexcept {
+Layer layer_left(const ZState& z, const Frame& fr) noexcept {
+  const ZBounds& zb = fr.b;
   Layer out;
-  if (curved_at(z.z1, zb)) {  // z_a
-    const Approach ap = final_approach(z.z1, zb);
+  if (fr.curved_at(z.z1)) {  // z_a
+    const Approach ap = final_approach(z.z1, fr);
     out.steps = ap.steps;
     out.m = ap.steps;
     return out;
   }
   out.flat = true;
-  out.on_bound = std::fabs(z.z2 - zb.z2_max) <= accel_deadband(zb);  // z_b rather than z_c
+  out.on_bound = std::fabs(z.z2 - zb.z2_max) <= fr.eps;  // z_b rather than z_c
   // First sample: w_t = z2+, the state lands on the bound. Then u = 0 until
   // the target drops to z2+, at z1 >= z1+ (eq. 14), j samples later.
   const double v = zb.z2_max;
@@ -113,21 +237,23 @@ Layer layer_left(const ZState& z, const ZBounds& zb) noexcept {
   }
   const double hi_est = ceil_nonneg((z1_plus(zb) - z1b) / v);
   if (!(hi_est <= static_cast<double>(kMaxSteps))) return out;
-  auto first = [&](double j) { return curved_at(z1b + j * v, zb) && (j == 0 || !curved_at(z1b + (j - 1) * v, zb)); };
+  auto first = [&](double j) {
+    return fr.curved_at(z1b + j * v) && (j == 0 || !fr.curved_at(z1b + (j - 1) * v));
+  };
   double j = hi_est;
   if (!first(j)) {
     out.closed_form = false;
     // curved_at is monotone along the cruise (z1 grows, w* falls): bisect.
-    double lo = 0, hi = std::fmax(hi_est, 1.0);
-    while (!curved_at(z1b + hi * v, zb)) {
+    double lo = 0, hi = fmax_libm(hi_est, 1.0);
+    while (!fr.curved_at(z1b + hi * v)) {
       lo = hi;
       hi *= 2;
       if (hi > static_cast<double>(kMaxSteps)) return out;
     }
-    if (curved_at(z1b + lo * v, zb)) hi = lo;
+    if (fr.curved_at(z1b + lo * v)) hi = lo;
     while (hi - lo > 1) {
       const double mid = std::floor(0.5 * (lo + hi));
-      (curved_at(z1b + mid * v, zb) ? hi : lo) = mid;
+      (fr.curved_at(z1b + mid * v) ? hi : lo) = mid;
     }
     j = hi;
   }
@@ -136,7 +262,7 @@ Layer layer_left(const ZState& z, const ZBounds& zb) noexcept {
     out.steps = 1 + j_tol;
     return out;
   }
-  const Approach ap = final_approach(z1b + j * v, zb);
+  const Approach ap = final_approach(z1b + j * v, fr);
   out.k_cruise = 1 + j;
   out.m = ap.steps;
   out.steps = 1 + j + ap.steps;
@@ -155,15 +281,16 @@ struct Entry {
 // on a prefix only (docs/motion/nonlinear-filter.md), so the closed-form
 // candidates are verified at k and k-1 and, should all fail, a bisection
 // between the bounds k_lo and k_hi finds the index.
-Entry entry_from_below(const ZState& z, const ZBounds& zb) noexcept {
+Entry entry_from_below(const ZState& z, const Frame& fr) noexcept {
+  const ZBounds& zb = fr.b;
   const double up = zb.u_max;
   const double ub = -zb.u_min;
   // Necessary: z2_k >= z2- - U+ (the BL's lower edge is >= z2- - U+).
-  const double k_lo = std::fmax(1.0, ceil_nonneg((zb.z2_min - up - z.z2) / up));
+  const double k_lo = fmax_libm(1.0, ceil_nonneg((zb.z2_min - up - z.z2) / up));
   // Sufficient: z2_k >= z2+ - U+ (the edge is <= z2+ - U+): eq. (18) + 1.
-  const double k_hi = std::fmax(1.0, ceil_nonneg((zb.z2_max - up - z.z2) / up));
+  const double k_hi = fmax_libm(1.0, ceil_nonneg((zb.z2_max - up - z.z2) / up));
   if (!(k_hi <= static_cast<double>(kMaxSteps))) return {};
-  auto below = [&](double k) { return below_layer(after_constant(z, k, up), zb); };
+  auto below = [&](double k) { return fr.below(after_constant(z, k, up)); };
   auto first = [&](double k) { return k >= k_lo && k <= k_hi && !below(k) && (k == 1 || below(k - 1)); };
   // Candidates: the necessary bound (mirror of z_d), eq. (20) rounded up
   // (eq. 21) and down (eq. 22), the crossing of z1 = 0 when (20) has no real
@@ -231,30 +358,11 @@ ZState z_step(const ZState& z, double u) noexcept { return {z.z1 + z.z2 + u, z.z
 
 // ---- controller C ---------------------------------------------------------------
 
-double approach_steps(double a) noexcept {
-  if (!(a > 0)) return 2;
-  double n = std::ceil(0.5 + std::sqrt(0.25 + 2 * a));  // eq. (11)
-  if (!(n < 9.0e15)) return n;                          // beyond exact integers: as computed
-  if (n < 2) n = 2;
-  // Correct a rounding of the square root by one either way.
-  for (int i = 0; i < 2 && n > 2 && 0.5 * (n - 1) * (n - 2) >= a; ++i) n -= 1;
-  for (int i = 0; i < 2 && 0.5 * n * (n - 1) < a; ++i) n += 1;
-  return n;
-}
+double approach_steps(double a) noexcept { return approach_steps_inl(a); }
 
-double target_velocity(double z1, const ZBounds& zb) noexcept {
-  if (z1 == 0) return 0;
-  const double ub = z1 < 0 ? -zb.u_min : zb.u_max;  // braking bound of the final approach
-  const double a = std::fabs(z1) / ub;
-  const double m = approach_steps(a);
-  const double w = ub * (a / (m - 1) + 0.5 * (m - 2));
-  return z1 < 0 ? w : -w;
-}
+double target_velocity(double z1, const ZBounds& zb) noexcept { return target_velocity_inl(z1, zb); }
 
-double clamped_target_velocity(double z1, const ZBounds& zb) noexcept {
-  const double w = target_velocity(z1, zb);
-  return w > zb.z2_max ? zb.z2_max : (w < zb.z2_min ? zb.z2_min : w);
-}
+double clamped_target_velocity(double z1, const ZBounds& zb) noexcept { return clamped_target_inl(z1, zb); }
 
 double accel_deadband(const ZBounds& zb) noexcept { return kDeadbandRel * max_accel(zb); }
 
@@ -301,6 +409,8 @@ TransientInfo transient_info(const ZState& z0, const ZBounds& zb) noexcept {
     info.region = TransientRegion::Tracking;
     return info;
   }
+  Targets targets(zb);
+  const Frame plain(targets, zb, false);
   // 1. Full acceleration until the BL (z_d, z_e, z_f and their mirrors). In
   //    exact arithmetic one saturated phase at most; the loop tolerates a
   //    second one from rounding.
@@ -310,13 +420,13 @@ TransientInfo transient_info(const ZState& z0, const ZBounds& zb) noexcept {
   bool closed_form = true;
   for (int phase = 0; phase < 3; ++phase) {
     Entry e;
-    if (below_layer(z, zb)) {
-      e = entry_from_below(z, zb);
+    if (plain.below(z)) {
+      e = entry_from_below(z, plain);
       if (e.k < 0) return info;
       z = after_constant(z, e.k, zb.u_max);
       sat = +1;
-    } else if (above_layer(z, zb)) {
-      e = entry_from_below(mirror(z), mirror(zb));
+    } else if (plain.above(z)) {
+      e = entry_from_below(mirror(z), Frame(targets, mirror(zb), true));
       if (e.k < 0) return info;
       z = after_constant(z, e.k, zb.u_min);
       sat = -1;
@@ -329,9 +439,8 @@ TransientInfo transient_info(const ZState& z0, const ZBounds& zb) noexcept {
   // 2. Inside the BL: the half decides the frame (mirror for z1 > 0).
   const bool mirrored = z.z1 > 0;
   const ZState zc = mirrored ? mirror(z) : z;
-  const ZBounds bc = mirrored ? mirror(zb) : zb;
   const int sat_c = mirrored ? -sat : sat;
-  const Layer layer = layer_left(zc, bc);
+  const Layer layer = mirrored ? layer_left(zc, Frame(targets, mirror(zb), true)) : layer_left(zc, plain);
   if (layer.steps < 0) return info;
   const double total = k_entry + layer.steps;
   if (!(total <= static_cast<double>(kMaxSteps))) return info;
