@@ -9,74 +9,16 @@
 namespace syncplc::motion {
 namespace {
 
-constexpr double kDeadbandRel = 1e-7;  // of max(U+, -U-)
-constexpr double kTrackingRel = 1e-6;  // of max(U+, -U-)
+using detail::approach_steps_inl;
+using detail::clamped_target_inl;
+using detail::fmax_libm;
+using detail::target_surely_above;
+using detail::target_velocity_inl;
+
 
 // The mirror image: z -> -z with (U-, U+, z2-, z2+) -> (-U+, -U-, -z2+, -z2-).
 ZState mirror(const ZState& z) noexcept { return {-z.z1, -z.z2}; }
 ZBounds mirror(const ZBounds& b) noexcept { return {-b.z2_max, -b.z2_min, -b.u_max, -b.u_min}; }
-
-// std::fmax as the x86-64 libm computes it (maxsd with NaN handling): the
-// larger of x and y, y when they compare equal (+0/-0), the other one when one
-// is a NaN. Inline: the library call is a noticeable part of a prediction.
-inline double fmax_libm(double x, double y) noexcept { return (x > y || std::isnan(y)) ? x : y; }
-
-double max_accel(const ZBounds& zb) noexcept { return fmax_libm(zb.u_max, -zb.u_min); }
-
-// approach_steps, inline for the prediction's inner loops.
-inline double approach_steps_inl(double a) noexcept {
-  if (!(a > 0)) return 2;
-  double n = std::ceil(0.5 + std::sqrt(0.25 + 2 * a));  // eq. (11)
-  if (!(n < 9.0e15)) return n;                          // beyond exact integers: as computed
-  if (n < 2) n = 2;
-  // Correct a rounding of the square root by one either way.
-  for (int i = 0; i < 2 && n > 2 && 0.5 * (n - 1) * (n - 2) >= a; ++i) n -= 1;
-  for (int i = 0; i < 2 && 0.5 * n * (n - 1) < a; ++i) n += 1;
-  return n;
-}
-
-// True when the target speed target_velocity computes for a state at distance
-// d = |z1| > 0 with braking bound ub, ub (a/(m-1) + (m-2)/2) with a = d/ub and
-// m = approach_steps(a), rounded, is certainly greater than v >= 0, decided
-// without the square root. For every real m > 1, a/(m-1) + (m-2)/2 >=
-// sqrt(2a) - 1/2 (AM-GM), so the exact value is >= sqrt(2 d ub) - ub/2 and it
-// exceeds v when 2 d ub > (v + ub/2)^2. The test asks for a relative margin of
-// 1e-9, far above the rounding of the test (5 ulps) and of target_velocity
-// (a, the quotient, the sum, the product: 5 ulps), and for normal, finite
-// operands, so that the rounded target is > v whenever the test holds. False
-// means "not decided" (the caller computes the target).
-inline bool target_surely_above(double d, double ub, double v) noexcept {
-  if (!(v >= 0) || !(ub > 0)) return false;
-  const double p = v + 0.5 * ub;
-  const double pp = p * p;
-  const double lhs = 2 * d * ub;
-  return pp >= std::numeric_limits<double>::min() && lhs <= std::numeric_limits<double>::max() &&
-         lhs >= pp * (1 + 1e-9);
-}
-
-// target_velocity (as declared) with the mirror image exact: the left half
-// (z1 < 0) and the right half use the same arithmetic on |z1|.
-inline double target_velocity_inl(double z1, const ZBounds& zb) noexcept {
-  if (z1 == 0) return 0;
-  const double ub = z1 < 0 ? -zb.u_min : zb.u_max;  // braking bound of the final approach
-  const double a = std::fabs(z1) / ub;
-  const double m = approach_steps_inl(a);
-  const double w = ub * (a / (m - 1) + 0.5 * (m - 2));
-  return z1 < 0 ? w : -w;
-}
-
-// clamped_target_velocity: the clamp of target_velocity to [z2-, z2+], with the
-// far field (target certainly beyond the bound it is clamped to) decided
-// without the square root. Exact: returns what the clamp of the rounded target
-// returns.
-inline double clamped_target_inl(double z1, const ZBounds& zb) noexcept {
-  if (zb.z2_min <= zb.z2_max) {
-    if (z1 < 0 && target_surely_above(-z1, -zb.u_min, zb.z2_max)) return zb.z2_max;    // w > z2+
-    if (z1 > 0 && target_surely_above(z1, zb.u_max, -zb.z2_min)) return zb.z2_min;    // w < z2- <= z2+
-  }
-  const double w = target_velocity_inl(z1, zb);
-  return w > zb.z2_max ? zb.z2_max : (w < zb.z2_min ? zb.z2_min : w);
-}
 
 // The controller's unclamped acceleration w_t - z2 (before saturation).
 double raw_control(const ZState& z, const ZBounds& zb) noexcept { return clamped_target_inl(z.z1, zb) - z.z2; }
@@ -319,25 +261,10 @@ Entry entry_from_below(const ZState& z, const Frame& fr) noexcept {
 
 // ---- validation and coordinates ----------------------------------------------
 
-bool bounds_valid(const FilterBounds& b) noexcept {
-  return std::isfinite(b.v_min) && std::isfinite(b.v_max) && std::isfinite(b.a_min) && std::isfinite(b.a_max) &&
-         b.v_min < b.v_max && b.a_min < 0 && b.a_max > 0;
-}
-
-ZState to_z(const FilterState& s, const Reference& ref, double T) noexcept {
-  const double y1 = s.x - ref.r;
-  const double y2 = s.v - ref.v;
-  return {y1 / (T * T) + y2 / (2 * T), y2 / T};
-}
-
 FilterState from_z(const ZState& z, const Reference& ref, double T) noexcept {
   const double y2 = T * z.z2;
   const double y1 = T * T * (z.z1 - 0.5 * z.z2);
   return {ref.r + y1, ref.v + y2};
-}
-
-ZBounds z_bounds(const FilterBounds& b, double r_dot, double T) noexcept {
-  return {(b.v_min - r_dot) / T, (b.v_max - r_dot) / T, b.a_min, b.a_max};
 }
 
 double z1_plus(const ZBounds& zb) noexcept {
@@ -350,12 +277,6 @@ double z1_minus(const ZBounds& zb) noexcept { return -z1_plus(mirror(zb)); }
 
 // ---- plant --------------------------------------------------------------------
 
-FilterState plant_step(const FilterState& s, double u, double T) noexcept {
-  return {s.x + T * s.v + 0.5 * T * T * u, s.v + T * u};
-}
-
-ZState z_step(const ZState& z, double u) noexcept { return {z.z1 + z.z2 + u, z.z2 + u}; }
-
 // ---- controller C ---------------------------------------------------------------
 
 double approach_steps(double a) noexcept { return approach_steps_inl(a); }
@@ -363,8 +284,6 @@ double approach_steps(double a) noexcept { return approach_steps_inl(a); }
 double target_velocity(double z1, const ZBounds& zb) noexcept { return target_velocity_inl(z1, zb); }
 
 double clamped_target_velocity(double z1, const ZBounds& zb) noexcept { return clamped_target_inl(z1, zb); }
-
-double accel_deadband(const ZBounds& zb) noexcept { return kDeadbandRel * max_accel(zb); }
 
 double control(const ZState& z, const ZBounds& zb) noexcept {
   const double u = raw_control(z, zb);
@@ -380,13 +299,6 @@ FilterStep filter_step(const FilterState& s, const Reference& ref, const FilterB
 }
 
 // ---- predicates -----------------------------------------------------------------
-
-double tracking_tolerance(const ZBounds& zb) noexcept { return kTrackingRel * max_accel(zb); }
-
-bool is_tracking(const ZState& z, const ZBounds& zb) noexcept {
-  const double tol = tracking_tolerance(zb);
-  return std::fabs(z.z1) <= tol && std::fabs(z.z2) <= tol;
-}
 
 bool in_boundary_layer(const ZState& z, const ZBounds& zb) noexcept {
   const double u = raw_control(z, zb);
