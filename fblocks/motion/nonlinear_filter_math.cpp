@@ -75,12 +75,19 @@ class Targets {
 // -target_velocity(z1, zb) bit for bit (same |z1|, same braking bound).
 struct Frame {
   Targets& t;
-  ZBounds b;
+  const ZBounds& b;
   bool mirrored;
   double eps;  // accel_deadband(b)
+  double tol;  // tracking_tolerance(b)
+  double z1p;  // z1_plus(b)
 
-  Frame(Targets& targets, const ZBounds& bounds, bool mirror_frame) noexcept
-      : t(targets), b(bounds), mirrored(mirror_frame), eps(accel_deadband(bounds)) {}
+  Frame(Targets& targets, const PreparedBounds& pb, bool mirror_frame) noexcept
+      : t(targets),
+        b(mirror_frame ? pb.zb_m : pb.zb),
+        mirrored(mirror_frame),
+        eps(mirror_frame ? pb.eps_m : pb.eps),
+        tol(mirror_frame ? pb.tol_m : pb.tol),
+        z1p(mirror_frame ? pb.z1p_m : pb.z1p) {}
 
   // target_velocity(z1, b).
   double target(double z1) const noexcept {
@@ -128,7 +135,7 @@ Approach final_approach(double z1, const Frame& fr) noexcept {
   const double a = -z1 / ub;
   const double m = fr.m_left(z1);  // approach_steps(a)
   const double f = (a - 0.5 * (m - 1) * (m - 2)) / (m - 1);
-  const double steps = f * ub <= tracking_tolerance(zb) ? m - 1 : m;
+  const double steps = f * ub <= fr.tol ? m - 1 : m;
   return {steps, m};
 }
 
@@ -160,7 +167,7 @@ Layer layer_left(const ZState& z, const Frame& fr) noexcept {
   const double v = zb.z2_max;
   const double z1b = z.z1 + v;
   // With z2+ within the tracking tolerance the cruise itself may enter it.
-  const double tol = tracking_tolerance(zb);
+  const double tol = fr.tol;
   double j_tol = -1;  // first cruise sample inside the tolerance, < 0: none
   if (v <= tol) {
     if (std::fabs(z1b) <= tol) {
@@ -171,13 +178,13 @@ Layer layer_left(const ZState& z, const Frame& fr) noexcept {
     if (!(v > 0)) return out;  // behind and not allowed to move closer: never
     j_tol = ceil_nonneg((-tol - z1b) / v);
     if (!(j_tol <= static_cast<double>(kMaxSteps))) return out;
-    if (z1_plus(zb) >= -tol) {  // the curved part starts inside the tolerance: j_tol comes first
+    if (fr.z1p >= -tol) {  // the curved part starts inside the tolerance: j_tol comes first
       out.k_cruise = 1 + j_tol;
       out.steps = 1 + j_tol;
       return out;
     }
   }
-  const double hi_est = ceil_nonneg((z1_plus(zb) - z1b) / v);
+  const double hi_est = ceil_nonneg((fr.z1p - z1b) / v);
   if (!(hi_est <= static_cast<double>(kMaxSteps))) return out;
   auto first = [&](double j) {
     return fr.curved_at(z1b + j * v) && (j == 0 || !fr.curved_at(z1b + (j - 1) * v));
@@ -228,7 +235,10 @@ Entry entry_from_below(const ZState& z, const Frame& fr) noexcept {
   const double up = zb.u_max;
   const double ub = -zb.u_min;
   // Necessary: z2_k >= z2- - U+ (the BL's lower edge is >= z2- - U+).
-  const double k_lo = fmax_libm(1.0, ceil_nonneg((zb.z2_min - up - z.z2) / up));
+  // (When the numerator is <= 0 and U+ > 0 the quotient is <= 0 or NaN, and
+  // ceil_nonneg gives 0 without it.)
+  const double lo_num = zb.z2_min - up - z.z2;
+  const double k_lo = fmax_libm(1.0, lo_num <= 0 && up > 0 ? 0.0 : ceil_nonneg(lo_num / up));
   // Sufficient: z2_k >= z2+ - U+ (the edge is <= z2+ - U+): eq. (18) + 1.
   const double k_hi = fmax_libm(1.0, ceil_nonneg((zb.z2_max - up - z.z2) / up));
   if (!(k_hi <= static_cast<double>(kMaxSteps))) return {};
@@ -313,16 +323,34 @@ bool in_final_approach(const ZState& z, const ZBounds& zb) noexcept {
 
 // ---- transient time (Table I) ------------------------------------------------------
 
+PreparedBounds prepare_bounds(const ZBounds& zb) noexcept {
+  PreparedBounds pb;
+  pb.zb = zb;
+  pb.zb_m = mirror(zb);
+  pb.eps = accel_deadband(pb.zb);
+  pb.eps_m = accel_deadband(pb.zb_m);
+  pb.tol = tracking_tolerance(pb.zb);
+  pb.tol_m = tracking_tolerance(pb.zb_m);
+  pb.z1p = z1_plus(pb.zb);
+  pb.z1p_m = z1_plus(pb.zb_m);
+  return pb;
+}
+
 TransientInfo transient_info(const ZState& z0, const ZBounds& zb) noexcept {
+  return transient_info(z0, prepare_bounds(zb));
+}
+
+TransientInfo transient_info(const ZState& z0, const PreparedBounds& pb) noexcept {
+  const ZBounds& zb = pb.zb;
   TransientInfo info;
   if (!(zb.z2_max >= 0 && zb.z2_min <= 0) || !std::isfinite(z0.z1) || !std::isfinite(z0.z2)) return info;
-  if (is_tracking(z0, zb)) {
+  if (std::fabs(z0.z1) <= pb.tol && std::fabs(z0.z2) <= pb.tol) {  // is_tracking(z0, zb)
     info.steps = 0;
     info.region = TransientRegion::Tracking;
     return info;
   }
   Targets targets(zb);
-  const Frame plain(targets, zb, false);
+  const Frame plain(targets, pb, false);
   // 1. Full acceleration until the BL (z_d, z_e, z_f and their mirrors). In
   //    exact arithmetic one saturated phase at most; the loop tolerates a
   //    second one from rounding.
@@ -338,7 +366,7 @@ TransientInfo transient_info(const ZState& z0, const ZBounds& zb) noexcept {
       z = after_constant(z, e.k, zb.u_max);
       sat = +1;
     } else if (plain.above(z)) {
-      e = entry_from_below(mirror(z), Frame(targets, mirror(zb), true));
+      e = entry_from_below(mirror(z), Frame(targets, pb, true));
       if (e.k < 0) return info;
       z = after_constant(z, e.k, zb.u_min);
       sat = -1;
@@ -352,7 +380,7 @@ TransientInfo transient_info(const ZState& z0, const ZBounds& zb) noexcept {
   const bool mirrored = z.z1 > 0;
   const ZState zc = mirrored ? mirror(z) : z;
   const int sat_c = mirrored ? -sat : sat;
-  const Layer layer = mirrored ? layer_left(zc, Frame(targets, mirror(zb), true)) : layer_left(zc, plain);
+  const Layer layer = mirrored ? layer_left(zc, Frame(targets, pb, true)) : layer_left(zc, plain);
   if (layer.steps < 0) return info;
   const double total = k_entry + layer.steps;
   if (!(total <= static_cast<double>(kMaxSteps))) return info;
@@ -369,6 +397,8 @@ TransientInfo transient_info(const ZState& z0, const ZBounds& zb) noexcept {
 }
 
 std::int64_t transient_steps(const ZState& z, const ZBounds& zb) noexcept { return transient_info(z, zb).steps; }
+
+std::int64_t transient_steps(const ZState& z, const PreparedBounds& pb) noexcept { return transient_info(z, pb).steps; }
 
 std::int64_t transient_steps(const FilterState& s, const Reference& ref, const FilterBounds& b, double T) noexcept {
   return transient_steps(to_z(s, ref, T), z_bounds(b, ref.v, T));

@@ -198,6 +198,21 @@ TransientInfo transient_info(const ZState& z, const ZBounds& zb) noexcept;
 // transient_info(z, zb).steps.
 std::int64_t transient_steps(const ZState& z, const ZBounds& zb) noexcept;
 
+// The bounds with the constants of the prediction that depend on them only
+// (both halves: deadband, tracking tolerance, z1+ of eq. 9), for a caller that
+// predicts many states under the same bounds (the blocks, while the bounds,
+// rdot and T stay). transient_info(z, prepare_bounds(zb)) is transient_info(z, zb).
+struct PreparedBounds {
+  ZBounds zb;            // the bounds
+  ZBounds zb_m;          // their mirror image (z1 > 0 half)
+  double eps = 0, eps_m = 0;  // accel_deadband of zb, zb_m
+  double tol = 0, tol_m = 0;  // tracking_tolerance of zb, zb_m
+  double z1p = 0, z1p_m = 0;  // z1_plus of zb, zb_m
+};
+PreparedBounds prepare_bounds(const ZBounds& zb) noexcept;
+TransientInfo transient_info(const ZState& z, const PreparedBounds& pb) noexcept;
+std::int64_t transient_steps(const ZState& z, const PreparedBounds& pb) noexcept;
+
 // Convenience: the same from the original coordinates.
 std::int64_t transient_steps(const FilterState& s, const Reference& ref, const FilterBounds& b, double T) noexcept;
 
@@ -304,5 +319,62 @@ inline bool is_tracking(const ZState& z, const ZBounds& zb) noexcept {
   const double tol = tracking_tolerance(zb);
   return std::fabs(z.z1) <= tol && std::fabs(z.z2) <= tol;
 }
+
+// Controller C's target at one abscissa z1 for several velocity bounds that
+// share the acceleration bounds (the synchronizer's nominal, previous and
+// reduced bounds): target_velocity(z1, zb) is computed (one square root) only
+// when a clamp or a range test cannot be decided without it. Every answer is
+// the one the full computation gives (see detail::target_surely_above).
+class ControllerTarget {
+ public:
+  // zb supplies the acceleration bounds only.
+  ControllerTarget(double z1, const ZBounds& zb) noexcept : z1_(z1), zb_(zb) {}
+
+  // target_velocity(z1, zb).
+  double value() noexcept {
+    if (!have_) {
+      w_ = detail::target_velocity_inl(z1_, zb_);
+      have_ = true;
+    }
+    return w_;
+  }
+  // clamped_target_velocity(z1, zx), zx with the acceleration bounds of zb.
+  double clamped(const ZBounds& zx) noexcept {
+    if (zx.z2_min <= zx.z2_max) {
+      if (z1_ < 0 && detail::target_surely_above(-z1_, -zx.u_min, zx.z2_max)) return zx.z2_max;
+      if (z1_ > 0 && detail::target_surely_above(z1_, zx.u_max, -zx.z2_min)) return zx.z2_min;
+    }
+    const double w = value();
+    return w > zx.z2_max ? zx.z2_max : (w < zx.z2_min ? zx.z2_min : w);
+  }
+  // z2- <= target <= z2+ of zx: the target is not cut by the velocity bounds.
+  bool within(const ZBounds& zx) noexcept {
+    if (z1_ < 0 && detail::target_surely_above(-z1_, -zx.u_min, zx.z2_max)) return false;
+    if (z1_ > 0 && detail::target_surely_above(z1_, zx.u_max, -zx.z2_min)) return false;
+    const double w = value();
+    return w <= zx.z2_max && w >= zx.z2_min;
+  }
+  // control(z, zx) for z.z1 = z1.
+  double control(const ZState& z, const ZBounds& zx) noexcept {
+    const double u = clamped(zx) - z.z2;
+    const double eps = accel_deadband(zx);
+    if (u > zx.u_max + eps) return zx.u_max;
+    if (u < zx.u_min - eps) return zx.u_min;
+    return u;
+  }
+  // in_final_approach(z, zx) for z.z1 = z1.
+  bool final_approach(const ZState& z, const ZBounds& zx) noexcept {
+    if (!within(zx)) return false;
+    const double u = clamped(zx) - z.z2;
+    const double eps = accel_deadband(zx);
+    return u <= zx.u_max + eps && u >= zx.u_min - eps;
+  }
+
+ private:
+  double z1_;
+  ZBounds zb_;
+  double w_ = 0;
+  bool have_ = false;
+};
 
 }  // namespace syncplc::motion
