@@ -225,6 +225,26 @@ struct Entry {
   bool closed_form = true;
 };
 
+// True when the rounded s + sqrt(rad)/den (in that order of operations) is
+// certainly >= K (an integer below 2^53), decided without the square root.
+// Rounding is monotone and K is representable, so s + q >= K exactly suffices,
+// q the rounded quotient. With d = K - s > 0 that holds when
+// sqrt(rad) (1-u)^2 / den >= d (u = 2^-53: the square root and the quotient
+// are rounded), i.e. rad >= (d den)^2 (1+u)^4; the test asks for a relative
+// margin of 1e-12 over the rounded (d den)^2, far above the 6 ulps of rounding
+// in d, d den and its square, with normal, finite operands. d <= 0: q >= 0.
+bool surely_at_least(double s, double rad, double den, double K) noexcept {
+  if (!std::isfinite(s) || !(rad >= 0) || !(rad <= std::numeric_limits<double>::max()) || !(den > 0) ||
+      !(den <= std::numeric_limits<double>::max()))
+    return false;
+  const double d = K - s;
+  if (d <= 0) return true;
+  const double p = d * den;
+  const double pp = p * p;
+  return pp >= std::numeric_limits<double>::min() && pp <= std::numeric_limits<double>::max() &&
+         rad >= pp * (1 + 1e-12);
+}
+
 // From a state below the BL (u = U+), the first sample k >= 1 at which the
 // state is no longer below it. Along a trajectory of constant U+ "below" holds
 // on a prefix only (docs/motion/nonlinear-filter.md), so the closed-form
@@ -250,9 +270,17 @@ Entry entry_from_below(const ZState& z, const Frame& fr) noexcept {
   if (first(k_lo)) return {k_lo};
   const double disc = z.z2 * z.z2 + up * z.z2 - 2 * up * z.z1;
   if (disc >= 0) {
-    const double k20 = -1 - z.z2 / up + std::sqrt((up + ub) * ub * disc) / (up * (up + ub));
-    if (first(std::ceil(k20))) return {std::ceil(k20)};
-    if (first(std::floor(k20))) return {std::floor(k20)};
+    // k20 = s + sqrt(rad)/den, the operations of eq. (20) in their order. When
+    // it is certainly >= k_hi + 1, both of its candidates lie beyond k_hi and
+    // fail: the square root is skipped.
+    const double s = -1 - z.z2 / up;
+    const double rad = (up + ub) * ub * disc;
+    const double den = up * (up + ub);
+    if (!surely_at_least(s, rad, den, k_hi + 1)) {
+      const double k20 = s + std::sqrt(rad) / den;
+      if (first(std::ceil(k20))) return {std::ceil(k20)};
+      if (first(std::floor(k20))) return {std::floor(k20)};
+    }
   } else {
     const double k0 = std::floor((-up - z.z2) / up) + 1;
     if (first(k0)) return {k0};

@@ -38,6 +38,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "fblocks/motion/motion.hpp"
@@ -191,7 +192,13 @@ class TransientSync final : public Block {
   };
   template <class A>
   static bool same_bits(const A& a, const A& b) noexcept {
-    return std::memcmp(&a, &b, sizeof(A)) == 0;
+    static_assert(sizeof(A) % 8 == 0 && std::is_trivially_copyable_v<A>);
+    std::uint64_t wa[sizeof(A) / 8], wb[sizeof(A) / 8];
+    std::memcpy(wa, &a, sizeof(A));
+    std::memcpy(wb, &b, sizeof(A));
+    std::uint64_t diff = 0;
+    for (std::size_t k = 0; k < sizeof(A) / 8; ++k) diff |= wa[k] ^ wb[k];
+    return diff == 0;
   }
 
   // One sample of all filters and of the synchronizer. `back`: the sample lies
