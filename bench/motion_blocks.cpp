@@ -106,8 +106,6 @@ void BM_SixFilters(benchmark::State& state) {
     }
     if (++k == static_cast<std::size_t>(kSteps)) k = 0;
   }
-  state.counters["us/scan"] = benchmark::Counter(static_cast<double>(state.iterations()) * 1e-6,
-                                                 benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 BENCHMARK(BM_SixFilters);
 
@@ -138,8 +136,6 @@ void sync_filters(benchmark::State& state, int rule) {
     h.scan();
     if (++k == static_cast<std::size_t>(kSteps)) k = 0;
   }
-  state.counters["us/scan"] = benchmark::Counter(static_cast<double>(state.iterations()) * 1e-6,
-                                                 benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 void BM_SyncFilters(benchmark::State& state) { sync_filters(state, 0); }
 void BM_AsyncFilters(benchmark::State& state) { sync_filters(state, 2); }

@@ -352,3 +352,48 @@ TEST(MotionOutputHash, TransientInfoAndControllerBitForBit) {
 
 }  // namespace
 }  // namespace syncplc::motion
+
+namespace syncplc::motion {
+namespace {
+
+// The far-field tests that let the prediction and the synchronizer skip
+// controller C's square root: whenever target_surely_above(|z1|, Ub, v) holds,
+// the rounded target is > v; and ControllerTarget answers what control() and
+// in_final_approach() answer, on states near the decision thresholds.
+TEST(MotionOutputHash, FarFieldTestsAgreeWithTheSquareRoot) {
+  Rng g(41);
+  int decided = 0;
+  for (int k = 0; k < 400000; ++k) {
+    const ZBounds zb = random_zbounds(g, k % 2 ? 0.02 : 0.001);
+    const double ub = g.chance(0.5) ? -zb.u_min : zb.u_max;
+    const double v = g.chance(0.1) ? 0.0 : std::pow(10.0, g.uniform(-3, 6));
+    // |z1| around the threshold 2 |z1| Ub = (v + Ub/2)^2.
+    const double p = v + 0.5 * ub;
+    const double d = p * p / (2 * ub) * (1 + spread_value(g, -14, -1));
+    if (!(d > 0)) continue;
+    ZBounds left = zb;  // left half: the braking bound is -u_min
+    left.u_min = -ub;
+    if (detail::target_surely_above(d, ub, v)) {
+      ++decided;
+      ASSERT_GT(target_velocity(-d, left), v) << k;
+    }
+    ZBounds zx = zb;
+    zx.z2_max = v;
+    zx.z2_min = -std::pow(10.0, g.uniform(-3, 6));
+    const ZState z{g.chance(0.5) ? -d : d, g.uniform(-2, 2) * v};
+    ControllerTarget t(z.z1, zx);
+    ASSERT_EQ(t.control(z, zx), control(z, zx)) << k;
+    ControllerTarget t2(z.z1, zx);
+    ASSERT_EQ(t2.final_approach(z, zx), in_final_approach(z, zx)) << k;
+    ASSERT_EQ(clamped_target_velocity(z.z1, zx),
+              [&] {
+                const double w = target_velocity(z.z1, zx);
+                return w > zx.z2_max ? zx.z2_max : (w < zx.z2_min ? zx.z2_min : w);
+              }())
+        << k;
+  }
+  EXPECT_GT(decided, 100000);
+}
+
+}  // namespace
+}  // namespace syncplc::motion
