@@ -30,7 +30,11 @@
 // After skipped releases (an overrun) the scan first runs the missed samples
 // (filters and synchronizer) with its inputs, r taken as a ramp backwards, so
 // x stays on the time grid, as NONLINEAR_FILTER does.
-// Everything is recomputed every scan; execute() allocates nothing.
+// Everything is recomputed every scan, except values whose inputs are the
+// same bit for bit (nominal z-bounds, the guard's prediction, next state and
+// reduced z-bounds), which are reused: the outputs are exactly those of the
+// full recomputation (tests/motion/test_motion_output_hash.cpp). execute()
+// allocates nothing.
 #include <cmath>
 #include <cstdint>
 #include <cstring>
