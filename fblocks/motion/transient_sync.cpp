@@ -30,13 +30,19 @@
 // After skipped releases (an overrun) the scan first runs the missed samples
 // (filters and synchronizer) with its inputs, r taken as a ramp backwards, so
 // x stays on the time grid, as NONLINEAR_FILTER does.
-// Everything is recomputed every scan; execute() allocates nothing.
+// Everything is recomputed every scan, except values whose inputs are the
+// same bit for bit (nominal z-bounds, the guard's prediction, next state and
+// reduced z-bounds), which are reused: the outputs are exactly those of the
+// full recomputation (tests/motion/test_motion_output_hash.cpp). execute()
+// allocates nothing.
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "fblocks/motion/motion.hpp"
@@ -91,7 +97,7 @@ class TransientSync final : public Block {
         start_at_r_(s.param<bool>("start_at_r")),
         period_s_(static_cast<double>(s.task_period_ns()) * 1e-9),
         x_(n_), v_(n_), r_prev_(n_), vmin_prev_(n_), vmax_prev_(n_), nom_(n_), last_(n_), rin_(n_), z_(n_),
-        zb_(n_), ref_(n_), steps_(n_), arrival_(n_), flags_(n_), pred_(n_) {}
+        pb_(n_), pb_key_(n_), zs_(n_), zs_key_(n_), ref_(n_), steps_(n_), arrival_(n_), flags_(n_), pred_(n_) {}
 
   void execute(ScanContext& ctx) override {
     const double T = period_s_;  // the filters' sampling time
@@ -166,16 +172,38 @@ class TransientSync final : public Block {
 
   // The look-ahead guard's nominal transient time of the next state, with the
   // reference, bounds and period it assumed. Reused by the next sample when its
-  // inputs are exactly those (the same function on the same inputs).
+  // inputs are exactly those (the same function on the same inputs). Also the
+  // next state and its z-coordinates: reused when the state is still that one
+  // (bit for bit; a reset replaces it).
   struct Prediction {
     double r = 0, r_dot = 0, T = 0;
     FilterBounds b{};
     std::int64_t n = 0;
+    FilterState s{};
+    ZState z{};
     bool matches(double r_, double r_dot_, const FilterBounds& b_, double T_) const noexcept {
       return r == r_ && r_dot == r_dot_ && T == T_ && b.v_min == b_.v_min && b.v_max == b_.v_max &&
              b.a_min == b_.a_min && b.a_max == b_.a_max;
     }
   };
+
+  // The inputs of z_bounds(b, r_dot, T); compared bit for bit (same_bits), so
+  // that a cached result is the one the computation would give (the
+  // default, all NaN, matches nothing).
+  struct BoundsKey {
+    FilterBounds b{kNaN, kNaN, kNaN, kNaN};
+    double r_dot = kNaN, T = kNaN;
+  };
+  template <class A>
+  static bool same_bits(const A& a, const A& b) noexcept {
+    static_assert(sizeof(A) % 8 == 0 && std::is_trivially_copyable_v<A>);
+    std::uint64_t wa[sizeof(A) / 8], wb[sizeof(A) / 8];
+    std::memcpy(wa, &a, sizeof(A));
+    std::memcpy(wb, &b, sizeof(A));
+    std::uint64_t diff = 0;
+    for (std::size_t k = 0; k < sizeof(A) / 8; ++k) diff |= wa[k] ^ wb[k];
+    return diff == 0;
+  }
 
   // One sample of all filters and of the synchronizer. `back`: the sample lies
   // back * T before this scan (catch-up), r taken as a ramp backwards.
@@ -190,18 +218,31 @@ class TransientSync final : public Block {
       if (f & kValid) {
         const Reference ref{rin_[i].r - back * T * rin_[i].v, rin_[i].v};
         const FilterBounds& b = nom_[i];
-        const ZState z = to_z(FilterState{x_[i], v_[i]}, ref, T);
-        const ZBounds zb = z_bounds(b, ref.v, T);
+        // z_bounds(b, rdot, T) and the prediction's constants, kept while
+        // their inputs stay the same bit for bit.
+        const BoundsKey key{b, ref.v, T};
+        if (!same_bits(pb_key_[i], key)) {
+          pb_[i] = prepare_bounds(z_bounds(b, ref.v, T));
+          pb_key_[i] = key;
+        }
+        const PreparedBounds& pb = pb_[i];
+        const FilterState s{x_[i], v_[i]};
+        const bool predicted = (f & kPredicted) && pred_[i].matches(ref.r, ref.v, b, T);
+        // The guard computed to_z of this very state, reference and period.
+        const Prediction& p = pred_[i];
+        const ZState z = predicted && same_bits(p.s, s) && same_bits(p.r, ref.r) && same_bits(p.r_dot, ref.v) &&
+                                 same_bits(p.T, T)
+                             ? p.z
+                             : to_z(s, ref, T);
         ref_[i] = ref;
         z_[i] = z;
-        zb_[i] = zb;
-        if (is_tracking(z, zb)) {
+        if (is_tracking(z, pb.zb)) {
           f |= kTrackingNow;
           n = 0;
-        } else if ((f & kPredicted) && pred_[i].matches(ref.r, ref.v, b, T)) {
+        } else if (predicted) {
           n = pred_[i].n;  // the look-ahead guard of the previous sample computed it for this very state
         } else {
-          n = transient_steps(z, zb);
+          n = transient_steps(z, pb);
         }
       }
       if (!(f & kTrackingNow)) all_tracking = false;
@@ -234,10 +275,13 @@ class TransientSync final : public Block {
         const Reference& ref = ref_[i];
         const std::int64_t n = steps_[i];
         const ZState z = z_[i];
-        const ZBounds& zb = zb_[i];
+        const PreparedBounds& pb = pb_[i];
+        const ZBounds& zb = pb.zb;
         vmin_applied = b.v_min;
         vmax_applied = b.v_max;
-        const double w = target_velocity(z.z1, zb);  // controller C's target, common to all bounds below
+        // Controller C's target, common to all bounds below (computed only
+        // where a clamp needs it).
+        ControllerTarget w(z.z1, zb);
         bool reduced = false;
         bool nominal = rule_ == SyncRule::Off || (f & kTrackingNow) || n == kNever || n >= t_max;
         // Final approach under the reduced bound applied at the previous sample:
@@ -245,22 +289,32 @@ class TransientSync final : public Block {
         // nominal bounds: a small transient can start in the curved layer and
         // must still be slowed down.)
         if (!nominal && (f & kPrevReduced)) {
-          const ZBounds zb_prev = z_bounds(FilterBounds{vmin_prev_[i], vmax_prev_[i], b.a_min, b.a_max}, ref.v, T);
-          nominal = final_approach_from_target(z, zb_prev, w);
+          // z_bounds of the previous sample's bounds: that sample's reduced
+          // z-bounds when their inputs are the same bit for bit.
+          const BoundsKey key{FilterBounds{vmin_prev_[i], vmax_prev_[i], b.a_min, b.a_max}, ref.v, T};
+          if (!same_bits(zs_key_[i], key)) {
+            zs_[i] = z_bounds(key.b, ref.v, T);
+            zs_key_[i] = key;
+          }
+          nominal = w.final_approach(z, zs_[i]);
         }
         if (!nominal) {
           const ScaledBounds sb =
-              scale_bounds(rule_, s.x, s.v, ref.r, ref.v, tf, b.v_min, b.v_max, b.a_min, b.a_max, T);
+              scale_bounds(rule_, s.x, s.v, ref.r, ref.v, tf, b.v_min, b.v_max, b.a_min, b.a_max, T, z);
           if (sb.action != BoundAction::Nominal) {
-            const ZBounds zs = z_bounds(FilterBounds{sb.v_min, sb.v_max, b.a_min, b.a_max}, ref.v, T);
-            const double us = control_from_target(z, zs, w);
+            const BoundsKey key{FilterBounds{sb.v_min, sb.v_max, b.a_min, b.a_max}, ref.v, T};
+            const ZBounds zs = z_bounds(key.b, ref.v, T);
+            const double us = w.control(z, zs);
             // Look-ahead guard: the state after this sample must still make
             // t_M - 1 with the nominal bounds.
             const Reference ref_next{ref.r + T * ref.v, ref.v};
-            const ZState zn = to_z(plant_step(s, us, T), ref_next, T);
-            const std::int64_t n_next = is_tracking(zn, zb) ? 0 : transient_steps(zn, zb);
+            const FilterState sn = plant_step(s, us, T);
+            const ZState zn = to_z(sn, ref_next, T);
+            const std::int64_t n_next = is_tracking(zn, zb) ? 0 : transient_steps(zn, pb);
             if (n_next != kNever && n_next <= t_max - 1) {
-              pred_[i] = Prediction{ref_next.r, ref_next.v, T, b, n_next};
+              pred_[i] = Prediction{ref_next.r, ref_next.v, T, b, n_next, sn, zn};
+              zs_[i] = zs;  // the previous sample's bounds at the next sample
+              zs_key_[i] = key;
               f |= kPredictedNow | kReducedNow;
               u = us;
               reduced = true;
@@ -270,7 +324,7 @@ class TransientSync final : public Block {
             }
           }
         }
-        if (!reduced) u = control_from_target(z, zb, w);
+        if (!reduced) u = w.control(z, zb);
       } else {
         // Invalid bounds or reference: controlled stop with the last valid
         // acceleration bounds (at once if there never were any).
@@ -362,7 +416,10 @@ class TransientSync final : public Block {
   std::vector<FilterBounds> last_;  // last valid nominal bounds
   std::vector<Reference> rin_;      // reference of this scan
   std::vector<ZState> z_;
-  std::vector<ZBounds> zb_;         // nominal, this sample
+  std::vector<PreparedBounds> pb_;  // nominal z-bounds (and the prediction's constants)
+  std::vector<BoundsKey> pb_key_;   // the inputs pb_ was computed from
+  std::vector<ZBounds> zs_;         // z-bounds of a reduced bound (the last one computed)
+  std::vector<BoundsKey> zs_key_;   // the inputs zs_ was computed from
   std::vector<Reference> ref_;      // reference of this sample
   std::vector<std::int64_t> steps_;    // n_i of this sample (kNever: cannot track or invalid)
   std::vector<std::int64_t> arrival_;  // sample of the window at which the axis last began tracking

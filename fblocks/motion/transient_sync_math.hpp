@@ -123,6 +123,10 @@ struct ScaledBounds {
 };
 ScaledBounds scale_bounds(SyncRule rule, double x0, double v0, double r0, double rdot, double tf, double v_min,
                           double v_max, double u_min, double u_max, double T = 0) noexcept;
+// The same with the state's z-coordinates z = to_z({x0, v0}, {r0, rdot}, T)
+// given (T > 0): the discrete stopping point starts from them.
+ScaledBounds scale_bounds(SyncRule rule, double x0, double v0, double r0, double rdot, double tf, double v_min,
+                          double v_max, double u_min, double u_max, double T, const ZState& z) noexcept;
 
 // ---- controller C from a precomputed target -----------------------------------
 // The synchronizer evaluates controller C of nonlinear_filter_math.hpp for up
