@@ -17,6 +17,7 @@
 // samples so that x stays the trajectory at the scan's planned release time.
 #include <cmath>
 
+#include "fblocks/motion/decl.hpp"
 #include "fblocks/motion/motion.hpp"
 #include "fblocks/motion/nonlinear_filter_math.hpp"
 
@@ -153,17 +154,10 @@ class NonlinearFilter final : public Block {
   bool init_fault_ = false;
 };
 
-PinDecl pin(std::string name, PinDir dir, IecType type, std::string unit, std::string doc, bool required = false,
-            std::string init = {}) {
-  PinDecl p;
-  p.name = std::move(name);
-  p.dir = dir;
-  p.type = type;
-  p.unit = std::move(unit);
-  p.doc = std::move(doc);
-  p.required = required;
-  p.init = std::move(init);
-  return p;
+// Declaration order of this file: (..., required, init).
+PinDecl filter_pin(std::string name, PinDir dir, IecType type, std::string unit, std::string doc,
+                   bool required = false, std::string init = {}) {
+  return pin(std::move(name), dir, type, std::move(unit), std::move(doc), std::move(init), {}, required);
 }
 
 }  // namespace
@@ -209,24 +203,24 @@ void register_nonlinear_filter(BlockRegistry& r) {
       "(Guarino Lo Bianco and Wahl, ICRA 2011); controller and Table I corrections in "
       "docs/motion/nonlinear-filter.md";
   t.pins = {
-      pin("r", In, IecType::LREAL, "m", "reference position (steps and ramps)", true),
-      pin("r_dot", In, IecType::LREAL, "m/s",
+      filter_pin("r", In, IecType::LREAL, "m", "reference position (steps and ramps)", true),
+      filter_pin("r_dot", In, IecType::LREAL, "m/s",
           "reference velocity; when not connected, derived as (r_k - r_(k-1))/T (0 on the first scan); "
           "give 0 for steps only"),
-      pin("v_min", In, IecType::LREAL, "m/s", "lower velocity bound (xdot-), below v_max", true),
-      pin("v_max", In, IecType::LREAL, "m/s", "upper velocity bound (xdot+), above v_min", true),
-      pin("a_min", In, IecType::LREAL, "m/s^2", "lower acceleration bound (U-), negative", true),
-      pin("a_max", In, IecType::LREAL, "m/s^2", "upper acceleration bound (U+), positive", true),
-      pin("reset", In, IecType::BOOL, "", "while TRUE the filter is held at x = x0, x_dot = v0 (x_ddot = 0)"),
-      pin("x0", In, IecType::LREAL, "m", "start position for reset (and the first scan when start_at_r is FALSE)"),
-      pin("v0", In, IecType::LREAL, "m/s", "start velocity for reset (and the first scan when start_at_r is FALSE)"),
-      pin("x", Out, IecType::LREAL, "m", "filtered position at this scan"),
-      pin("x_dot", Out, IecType::LREAL, "m/s", "filtered velocity at this scan"),
-      pin("x_ddot", Out, IecType::LREAL, "m/s^2", "acceleration applied from this scan to the next"),
-      pin("tracking", Out, IecType::BOOL, "", "TRUE when x and x_dot equal r and r_dot (within the tolerance)"),
-      pin("steps_to_go", Out, IecType::LINT, "",
+      filter_pin("v_min", In, IecType::LREAL, "m/s", "lower velocity bound (xdot-), below v_max", true),
+      filter_pin("v_max", In, IecType::LREAL, "m/s", "upper velocity bound (xdot+), above v_min", true),
+      filter_pin("a_min", In, IecType::LREAL, "m/s^2", "lower acceleration bound (U-), negative", true),
+      filter_pin("a_max", In, IecType::LREAL, "m/s^2", "upper acceleration bound (U+), positive", true),
+      filter_pin("reset", In, IecType::BOOL, "", "while TRUE the filter is held at x = x0, x_dot = v0 (x_ddot = 0)"),
+      filter_pin("x0", In, IecType::LREAL, "m", "start position for reset (and the first scan when start_at_r is FALSE)"),
+      filter_pin("v0", In, IecType::LREAL, "m/s", "start velocity for reset (and the first scan when start_at_r is FALSE)"),
+      filter_pin("x", Out, IecType::LREAL, "m", "filtered position at this scan"),
+      filter_pin("x_dot", Out, IecType::LREAL, "m/s", "filtered velocity at this scan"),
+      filter_pin("x_ddot", Out, IecType::LREAL, "m/s^2", "acceleration applied from this scan to the next"),
+      filter_pin("tracking", Out, IecType::BOOL, "", "TRUE when x and x_dot equal r and r_dot (within the tolerance)"),
+      filter_pin("steps_to_go", Out, IecType::LINT, "",
           "scans until tracking with the present bounds and r as a ramp (0 when tracking, -1 never)"),
-      pin("error", Out, IecType::BOOL, "", "TRUE while the bounds or the reference are invalid"),
+      filter_pin("error", Out, IecType::BOOL, "", "TRUE while the bounds or the reference are invalid"),
   };
   ParamDecl start;
   start.name = "start_at_r";

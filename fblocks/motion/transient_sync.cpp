@@ -45,6 +45,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "fblocks/motion/decl.hpp"
 #include "fblocks/motion/motion.hpp"
 #include "fblocks/motion/nonlinear_filter_math.hpp"
 #include "fblocks/motion/transient_sync_math.hpp"
@@ -431,30 +432,17 @@ class TransientSync final : public Block {
   std::int64_t windows_ = 0, window_scans_ = 0, window_scans_last_ = 0, spread_ = 0;
 };
 
-PinDecl pin(std::string name, PinDir dir, IecType type, std::string unit, std::string doc, bool array,
-            bool required = false, std::string init = {}) {
-  PinDecl p;
-  p.name = std::move(name);
-  p.dir = dir;
-  p.type = type;
-  p.unit = std::move(unit);
-  p.doc = std::move(doc);
-  p.required = required;
-  p.init = std::move(init);
+// Declaration order of this file: (..., array, required, init); array pins take n.
+PinDecl sync_pin(std::string name, PinDir dir, IecType type, std::string unit, std::string doc, bool array,
+                 bool required = false, std::string init = {}) {
+  PinDecl p = pin(std::move(name), dir, type, std::move(unit), std::move(doc), std::move(init), {}, required);
   if (array) p.length_param.assign(1, 'n');  // (not = "n": a GCC 12 -Wrestrict false positive)
   return p;
 }
 
-ParamDecl param(std::string name, IecType type, std::string def, std::optional<double> min,
-                std::optional<double> max, std::string doc) {
-  ParamDecl p;
-  p.name = std::move(name);
-  p.type = type;
-  p.default_value = std::move(def);
-  p.min = min;
-  p.max = max;
-  p.doc = std::move(doc);
-  return p;
+ParamDecl sync_param(std::string name, IecType type, std::string def, std::optional<double> min,
+                     std::optional<double> max, std::string doc) {
+  return param(std::move(name), type, std::move(def), min, max, "", std::move(doc));
 }
 
 }  // namespace
@@ -514,57 +502,57 @@ void register_transient_sync(BlockRegistry& r) {
       "roots of eqs. 33-34, the unified rule, the look-ahead guard) in ../shared/design/motion-math.md "
       "and docs/motion/transient-sync.md";
   t.pins = {
-      pin("r", In, IecType::LREAL, "m", "reference positions (steps and ramps)", A, true),
-      pin("r_dot", In, IecType::LREAL, "m/s",
+      sync_pin("r", In, IecType::LREAL, "m", "reference positions (steps and ramps)", A, true),
+      sync_pin("r_dot", In, IecType::LREAL, "m/s",
           "reference velocities; when not connected, derived as (r_k - r_(k-1)) / (time between the scans), 0 on "
           "the first scan",
           A),
-      pin("v_min", In, IecType::LREAL, "m/s", "nominal lower velocity bounds (xdot-), below v_max", A, true),
-      pin("v_max", In, IecType::LREAL, "m/s", "nominal upper velocity bounds (xdot+), above v_min", A, true),
-      pin("a_min", In, IecType::LREAL, "m/s^2", "lower acceleration bounds (U-), negative", A, true),
-      pin("a_max", In, IecType::LREAL, "m/s^2", "upper acceleration bounds (U+), positive", A, true),
-      pin("x0", In, IecType::LREAL, "m", "start positions for reset (and the first scan when start_at_r is FALSE)",
+      sync_pin("v_min", In, IecType::LREAL, "m/s", "nominal lower velocity bounds (xdot-), below v_max", A, true),
+      sync_pin("v_max", In, IecType::LREAL, "m/s", "nominal upper velocity bounds (xdot+), above v_min", A, true),
+      sync_pin("a_min", In, IecType::LREAL, "m/s^2", "lower acceleration bounds (U-), negative", A, true),
+      sync_pin("a_max", In, IecType::LREAL, "m/s^2", "upper acceleration bounds (U+), positive", A, true),
+      sync_pin("x0", In, IecType::LREAL, "m", "start positions for reset (and the first scan when start_at_r is FALSE)",
           A),
-      pin("v0", In, IecType::LREAL, "m/s",
+      sync_pin("v0", In, IecType::LREAL, "m/s",
           "start velocities for reset (and the first scan when start_at_r is FALSE)", A),
-      pin("reset", In, IecType::BOOL, "", "while TRUE every filter is held at x = x0, x_dot = v0 (x_ddot = 0)", S),
-      pin("x", Out, IecType::LREAL, "m", "filtered positions at this scan", A),
-      pin("x_dot", Out, IecType::LREAL, "m/s", "filtered velocities at this scan", A),
-      pin("x_ddot", Out, IecType::LREAL, "m/s^2", "accelerations applied from this scan to the next", A),
-      pin("v_min_applied", Out, IecType::LREAL, "m/s",
+      sync_pin("reset", In, IecType::BOOL, "", "while TRUE every filter is held at x = x0, x_dot = v0 (x_ddot = 0)", S),
+      sync_pin("x", Out, IecType::LREAL, "m", "filtered positions at this scan", A),
+      sync_pin("x_dot", Out, IecType::LREAL, "m/s", "filtered velocities at this scan", A),
+      sync_pin("x_ddot", Out, IecType::LREAL, "m/s^2", "accelerations applied from this scan to the next", A),
+      sync_pin("v_min_applied", Out, IecType::LREAL, "m/s",
           "lower velocity bounds applied this scan (v_min, or the scaled/parked bound)", A),
-      pin("v_max_applied", Out, IecType::LREAL, "m/s",
+      sync_pin("v_max_applied", Out, IecType::LREAL, "m/s",
           "upper velocity bounds applied this scan (v_max, or the scaled/parked bound)", A),
-      pin("tracking", Out, IecType::BOOL, "", "TRUE when x and x_dot equal r and r_dot (within the tolerance)", A),
-      pin("steps_to_go", Out, IecType::LINT, "",
+      sync_pin("tracking", Out, IecType::BOOL, "", "TRUE when x and x_dot equal r and r_dot (within the tolerance)", A),
+      sync_pin("steps_to_go", Out, IecType::LINT, "",
           "each axis's own transient time with its nominal bounds (Table I): scans until tracking if it were "
           "not synchronized (0 tracking, -1 never)",
           A),
-      pin("error", Out, IecType::BOOL, "", "TRUE while the axis's bounds or reference are invalid", A),
-      pin("arrival", Out, IecType::LINT, "",
+      sync_pin("error", Out, IecType::BOOL, "", "TRUE while the axis's bounds or reference are invalid", A),
+      sync_pin("arrival", Out, IecType::LINT, "",
           "t_M: scans until the common arrival, the largest finite steps_to_go (0 when all track)", S),
-      pin("synchronized", Out, IecType::BOOL, "", "TRUE when every axis tracks its reference", S),
-      pin("scaled", Out, IecType::LINT, "", "number of axes running on a reduced velocity bound this scan", S),
-      pin("energy", Out, IecType::LREAL, "m^2/s",
+      sync_pin("synchronized", Out, IecType::BOOL, "", "TRUE when every axis tracks its reference", S),
+      sync_pin("scaled", Out, IecType::LINT, "", "number of axes running on a reduced velocity bound this scan", S),
+      sync_pin("energy", Out, IecType::LREAL, "m^2/s",
           "E of eq. (24) of the open transient window (held after it closes): T * sum of x_dot^2 over its scans "
           "and all axes",
           S),
-      pin("energy_last", Out, IecType::LREAL, "m^2/s", "E of the last closed transient window", S),
-      pin("windows", Out, IecType::LINT, "", "number of closed transient windows", S),
-      pin("window_scans", Out, IecType::LINT, "",
+      sync_pin("energy_last", Out, IecType::LREAL, "m^2/s", "E of the last closed transient window", S),
+      sync_pin("windows", Out, IecType::LINT, "", "number of closed transient windows", S),
+      sync_pin("window_scans", Out, IecType::LINT, "",
           "scans in the open transient window so far (held after it closes: its length)", S),
-      pin("spread", Out, IecType::LINT, "",
+      sync_pin("spread", Out, IecType::LINT, "",
           "arrival spread of the last closed window: latest minus earliest arrival scan of the axes that "
           "moved (0 = synchronous)",
           S),
   };
   t.params = {
-      param("n", IecType::DINT, "", 1, static_cast<double>(kMaxAxes), "number of axes (sets the array pin lengths)"),
-      param("rule", IecType::DINT, "0", 0, 2,
+      sync_param("n", IecType::DINT, "", 1, static_cast<double>(kMaxAxes), "number of axes (sets the array pin lengths)"),
+      sync_param("rule", IecType::DINT, "0", 0, 2,
             "bound-scaling rule: 0 unified (eq. 33 or 34 by the side on which the filter comes to rest, any sign of "
             "r_dot), 1 the paper's (by the signs of r - x and r_dot, zero-bound parking otherwise), 2 off "
             "(independent filters)"),
-      param("start_at_r", IecType::BOOL, "TRUE", std::nullopt, std::nullopt,
+      sync_param("start_at_r", IecType::BOOL, "TRUE", std::nullopt, std::nullopt,
             "TRUE: the first scan starts every filter at x = r, x_dot = r_dot; FALSE: at (x0, v0)"),
   };
   t.create = [](BlockSetup& s) -> std::unique_ptr<Block> {
