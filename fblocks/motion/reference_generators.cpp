@@ -21,6 +21,7 @@
 
 #include "fblocks/motion/decl.hpp"
 #include "fblocks/motion/motion.hpp"
+#include "runtime/core/sim_random.hpp"
 
 namespace syncplc::motion {
 namespace {
@@ -258,22 +259,6 @@ BlockTypeInfo circle_info() {
 
 // ---- STEP_RAMP_SEQUENCE -------------------------------------------------------
 
-// splitmix64: a fixed, platform-independent stream (std distributions are not).
-class SplitMix {
- public:
-  explicit SplitMix(std::uint64_t seed = 0) noexcept : s_(seed) {}
-  std::uint64_t next() noexcept {
-    std::uint64_t z = (s_ += 0x9E3779B97F4A7C15ULL);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-    return z ^ (z >> 31);
-  }
-  double uniform() noexcept { return static_cast<double>(next() >> 11) * 0x1.0p-53; }  // [0, 1)
-
- private:
-  std::uint64_t s_;
-};
-
 class StepRampSequence final : public Block {
   enum : int { kEnable = 0, kT, kValue, kSlope, kR, kRDot, kChanged, kSegment };
   // A scan after a long pause catches up at most this many random segments
@@ -346,7 +331,7 @@ class StepRampSequence final : public Block {
   void restart() noexcept {
     started_ = false;
     seg_ = -1;
-    rng_ = SplitMix(seed_);
+    rng_ = SimRandom(seed_);
     next_random(0.0);  // segment 0, active from t = 0
   }
 
@@ -370,7 +355,7 @@ class StepRampSequence final : public Block {
   std::uint32_t n_;
   double min_hold_, max_hold_, rmin_, rmax_, slope_max_, p_ramp_;
   std::uint64_t seed_;
-  SplitMix rng_;
+  SimRandom rng_;  // splitmix64: a fixed, platform-independent stream (std distributions are not)
   RunClock clock_;
   bool started_ = false;
   std::int32_t seg_ = -1;  // active segment, -1 before the first

@@ -6,7 +6,7 @@
 // is pi_bad loss_bad + (1 - pi_bad) loss_good, pi_bad = p_gb / (p_gb + p_bg).
 #pragma once
 
-#include "runtime/io/sim_random.hpp"
+#include "runtime/core/sim_random.hpp"
 
 namespace syncplc {
 

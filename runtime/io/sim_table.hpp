@@ -22,7 +22,7 @@
 
 #include "runtime/core/io_driver.hpp"
 #include "runtime/io/axis_plant.hpp"
-#include "runtime/io/sim_random.hpp"
+#include "runtime/core/sim_random.hpp"
 
 namespace syncplc {
 

@@ -1,4 +1,4 @@
-// Seeded random numbers for the simulated drivers: splitmix64, so a seed gives
+// Seeded random numbers for simulated drivers and blocks: splitmix64, so a seed gives
 // the same sequence on every platform and standard library (std::
 // distributions are implementation-defined), which keeps virtual-time runs
 // bit-for-bit reproducible.
