@@ -1,6 +1,7 @@
 #include <iostream>
 
 #include "runtime/cli/commands.hpp"
+#include "runtime/modbus/register_map.hpp"
 #include "runtime/project/report.hpp"
 
 namespace syncplc::cli {
@@ -15,6 +16,17 @@ int cmd_check(const std::string& project) {
   print_execution_order(std::cout, p);
   std::cout << "\n";
   print_tag_map(std::cout, p);
+  {
+    std::vector<std::string> notes;
+    ModbusMap map = ModbusMap::build(p, &notes);
+    bool mapped = false;
+    for (int t = 0; t < 4; ++t) mapped |= !map.points(static_cast<ModbusTable>(t)).empty();
+    if (mapped || !notes.empty()) {
+      std::cout << "\n";
+      print_modbus_map(std::cout, p, map, WordOrder::HighFirst);
+      for (const auto& n : notes) std::cout << "  not mapped: " << n << "\n";
+    }
+  }
   bool header = false;
   for (const auto& d : p.drivers) {
     std::string s = d.driver->summary();

@@ -1,0 +1,178 @@
+#include "runtime/modbus/register_map.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <ostream>
+
+namespace syncplc {
+
+std::string_view modbus_table_name(ModbusTable t) {
+  switch (t) {
+    case ModbusTable::Coils: return "coil";
+    case ModbusTable::DiscreteInputs: return "discrete input";
+    case ModbusTable::InputRegisters: return "input register";
+    case ModbusTable::HoldingRegisters: return "holding register";
+  }
+  return "?";
+}
+
+std::uint32_t register_width(IecType t) {
+  if (t == IecType::BOOL) return 1;
+  const int bits = bit_width(t);
+  return bits <= 16 ? 1u : static_cast<std::uint32_t>(bits / 16);
+}
+
+namespace {
+
+// The value's bits as an unsigned integer of its width (reals by their IEEE
+// pattern, signed integers two's complement).
+std::uint64_t raw_bits(IecType t, Cell c) {
+  return dispatch_type(t, [&]<IecType T>() -> std::uint64_t {
+    using N = typename Native<T>::type;
+    N v = c.get<N>();
+    if constexpr (std::is_same_v<N, bool>) return v ? 1u : 0u;
+    else if constexpr (std::is_same_v<N, float>) { std::uint32_t u; std::memcpy(&u, &v, 4); return u; }
+    else if constexpr (std::is_same_v<N, double>) { std::uint64_t u; std::memcpy(&u, &v, 8); return u; }
+    else return static_cast<std::uint64_t>(static_cast<std::make_unsigned_t<N>>(v));
+  });
+}
+
+Cell from_bits(IecType t, std::uint64_t u) {
+  Cell c;
+  dispatch_type(t, [&]<IecType T>() {
+    using N = typename Native<T>::type;
+    if constexpr (std::is_same_v<N, bool>) c.set<bool>(u != 0);
+    else if constexpr (std::is_same_v<N, float>) { float f; auto w = static_cast<std::uint32_t>(u); std::memcpy(&f, &w, 4); c.set<float>(f); }
+    else if constexpr (std::is_same_v<N, double>) { double d; std::memcpy(&d, &u, 8); c.set<double>(d); }
+    else c.set<N>(static_cast<N>(static_cast<std::make_unsigned_t<N>>(u)));
+  });
+  return c;
+}
+
+struct Range {
+  ModbusTable table;
+  std::uint32_t base;   // first register/coil of the area
+  std::uint32_t limit;  // one past the last
+  std::uint32_t per_index;  // registers per address index (%MD: 2, %ML: 4)
+};
+
+// The OpenPLC convention; nullopt when the address has no Modbus place.
+std::optional<Range> convention(const DirectAddress& a) {
+  using S = AddrSize;
+  if (a.size == S::Bit) {
+    if (a.area == Area::Input) return Range{ModbusTable::DiscreteInputs, 0, 8192, 1};
+    if (a.area == Area::Output) return Range{ModbusTable::Coils, 0, 8192, 1};
+    return std::nullopt;
+  }
+  if (a.size == S::Word) {
+    if (a.area == Area::Input) return Range{ModbusTable::InputRegisters, 0, 1024, 1};
+    if (a.area == Area::Output) return Range{ModbusTable::HoldingRegisters, 0, 1024, 1};
+    return Range{ModbusTable::HoldingRegisters, 1024, 2048, 1};
+  }
+  if (a.area == Area::Memory && a.size == S::Double) return Range{ModbusTable::HoldingRegisters, 2048, 4096, 2};
+  if (a.area == Area::Memory && a.size == S::Long) return Range{ModbusTable::HoldingRegisters, 4096, 8192, 4};
+  return std::nullopt;
+}
+
+}  // namespace
+
+void encode_registers(IecType t, Cell c, WordOrder order, std::uint16_t* regs) {
+  const std::uint32_t n = register_width(t);
+  const std::uint64_t u = raw_bits(t, c);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    // i = 0 is the most significant word in HighFirst order.
+    const std::uint32_t word = order == WordOrder::HighFirst ? n - 1 - i : i;
+    regs[i] = static_cast<std::uint16_t>(u >> (16 * word));
+  }
+}
+
+Cell decode_registers(IecType t, const std::uint16_t* regs, WordOrder order) {
+  const std::uint32_t n = register_width(t);
+  std::uint64_t u = 0;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const std::uint32_t word = order == WordOrder::HighFirst ? n - 1 - i : i;
+    u |= std::uint64_t{regs[i]} << (16 * word);
+  }
+  if (bit_width(t) == 8) u &= 0xFF;
+  return from_bits(t, u);
+}
+
+ModbusMap ModbusMap::build(const Program& p, std::vector<std::string>* notes) {
+  ModbusMap m;
+  for (std::uint32_t ti = 0; ti < p.tags.size(); ++ti) {
+    const Tag& tag = p.tags[ti];
+    if (!tag.address || tag.hmi == HmiAccess::None) continue;
+    const DirectAddress& a = *tag.address;
+    auto r = convention(a);
+    if (!r) {
+      if (notes) notes->push_back(tag.name + " at " + a.text() + ": no Modbus place by the OpenPLC convention");
+      continue;
+    }
+    const std::uint32_t width = register_width(tag.type);
+    for (std::uint32_t e = 0; e < tag.length; ++e) {
+      std::uint64_t addr;
+      if (a.size == AddrSize::Bit) addr = a.first_bit() + e;
+      else addr = r->base + (std::uint64_t{a.index} + e) * r->per_index;
+      if (addr + width > r->limit) {
+        if (notes)
+          notes->push_back(tag.name + (tag.length > 1 ? "[" + std::to_string(tag.array_lower + e) + "]" : "") + " at " +
+                           a.text() + ": beyond the " + std::string(modbus_table_name(r->table)) + " range of the convention");
+        break;
+      }
+      const bool table_writable = r->table == ModbusTable::Coils || r->table == ModbusTable::HoldingRegisters;
+      m.tables_[static_cast<int>(r->table)].push_back(
+          ModbusPoint{ti, e, r->table, static_cast<std::uint32_t>(addr), width, table_writable && tag.hmi == HmiAccess::ReadWrite});
+    }
+  }
+  for (auto& t : m.tables_)
+    std::sort(t.begin(), t.end(), [](const ModbusPoint& x, const ModbusPoint& y) { return x.address < y.address; });
+  return m;
+}
+
+const ModbusPoint* ModbusMap::at(ModbusTable t, std::uint32_t address) const {
+  const auto& v = tables_[static_cast<int>(t)];
+  auto it = std::upper_bound(v.begin(), v.end(), address, [](std::uint32_t a, const ModbusPoint& p) { return a < p.address; });
+  if (it == v.begin()) return nullptr;
+  --it;
+  return address < it->address + it->width ? &*it : nullptr;
+}
+
+std::optional<std::vector<const ModbusPoint*>> ModbusMap::range(ModbusTable t, std::uint32_t address,
+                                                               std::uint32_t count) const {
+  std::vector<const ModbusPoint*> out;
+  if (count == 0) return std::nullopt;
+  const std::uint64_t end = std::uint64_t{address} + count;  // no wrap-around
+  std::uint64_t a = address;
+  while (a < end) {
+    const ModbusPoint* pt = at(t, static_cast<std::uint32_t>(a));
+    if (!pt || pt->address != a || pt->address + pt->width > end) return std::nullopt;  // unmapped, or a value cut
+    out.push_back(pt);
+    a += pt->width;
+  }
+  return out;
+}
+
+void print_modbus_map(std::ostream& os, const Program& p, const ModbusMap& m, WordOrder order) {
+  os << "Modbus map (OpenPLC convention; 32/64-bit values " << (order == WordOrder::HighFirst ? "high word first" : "low word first")
+     << "):\n";
+  bool any = false;
+  for (int t = 0; t < 4; ++t) {
+    const auto& v = m.points(static_cast<ModbusTable>(t));
+    for (std::size_t i = 0; i < v.size();) {
+      // One line per tag: its elements are consecutive.
+      std::size_t j = i;
+      while (j + 1 < v.size() && v[j + 1].tag == v[i].tag) ++j;
+      const Tag& tag = p.tags[v[i].tag];
+      const std::uint32_t last = v[j].address + v[j].width - 1;
+      os << "  " << modbus_table_name(v[i].table) << (v[i].address == last ? " " : "s ") << v[i].address
+         << (v[i].address == last ? "" : ".." + std::to_string(last)) << "  " << tag.name << " "
+         << type_name(tag.type) << (tag.length > 1 ? "[" + std::to_string(tag.length) + "]" : "") << " at "
+         << tag.address->text() << (v[i].writable ? "  read/write" : "  read only") << "\n";
+      any = true;
+      i = j + 1;
+    }
+  }
+  if (!any) os << "  (no tag with a direct address and HMI access)\n";
+}
+
+}  // namespace syncplc

@@ -1,0 +1,70 @@
+// The Modbus address map of a project's tags (issue 5, first part): which
+// coil, discrete input, input register or holding register shows which tag,
+// by the convention HMI users know from OpenPLC:
+//
+//   %IXb.n  discrete input 8b+n   (0..8191)     %QXb.n  coil 8b+n              (0..8191)
+//   %IWn    input register n      (0..1023)     %QWn    holding register n     (0..1023)
+//   %MWn    holding 1024+n        (n 0..1023)   %MDn    holding 2048+2n, two   (n 0..1023)
+//   %MLn    holding 4096+4n, four (n 0..1023)
+//
+// An array tag occupies consecutive addresses. 32- and 64-bit values span two
+// or four registers, high word first by default (WordOrder::HighFirst) or
+// swapped (LowFirst); each register is big-endian on the wire, as Modbus
+// defines. Addresses a tag does not cover are unmapped: the server answers
+// exception 02 for them, never a plausible zero.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "runtime/core/program.hpp"
+
+namespace syncplc {
+
+enum class ModbusTable : std::uint8_t { Coils, DiscreteInputs, InputRegisters, HoldingRegisters };
+std::string_view modbus_table_name(ModbusTable t);
+
+enum class WordOrder : std::uint8_t { HighFirst, LowFirst };
+
+// One tag (or one element of an array tag) in one table.
+struct ModbusPoint {
+  std::uint32_t tag = 0;      // index in Program::tags
+  std::uint32_t element = 0;  // 0-based element of the tag
+  ModbusTable table = ModbusTable::HoldingRegisters;
+  std::uint32_t address = 0;  // first coil/register
+  std::uint32_t width = 1;    // coils: 1; registers: 1, 2 or 4
+  bool writable = false;      // coils and holding registers of tags with hmi: readwrite
+};
+
+// Registers a value of type t takes (bits for BOOL count as one coil).
+std::uint32_t register_width(IecType t);
+// A cell as registers (width register_width(t)) and back.
+void encode_registers(IecType t, Cell c, WordOrder order, std::uint16_t* regs);
+Cell decode_registers(IecType t, const std::uint16_t* regs, WordOrder order);
+
+class ModbusMap {
+ public:
+  // Every tag with a direct address that the convention covers and HMI access
+  // read or readwrite. A tag outside the convention's ranges is reported in
+  // `notes` (it stays reachable by its name elsewhere, not by Modbus).
+  static ModbusMap build(const Program& p, std::vector<std::string>* notes = nullptr);
+
+  // The point that starts exactly at `address`, or that covers it.
+  const ModbusPoint* at(ModbusTable t, std::uint32_t address) const;
+  // Every point of [address, address + count) in order, or nullopt when any
+  // address in the range is unmapped or a multi-register value is cut by
+  // the range's ends (Modbus exception 02).
+  std::optional<std::vector<const ModbusPoint*>> range(ModbusTable t, std::uint32_t address, std::uint32_t count) const;
+  const std::vector<ModbusPoint>& points(ModbusTable t) const { return tables_[static_cast<int>(t)]; }
+
+ private:
+  std::array<std::vector<ModbusPoint>, 4> tables_;  // sorted by address
+};
+
+// The map as `syncplc check` prints it: one line a tag (arrays as a range).
+void print_modbus_map(std::ostream& os, const Program& p, const ModbusMap& m, WordOrder order);
+
+}  // namespace syncplc
