@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "fblocks/motion/message_estimator.hpp"
+#include "runtime/core/sim_random.hpp"
 
 namespace syncplc::motion {
 namespace {
@@ -17,17 +18,7 @@ constexpr EstimatorHistory kRecursive = EstimatorHistory::Recursive;
 constexpr EstimatorHistory kZero = EstimatorHistory::Zero;
 
 // Deterministic stream (splitmix64) for reproducible loss patterns.
-struct Rng {
-  std::uint64_t s;
-  std::uint64_t next() {
-    std::uint64_t z = (s += 0x9E3779B97F4A7C15ULL);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-    return z ^ (z >> 31);
-  }
-  double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
-  bool chance(double p) { return uniform() < p; }
-};
+using Rng = SimRandom;
 
 TEST(TaylorCoefficients, SumToOneForEveryOrder) {
   for (int order = 0; order <= 3; ++order) {

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "fblocks/motion/message_estimator.hpp"
+#include "runtime/core/sim_random.hpp"
 
 namespace syncplc::motion {
 namespace {
@@ -38,17 +39,8 @@ constexpr std::uint32_t kNoLimit = 1u << 30;
 
 double sinusoid(long k) { return kAmp * std::sin(kOmega * static_cast<double>(k) * kT); }
 
-struct Rng {
-  std::uint64_t s;
-  std::uint64_t next() {
-    std::uint64_t z = (s += 0x9E3779B97F4A7C15ULL);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-    return z ^ (z >> 31);
-  }
-  double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
-  bool chance(double p) { return uniform() < p; }
-};
+// Deterministic stream (splitmix64) for reproducible loss patterns.
+using Rng = SimRandom;
 
 // RMS and maximum of the error over the lost samples.
 struct ErrStats {

@@ -30,6 +30,17 @@ void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
 namespace syncplc {
 namespace {
 
+// Runs `clock` to `warm_up_ns` uncounted, then to `until_ns` counting every
+// operator new; returns the count.
+long allocations_while_running(VirtualClock& clock, std::int64_t warm_up_ns, std::int64_t until_ns) {
+  clock.run_until(warm_up_ns);
+  g_allocations = 0;
+  g_counting = true;
+  clock.run_until(until_ns);
+  g_counting = false;
+  return g_allocations.load();
+}
+
 // TAYLOR_ESTIMATOR (every history form, under alternating loss) and the
 // reference generators (random and scripted STEP_RAMP_SEQUENCE included) on
 // the scan path: no allocation.
@@ -72,12 +83,7 @@ connections:
   auto& p = r.program;
   ASSERT_TRUE(p);
   VirtualClock clock(*p);
-  clock.run_until(10'000'000);  // warm up
-  g_allocations = 0;
-  g_counting = true;
-  clock.run_until(1'000'000'000);
-  g_counting = false;
-  EXPECT_EQ(g_allocations.load(), 0);
+  EXPECT_EQ(allocations_while_running(clock, 10'000'000, 1'000'000'000), 0);
   EXPECT_GT(p->tasks[0]->stats.summary().scans, 990u);
 }
 
@@ -205,12 +211,7 @@ connections:
   auto& p = r.program;
   ASSERT_TRUE(p);
   VirtualClock clock(*p);
-  clock.run_until(10'000'000);  // warm up
-  g_allocations = 0;
-  g_counting = true;
-  clock.run_until(1'000'000'000);
-  g_counting = false;
-  EXPECT_EQ(g_allocations.load(), 0);
+  EXPECT_EQ(allocations_while_running(clock, 10'000'000, 1'000'000'000), 0);
   EXPECT_GT(p->tasks[0]->stats.summary().scans, 990u);
 }
 
@@ -235,12 +236,7 @@ TEST(ScanPath, SynchronizedFiltersDoNotAllocate) {
       for (const auto& d : r.diagnostics.list()) ADD_FAILURE() << d.text();
       ASSERT_TRUE(r.program);
       VirtualClock clock(*r.program);
-      clock.run_until(100'000'000);
-      g_allocations = 0;
-      g_counting = true;
-      clock.run_until(30'000'000'000);  // 30 s: many transients
-      g_counting = false;
-      EXPECT_EQ(g_allocations.load(), 0) << file << " rule " << rule;
+      EXPECT_EQ(allocations_while_running(clock, 100'000'000, 30'000'000'000), 0) << file << " rule " << rule;
     }
   auto p = load_test_project(R"(
 tasks: [{name: servo, period: 1ms}]
@@ -253,12 +249,7 @@ connections:
 )");
   ASSERT_TRUE(p);
   VirtualClock clock(*p);
-  clock.run_until(10'000'000);
-  g_allocations = 0;
-  g_counting = true;
-  clock.run_until(5'000'000'000);
-  g_counting = false;
-  EXPECT_EQ(g_allocations.load(), 0);
+  EXPECT_EQ(allocations_while_running(clock, 10'000'000, 5'000'000'000), 0);
 }
 
 TEST(ScanPath, FourAxisDemoDoesNotAllocate) {
@@ -269,12 +260,7 @@ TEST(ScanPath, FourAxisDemoDoesNotAllocate) {
     for (const auto& d : r.diagnostics.list()) ADD_FAILURE() << d.text();
     ASSERT_TRUE(r.program);
     VirtualClock clock(*r.program);
-    clock.run_until(10'000'000);  // warm up
-    g_allocations = 0;
-    g_counting = true;
-    clock.run_until(3'000'000'000);  // through the disturbance's start at 2 s
-    g_counting = false;
-    EXPECT_EQ(g_allocations.load(), 0) << file;
+    EXPECT_EQ(allocations_while_running(clock, 10'000'000, 3'000'000'000), 0) << file;
     EXPECT_GT(r.program->tasks[0]->stats.summary().scans, 2990u);
   }
 }
