@@ -15,6 +15,7 @@
 #include "runtime/core/config_node.hpp"
 #include "runtime/core/direct_address.hpp"
 #include "runtime/core/io_driver.hpp"
+#include "runtime/core/modbus_config.hpp"
 #include "runtime/core/task.hpp"
 
 namespace syncplc {
@@ -31,6 +32,7 @@ struct Tag {
   std::optional<DirectAddress> address;
   bool retain = false;
   HmiAccess hmi = HmiAccess::None;
+  std::optional<ModbusPlace> modbus;  // explicit Modbus place; else the direct address's, if any
   std::string unit;
   std::string description;
   std::vector<Cell> init;   // length cells
@@ -72,6 +74,7 @@ class Program {
   std::vector<DriverBinding> drivers;
   std::vector<TraceColumn> traces;
   std::vector<std::string> watch;  // tags shown by the live status
+  ModbusConfig modbus;             // the `modbus:` section (server off when absent)
   // metrics: in the project file: the axes' tracking errors, in axis order,
   // for the motion metrics of `syncplc sim --metrics` (paper 000 eqs. 26-27).
   std::vector<TraceColumn> axis_errors;

@@ -6,16 +6,6 @@
 
 namespace syncplc {
 
-std::string_view modbus_table_name(ModbusTable t) {
-  switch (t) {
-    case ModbusTable::Coils: return "coil";
-    case ModbusTable::DiscreteInputs: return "discrete input";
-    case ModbusTable::InputRegisters: return "input register";
-    case ModbusTable::HoldingRegisters: return "holding register";
-  }
-  return "?";
-}
-
 std::uint32_t register_width(IecType t) {
   if (t == IecType::BOOL) return 1;
   const int bits = bit_width(t);

@@ -20,14 +20,10 @@
 #include <string>
 #include <vector>
 
+#include "runtime/core/modbus_config.hpp"
 #include "runtime/core/program.hpp"
 
 namespace syncplc {
-
-enum class ModbusTable : std::uint8_t { Coils, DiscreteInputs, InputRegisters, HoldingRegisters };
-std::string_view modbus_table_name(ModbusTable t);
-
-enum class WordOrder : std::uint8_t { HighFirst, LowFirst };
 
 // One tag (or one element of an array tag) in one table.
 struct ModbusPoint {

@@ -1,0 +1,53 @@
+// What a project says about its Modbus TCP server (the `modbus:` section and
+// a tag's `modbus:` key), kept in the core so that the loader can fill it and
+// the server (runtime/modbus) can read it without either depending on the
+// other. docs/modbus.md describes every field.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace syncplc {
+
+enum class ModbusTable : std::uint8_t { Coils, DiscreteInputs, InputRegisters, HoldingRegisters };
+std::string_view modbus_table_name(ModbusTable t);  // "coil", "discrete input", ...
+std::string_view modbus_table_key(ModbusTable t);   // the project-file spelling: coil, discrete_input, ...
+
+// Word order of 32- and 64-bit values: high word first (big-endian words, the
+// default) or low word first (swapped). Each register is big-endian on the wire.
+enum class WordOrder : std::uint8_t { HighFirst, LowFirst };
+std::string_view word_order_key(WordOrder o);  // high_first, low_first
+
+// An IPv4 network a client must come from: address and prefix length (32 for one host).
+struct ClientNetwork {
+  std::uint32_t address = 0;  // host byte order
+  int prefix = 32;
+  bool contains(std::uint32_t host_order_address) const {
+    if (prefix <= 0) return true;
+    const std::uint32_t mask = prefix >= 32 ? 0xFFFFFFFFu : ~(0xFFFFFFFFu >> prefix);
+    return (host_order_address & mask) == (address & mask);
+  }
+};
+
+struct ModbusConfig {
+  bool enabled = false;            // a project without a `modbus:` section runs no server
+  int port = 5020;                 // 0: any free port (the chosen one is printed at start)
+  std::string bind = "127.0.0.1";  // IPv4 address to listen on; 0.0.0.0 for every interface
+  int unit_id = 1;                 // 1..247; requests to unit 0 or 255 are also answered
+  int max_clients = 64;            // connections at once; more are accepted and closed at once
+  std::int64_t idle_timeout_ns = 60'000'000'000;  // a connection silent this long is closed; 0: never
+  WordOrder word_order = WordOrder::HighFirst;
+  std::vector<ClientNetwork> allowed_clients;  // empty: any client
+  bool read_only = false;          // every write answers exception 02
+};
+
+// A tag's explicit place on Modbus (`modbus: {table: holding_register, address: 3000}`),
+// which takes precedence over the place its direct address gives.
+struct ModbusPlace {
+  ModbusTable table = ModbusTable::HoldingRegisters;
+  std::uint32_t address = 0;  // 0..65535: the first coil or register
+};
+
+}  // namespace syncplc
