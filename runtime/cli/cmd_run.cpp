@@ -9,6 +9,7 @@
 
 #include "runtime/cli/commands.hpp"
 #include "runtime/core/realtime.hpp"
+#include "runtime/modbus/server.hpp"
 #include "runtime/project/online_change.hpp"
 #include "runtime/project/report.hpp"
 
@@ -17,11 +18,45 @@ namespace {
 
 // The live screen reads statistics (atomics) and published snapshots only:
 // it never touches a task's image and never takes a lock a scan could wait on.
-void draw_status(std::ostream& os, Program& p, double elapsed, const std::deque<std::string>& recent) {
+// The settings a running server cannot change without a restart.
+bool same_server(const ModbusConfig& a, const ModbusConfig& b) {
+  auto key = [](const ModbusConfig& c) {
+    std::string nets;
+    for (const auto& n : c.allowed_clients) nets += std::to_string(n.address) + "/" + std::to_string(n.prefix) + ",";
+    return std::make_tuple(c.enabled, c.port, c.bind, c.unit_id, c.max_clients, c.idle_timeout_ns, c.word_order, nets,
+                           c.read_only);
+  };
+  return key(a) == key(b);
+}
+
+std::unique_ptr<modbus::Server> start_modbus(Program& p, std::optional<int> port_override) {
+  ModbusConfig cfg = p.modbus;
+  if (port_override) {
+    cfg.enabled = true;
+    cfg.port = *port_override;
+  }
+  if (!cfg.enabled) return nullptr;
+  auto server = std::make_unique<modbus::Server>(p, cfg);
+  std::string err;
+  if (!server->start(&err)) {
+    std::cerr << "syncplc: modbus: " << err << "\n";
+    return nullptr;
+  }
+  std::cerr << "syncplc: modbus: listening on " << server->endpoint() << " (unit " << cfg.unit_id << ", "
+            << server->handler_map_size() << " values mapped)\n";
+  return server;
+}
+
+void draw_status(std::ostream& os, Program& p, double elapsed, const std::deque<std::string>& recent,
+                 const modbus::Server* server) {
   std::ostringstream s;
   s << "\x1b[H\x1b[2J";
   s << fmt::format("syncplc run  {} {}  running {:.1f}s   (Ctrl-C stops; SIGHUP reloads the project file)\n\n", p.name, p.version, elapsed);
   print_statistics(s, p, false);
+  if (server) {
+    s << "\nModbus TCP on " << server->endpoint() << "\n";
+    modbus::print_counters(s, server->counters().summary());
+  }
   if (!p.watch.empty()) {
     s << "\nWatched tags\n";
     for (const auto& name : p.watch) {
@@ -44,7 +79,7 @@ void draw_status(std::ostream& os, Program& p, double elapsed, const std::deque<
 }  // namespace
 
 int cmd_run(const std::string& project, const std::string& duration, const std::vector<std::string>& sets,
-            bool no_status, int cpu_latency_us) {
+            bool no_status, int cpu_latency_us, std::optional<int> modbus_port) {
   RealtimeRunner::Options runner_options;
   runner_options.cpu_latency_us = cpu_latency_us;
   std::optional<std::int64_t> limit;
@@ -70,6 +105,7 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
   sigaddset(&sigs, SIGTERM);
   sigaddset(&sigs, SIGHUP);
   pthread_sigmask(SIG_BLOCK, &sigs, nullptr);
+  signal(SIGPIPE, SIG_IGN);  // a Modbus client that goes away must not end the PLC
 
   std::string err;
   if (!program->open_drivers(&err)) {
@@ -78,6 +114,13 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
   }
   auto runner = std::make_unique<RealtimeRunner>(*program, runner_options);
   runner->start();
+  auto modbus_server = start_modbus(*program, modbus_port);
+  if (!modbus_server && (modbus_port || program->modbus.enabled)) {
+    runner->request_stop();
+    runner->join();
+    program->close_drivers();
+    return kExitInvalid;
+  }
   const bool live = !no_status && isatty(STDOUT_FILENO);
   const std::int64_t t0 = RealtimeRunner::monotonic_ns();
   std::deque<std::string> recent;
@@ -108,6 +151,16 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
             return kExitInvalid;
           }
         } else {
+          // The server lets go of the old program before it is destroyed;
+          // changed server settings mean a new server (clients reconnect).
+          ModbusConfig next_cfg = next.program->modbus;
+          if (modbus_port) { next_cfg.enabled = true; next_cfg.port = *modbus_port; }
+          if (modbus_server && same_server(modbus_server->config(), next_cfg)) {
+            modbus_server->replace_program(*next.program);
+          } else {
+            modbus_server.reset();
+            modbus_server = start_modbus(*next.program, modbus_port);
+          }
           program = std::move(next.program);
           std::cerr << "syncplc: reloaded " << project << " (" << kept << " tag values carried over)\n";
         }
@@ -150,19 +203,24 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
       }
     }
     double elapsed = static_cast<double>(RealtimeRunner::monotonic_ns() - t0) * 1e-9;
-    if (live) draw_status(std::cout, p, elapsed, recent);
+    if (live) draw_status(std::cout, p, elapsed, recent, modbus_server.get());
     if (limit && RealtimeRunner::monotonic_ns() - t0 >= *limit) break;
     if (!runner->running()) {
       std::cerr << "syncplc: every task has stopped\n";
       break;
     }
   }
+  if (modbus_server) modbus_server->stop();
   runner->request_stop();
   runner->join();
   program->close_drivers();
   print_events(std::cerr, *program);
   if (stop_signal) std::cout << "\nStopped by " << (stop_signal == SIGINT ? "SIGINT" : "SIGTERM") << "\n";
   print_statistics(std::cout, *program, false);
+  if (modbus_server) {
+    std::cout << "\nModbus TCP on " << modbus_server->endpoint() << "\n";
+    modbus::print_counters(std::cout, modbus_server->counters().summary());
+  }
   return kExitOk;
 }
 

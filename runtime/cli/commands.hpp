@@ -2,6 +2,7 @@
 // 0 success, 1 test failure, 2 invalid input or usage.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,7 +23,7 @@ int cmd_blocks(const std::string& name, bool markdown);
 int cmd_sim(const std::string& project, const std::string& duration, std::optional<std::uint64_t> seed,
             const std::string& trace, const std::vector<std::string>& sets, bool quiet, const std::string& metrics_path);
 int cmd_run(const std::string& project, const std::string& duration, const std::vector<std::string>& sets,
-            bool no_status, int cpu_latency_us);
+            bool no_status, int cpu_latency_us, std::optional<int> modbus_port);
 int cmd_test(const std::string& project, const std::string& tests, const std::string& junit);
 
 }  // namespace syncplc::cli

@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> sets;
   bool markdown = false, quiet = false, no_status = false;
   int cpu_latency_us = 0;
+  std::optional<int> modbus_port;
 
   auto* check = app.add_subcommand("check", "validate a project; print its task table, execution order and tag map");
   check->add_option("PROJECT", project, "project file (YAML)")->required();
@@ -41,6 +42,9 @@ int main(int argc, char** argv) {
   run->add_option("--cpu-latency", cpu_latency_us,
                   "hold /dev/cpu_dma_latency at this many us while running (default 0; -1 leaves idle states alone)")
       ->check(CLI::Range(-1, 1000000));
+  run->add_option("--modbus-port", modbus_port,
+                  "serve Modbus TCP on this port (0: any free port), even without a modbus: section")
+      ->check(CLI::Range(0, 65535));
 
   auto* test = app.add_subcommand("test", "run scan-cycle tests against a project in virtual time");
   test->add_option("PROJECT", project, "project file (YAML)")->required();
@@ -57,7 +61,7 @@ int main(int argc, char** argv) {
     if (*check) return cmd_check(project);
     if (*blocks) return cmd_blocks(block, markdown);
     if (*sim) return cmd_sim(project, duration, seed, trace, sets, quiet, metrics);
-    if (*run) return cmd_run(project, duration, sets, no_status, cpu_latency_us);
+    if (*run) return cmd_run(project, duration, sets, no_status, cpu_latency_us, modbus_port);
     if (*test) return cmd_test(project, tests, junit);
   } catch (const std::exception& e) {
     std::cerr << "syncplc: " << e.what() << "\n";

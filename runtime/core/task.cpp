@@ -118,6 +118,7 @@ void Task::scan(ScanContext& ctx) noexcept {
 
 void Task::publish() noexcept {
   for (auto& ch : channels) ch->publish(image.data());
+  published_.fetch_add(1, std::memory_order_release);
 }
 
 Task::Next Task::account(std::int64_t k, std::int64_t planned, std::int64_t start, std::int64_t end) noexcept {
@@ -187,9 +188,9 @@ bool Task::enqueue(const QueuedWrite* writes, std::size_t n) {
 }
 
 void Task::read_published(std::uint32_t first, std::uint32_t n, Cell* out) {
-  std::lock_guard lock(external_mutex);
-  const Cell* src = channels[0]->acquire();
-  if (n) std::memcpy(static_cast<void*>(out), src + first, n * sizeof(Cell));
+  with_published([&](const Cell* src) {
+    if (n) std::memcpy(static_cast<void*>(out), src + first, n * sizeof(Cell));
+  });
 }
 
 }  // namespace syncplc

@@ -145,6 +145,17 @@ class Task : private EventSink {
   bool enqueue(const QueuedWrite* writes, std::size_t n);
   // Copies the latest published values of the owned cells [first, first+n).
   void read_published(std::uint32_t first, std::uint32_t n, Cell* out);
+  // Calls f(const Cell* owned) with the latest published snapshot, held for
+  // the call: several reads from one snapshot are never torn between scans.
+  template <class F>
+  void with_published(F&& f) {
+    std::lock_guard lock(external_mutex);
+    f(static_cast<const Cell*>(channels[0]->acquire()));
+  }
+  // Snapshots published so far. A write enqueued when this read n is in the
+  // snapshot of publication n + 2 at the latest (a scan may be between its
+  // write step and its publication when the write arrives).
+  std::uint64_t published_count() const { return published_.load(std::memory_order_acquire); }
   // Takes the task's events (the consumer side of its event ring).
   bool pop_event(Event& e) { return events_.pop(e); }
 
@@ -166,6 +177,7 @@ class Task : private EventSink {
   int wd_consecutive_ = 0;
   bool overrun_series_ = false;
   std::atomic<bool> stopped_{false};
+  std::atomic<std::uint64_t> published_{0};
 };
 
 }  // namespace syncplc

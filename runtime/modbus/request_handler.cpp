@@ -1,0 +1,296 @@
+#include "runtime/modbus/request_handler.hpp"
+
+#include <modbus/modbus.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace syncplc::modbus {
+namespace {
+
+// Function codes served (Modbus Application Protocol V1.1b3 §6).
+enum Function : std::uint8_t {
+  kReadCoils = 0x01,
+  kReadDiscreteInputs = 0x02,
+  kReadHoldingRegisters = 0x03,
+  kReadInputRegisters = 0x04,
+  kWriteSingleCoil = 0x05,
+  kWriteSingleRegister = 0x06,
+  kWriteMultipleCoils = 0x0F,
+  kWriteMultipleRegisters = 0x10,
+  kWriteReadRegisters = 0x17,
+};
+
+// Quantity limits of the protocol (the same as libmodbus's MODBUS_MAX_*).
+constexpr std::uint32_t kMaxReadBits = 2000, kMaxReadRegisters = 125, kMaxWriteBits = 1968,
+                        kMaxWriteRegisters = 123, kMaxWriteReadWrite = 121, kMaxWriteReadRead = 125;
+
+// Where the PDU's fields sit in a frame (after the 7-byte MBAP header).
+constexpr std::size_t kFunction = 7, kAddress = 8, kQuantity = 10, kByteCount = 12, kData = 13;
+// FC 23: read address, read quantity, write address, write quantity, byte count, values.
+constexpr std::size_t kWrAddressW = 12, kWrQuantityW = 14, kWrByteCount = 16, kWrData = 17;
+
+// The value a register pair/quad holds, if it is one of type t: 8-bit types
+// must fit their range, reals must be finite (a NaN set-point is never what
+// an operator meant), BOOL is 0 or 1.
+bool registers_to_cell(IecType t, const std::uint16_t* regs, WordOrder order, Cell& out) {
+  if (register_width(t) == 1) {
+    const std::uint16_t r = regs[0];
+    switch (t) {
+      case IecType::BOOL: if (r > 1) return false; break;
+      case IecType::SINT: { const auto v = static_cast<std::int16_t>(r); if (v < -128 || v > 127) return false; break; }
+      case IecType::USINT: case IecType::BYTE: if (r > 255) return false; break;
+      default: break;
+    }
+  }
+  out = decode_registers(t, regs, order);
+  if (t == IecType::REAL && !std::isfinite(out.get<float>())) return false;
+  if (t == IecType::LREAL && !std::isfinite(out.get<double>())) return false;
+  return true;
+}
+
+std::int64_t deferral_limit_ns(const Program& p, const std::vector<PendingReply::Wait>& waits) {
+  std::int64_t period = 0;
+  for (const auto& w : waits) period = std::max(period, p.tasks[w.task]->config().period_ns);
+  return 2'000'000'000 + 3 * period;  // two scans normally; a stopped task gets 04 after this
+}
+
+}  // namespace
+
+RequestHandler::RequestHandler(const ModbusConfig& config, Counters& counters) : config_(config), counters_(counters) {
+  // The context only frames and sends replies: its address is never connected to.
+  ctx_ = modbus_new_tcp("127.0.0.1", 0);
+  // Covers every address of every table, so modbus_reply can never index out of it.
+  scratch_ = modbus_mapping_new(65536, 65536, 65536, 65536);
+  if (!ctx_ || !scratch_) throw std::runtime_error("modbus: cannot allocate the reply context");
+  staged_.reserve(kMaxWriteBits);
+  staged_task_.reserve(kMaxWriteBits);
+  batch_.reserve(kMaxWriteBits);
+}
+
+RequestHandler::~RequestHandler() {
+  if (scratch_) modbus_mapping_free(scratch_);
+  if (ctx_) {
+    modbus_set_socket(ctx_, -1);  // the sockets belong to the server
+    modbus_free(ctx_);
+  }
+}
+
+void RequestHandler::set_program(Program& program) {
+  program_ = &program;
+  map_ = ModbusMap::build(program);
+}
+
+RequestHandler::Outcome RequestHandler::exception(int fd, const std::uint8_t* frame, std::uint8_t code) {
+  counters_.count_exception(code);
+  modbus_set_socket(ctx_, fd);
+  return modbus_reply_exception(ctx_, frame, code) == static_cast<int>(kMbapLength + 2) ? Outcome::Sent
+                                                                                         : Outcome::SendFailed;
+}
+
+RequestHandler::Outcome RequestHandler::reply(int fd, const std::uint8_t* frame, std::size_t length) {
+  modbus_set_socket(ctx_, fd);
+  return modbus_reply(ctx_, frame, static_cast<int>(length), scratch_) > 0 ? Outcome::Sent : Outcome::SendFailed;
+}
+
+void RequestHandler::load(ModbusTable t, const std::vector<const ModbusPoint*>& points) {
+  owners_.clear();
+  for (const auto* pt : points) {
+    const std::uint16_t o = program_->tags[pt->tag].owner;
+    if (std::find(owners_.begin(), owners_.end(), o) == owners_.end()) owners_.push_back(o);
+  }
+  for (const std::uint16_t owner : owners_) {
+    program_->tasks[owner]->with_published([&](const Cell* image) {
+      for (const auto* pt : points) {
+        const Tag& tag = program_->tags[pt->tag];
+        if (tag.owner != owner) continue;
+        const Cell c = image[tag.cell + pt->element];
+        switch (t) {
+          case ModbusTable::Coils: scratch_->tab_bits[pt->address] = (c.raw & 0xFF) ? 1 : 0; break;
+          case ModbusTable::DiscreteInputs: scratch_->tab_input_bits[pt->address] = (c.raw & 0xFF) ? 1 : 0; break;
+          case ModbusTable::InputRegisters:
+            encode_registers(tag.type, c, config_.word_order, scratch_->tab_input_registers + pt->address);
+            break;
+          case ModbusTable::HoldingRegisters:
+            encode_registers(tag.type, c, config_.word_order, scratch_->tab_registers + pt->address);
+            break;
+        }
+      }
+    });
+  }
+}
+
+bool RequestHandler::stage_bits(const std::vector<const ModbusPoint*>& points, const std::uint8_t* bits) {
+  const std::uint32_t first = points.front()->address;
+  for (const auto* pt : points) {
+    const std::uint32_t i = pt->address - first;
+    Cell c;
+    c.set<bool>(((bits[i / 8] >> (i % 8)) & 1) != 0);
+    const Tag& tag = program_->tags[pt->tag];
+    staged_.push_back(QueuedWrite{tag.cell + pt->element, c});
+    staged_task_.push_back(tag.owner);
+  }
+  return true;
+}
+
+bool RequestHandler::stage_registers(const std::vector<const ModbusPoint*>& points, const std::uint8_t* words) {
+  const std::uint32_t first = points.front()->address;
+  std::uint16_t regs[4];
+  for (const auto* pt : points) {
+    const std::uint8_t* w = words + 2 * (pt->address - first);
+    for (std::uint32_t k = 0; k < pt->width; ++k) regs[k] = get_u16(w + 2 * k);
+    const Tag& tag = program_->tags[pt->tag];
+    Cell c;
+    if (!registers_to_cell(tag.type, regs, config_.word_order, c)) return false;
+    staged_.push_back(QueuedWrite{tag.cell + pt->element, c});
+    staged_task_.push_back(tag.owner);
+  }
+  return true;
+}
+
+bool RequestHandler::queue_staged(PendingReply* pending) {
+  owners_.clear();
+  for (const std::uint16_t o : staged_task_)
+    if (std::find(owners_.begin(), owners_.end(), o) == owners_.end()) owners_.push_back(o);
+  for (const std::uint16_t owner : owners_) {
+    batch_.clear();
+    for (std::size_t i = 0; i < staged_.size(); ++i)
+      if (staged_task_[i] == owner) batch_.push_back(staged_[i]);
+    Task& task = *program_->tasks[owner];
+    if (!task.enqueue(batch_.data(), batch_.size())) return false;
+    counters_.values_written.fetch_add(batch_.size(), std::memory_order_relaxed);
+    // Read after queuing: publication n + 2 comes from a scan that started after this write was queued.
+    if (pending) pending->waits.push_back(PendingReply::Wait{owner, task.published_count() + 2});
+  }
+  return true;
+}
+
+RequestHandler::Outcome RequestHandler::handle(int fd, const std::uint8_t* frame, std::size_t length,
+                                               PendingReply& pending, std::int64_t now_ns) {
+  counters_.requests.fetch_add(1, std::memory_order_relaxed);
+  const std::uint8_t unit = frame[kMbapLength - 1];
+  if (unit != config_.unit_id && unit != 0 && unit != 255) return exception(fd, frame, kGatewayTargetFailed);
+  if (!program_) return exception(fd, frame, kServerDeviceFailure);
+  const std::uint8_t fc = frame[kFunction];
+  const std::size_t pdu = length - kMbapLength;  // function code and data
+  auto u16 = [frame](std::size_t at) { return get_u16(frame + at); };
+  staged_.clear();
+  staged_task_.clear();
+
+  switch (fc) {
+    case kReadCoils:
+    case kReadDiscreteInputs:
+    case kReadHoldingRegisters:
+    case kReadInputRegisters: {
+      const bool bits = fc == kReadCoils || fc == kReadDiscreteInputs;
+      if (pdu != 5) return exception(fd, frame, kIllegalDataValue);
+      const std::uint32_t quantity = u16(kQuantity);
+      if (quantity < 1 || quantity > (bits ? kMaxReadBits : kMaxReadRegisters))
+        return exception(fd, frame, kIllegalDataValue);
+      const ModbusTable t = fc == kReadCoils ? ModbusTable::Coils
+                            : fc == kReadDiscreteInputs ? ModbusTable::DiscreteInputs
+                            : fc == kReadHoldingRegisters ? ModbusTable::HoldingRegisters
+                                                          : ModbusTable::InputRegisters;
+      auto points = map_.range(t, u16(kAddress), quantity);
+      if (!points) return exception(fd, frame, kIllegalDataAddress);
+      load(t, *points);
+      return reply(fd, frame, length);
+    }
+
+    case kWriteSingleCoil:
+    case kWriteSingleRegister: {
+      if (pdu != 5) return exception(fd, frame, kIllegalDataValue);
+      const std::uint16_t value = u16(kQuantity);
+      if (fc == kWriteSingleCoil && value != 0xFF00 && value != 0x0000) return exception(fd, frame, kIllegalDataValue);
+      const ModbusTable t = fc == kWriteSingleCoil ? ModbusTable::Coils : ModbusTable::HoldingRegisters;
+      auto points = map_.range(t, u16(kAddress), 1);
+      if (config_.read_only || !points || !points->front()->writable) return exception(fd, frame, kIllegalDataAddress);
+      const std::uint8_t data[2] = {frame[kQuantity], frame[kQuantity + 1]};
+      if (fc == kWriteSingleCoil) {
+        const std::uint8_t bit = value ? 1 : 0;
+        stage_bits(*points, &bit);
+      } else if (!stage_registers(*points, data)) {
+        return exception(fd, frame, kIllegalDataValue);
+      }
+      if (!queue_staged(nullptr)) return exception(fd, frame, kServerDeviceBusy);
+      return reply(fd, frame, length);
+    }
+
+    case kWriteMultipleCoils:
+    case kWriteMultipleRegisters: {
+      const bool bits = fc == kWriteMultipleCoils;
+      if (pdu < 6) return exception(fd, frame, kIllegalDataValue);
+      const std::uint32_t quantity = u16(kQuantity);
+      const std::uint32_t bytes = frame[kByteCount];
+      if (quantity < 1 || quantity > (bits ? kMaxWriteBits : kMaxWriteRegisters) ||
+          bytes != (bits ? (quantity + 7) / 8 : 2 * quantity) || pdu != 6 + bytes)
+        return exception(fd, frame, kIllegalDataValue);
+      const ModbusTable t = bits ? ModbusTable::Coils : ModbusTable::HoldingRegisters;
+      auto points = map_.range(t, u16(kAddress), quantity);
+      if (config_.read_only || !points ||
+          std::any_of(points->begin(), points->end(), [](const ModbusPoint* p) { return !p->writable; }))
+        return exception(fd, frame, kIllegalDataAddress);
+      if (bits) stage_bits(*points, frame + kData);
+      else if (!stage_registers(*points, frame + kData)) return exception(fd, frame, kIllegalDataValue);
+      if (!queue_staged(nullptr)) return exception(fd, frame, kServerDeviceBusy);
+      return reply(fd, frame, length);
+    }
+
+    case kWriteReadRegisters: {
+      if (pdu < 10) return exception(fd, frame, kIllegalDataValue);
+      const std::uint32_t read_quantity = u16(kQuantity), write_quantity = u16(kWrQuantityW);
+      const std::uint32_t bytes = frame[kWrByteCount];
+      if (read_quantity < 1 || read_quantity > kMaxWriteReadRead || write_quantity < 1 ||
+          write_quantity > kMaxWriteReadWrite || bytes != 2 * write_quantity || pdu != 10 + bytes)
+        return exception(fd, frame, kIllegalDataValue);
+      auto writes = map_.range(ModbusTable::HoldingRegisters, u16(kWrAddressW), write_quantity);
+      auto reads = map_.range(ModbusTable::HoldingRegisters, u16(kAddress), read_quantity);
+      if (config_.read_only || !writes || !reads ||
+          std::any_of(writes->begin(), writes->end(), [](const ModbusPoint* p) { return !p->writable; }))
+        return exception(fd, frame, kIllegalDataAddress);
+      if (!stage_registers(*writes, frame + kWrData)) return exception(fd, frame, kIllegalDataValue);
+      pending.waits.clear();
+      if (!queue_staged(&pending)) return exception(fd, frame, kServerDeviceBusy);
+      pending.active = true;
+      std::copy(frame, frame + length, pending.frame);
+      pending.length = length;
+      pending.deadline_ns = now_ns + deferral_limit_ns(*program_, pending.waits);
+      return Outcome::Deferred;
+    }
+
+    default:
+      return exception(fd, frame, kIllegalFunction);
+  }
+}
+
+bool RequestHandler::ready(const PendingReply& pending, std::int64_t now_ns) const {
+  if (now_ns >= pending.deadline_ns) return true;
+  return std::all_of(pending.waits.begin(), pending.waits.end(), [this](const PendingReply::Wait& w) {
+    return program_->tasks[w.task]->published_count() >= w.published;
+  });
+}
+
+RequestHandler::Outcome RequestHandler::finish(int fd, PendingReply& pending, std::int64_t now_ns) {
+  pending.active = false;
+  const bool published = std::all_of(pending.waits.begin(), pending.waits.end(), [this](const PendingReply::Wait& w) {
+    return program_->tasks[w.task]->published_count() >= w.published;
+  });
+  if (!published && now_ns >= pending.deadline_ns) return exception(fd, pending.frame, kServerDeviceFailure);
+  // Checked when it was queued, against the same program.
+  auto reads = map_.range(ModbusTable::HoldingRegisters, get_u16(pending.frame + kAddress),
+                          get_u16(pending.frame + kQuantity));
+  if (!reads) return exception(fd, pending.frame, kServerDeviceFailure);
+  load(ModbusTable::HoldingRegisters, *reads);
+  // modbus_reply writes the request's values into the scratch mapping before it reads
+  // the read range back; where the two overlap the reply shows the written values, as
+  // the protocol says (write before read). Those values are what was published, unless
+  // the program itself changed them in that scan.
+  return reply(fd, pending.frame, pending.length);
+}
+
+RequestHandler::Outcome RequestHandler::abandon(int fd, PendingReply& pending) {
+  pending.active = false;
+  return exception(fd, pending.frame, kServerDeviceFailure);
+}
+
+}  // namespace syncplc::modbus

@@ -1,0 +1,109 @@
+// Answers Modbus TCP requests from the tags of a running program
+// (docs/modbus.md). Everything a request can get wrong is judged here, in
+// the order of the Modbus Application Protocol V1.1b3 (§6, the state
+// diagrams of each function): function code (exception 01), then quantity
+// and frame length (03), then addresses and access (02), then the values
+// (03). Only a request that has passed every check reaches libmodbus's
+// modbus_reply, which builds and sends the normal response from a scratch
+// mapping the handler fills from the tasks' published snapshots. That order
+// also keeps modbus_reply away from its own error paths, which sleep for the
+// response timeout and flush the socket (libmodbus 3.1.6): the server thread
+// must never sleep.
+//
+// Reads take each owning task's latest published snapshot once, under that
+// task's snapshot lock, so a request never mixes two scans of one task.
+// Writes become QueuedWrites, one batch per owning task, applied at the
+// start of its next scan in arrival order; the reply is sent after they are
+// queued. A write and read (FC 23) is answered once the write is in a
+// published snapshot (Task::published_count), so its read part shows it.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "runtime/core/modbus_config.hpp"
+#include "runtime/core/program.hpp"
+#include "runtime/modbus/counters.hpp"
+#include "runtime/modbus/frame.hpp"
+#include "runtime/modbus/register_map.hpp"
+
+typedef struct _modbus modbus_t;
+struct _modbus_mapping_t;
+
+namespace syncplc::modbus {
+
+// Exception codes (Modbus Application Protocol V1.1b3 §7).
+enum Exception : std::uint8_t {
+  kIllegalFunction = 0x01,
+  kIllegalDataAddress = 0x02,
+  kIllegalDataValue = 0x03,
+  kServerDeviceFailure = 0x04,
+  kServerDeviceBusy = 0x06,
+  kGatewayTargetFailed = 0x0B,
+};
+
+// A write and read (FC 23) waiting for its write to be published.
+struct PendingReply {
+  bool active = false;
+  std::uint8_t frame[kMaxFrameLength] = {};
+  std::size_t length = 0;
+  std::int64_t deadline_ns = 0;
+  struct Wait {
+    std::uint16_t task;
+    std::uint64_t published;  // Task::published_count() to reach
+  };
+  std::vector<Wait> waits;
+};
+
+class RequestHandler {
+ public:
+  RequestHandler(const ModbusConfig& config, Counters& counters);
+  ~RequestHandler();
+  RequestHandler(const RequestHandler&) = delete;
+  RequestHandler& operator=(const RequestHandler&) = delete;
+
+  // The program whose tags are served (its map is built here). The program
+  // must outlive its use; set another one (after an online change) between requests.
+  void set_program(Program& program);
+  const ModbusMap& map() const { return map_; }
+
+  enum class Outcome : std::uint8_t {
+    Sent,        // the reply (normal or exception) went out whole
+    Deferred,    // FC 23 waits in `pending`: call ready() and finish() later
+    SendFailed,  // the socket took less than the whole reply: close the connection
+  };
+  // One whole frame (check_frame said Complete), answered on socket fd.
+  Outcome handle(int fd, const std::uint8_t* frame, std::size_t length, PendingReply& pending, std::int64_t now_ns);
+  // A deferred reply can be sent (its write is published, or its deadline passed).
+  bool ready(const PendingReply& pending, std::int64_t now_ns) const;
+  // Sends it: the read part, or exception 04 when the write was not published by the deadline.
+  Outcome finish(int fd, PendingReply& pending, std::int64_t now_ns);
+  // Answers a deferred request with exception 04 at once (the program is being replaced).
+  Outcome abandon(int fd, PendingReply& pending);
+
+ private:
+  Outcome exception(int fd, const std::uint8_t* frame, std::uint8_t code);
+  Outcome reply(int fd, const std::uint8_t* frame, std::size_t length);
+  // Fills the scratch mapping for [address, address+count) of table t from the snapshots.
+  void load(ModbusTable t, const std::vector<const ModbusPoint*>& points);
+  // Decodes and checks the values a write carries (bits: one per coil; registers:
+  // big-endian words). False when a value is outside its tag's type (exception 03).
+  bool stage_bits(const std::vector<const ModbusPoint*>& points, const std::uint8_t* bits);
+  bool stage_registers(const std::vector<const ModbusPoint*>& points, const std::uint8_t* words);
+  // Queues the staged writes, one batch per owning task. False: a queue was full (exception 06).
+  bool queue_staged(PendingReply* waits);
+
+  const ModbusConfig& config_;
+  Counters& counters_;
+  Program* program_ = nullptr;
+  ModbusMap map_;
+  modbus_t* ctx_ = nullptr;
+  _modbus_mapping_t* scratch_ = nullptr;
+  std::vector<QueuedWrite> staged_;           // cell values, in address order
+  std::vector<std::uint16_t> staged_task_;    // owner of each staged value
+  std::vector<QueuedWrite> batch_;
+  std::vector<std::uint16_t> owners_;
+};
+
+}  // namespace syncplc::modbus

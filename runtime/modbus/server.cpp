@@ -1,0 +1,327 @@
+#include "runtime/modbus/server.hpp"
+
+#include <arpa/inet.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <modbus/modbus.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <sys/epoll.h>
+#include <sys/eventfd.h>
+#include <sys/resource.h>
+#include <sys/socket.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstring>
+
+namespace syncplc::modbus {
+namespace {
+
+constexpr std::uint64_t kListenKey = 0;
+constexpr std::uint64_t kWakeKey = ~std::uint64_t{0};
+// Per connection: room for many pipelined requests, so one recv() serves a burst.
+constexpr std::size_t kBufferSize = 4096;
+constexpr std::int64_t kIdleCheckNs = 100'000'000;
+
+std::int64_t now_ns() {
+  timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return std::int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
+}
+
+// Enough descriptors for every client: Debian's soft limit is 1024.
+void raise_descriptor_limit(int clients) {
+  rlimit r{};
+  if (getrlimit(RLIMIT_NOFILE, &r) != 0) return;
+  const rlim_t want = static_cast<rlim_t>(clients) + 256;
+  if (r.rlim_cur >= want) return;
+  r.rlim_cur = std::min(want, r.rlim_max);
+  setrlimit(RLIMIT_NOFILE, &r);
+}
+
+}  // namespace
+
+struct Server::Connection {
+  int fd = -1;
+  std::uint32_t peer = 0;  // IPv4, host byte order
+  std::size_t used = 0;    // bytes in buf
+  std::int64_t last_request_ns = 0;
+  bool paused = false;     // an FC 23 reply is waiting: later frames wait behind it
+  PendingReply pending;
+  std::uint8_t buf[kBufferSize];
+};
+
+Server::Server(Program& program, ModbusConfig config) : program_(&program), config_(std::move(config)) {
+  handler_ = std::make_unique<RequestHandler>(config_, counters_);
+  handler_->set_program(program);
+}
+
+Server::~Server() { stop(); }
+
+std::size_t Server::handler_map_size() const {
+  std::size_t n = 0;
+  for (int t = 0; t < 4; ++t) n += handler_->map().points(static_cast<ModbusTable>(t)).size();
+  return n;
+}
+
+std::string Server::endpoint() const { return config_.bind + ":" + std::to_string(port_); }
+
+bool Server::start(std::string* error) {
+  raise_descriptor_limit(config_.max_clients);
+  modbus_t* ctx = modbus_new_tcp(config_.bind.c_str(), config_.port);
+  if (!ctx) {
+    *error = std::string("cannot create the listening context: ") + modbus_strerror(errno);
+    return false;
+  }
+  // modbus_tcp_listen binds with SO_REUSEADDR and listens; the context is only needed for that.
+  listen_fd_ = modbus_tcp_listen(ctx, 128);
+  const int listen_errno = errno;
+  modbus_free(ctx);
+  if (listen_fd_ < 0) {
+    *error = "cannot listen on " + config_.bind + ":" + std::to_string(config_.port) + ": " + std::strerror(listen_errno);
+    return false;
+  }
+  fcntl(listen_fd_, F_SETFL, fcntl(listen_fd_, F_GETFL) | O_NONBLOCK);
+  fcntl(listen_fd_, F_SETFD, FD_CLOEXEC);
+  sockaddr_in a{};
+  socklen_t len = sizeof a;
+  getsockname(listen_fd_, reinterpret_cast<sockaddr*>(&a), &len);
+  port_ = ntohs(a.sin_port);
+
+  epoll_fd_ = epoll_create1(EPOLL_CLOEXEC);
+  wake_fd_ = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
+  if (epoll_fd_ < 0 || wake_fd_ < 0) {
+    *error = std::string("epoll/eventfd: ") + std::strerror(errno);
+    stop();
+    return false;
+  }
+  watch(listen_fd_, kListenKey, EPOLLIN, true);
+  watch(wake_fd_, kWakeKey, EPOLLIN, true);
+  slots_.clear();
+  for (int i = 0; i < config_.max_clients; ++i) slots_.push_back(std::make_unique<Connection>());
+  deferred_.reserve(slots_.size());
+  stop_.store(false);
+  running_ = true;
+  thread_ = std::thread([this] { loop(); });
+  return true;
+}
+
+void Server::stop() {
+  if (thread_.joinable()) {
+    stop_.store(true, std::memory_order_release);
+    const std::uint64_t one = 1;
+    if (write(wake_fd_, &one, sizeof one) < 0) { /* the loop also polls stop_ every 100 ms */ }
+    thread_.join();
+  }
+  {
+    std::lock_guard lk(swap_mutex_);
+    running_ = false;
+  }
+  swap_cv_.notify_all();
+  for (std::size_t i = 0; i < slots_.size(); ++i)
+    if (slots_[i]->fd >= 0) close_connection(i, counters_.closed_by_peer);
+  for (int* fd : {&listen_fd_, &epoll_fd_, &wake_fd_})
+    if (*fd >= 0) { close(*fd); *fd = -1; }
+}
+
+void Server::replace_program(Program& program) {
+  std::unique_lock lk(swap_mutex_);
+  if (!running_) {
+    program_ = &program;
+    handler_->set_program(program);
+    return;
+  }
+  next_program_ = &program;
+  swap_requested_.store(true, std::memory_order_release);
+  const std::uint64_t one = 1;
+  if (write(wake_fd_, &one, sizeof one) < 0) { /* polled every 100 ms as well */ }
+  swap_cv_.wait(lk, [this] { return !swap_requested_.load() || !running_; });
+}
+
+void Server::take_new_program() {
+  std::lock_guard lk(swap_mutex_);
+  for (std::size_t slot : deferred_) {
+    Connection& c = *slots_[slot];
+    if (c.fd < 0) continue;
+    if (handler_->abandon(c.fd, c.pending) != RequestHandler::Outcome::Sent) close_connection(slot, counters_.closed_unsendable);
+    else {
+      c.paused = false;
+      watch(c.fd, slot + 1, EPOLLIN | EPOLLRDHUP, false);
+    }
+  }
+  deferred_.clear();
+  program_ = next_program_;
+  handler_->set_program(*program_);
+  swap_requested_.store(false, std::memory_order_release);
+  swap_cv_.notify_all();
+}
+
+void Server::watch(int fd, std::uint64_t key, std::uint32_t events, bool add) {
+  epoll_event ev{};
+  ev.events = events;
+  ev.data.u64 = key;
+  epoll_ctl(epoll_fd_, add ? EPOLL_CTL_ADD : EPOLL_CTL_MOD, fd, &ev);
+}
+
+void Server::loop() {
+  epoll_event events[64];
+  while (!stop_.load(std::memory_order_acquire)) {
+    // 1 ms while an FC 23 waits for its scan; otherwise wake for idle checks only.
+    const int timeout_ms = deferred_.empty() ? static_cast<int>(kIdleCheckNs / 1'000'000) : 1;
+    const int n = epoll_wait(epoll_fd_, events, 64, timeout_ms);
+    const std::int64_t now = now_ns();
+    if (swap_requested_.load(std::memory_order_acquire)) take_new_program();
+    for (int i = 0; i < n; ++i) {
+      const std::uint64_t key = events[i].data.u64;
+      if (key == kWakeKey) {
+        std::uint64_t v;
+        while (read(wake_fd_, &v, sizeof v) > 0) {}
+      } else if (key == kListenKey) {
+        accept_clients(now);
+      } else {
+        const std::size_t slot = key - 1;
+        if (slot >= slots_.size() || slots_[slot]->fd < 0) continue;
+        if (slots_[slot]->paused) {
+          // The client hung up or shut its side while its FC 23 waits: stop
+          // watching (level-triggered, this would spin); the reply is still
+          // tried, and the next read finds the end of the stream.
+          watch(slots_[slot]->fd, key, 0, false);
+          continue;
+        }
+        on_readable(slot, now);
+      }
+    }
+    if (!deferred_.empty()) finish_deferred(now);
+    if (now >= next_idle_check_) {
+      close_idle(now);
+      next_idle_check_ = now + kIdleCheckNs;
+      if (accept_paused_until_ && now >= accept_paused_until_) {
+        accept_paused_until_ = 0;
+        watch(listen_fd_, kListenKey, EPOLLIN, false);
+      }
+    }
+  }
+}
+
+void Server::accept_clients(std::int64_t now) {
+  for (;;) {
+    sockaddr_in a{};
+    socklen_t len = sizeof a;
+    const int fd = accept4(listen_fd_, reinterpret_cast<sockaddr*>(&a), &len, SOCK_NONBLOCK | SOCK_CLOEXEC);
+    if (fd < 0) {
+      if (errno == EMFILE || errno == ENFILE || errno == ENOBUFS || errno == ENOMEM) {
+        // Out of descriptors: stop listening for a moment rather than spin on a ready socket.
+        watch(listen_fd_, kListenKey, 0, false);
+        accept_paused_until_ = now + kIdleCheckNs;
+      }
+      return;  // EAGAIN: all taken; ECONNABORTED and the like: the client is gone
+    }
+    const std::uint32_t peer = ntohl(a.sin_addr.s_addr);
+    const bool allowed = config_.allowed_clients.empty() ||
+                         std::any_of(config_.allowed_clients.begin(), config_.allowed_clients.end(),
+                                     [peer](const ClientNetwork& n) { return n.contains(peer); });
+    if (!allowed || open_ >= slots_.size()) {
+      // A clean refusal: the client sees the connection closed at once, before any request.
+      close(fd);
+      counters_.refused.fetch_add(1, std::memory_order_relaxed);
+      continue;
+    }
+    std::size_t slot = 0;
+    while (slots_[slot]->fd >= 0) ++slot;
+    Connection& c = *slots_[slot];
+    c.fd = fd;
+    c.peer = peer;
+    c.used = 0;
+    c.paused = false;
+    c.pending.active = false;
+    c.last_request_ns = now;
+    const int one = 1;
+    setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);  // replies are small: never hold them back
+    watch(fd, slot + 1, EPOLLIN | EPOLLRDHUP, true);
+    ++open_;
+    counters_.accepted.fetch_add(1, std::memory_order_relaxed);
+    counters_.open.store(open_, std::memory_order_relaxed);
+  }
+}
+
+void Server::on_readable(std::size_t slot, std::int64_t now) {
+  Connection& c = *slots_[slot];
+  // One recv per readiness: every ready connection gets its turn in each round.
+  const ssize_t got = recv(c.fd, c.buf + c.used, kBufferSize - c.used, 0);
+  if (got == 0) { close_connection(slot, counters_.closed_by_peer); return; }
+  if (got < 0) {
+    if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) return;
+    close_connection(slot, counters_.closed_by_peer);
+    return;
+  }
+  c.used += static_cast<std::size_t>(got);
+  serve_frames(slot, now);
+}
+
+void Server::serve_frames(std::size_t slot, std::int64_t now) {
+  Connection& c = *slots_[slot];
+  std::size_t at = 0;
+  while (c.fd >= 0) {
+    const FrameCheck f = check_frame(c.buf + at, c.used - at);
+    if (f.status == FrameStatus::Incomplete) break;
+    if (f.status == FrameStatus::Bad) { close_connection(slot, counters_.closed_bad_frame); return; }
+    const auto outcome = handler_->handle(c.fd, c.buf + at, f.length, c.pending, now);
+    at += f.length;
+    c.last_request_ns = now;
+    if (outcome == RequestHandler::Outcome::SendFailed) { close_connection(slot, counters_.closed_unsendable); return; }
+    if (outcome == RequestHandler::Outcome::Deferred) {
+      c.paused = true;
+      watch(c.fd, slot + 1, EPOLLRDHUP, false);
+      deferred_.push_back(slot);
+      break;
+    }
+  }
+  if (at) {
+    std::memmove(c.buf, c.buf + at, c.used - at);
+    c.used -= at;
+  }
+}
+
+void Server::finish_deferred(std::int64_t now) {
+  for (std::size_t i = 0; i < deferred_.size();) {
+    const std::size_t slot = deferred_[i];
+    Connection& c = *slots_[slot];
+    if (c.fd < 0) { deferred_.erase(deferred_.begin() + static_cast<std::ptrdiff_t>(i)); continue; }
+    if (!handler_->ready(c.pending, now)) { ++i; continue; }
+    deferred_.erase(deferred_.begin() + static_cast<std::ptrdiff_t>(i));
+    if (handler_->finish(c.fd, c.pending, now) != RequestHandler::Outcome::Sent) {
+      close_connection(slot, counters_.closed_unsendable);
+      continue;
+    }
+    c.paused = false;
+    watch(c.fd, slot + 1, EPOLLIN | EPOLLRDHUP, false);
+    serve_frames(slot, now);  // requests that arrived behind it
+  }
+}
+
+void Server::close_idle(std::int64_t now) {
+  if (config_.idle_timeout_ns <= 0) return;
+  for (std::size_t i = 0; i < slots_.size(); ++i) {
+    const Connection& c = *slots_[i];
+    if (c.fd >= 0 && !c.paused && now - c.last_request_ns > config_.idle_timeout_ns)
+      close_connection(i, counters_.closed_idle);
+  }
+}
+
+void Server::close_connection(std::size_t slot, std::atomic<std::uint64_t>& reason) {
+  Connection& c = *slots_[slot];
+  if (c.fd < 0) return;
+  if (epoll_fd_ >= 0) epoll_ctl(epoll_fd_, EPOLL_CTL_DEL, c.fd, nullptr);
+  close(c.fd);
+  c.fd = -1;
+  c.used = 0;
+  c.paused = false;
+  c.pending.active = false;
+  --open_;
+  reason.fetch_add(1, std::memory_order_relaxed);
+  counters_.open.store(open_, std::memory_order_relaxed);
+}
+
+}  // namespace syncplc::modbus
