@@ -32,6 +32,9 @@ TEST(Cli, CheckPrintsTaskTableExecutionOrderAndTagMap) {
   EXPECT_NE(r.out.find("Execution order"), std::string::npos);
   EXPECT_NE(r.out.find("%QX0.0"), std::string::npos);
   EXPECT_NE(r.out.find("UNIT_DELAY<BOOL>"), std::string::npos);
+  EXPECT_NE(r.out.find("Modbus TCP server: 127.0.0.1:5020, unit 1,"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("  holding registers 3000..3003  nominal_speed LREAL (explicit)  read/write\n"), std::string::npos)
+      << r.out;
 }
 
 TEST(Cli, CheckOfABadProjectReportsEveryErrorWithItsPlaceAndExits2) {
