@@ -176,16 +176,17 @@ void check_modbus_overlaps(const std::vector<Tag>& tags, const std::vector<Sourc
   std::vector<ModbusOverlap> overlaps;
   ModbusMap::build(tags, nullptr, &overlaps);
   for (const auto& o : overlaps) {
-    // Blame the explicit place: the convention's places cannot overlap each
-    // other (their direct addresses would), so at least one side is explicit.
+    // Two places by the convention overlap only where the tags' direct
+    // addresses do, and that is reported at the address already.
+    if (!o.span.explicit_place && !o.other_span.explicit_place) continue;
+    // Blame the explicit place (the later one if both are): that is what the author chose.
     const bool blame_tag = o.span.explicit_place;
     const std::uint32_t blamed = blame_tag ? o.tag : o.other, named = blame_tag ? o.other : o.tag;
     const ModbusSpan& blamed_span = blame_tag ? o.span : o.other_span;
     const ModbusSpan& named_span = blame_tag ? o.other_span : o.span;
     const Tag& b = tags[blamed];
     const Tag& n = tags[named];
-    const SourceLoc& at = place_loc[blamed].line ? place_loc[blamed] : b.loc;
-    d.error(at, "modbus place of " + b.name + " (" + span_of(b, blamed_span) + ") overlaps " + n.name + " (" +
+    d.error(place_loc[blamed], "modbus place of " + b.name + " (" + span_of(b, blamed_span) + ") overlaps " + n.name + " (" +
                                    span_of(n, named_span) + ", defined at " + n.loc.text() + ")");
   }
 }

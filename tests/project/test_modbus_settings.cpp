@@ -321,5 +321,15 @@ tags:
               ElementsAre("p.yaml:4:70: tag b is INT: its Modbus table must be input_register or holding_register, not coil"));
 }
 
+TEST(ModbusPlaces, OverlappingDirectAddressesAreReportedOnceAtTheAddress) {
+  EXPECT_THAT(errors(R"(
+tasks: [{name: main, period: 1ms}]
+tags:
+  - {name: q1, type: BOOL, address: "%QX1.1", hmi: read}
+  - {name: q2, type: BOOL, address: "%QX1.1", hmi: read}
+)"),
+              ElementsAre("p.yaml:4:37: address %QX1.1 of q2 overlaps %QX1.1 of q1 (defined at p.yaml:3:5)"));
+}
+
 }  // namespace
 }  // namespace syncplc::loadertest
