@@ -32,6 +32,9 @@ TEST(Cli, CheckPrintsTaskTableExecutionOrderAndTagMap) {
   EXPECT_NE(r.out.find("Execution order"), std::string::npos);
   EXPECT_NE(r.out.find("%QX0.0"), std::string::npos);
   EXPECT_NE(r.out.find("UNIT_DELAY<BOOL>"), std::string::npos);
+  EXPECT_NE(r.out.find("Modbus TCP server: 127.0.0.1:5020, unit 1,"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("  holding registers 3000..3003  nominal_speed LREAL (explicit)  read/write\n"), std::string::npos)
+      << r.out;
 }
 
 TEST(Cli, CheckOfABadProjectReportsEveryErrorWithItsPlaceAndExits2) {
@@ -52,6 +55,36 @@ connections:
   EXPECT_NE(r.err.find(bad + ":9:10: unknown block instance 'y'"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("3 errors"), std::string::npos) << r.err;
   EXPECT_EQ(r.out, "");
+}
+
+TEST(Cli, CheckPrintsTheModbusServerSettingsAndExplicitPlaces) {
+  std::string project = write_temp_file("modbus_check.yaml", R"(tasks: [{name: main, period: 1ms}]
+tags:
+  - {name: speed, type: LREAL, hmi: readwrite, modbus: {table: holding_register, address: 3000}}
+  - {name: level, type: INT, address: "%IW2", hmi: read}
+modbus:
+  port: 5020
+  idle_timeout: 60s
+  word_order: low_first
+  allowed_clients: [192.168.1.0/24, 10.0.0.7]
+)");
+  auto r = run("check " + project);
+  ASSERT_EQ(r.rc, 0) << r.err;
+  EXPECT_NE(r.out.find("\nModbus TCP server: 127.0.0.1:5020, unit 1, max 64 clients, idle timeout 60s, low word first, "
+                       "read/write, clients: 192.168.1.0/24, 10.0.0.7\n"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("Modbus map (OpenPLC convention; 32/64-bit values low word first):\n"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("  holding registers 3000..3003  speed LREAL (explicit)  read/write\n"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("  input register 2  level INT at %IW2  read only\n"), std::string::npos) << r.out;
+
+  std::string off = write_temp_file("modbus_off.yaml", "tasks: [{name: main, period: 1ms}]\nmodbus: {enabled: false}\n");
+  auto o = run("check " + off);
+  ASSERT_EQ(o.rc, 0) << o.err;
+  EXPECT_NE(o.out.find("\nModbus TCP server: off (enabled: false)\n"), std::string::npos) << o.out;
+  std::string none = write_temp_file("modbus_none.yaml", "tasks: [{name: main, period: 1ms}]\n");
+  auto n = run("check " + none);
+  EXPECT_NE(n.out.find("\nModbus TCP server: off (no modbus: section)\n"), std::string::npos) << n.out;
 }
 
 TEST(Cli, MissingFileAndUsageErrorsExit2) {
