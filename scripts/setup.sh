@@ -8,6 +8,7 @@ PACKAGES=(
   libeigen3-dev libmodbus-dev libsqlite3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   rt-tests
+  clang libclang-rt-14-dev
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

@@ -70,6 +70,11 @@ std::optional<Range> convention(const DirectAddress& a) {
 
 void encode_registers(IecType t, Cell c, WordOrder order, std::uint16_t* regs) {
   const std::uint32_t n = register_width(t);
+  if (t == IecType::SINT) {
+    // Sign-extended, as an HMI reading a signed register expects (-1 is FFFF, not 00FF).
+    regs[0] = static_cast<std::uint16_t>(static_cast<std::int16_t>(c.get<std::int8_t>()));
+    return;
+  }
   const std::uint64_t u = raw_bits(t, c);
   for (std::uint32_t i = 0; i < n; ++i) {
     // i = 0 is the most significant word in HighFirst order.

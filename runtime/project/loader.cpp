@@ -746,7 +746,10 @@ void Loader::read_drivers(const ConfigNode& n) {
     if (const ConfigNode* bind = dn.find("bind")) {
       if (!bind->is_map()) d_.error(bind->loc, "bind: expected a map of channel: tag");
       else
-        for (const auto& [ch, tagn] : bind->map) {
+        for (const auto& entry : bind->map) {
+          // Named, not a structured binding: clang 14 cannot capture those in a lambda.
+          const std::string& ch = entry.first;
+          const ConfigNode& tagn = entry.second;
           auto it = std::find_if(chans.begin(), chans.end(), [&](const DriverChannel& c) { return c.name == ch; });
           if (it == chans.end()) { d_.error(tagn.loc, "driver " + dd.name + " has no channel '" + ch + "'"); continue; }
           int ti = tag_index(tagn.scalar);

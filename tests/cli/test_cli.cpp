@@ -1,5 +1,10 @@
 // The `syncplc` command end to end: exit statuses, reports, reproducible
 // simulation, user scan-cycle tests, signals.
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -178,10 +183,33 @@ TEST(Cli, BlocksListsDescribesAndGeneratesTheReference) {
 }
 
 TEST(Cli, RunForADurationPrintsStatistics) {
-  auto r = run("run " + kDemo + " --duration 1s --no-status");
+  // Port 0: the project's 5020 may be taken on a test machine.
+  auto r = run("run " + kDemo + " --duration 1s --no-status --modbus-port 0");
   EXPECT_EQ(r.rc, 0) << r.err;
   EXPECT_NE(r.out.find("Statistics (real time)"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("line"), std::string::npos);
+  EXPECT_NE(r.err.find("syncplc: modbus: listening on 127.0.0.1:"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("\nModbus TCP on 127.0.0.1:"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("  requests 0, exceptions 0, values written 0\n"), std::string::npos) << r.out;
+}
+
+TEST(Cli, RunRefusesToStartWhenItsModbusPortIsTaken) {
+  // A second server on the same port: a clear error, exit status 2, no PLC half running.
+  std::string path = write_temp_file("modbus_port.yaml", "tasks: [{name: main, period: 1ms}]\n"
+                                     "tags: [{name: x, type: INT, address: \"%MW0\", hmi: read}]\nmodbus: {port: 0}\n");
+  int s = socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ASSERT_EQ(bind(s, reinterpret_cast<sockaddr*>(&a), sizeof a), 0);
+  ASSERT_EQ(listen(s, 1), 0);
+  socklen_t len = sizeof a;
+  getsockname(s, reinterpret_cast<sockaddr*>(&a), &len);
+  auto r = run("run " + path + " --duration 1s --no-status --modbus-port " + std::to_string(ntohs(a.sin_port)));
+  close(s);
+  EXPECT_EQ(r.rc, 2);
+  EXPECT_NE(r.err.find("syncplc: modbus: cannot listen on 127.0.0.1:" + std::to_string(ntohs(a.sin_port)) +
+                       ": Address already in use"), std::string::npos) << r.err;
 }
 
 TEST(Cli, RunStopsCleanlyOnSigterm) {
@@ -191,7 +219,7 @@ TEST(Cli, RunStopsCleanlyOnSigterm) {
   if (pid == 0) {
     FILE* f = std::freopen(o.c_str(), "w", stdout);
     (void)f;
-    execl(SYNCPLC_BINARY, SYNCPLC_BINARY, "run", kDemo.c_str(), "--no-status", static_cast<char*>(nullptr));
+    execl(SYNCPLC_BINARY, SYNCPLC_BINARY, "run", kDemo.c_str(), "--no-status", "--modbus-port", "0", static_cast<char*>(nullptr));
     _exit(127);
   }
   std::this_thread::sleep_for(std::chrono::milliseconds(700));

@@ -38,6 +38,8 @@ tags:
   - {name: level, type: INT, address: "%IW7", hmi: read, init: -2}
   - {name: sp, type: INT, address: "%QW2", hmi: readwrite, init: 7}
   - {name: sp_echo, type: INT, address: "%QW3", hmi: read}
+  - {name: small, type: SINT, hmi: readwrite, modbus: {table: holding_register, address: 100}}
+  - {name: octet, type: BYTE, hmi: readwrite, modbus: {table: holding_register, address: 101}}
   - {name: pos, type: REAL, address: "%MD0", hmi: readwrite, init: 1.0}
   - {name: pos_echo, type: REAL, address: "%MD1", hmi: read}
   - {name: count, type: DINT, address: "%MD2", hmi: read, init: -2}
@@ -191,6 +193,9 @@ TEST_F(Handler, AnswersEveryExceptionInTheProtocolsOrder) {
       {"input registers are not holding", frame(pdu(0x06, 7, 5)), 0x02},
       {"REAL NaN", frame(testing::write_registers(2048, {0x7FC0, 0})), 0x03},
       {"REAL infinity", frame(testing::write_registers(2048, {0x7F80, 0})), 0x03},
+      {"SINT 128", frame(pdu(0x06, 100, 128)), 0x03},
+      {"SINT -129", frame(pdu(0x06, 100, 0xFF7F)), 0x03},
+      {"BYTE 256", frame(testing::write_registers(100, {0, 256})), 0x03},
       {"unit 7", frame(pdu(0x03, 2, 1), 7), 0x0B},
   };
   std::uint64_t by_code[12] = {};
@@ -201,9 +206,14 @@ TEST_F(Handler, AnswersEveryExceptionInTheProtocolsOrder) {
   for (int code : {1, 2, 3, 0x0B}) EXPECT_EQ(counters.by_exception[static_cast<std::size_t>(code)].load(), by_code[code]) << code;
   EXPECT_EQ(counters.exceptions.load(), cases.size());
   EXPECT_EQ(counters.values_written.load(), 0u) << "no failed request queued anything";
-  // Unit 0 and 255 are always answered.
+  // SINT -128 and BYTE 255 are in range; unit 0 and 255 are always answered.
+  EXPECT_EQ(body(ask(frame(testing::write_registers(100, {0xFF80, 255}))))[0], 0x10);
   EXPECT_EQ(body(ask(frame(pdu(0x03, 2, 1), 0)))[0], 0x03);
   EXPECT_EQ(body(ask(frame(pdu(0x03, 2, 1), 255)))[0], 0x03);
+  scan_until(3'000'000);
+  EXPECT_EQ(tag_cell(*program, "small").get<std::int8_t>(), -128);
+  EXPECT_EQ(tag_cell(*program, "octet").get<std::uint8_t>(), 255);
+  EXPECT_EQ(body(ask(frame(pdu(0x03, 100, 2)))), (Bytes{0x03, 4, 0xFF, 0x80, 0, 255})) << "SINT sign-extended";
 }
 
 TEST_F(Handler, AReadOnlyServerRefusesEveryWriteWithException02) {
