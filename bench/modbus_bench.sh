@@ -26,7 +26,9 @@
 #   ROUNDS          rounds per client count (default 5)
 #   DURATION        measured seconds per load run (default 5), WARMUP seconds before it (default 1)
 #   JITTER_S        seconds per jitter run (default 30)
-#   JITTER_CLIENTS  loads of the jitter runs (default "8 64"; no load always comes first)
+#   JITTER_CLIENTS  loads of the jitter runs (default "8 64"; no load always comes first);
+#                   bN: N clients loading a bare libmodbus server instead, while syncplc runs
+#                   with its server idle (a control: Modbus traffic on the machine, not syncplc's server)
 #   JITTER_ROUNDS   (default 2)
 #   LOAD_PREFIX     command put before every bench_modbus_load (e.g. "taskset -c 1"); default none
 #
@@ -185,38 +187,48 @@ if [ "$mode" != throughput ]; then
   echo
   echo "== jitter: syncplc run $project --no-status --modbus-port 0 -d ${jitter_s}s, loads: none $jitter_clients"
   : >"$tmp/jit.txt"
+  if [[ " $jitter_clients" == *" b"* ]]; then
+    "$bare" --port 0 --address 1024 --count 125 >"$tmp/jbare.out" 2>&1 &
+    jbare_pid=$!; pids+=("$jbare_pid")
+    jbare_port=$(port_of "$tmp/jbare.out" "$jbare_pid")
+    echo "== loads bN go to a bare libmodbus server on port $jbare_port"
+  fi
+  label() { case $1 in 0) echo none ;; b*) echo "${1#b} clients, bare" ;; *) echo "$1 clients" ;; esac; }
   for ((r = 0; r < jitter_rounds; r++)); do
     for n in 0 $jitter_clients; do
       "$syncplc" run "$project" --no-status --modbus-port 0 -d "${jitter_s}s" >"$tmp/j.out" 2>"$tmp/j.err" &
       plc_pid=$!; pids+=("$plc_pid")
       port=$(port_of "$tmp/j.err" "$plc_pid")
       rps=-
-      if [ "$n" -gt 0 ]; then
+      if [ "$n" != 0 ]; then
         # The load covers the whole run: it starts as soon as the server listens and
         # outlasts the run by a second (its last requests fail when the server stops).
-        read -r rps _ _ _ < <(run_load "$port" "$n" "$(awk -v j="$jitter_s" 'BEGIN { print j + 1 }')" 0 2>/dev/null)
+        lport=$port; [ "${n:0:1}" = b ] && lport=$jbare_port
+        read -r rps _ _ _ < <(run_load "$lport" "${n#b}" "$(awk -v j="$jitter_s" 'BEGIN { print j + 1 }')" 0 2>/dev/null)
       fi
       wait "$plc_pid" || true
       read -r p99 mx scans < <(task_jitter "$tmp/j.out")
       fifo=yes; grep -q 'SCHED_FIFO' "$tmp/j.err" && fifo=no
-      echo "  round $((r + 1)), $n clients: scans $scans, jitter p99 $p99 ns, max $mx ns, SCHED_FIFO $fifo, load $rps req/s"
+      echo "  round $((r + 1)), $(label "$n"): scans $scans, jitter p99 $p99 ns, max $mx ns, SCHED_FIFO $fifo, load $rps req/s"
       grep -i 'warning' "$tmp/j.err" | sed 's/^/    /' || true
       echo "$n $r $p99 $mx $rps" >>"$tmp/jit.txt"
     done
   done
   echo
   echo "== start jitter of the 1 ms task, ${jitter_s} s per run, $jitter_rounds round(s): median (min..max) over rounds"
-  printf "  %-11s | %22s | %26s | %12s | %s\n" load "p99 us" "max us" "p99 vs none" "load req/s"
+  printf "  %-18s | %22s | %26s | %12s | %s\n" load "p99 us" "max us" "p99 vs none" "load req/s"
   base=$(awk '$1 == 0 { print $3 }' "$tmp/jit.txt" | median)
   for n in 0 $jitter_clients; do
     col() { awk -v n="$n" -v c="$1" '$1 == n { print $c / (c == 5 ? 1 : 1000) }' "$tmp/jit.txt"; }
     p=$(col 3 | median)
-    printf "  %-11s | %6.1f (%13s) | %8.1f (%15s) | %+11.0f%% | %s\n" "$([ "$n" = 0 ] && echo none || echo "$n clients")" \
+    printf "  %-18s | %6.1f (%13s) | %8.1f (%15s) | %+11.0f%% | %s\n" "$(label "$n")" \
       "$p" "$(col 3 | minmax)" "$(col 4 | median)" "$(col 4 | minmax)" \
       "$(awk -v p="$p" -v b="$base" 'BEGIN { print (b > 0 ? 100 * (p * 1000 / b - 1) : 0) }')" \
       "$([ "$n" = 0 ] && echo - || col 5 | median)"
   done
   echo "  (aim: p99 under load at most 10 % above p99 without; syncplc's p99 is a bucket upper bound, 1/32 relative)"
+  echo "== per round (p99 us, in run order):"
+  awk '{ printf "%s%s=%.1f", (NR == 1 || $2 != last ? (NR > 1 ? "\n" : "") "  round " $2 + 1 ": " : ", "), $1, $3 / 1000; last = $2 } END { print "" }' "$tmp/jit.txt"
 fi
 
 echo
