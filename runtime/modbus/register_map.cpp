@@ -70,6 +70,11 @@ std::optional<Range> convention(const DirectAddress& a) {
 
 void encode_registers(IecType t, Cell c, WordOrder order, std::uint16_t* regs) {
   const std::uint32_t n = register_width(t);
+  if (n == 1 && t != IecType::SINT) {
+    // One register: the value's bits are the low bits of the cell (Cell::set zeroes the rest).
+    regs[0] = static_cast<std::uint16_t>(c.raw);
+    return;
+  }
   if (t == IecType::SINT) {
     // Sign-extended, as an HMI reading a signed register expects (-1 is FFFF, not 00FF).
     regs[0] = static_cast<std::uint16_t>(static_cast<std::int16_t>(c.get<std::int8_t>()));
@@ -123,7 +128,8 @@ std::vector<ModbusPoint> explicit_points(const Tag& tag, std::uint32_t ti, std::
   const bool writable = table_writable(place.table) && tag.hmi == HmiAccess::ReadWrite;
   std::vector<ModbusPoint> out;
   for (std::uint32_t e = 0; e < tag.length; ++e)
-    out.push_back(ModbusPoint{ti, e, place.table, place.address + e * width, width, writable});
+    out.push_back(ModbusPoint{ti, e, place.table, place.address + e * width, width, writable, tag.owner,
+                              tag.cell + e, tag.type});
   return out;
 }
 
@@ -148,7 +154,8 @@ std::vector<ModbusPoint> convention_points(const Tag& tag, std::uint32_t ti, std
                          std::string(modbus_table_name(r->table)) + " range of the convention");
       break;
     }
-    out.push_back(ModbusPoint{ti, e, r->table, static_cast<std::uint32_t>(addr), width, writable});
+    out.push_back(ModbusPoint{ti, e, r->table, static_cast<std::uint32_t>(addr), width, writable, tag.owner,
+                              tag.cell + e, tag.type});
   }
   return out;
 }
@@ -229,16 +236,28 @@ const ModbusPoint* ModbusMap::at(ModbusTable t, std::uint32_t address) const {
 std::optional<std::vector<const ModbusPoint*>> ModbusMap::range(ModbusTable t, std::uint32_t address,
                                                                std::uint32_t count) const {
   std::vector<const ModbusPoint*> out;
-  if (count == 0) return std::nullopt;
+  if (!range(t, address, count, out)) return std::nullopt;
+  return out;
+}
+
+bool ModbusMap::range(ModbusTable t, std::uint32_t address, std::uint32_t count,
+                      std::vector<const ModbusPoint*>& out) const {
+  out.clear();
+  if (count == 0) return false;
   const std::uint64_t end = std::uint64_t{address} + count;  // no wrap-around
+  // One search for the first value; the table is sorted and free of overlaps,
+  // so the rest of a mapped range is the points that follow, each starting
+  // where the one before ended.
+  const auto& v = tables_[static_cast<int>(t)];
+  auto it = std::lower_bound(v.begin(), v.end(), address, [](const ModbusPoint& p, std::uint32_t a) { return p.address < a; });
   std::uint64_t a = address;
   while (a < end) {
-    const ModbusPoint* pt = at(t, static_cast<std::uint32_t>(a));
-    if (!pt || pt->address != a || pt->address + pt->width > end) return std::nullopt;  // unmapped, or a value cut
-    out.push_back(pt);
-    a += pt->width;
+    if (it == v.end() || it->address != a || it->address + it->width > end) return false;  // unmapped, or a value cut
+    out.push_back(&*it);
+    a += it->width;
+    ++it;
   }
-  return out;
+  return true;
 }
 
 void print_modbus_map(std::ostream& os, const Program& p, const ModbusMap& m, WordOrder order) {

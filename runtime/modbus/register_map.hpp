@@ -36,6 +36,11 @@ struct ModbusPoint {
   std::uint32_t address = 0;  // first coil/register
   std::uint32_t width = 1;    // coils: 1; registers: 1, 2 or 4
   bool writable = false;      // coils and holding registers of tags with hmi: readwrite
+  // Where the server finds the value (copied from the tag, so a request never
+  // looks the tag up): the owning task, the cell in its image, the type.
+  std::uint16_t owner = 0;
+  std::uint32_t cell = 0;
+  IecType type = IecType::INT;
 };
 
 // Registers a value of type t takes (bits for BOOL count as one coil).
@@ -83,6 +88,8 @@ class ModbusMap {
   // address in the range is unmapped or a multi-register value is cut by
   // the range's ends (Modbus exception 02).
   std::optional<std::vector<const ModbusPoint*>> range(ModbusTable t, std::uint32_t address, std::uint32_t count) const;
+  // The same into `out` (cleared first; no allocation once it has grown): false when nullopt above.
+  bool range(ModbusTable t, std::uint32_t address, std::uint32_t count, std::vector<const ModbusPoint*>& out) const;
   const std::vector<ModbusPoint>& points(ModbusTable t) const { return tables_[static_cast<int>(t)]; }
 
  private:

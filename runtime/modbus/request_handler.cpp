@@ -50,6 +50,10 @@ bool registers_to_cell(IecType t, const std::uint16_t* regs, WordOrder order, Ce
   return true;
 }
 
+bool all_writable(const std::vector<const ModbusPoint*>& points) {
+  return std::all_of(points.begin(), points.end(), [](const ModbusPoint* p) { return p->writable; });
+}
+
 std::int64_t deferral_limit_ns(const Program& p, const std::vector<PendingReply::Wait>& waits) {
   std::int64_t period = 0;
   for (const auto& w : waits) period = std::max(period, p.tasks[w.task]->config().period_ns);
@@ -64,6 +68,8 @@ RequestHandler::RequestHandler(const ModbusConfig& config, Counters& counters) :
   // Covers every address of every table, so modbus_reply can never index out of it.
   scratch_ = modbus_mapping_new(65536, 65536, 65536, 65536);
   if (!ctx_ || !scratch_) throw std::runtime_error("modbus: cannot allocate the reply context");
+  reads_.reserve(kMaxReadBits);
+  writes_.reserve(kMaxWriteBits);
   staged_.reserve(kMaxWriteBits);
   staged_task_.reserve(kMaxWriteBits);
   batch_.reserve(kMaxWriteBits);
@@ -100,26 +106,18 @@ RequestHandler::Outcome RequestHandler::reply(int fd, const std::uint8_t* frame,
 
 void RequestHandler::load(ModbusTable t, const std::vector<const ModbusPoint*>& points) {
   owners_.clear();
-  for (const auto* pt : points) {
-    const std::uint16_t o = program_->tags[pt->tag].owner;
-    if (std::find(owners_.begin(), owners_.end(), o) == owners_.end()) owners_.push_back(o);
-  }
+  for (const auto* pt : points)
+    if (std::find(owners_.begin(), owners_.end(), pt->owner) == owners_.end()) owners_.push_back(pt->owner);
+  std::uint8_t* bits = t == ModbusTable::Coils ? scratch_->tab_bits : scratch_->tab_input_bits;
+  std::uint16_t* regs = t == ModbusTable::HoldingRegisters ? scratch_->tab_registers : scratch_->tab_input_registers;
+  const bool bit_table = t == ModbusTable::Coils || t == ModbusTable::DiscreteInputs;
   for (const std::uint16_t owner : owners_) {
     program_->tasks[owner]->with_published([&](const Cell* image) {
       for (const auto* pt : points) {
-        const Tag& tag = program_->tags[pt->tag];
-        if (tag.owner != owner) continue;
-        const Cell c = image[tag.cell + pt->element];
-        switch (t) {
-          case ModbusTable::Coils: scratch_->tab_bits[pt->address] = (c.raw & 0xFF) ? 1 : 0; break;
-          case ModbusTable::DiscreteInputs: scratch_->tab_input_bits[pt->address] = (c.raw & 0xFF) ? 1 : 0; break;
-          case ModbusTable::InputRegisters:
-            encode_registers(tag.type, c, config_.word_order, scratch_->tab_input_registers + pt->address);
-            break;
-          case ModbusTable::HoldingRegisters:
-            encode_registers(tag.type, c, config_.word_order, scratch_->tab_registers + pt->address);
-            break;
-        }
+        if (pt->owner != owner) continue;
+        const Cell c = image[pt->cell];
+        if (bit_table) bits[pt->address] = (c.raw & 0xFF) ? 1 : 0;
+        else encode_registers(pt->type, c, config_.word_order, regs + pt->address);
       }
     });
   }
@@ -131,9 +129,8 @@ bool RequestHandler::stage_bits(const std::vector<const ModbusPoint*>& points, c
     const std::uint32_t i = pt->address - first;
     Cell c;
     c.set<bool>(((bits[i / 8] >> (i % 8)) & 1) != 0);
-    const Tag& tag = program_->tags[pt->tag];
-    staged_.push_back(QueuedWrite{tag.cell + pt->element, c});
-    staged_task_.push_back(tag.owner);
+    staged_.push_back(QueuedWrite{pt->cell, c});
+    staged_task_.push_back(pt->owner);
   }
   return true;
 }
@@ -144,11 +141,10 @@ bool RequestHandler::stage_registers(const std::vector<const ModbusPoint*>& poin
   for (const auto* pt : points) {
     const std::uint8_t* w = words + 2 * (pt->address - first);
     for (std::uint32_t k = 0; k < pt->width; ++k) regs[k] = get_u16(w + 2 * k);
-    const Tag& tag = program_->tags[pt->tag];
     Cell c;
-    if (!registers_to_cell(tag.type, regs, config_.word_order, c)) return false;
-    staged_.push_back(QueuedWrite{tag.cell + pt->element, c});
-    staged_task_.push_back(tag.owner);
+    if (!registers_to_cell(pt->type, regs, config_.word_order, c)) return false;
+    staged_.push_back(QueuedWrite{pt->cell, c});
+    staged_task_.push_back(pt->owner);
   }
   return true;
 }
@@ -196,9 +192,8 @@ RequestHandler::Outcome RequestHandler::handle(int fd, const std::uint8_t* frame
                             : fc == kReadDiscreteInputs ? ModbusTable::DiscreteInputs
                             : fc == kReadHoldingRegisters ? ModbusTable::HoldingRegisters
                                                           : ModbusTable::InputRegisters;
-      auto points = map_.range(t, u16(kAddress), quantity);
-      if (!points) return exception(fd, frame, kIllegalDataAddress);
-      load(t, *points);
+      if (!map_.range(t, u16(kAddress), quantity, reads_)) return exception(fd, frame, kIllegalDataAddress);
+      load(t, reads_);
       return reply(fd, frame, length);
     }
 
@@ -208,13 +203,13 @@ RequestHandler::Outcome RequestHandler::handle(int fd, const std::uint8_t* frame
       const std::uint16_t value = u16(kQuantity);
       if (fc == kWriteSingleCoil && value != 0xFF00 && value != 0x0000) return exception(fd, frame, kIllegalDataValue);
       const ModbusTable t = fc == kWriteSingleCoil ? ModbusTable::Coils : ModbusTable::HoldingRegisters;
-      auto points = map_.range(t, u16(kAddress), 1);
-      if (config_.read_only || !points || !points->front()->writable) return exception(fd, frame, kIllegalDataAddress);
+      if (config_.read_only || !map_.range(t, u16(kAddress), 1, writes_) || !writes_.front()->writable)
+        return exception(fd, frame, kIllegalDataAddress);
       const std::uint8_t data[2] = {frame[kQuantity], frame[kQuantity + 1]};
       if (fc == kWriteSingleCoil) {
         const std::uint8_t bit = value ? 1 : 0;
-        stage_bits(*points, &bit);
-      } else if (!stage_registers(*points, data)) {
+        stage_bits(writes_, &bit);
+      } else if (!stage_registers(writes_, data)) {
         return exception(fd, frame, kIllegalDataValue);
       }
       if (!queue_staged(nullptr)) return exception(fd, frame, kServerDeviceBusy);
@@ -231,12 +226,10 @@ RequestHandler::Outcome RequestHandler::handle(int fd, const std::uint8_t* frame
           bytes != (bits ? (quantity + 7) / 8 : 2 * quantity) || pdu != 6 + bytes)
         return exception(fd, frame, kIllegalDataValue);
       const ModbusTable t = bits ? ModbusTable::Coils : ModbusTable::HoldingRegisters;
-      auto points = map_.range(t, u16(kAddress), quantity);
-      if (config_.read_only || !points ||
-          std::any_of(points->begin(), points->end(), [](const ModbusPoint* p) { return !p->writable; }))
+      if (config_.read_only || !map_.range(t, u16(kAddress), quantity, writes_) || !all_writable(writes_))
         return exception(fd, frame, kIllegalDataAddress);
-      if (bits) stage_bits(*points, frame + kData);
-      else if (!stage_registers(*points, frame + kData)) return exception(fd, frame, kIllegalDataValue);
+      if (bits) stage_bits(writes_, frame + kData);
+      else if (!stage_registers(writes_, frame + kData)) return exception(fd, frame, kIllegalDataValue);
       if (!queue_staged(nullptr)) return exception(fd, frame, kServerDeviceBusy);
       return reply(fd, frame, length);
     }
@@ -248,12 +241,10 @@ RequestHandler::Outcome RequestHandler::handle(int fd, const std::uint8_t* frame
       if (read_quantity < 1 || read_quantity > kMaxWriteReadRead || write_quantity < 1 ||
           write_quantity > kMaxWriteReadWrite || bytes != 2 * write_quantity || pdu != 10 + bytes)
         return exception(fd, frame, kIllegalDataValue);
-      auto writes = map_.range(ModbusTable::HoldingRegisters, u16(kWrAddressW), write_quantity);
-      auto reads = map_.range(ModbusTable::HoldingRegisters, u16(kAddress), read_quantity);
-      if (config_.read_only || !writes || !reads ||
-          std::any_of(writes->begin(), writes->end(), [](const ModbusPoint* p) { return !p->writable; }))
+      if (config_.read_only || !map_.range(ModbusTable::HoldingRegisters, u16(kWrAddressW), write_quantity, writes_) ||
+          !map_.range(ModbusTable::HoldingRegisters, u16(kAddress), read_quantity, reads_) || !all_writable(writes_))
         return exception(fd, frame, kIllegalDataAddress);
-      if (!stage_registers(*writes, frame + kWrData)) return exception(fd, frame, kIllegalDataValue);
+      if (!stage_registers(writes_, frame + kWrData)) return exception(fd, frame, kIllegalDataValue);
       pending.waits.clear();
       if (!queue_staged(&pending)) return exception(fd, frame, kServerDeviceBusy);
       pending.active = true;
@@ -282,10 +273,10 @@ RequestHandler::Outcome RequestHandler::finish(int fd, PendingReply& pending, st
   });
   if (!published && now_ns >= pending.deadline_ns) return exception(fd, pending.frame, kServerDeviceFailure);
   // Checked when it was queued, against the same program.
-  auto reads = map_.range(ModbusTable::HoldingRegisters, get_u16(pending.frame + kAddress),
-                          get_u16(pending.frame + kQuantity));
-  if (!reads) return exception(fd, pending.frame, kServerDeviceFailure);
-  load(ModbusTable::HoldingRegisters, *reads);
+  if (!map_.range(ModbusTable::HoldingRegisters, get_u16(pending.frame + kAddress), get_u16(pending.frame + kQuantity),
+                  reads_))
+    return exception(fd, pending.frame, kServerDeviceFailure);
+  load(ModbusTable::HoldingRegisters, reads_);
   // modbus_reply writes the request's values into the scratch mapping before it reads
   // the read range back; where the two overlap the reply shows the written values, as
   // the protocol says (write before read). Those values are what was published, unless

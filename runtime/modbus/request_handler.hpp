@@ -101,6 +101,7 @@ class RequestHandler {
   ModbusMap map_;
   modbus_t* ctx_ = nullptr;
   _modbus_mapping_t* scratch_ = nullptr;
+  std::vector<const ModbusPoint*> reads_, writes_;  // the points of a request (reused: no allocation)
   std::vector<QueuedWrite> staged_;           // cell values, in address order
   std::vector<std::uint16_t> staged_task_;    // owner of each staged value
   std::vector<QueuedWrite> batch_;
