@@ -47,6 +47,7 @@ def reads(peer):
     check(peer.read("holding", 1034, 3), [1000, 2000, 0x1234], "holding 1034..1036 (copies)")
     check(peer.read("holding", 1038, 4), [1, 2, 3, 4], "holding 1038..1041 (array copy)")
     check(peer.read("holding", 1074, 1), [0], "holding 1074 (slow_set)")
+    check(peer.read("holding", 1624, 125), [0x5A5A] * 125, "holding 1624..1748 (125 WORDs, the largest read)")
     # The worked examples of docs/modbus.md, as raw registers.
     check(peer.read("holding", MD, 8), [0xFFFF, 0xFFFE, 0x1234, 0x5678, 0xDEAD, 0xBEEF, 0x3F80, 0x0000],
           "holding 2108..2115 (DINT -2, UDINT 16#12345678, DWORD 16#DEADBEEF, REAL 1.0), high word first")
@@ -157,8 +158,8 @@ def main():
     binary = P.syncplc_binary()
     tally = P.Tally()
     server = P.Server(binary, P.project("peers.yaml"))
-    if server.unit != 1 or server.mapped != 68:
-        raise AssertionError("expected unit 1 and 68 values mapped, got unit %s, %s mapped" % (server.unit, server.mapped))
+    if server.unit != 1 or server.mapped != 193:
+        raise AssertionError("expected unit 1 and 193 values mapped, got unit %s, %s mapped" % (server.unit, server.mapped))
     try:
         peer = P.Peer(server.port, tally)
         reads(peer)
