@@ -9,6 +9,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   python3-pymodbus python3-serial-asyncio mbpoll  # Modbus peer tests; pymodbus's client needs serial-asyncio
   rt-tests
+  clang libclang-rt-14-dev
 )
 missing=()
 for p in "${PACKAGES[@]}"; do

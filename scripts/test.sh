@@ -4,7 +4,9 @@
 #   2. AddressSanitizer + UndefinedBehaviorSanitizer, all tests;
 #   3. ThreadSanitizer, the tests of threaded parts (label "threaded"), the CLI
 #      tests and the Modbus peer tests (label "peers": pymodbus and mbpoll
-#      against the real `syncplc run`).
+#      against the real `syncplc run`);
+#   4. the libFuzzer harness of the Modbus request path, 60 s under ASan + UBSan
+#      (scripts/fuzz.sh; built with clang).
 # Any failure stops the script with a non-zero status.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -26,4 +28,6 @@ SYNCPLC_TARGETS="syncplc test_realtime test_cli" \
   bash scripts/build.sh build-tsan -DSYNCPLC_SANITIZE=thread -DSYNCPLC_BENCH=OFF
 (cd build-tsan && TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
    ctest --output-on-failure -j "$jobs" -L 'threaded|cli|peers')
+echo "== libFuzzer: Modbus request handling"
+bash scripts/fuzz.sh 60 build-fuzz
 echo "== all test runs passed"

@@ -5,6 +5,23 @@
 #include "runtime/project/report.hpp"
 
 namespace syncplc::cli {
+namespace {
+
+// The server's settings, then the map in the server's word order.
+void print_modbus(const Program& p) {
+  std::cout << "\nModbus TCP server: ";
+  if (p.modbus.enabled) std::cout << modbus_settings_text(p.modbus) << "\n";
+  else std::cout << (p.modbus.declared ? "off (enabled: false)" : "off (no modbus: section)") << "\n";
+  std::vector<std::string> notes;
+  ModbusMap map = ModbusMap::build(p, &notes);
+  bool mapped = false;
+  for (int t = 0; t < 4; ++t) mapped |= !map.points(static_cast<ModbusTable>(t)).empty();
+  if (!mapped && notes.empty()) return;
+  print_modbus_map(std::cout, p, map, p.modbus.word_order);
+  for (const auto& n : notes) std::cout << "  not mapped: " << n << "\n";
+}
+
+}  // namespace
 
 int cmd_check(const std::string& project) {
   auto r = load_or_report(project, {});
@@ -16,17 +33,7 @@ int cmd_check(const std::string& project) {
   print_execution_order(std::cout, p);
   std::cout << "\n";
   print_tag_map(std::cout, p);
-  {
-    std::vector<std::string> notes;
-    ModbusMap map = ModbusMap::build(p, &notes);
-    bool mapped = false;
-    for (int t = 0; t < 4; ++t) mapped |= !map.points(static_cast<ModbusTable>(t)).empty();
-    if (mapped || !notes.empty()) {
-      std::cout << "\n";
-      print_modbus_map(std::cout, p, map, WordOrder::HighFirst);
-      for (const auto& n : notes) std::cout << "  not mapped: " << n << "\n";
-    }
-  }
+  print_modbus(p);
   bool header = false;
   for (const auto& d : p.drivers) {
     std::string s = d.driver->summary();

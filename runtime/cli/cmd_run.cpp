@@ -112,15 +112,14 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
     std::cerr << "syncplc: " << err << "\n";
     return kExitInvalid;
   }
-  auto runner = std::make_unique<RealtimeRunner>(*program, runner_options);
-  runner->start();
+  // The server binds before any task runs: a port in use stops here, cleanly.
   auto modbus_server = start_modbus(*program, modbus_port);
   if (!modbus_server && (modbus_port || program->modbus.enabled)) {
-    runner->request_stop();
-    runner->join();
     program->close_drivers();
     return kExitInvalid;
   }
+  auto runner = std::make_unique<RealtimeRunner>(*program, runner_options);
+  runner->start();
   const bool live = !no_status && isatty(STDOUT_FILENO);
   const std::int64_t t0 = RealtimeRunner::monotonic_ns();
   std::deque<std::string> recent;

@@ -18,22 +18,36 @@ struct SourceLoc {
   }
 };
 
+struct ConfigEntry;
+
 struct ConfigNode {
   enum class Kind { Null, Scalar, List, Map };
   Kind kind = Kind::Null;
   std::string scalar;
   std::vector<ConfigNode> items;                         // List
-  std::vector<std::pair<std::string, ConfigNode>> map;   // Map, in file order
+  std::vector<ConfigEntry> map;                           // Map, in file order
   SourceLoc loc;
 
-  const ConfigNode* find(const std::string& key) const {
-    for (const auto& [k, v] : map)
-      if (k == key) return &v;
-    return nullptr;
-  }
+  const ConfigNode* find(const std::string& key) const;
   bool is_scalar() const { return kind == Kind::Scalar; }
   bool is_list() const { return kind == Kind::List; }
   bool is_map() const { return kind == Kind::Map; }
 };
+
+// A key and its value. Not a std::pair: a pair of an incomplete ConfigNode
+// inside ConfigNode does not compile with clang and libstdc++ (the fuzzers
+// are built with clang).
+struct ConfigEntry {
+  std::string first;
+  ConfigNode second;
+  ConfigEntry() = default;
+  ConfigEntry(std::string k, ConfigNode v) : first(std::move(k)), second(std::move(v)) {}
+};
+
+inline const ConfigNode* ConfigNode::find(const std::string& key) const {
+  for (const auto& [k, v] : map)
+    if (k == key) return &v;
+  return nullptr;
+}
 
 }  // namespace syncplc

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -31,8 +32,13 @@ struct ClientNetwork {
   }
 };
 
+// "a.b.c.d" (one host, prefix 32) or "a.b.c.d/n" with n 0..32; nullopt otherwise.
+std::optional<ClientNetwork> parse_client_network(std::string_view text);
+std::string client_network_text(const ClientNetwork& n);  // a.b.c.d or a.b.c.d/n
+
 struct ModbusConfig {
   bool enabled = false;            // a project without a `modbus:` section runs no server
+  bool declared = false;           // the project has a `modbus:` section (so check can say why the server is off)
   int port = 5020;                 // 0: any free port (the chosen one is printed at start)
   std::string bind = "127.0.0.1";  // IPv4 address to listen on; 0.0.0.0 for every interface
   int unit_id = 1;                 // 1..247; requests to unit 0 or 255 are also answered
@@ -42,6 +48,10 @@ struct ModbusConfig {
   std::vector<ClientNetwork> allowed_clients;  // empty: any client
   bool read_only = false;          // every write answers exception 02
 };
+
+// The settings on one line, as `syncplc check` prints them:
+// "127.0.0.1:5020, unit 1, max 64 clients, idle timeout 60s, high word first, read/write, clients: any".
+std::string modbus_settings_text(const ModbusConfig& c);
 
 // A tag's explicit place on Modbus (`modbus: {table: holding_register, address: 3000}`),
 // which takes precedence over the place its direct address gives.

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cstring>
+#include <iterator>
+#include <map>
 #include <ostream>
 
 namespace syncplc {
@@ -68,6 +70,11 @@ std::optional<Range> convention(const DirectAddress& a) {
 
 void encode_registers(IecType t, Cell c, WordOrder order, std::uint16_t* regs) {
   const std::uint32_t n = register_width(t);
+  if (t == IecType::SINT) {
+    // Sign-extended, as an HMI reading a signed register expects (-1 is FFFF, not 00FF).
+    regs[0] = static_cast<std::uint16_t>(static_cast<std::int16_t>(c.get<std::int8_t>()));
+    return;
+  }
   const std::uint64_t u = raw_bits(t, c);
   for (std::uint32_t i = 0; i < n; ++i) {
     // i = 0 is the most significant word in HighFirst order.
@@ -87,31 +94,123 @@ Cell decode_registers(IecType t, const std::uint16_t* regs, WordOrder order) {
   return from_bits(t, u);
 }
 
-ModbusMap ModbusMap::build(const Program& p, std::vector<std::string>* notes) {
-  ModbusMap m;
-  for (std::uint32_t ti = 0; ti < p.tags.size(); ++ti) {
-    const Tag& tag = p.tags[ti];
-    if (!tag.address || tag.hmi == HmiAccess::None) continue;
-    const DirectAddress& a = *tag.address;
-    auto r = convention(a);
-    if (!r) {
-      if (notes) notes->push_back(tag.name + " at " + a.text() + ": no Modbus place by the OpenPLC convention");
-      continue;
+namespace {
+
+constexpr std::uint64_t kTableSize = 65536;  // Modbus addresses 0..65535 in each table
+
+bool table_writable(ModbusTable t) { return t == ModbusTable::Coils || t == ModbusTable::HoldingRegisters; }
+bool bit_table(ModbusTable t) { return t == ModbusTable::Coils || t == ModbusTable::DiscreteInputs; }
+
+std::string element_name(const Tag& tag, std::uint32_t e) {
+  return tag.name + (tag.length > 1 ? "[" + std::to_string(tag.array_lower + e) + "]" : "");
+}
+
+// The points of a tag placed explicitly; empty (with a note) when the place
+// does not suit its type or runs past the table's end.
+std::vector<ModbusPoint> explicit_points(const Tag& tag, std::uint32_t ti, std::vector<std::string>* notes) {
+  const ModbusPlace& place = *tag.modbus;
+  if (bit_table(place.table) != (tag.type == IecType::BOOL)) {
+    if (notes)
+      notes->push_back(tag.name + ": a " + std::string(type_name(tag.type)) + " has no place among the " +
+                       std::string(modbus_table_name(place.table)) + "s");
+    return {};
+  }
+  const std::uint32_t width = register_width(tag.type);
+  if (place.address + std::uint64_t{tag.length} * width > kTableSize) {
+    if (notes) notes->push_back(tag.name + ": its " + std::string(modbus_table_name(place.table)) + "s run past 65535");
+    return {};
+  }
+  const bool writable = table_writable(place.table) && tag.hmi == HmiAccess::ReadWrite;
+  std::vector<ModbusPoint> out;
+  for (std::uint32_t e = 0; e < tag.length; ++e)
+    out.push_back(ModbusPoint{ti, e, place.table, place.address + e * width, width, writable});
+  return out;
+}
+
+// The points of a tag by the convention: the elements that fit its range.
+std::vector<ModbusPoint> convention_points(const Tag& tag, std::uint32_t ti, std::vector<std::string>* notes) {
+  const DirectAddress& a = *tag.address;
+  auto r = convention(a);
+  if (!r) {
+    if (notes) notes->push_back(tag.name + " at " + a.text() + ": no Modbus place by the OpenPLC convention");
+    return {};
+  }
+  const std::uint32_t width = register_width(tag.type);
+  const bool writable = table_writable(r->table) && tag.hmi == HmiAccess::ReadWrite;
+  std::vector<ModbusPoint> out;
+  for (std::uint32_t e = 0; e < tag.length; ++e) {
+    std::uint64_t addr;
+    if (a.size == AddrSize::Bit) addr = a.first_bit() + e;
+    else addr = r->base + (std::uint64_t{a.index} + e) * r->per_index;
+    if (addr + width > r->limit) {
+      if (notes)
+        notes->push_back(element_name(tag, e) + " at " + a.text() + ": beyond the " +
+                         std::string(modbus_table_name(r->table)) + " range of the convention");
+      break;
     }
-    const std::uint32_t width = register_width(tag.type);
-    for (std::uint32_t e = 0; e < tag.length; ++e) {
-      std::uint64_t addr;
-      if (a.size == AddrSize::Bit) addr = a.first_bit() + e;
-      else addr = r->base + (std::uint64_t{a.index} + e) * r->per_index;
-      if (addr + width > r->limit) {
-        if (notes)
-          notes->push_back(tag.name + (tag.length > 1 ? "[" + std::to_string(tag.array_lower + e) + "]" : "") + " at " +
-                           a.text() + ": beyond the " + std::string(modbus_table_name(r->table)) + " range of the convention");
-        break;
+    out.push_back(ModbusPoint{ti, e, r->table, static_cast<std::uint32_t>(addr), width, writable});
+  }
+  return out;
+}
+
+// The places taken so far in one table: first address -> (one past the last, tag, explicit).
+struct Taken {
+  std::uint64_t end;
+  std::uint32_t tag;
+  bool explicit_place;
+};
+using TakenTable = std::map<std::uint32_t, Taken>;
+
+// The place in `taken` that shares an address with [first, end), if any.
+const std::pair<const std::uint32_t, Taken>* overlap_in(const TakenTable& taken, std::uint32_t first, std::uint64_t end) {
+  auto it = taken.lower_bound(first);
+  if (it != taken.begin()) {
+    auto before = std::prev(it);
+    if (before->second.end > first) return &*before;
+  }
+  if (it != taken.end() && it->first < end) return &*it;
+  return nullptr;
+}
+
+}  // namespace
+
+std::string modbus_span_text(const ModbusSpan& s) {
+  const std::string name(modbus_table_name(s.table));
+  if (s.count <= 1) return name + " " + std::to_string(s.first);
+  return name + "s " + std::to_string(s.first) + ".." + std::to_string(std::uint64_t{s.first} + s.count - 1);
+}
+
+ModbusMap ModbusMap::build(const Program& p, std::vector<std::string>* notes, std::vector<ModbusOverlap>* overlaps) {
+  return build(p.tags, notes, overlaps);
+}
+
+ModbusMap ModbusMap::build(const std::vector<Tag>& tags, std::vector<std::string>* notes,
+                           std::vector<ModbusOverlap>* overlaps) {
+  ModbusMap m;
+  std::array<TakenTable, 4> taken;
+  // Explicit places first: a tag placed by hand wins over one that is only
+  // there by the convention.
+  for (const bool explicit_pass : {true, false}) {
+    for (std::uint32_t ti = 0; ti < tags.size(); ++ti) {
+      const Tag& tag = tags[ti];
+      if (tag.hmi == HmiAccess::None || tag.modbus.has_value() != explicit_pass) continue;
+      if (!explicit_pass && !tag.address) continue;
+      const auto points = explicit_pass ? explicit_points(tag, ti, notes) : convention_points(tag, ti, notes);
+      if (points.empty()) continue;
+      const ModbusTable table = points.front().table;
+      const std::uint32_t first = points.front().address;
+      const std::uint64_t end = std::uint64_t{points.back().address} + points.back().width;
+      auto& in_table = taken[static_cast<int>(table)];
+      if (const auto* hit = overlap_in(in_table, first, end)) {
+        if (overlaps)
+          overlaps->push_back(ModbusOverlap{
+              ti, hit->second.tag, ModbusSpan{table, first, static_cast<std::uint32_t>(end - first), explicit_pass},
+              ModbusSpan{table, hit->first, static_cast<std::uint32_t>(hit->second.end - hit->first), hit->second.explicit_place}});
+        continue;
       }
-      const bool table_writable = r->table == ModbusTable::Coils || r->table == ModbusTable::HoldingRegisters;
-      m.tables_[static_cast<int>(r->table)].push_back(
-          ModbusPoint{ti, e, r->table, static_cast<std::uint32_t>(addr), width, table_writable && tag.hmi == HmiAccess::ReadWrite});
+      in_table.emplace(first, Taken{end, ti, explicit_pass});
+      auto& out = m.tables_[static_cast<int>(table)];
+      out.insert(out.end(), points.begin(), points.end());
     }
   }
   for (auto& t : m.tables_)
@@ -156,13 +255,14 @@ void print_modbus_map(std::ostream& os, const Program& p, const ModbusMap& m, Wo
       const std::uint32_t last = v[j].address + v[j].width - 1;
       os << "  " << modbus_table_name(v[i].table) << (v[i].address == last ? " " : "s ") << v[i].address
          << (v[i].address == last ? "" : ".." + std::to_string(last)) << "  " << tag.name << " "
-         << type_name(tag.type) << (tag.length > 1 ? "[" + std::to_string(tag.length) + "]" : "") << " at "
-         << tag.address->text() << (v[i].writable ? "  read/write" : "  read only") << "\n";
+         << type_name(tag.type) << (tag.length > 1 ? "[" + std::to_string(tag.length) + "]" : "")
+         << (tag.modbus ? " (explicit)" : " at " + tag.address->text()) << (v[i].writable ? "  read/write" : "  read only")
+         << "\n";
       any = true;
       i = j + 1;
     }
   }
-  if (!any) os << "  (no tag with a direct address and HMI access)\n";
+  if (!any) os << "  (no tag with HMI access and a direct address or a modbus: place)\n";
 }
 
 }  // namespace syncplc

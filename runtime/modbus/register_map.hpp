@@ -7,6 +7,9 @@
 //   %MWn    holding 1024+n        (n 0..1023)   %MDn    holding 2048+2n, two   (n 0..1023)
 //   %MLn    holding 4096+4n, four (n 0..1023)
 //
+// A tag's `modbus: {table, address}` (Tag::modbus) places it explicitly,
+// anywhere in the four tables, and takes precedence over the convention.
+//
 // An array tag occupies consecutive addresses. 32- and 64-bit values span two
 // or four registers, high word first by default (WordOrder::HighFirst) or
 // swapped (LowFirst); each register is big-endian on the wire, as Modbus
@@ -41,12 +44,38 @@ std::uint32_t register_width(IecType t);
 void encode_registers(IecType t, Cell c, WordOrder order, std::uint16_t* regs);
 Cell decode_registers(IecType t, const std::uint16_t* regs, WordOrder order);
 
+// The coils or registers a tag takes, all elements together.
+struct ModbusSpan {
+  ModbusTable table = ModbusTable::HoldingRegisters;
+  std::uint32_t first = 0;  // first coil/register
+  std::uint32_t count = 0;  // coils/registers
+  bool explicit_place = false;  // from Tag::modbus, not from the convention
+};
+// "holding registers 3000..3003", "coil 5".
+std::string modbus_span_text(const ModbusSpan& s);
+
+// Two tags that want the same coil or register. `tag` was left out of the
+// map; `other` was placed before it (explicit places go first, then the
+// convention's, each in declaration order).
+struct ModbusOverlap {
+  std::uint32_t tag = 0;    // index in the tags
+  std::uint32_t other = 0;
+  ModbusSpan span, other_span;
+};
+
 class ModbusMap {
  public:
-  // Every tag with a direct address that the convention covers and HMI access
-  // read or readwrite. A tag outside the convention's ranges is reported in
-  // `notes` (it stays reachable by its name elsewhere, not by Modbus).
-  static ModbusMap build(const Program& p, std::vector<std::string>* notes = nullptr);
+  // Every tag with HMI access read or readwrite and a Modbus place: its
+  // explicit one (Tag::modbus), else the convention's for its direct address.
+  // A tag outside the convention's ranges, or an explicit place that does not
+  // fit its table or type, is reported in `notes` (it stays reachable by its
+  // name elsewhere, not by Modbus). A tag whose place overlaps one already
+  // taken is left out and reported in `overlaps`, so the map stays free of
+  // overlaps; the loader turns those into load errors.
+  static ModbusMap build(const Program& p, std::vector<std::string>* notes = nullptr,
+                         std::vector<ModbusOverlap>* overlaps = nullptr);
+  static ModbusMap build(const std::vector<Tag>& tags, std::vector<std::string>* notes = nullptr,
+                         std::vector<ModbusOverlap>* overlaps = nullptr);
 
   // The point that starts exactly at `address`, or that covers it.
   const ModbusPoint* at(ModbusTable t, std::uint32_t address) const;
@@ -60,7 +89,8 @@ class ModbusMap {
   std::array<std::vector<ModbusPoint>, 4> tables_;  // sorted by address
 };
 
-// The map as `syncplc check` prints it: one line a tag (arrays as a range).
+// The map as `syncplc check` prints it: one line a tag (arrays as a range),
+// an explicit place marked "(explicit)".
 void print_modbus_map(std::ostream& os, const Program& p, const ModbusMap& m, WordOrder order);
 
 }  // namespace syncplc

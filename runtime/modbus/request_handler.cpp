@@ -1,6 +1,7 @@
 #include "runtime/modbus/request_handler.hpp"
 
 #include <modbus/modbus.h>
+#include <sys/socket.h>
 
 #include <algorithm>
 #include <cmath>
@@ -83,9 +84,13 @@ void RequestHandler::set_program(Program& program) {
 
 RequestHandler::Outcome RequestHandler::exception(int fd, const std::uint8_t* frame, std::uint8_t code) {
   counters_.count_exception(code);
-  modbus_set_socket(ctx_, fd);
-  return modbus_reply_exception(ctx_, frame, code) == static_cast<int>(kMbapLength + 2) ? Outcome::Sent
-                                                                                         : Outcome::SendFailed;
+  // Built here rather than by modbus_reply_exception, which adds 0x80 to the
+  // function code in an 8-bit field: a request with function code 0x83 would
+  // be answered as if it were a normal read (0x03) response.
+  const std::uint8_t reply[kMbapLength + 2] = {frame[0], frame[1], 0, 0, 0, 3, frame[6],
+                                               static_cast<std::uint8_t>(frame[kFunction] | 0x80), code};
+  return send(fd, reply, sizeof reply, MSG_NOSIGNAL) == static_cast<ssize_t>(sizeof reply) ? Outcome::Sent
+                                                                                           : Outcome::SendFailed;
 }
 
 RequestHandler::Outcome RequestHandler::reply(int fd, const std::uint8_t* frame, std::size_t length) {

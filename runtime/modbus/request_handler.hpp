@@ -5,7 +5,8 @@
 // and frame length (03), then addresses and access (02), then the values
 // (03). Only a request that has passed every check reaches libmodbus's
 // modbus_reply, which builds and sends the normal response from a scratch
-// mapping the handler fills from the tasks' published snapshots. That order
+// mapping the handler fills from the tasks' published snapshots; exception
+// responses (9 bytes) are built here. That order
 // also keeps modbus_reply away from its own error paths, which sleep for the
 // response timeout and flush the socket (libmodbus 3.1.6): the server thread
 // must never sleep.

@@ -1,7 +1,8 @@
-// The project loader. Reading order: project, include, tasks, tags, blocks,
-// drivers, connections, traces, watch. Then: generic types are inferred,
-// connections type-checked, tag owners found, images laid out, execution
-// orders sorted, blocks created, snapshot channels wired.
+// The project loader. Reading order: project, include, tasks, tags (with
+// their Modbus places), modbus, blocks, drivers, connections, traces, watch.
+// Then: generic types are inferred, connections type-checked, tag owners
+// found, images laid out, execution orders sorted, blocks created, snapshot
+// channels wired.
 #include "runtime/project/loader.hpp"
 
 #include <algorithm>
@@ -15,6 +16,7 @@
 #include "fblocks/library.hpp"
 #include "runtime/core/units.hpp"
 #include "runtime/io/drivers.hpp"
+#include "runtime/project/modbus_settings.hpp"
 #include "runtime/project/yaml_tree.hpp"
 
 namespace syncplc {
@@ -51,6 +53,8 @@ struct TagDecl {
   const ConfigNode* init = nullptr;
   const ConfigNode* safe = nullptr;
   std::string init_override;  // from --set tag=value
+  SourceLoc modbus_loc;       // the tag's modbus: key, where its overlaps are reported
+  bool modbus_failed = false;  // its modbus: key was wrong (reported): it takes no place at all
   int writer_task = -1;
   std::string writer;
   std::vector<int> reader_tasks;
@@ -127,6 +131,7 @@ class Loader : public DriverSetup {
   void override_driver_settings(ConfigNode& drivers);
   void read_connections(const ConfigNode& n);
   void read_metrics(const ConfigNode& n);
+  void check_modbus_places();
   bool parse_endpoint(const std::string& text, const SourceLoc& loc, Endpoint& e);
   void apply_overrides();
   void check_params();
@@ -163,6 +168,7 @@ class Loader : public DriverSetup {
   std::vector<std::pair<std::string, SourceLoc>> traces_, watch_;
   std::vector<std::pair<std::string, SourceLoc>> axis_errors_;  // metrics: axis_errors
   std::int64_t metrics_from_ns_ = 0;
+  ModbusConfig modbus_;  // the modbus: section
   std::set<std::string> driver_overrides_;  // names of drivers whose settings --set changed
   std::vector<std::vector<int>> order_;     // per task: instance indices, unit delays first
   std::vector<std::size_t> delays_;         // per task: how many unit delays lead the order
@@ -192,7 +198,7 @@ int Loader::instance_index(const std::string& name) const {
 }
 
 const std::set<std::string> kTopKeys = {"project", "include", "tasks", "tags", "blocks", "connections",
-                                        "drivers", "traces", "watch", "metrics"};
+                                        "drivers", "traces", "watch", "metrics", "modbus"};
 
 void Loader::merge_includes(ConfigNode& root, const std::string& path, int depth) {
   const ConfigNode* inc = root.find("include");
@@ -231,7 +237,7 @@ void Loader::merge_includes(ConfigNode& root, const std::string& path, int depth
       ConfigNode* target = nullptr;
       for (auto& [rk, rv] : root.map)
         if (rk == k) target = &rv;
-      if (k == "metrics") {
+      if (k == "metrics" || k == "modbus") {
         // A map section comes from one file only.
         if (target) d_.error(v.loc, "'" + k + "' is also set at " + target->loc.text() + ": a map section may come from one file only");
         else root.map.emplace_back(k, v);
@@ -269,12 +275,14 @@ LoadResult Loader::run(ConfigNode root, const std::string& path) {
   merge_includes(root_, path, 0);
   for (const auto& [k, v] : root_.map)
     if (!kTopKeys.count(k))
-      d_.error(v.loc, "unknown top-level key '" + k + "' (project, include, tasks, tags, blocks, connections, drivers, traces, watch, metrics)");
+      d_.error(v.loc, "unknown top-level key '" + k + "' (project, include, tasks, tags, blocks, connections, drivers, traces, watch, metrics, modbus)");
   if (auto* n = root_.find("project")) read_project(*n);
   if (opts_.seed) seed_ = *opts_.seed;
   if (auto* n = root_.find("tasks")) read_tasks(*n);
   if (tasks_.empty()) d_.error(root_.loc, "the project has no tasks");
   if (auto* n = root_.find("tags")) read_tags(*n);
+  check_modbus_places();
+  if (auto* n = root_.find("modbus")) read_modbus_section(*n, modbus_, d_);
   if (auto* n = root_.find("blocks")) read_blocks(*n);
   for (auto& [k, v] : root_.map)
     if (k == "drivers") override_driver_settings(v);
@@ -494,7 +502,7 @@ void Loader::read_tags(const ConfigNode& n) {
     TagDecl td;
     td.tag.loc = t.loc;
     bool ok = true, has_type = false;
-    const ConfigNode* addr = nullptr;
+    const ConfigNode *addr = nullptr, *modbus = nullptr;
     for (const auto& [k, v] : t.map) {
       if (k == "name") {
         td.tag.name = v.scalar;
@@ -525,7 +533,8 @@ void Loader::read_tags(const ConfigNode& n) {
       else if (k == "init") td.init = &v;
       else if (k == "safe") td.safe = &v;
       else if (k == "task") { td.task = v.scalar; td.task_loc = v.loc; }
-      else d_.error(v.loc, "unknown key '" + k + "' in a tag (name, type, address, retain, hmi, unit, description, init, safe, task)");
+      else if (k == "modbus") modbus = &v;
+      else d_.error(v.loc, "unknown key '" + k + "' in a tag (name, type, address, modbus, retain, hmi, unit, description, init, safe, task)");
     }
     if (td.tag.name.empty()) { d_.error(t.loc, "tag without a name"); ok = false; }
     if (!has_type) { d_.error(t.loc, "tag " + td.tag.name + " has no type"); ok = false; }
@@ -542,6 +551,12 @@ void Loader::read_tags(const ConfigNode& n) {
             d_.error(addr->loc, "address " + a->text() + " of " + td.tag.name + " overlaps " + o.tag.address->text() +
                                     " of " + o.tag.name + " (defined at " + o.tag.loc.text() + ")");
       }
+    }
+    if (ok && modbus) {
+      // After the loop: the place is checked against the tag's type, length and hmi.
+      td.modbus_loc = modbus->loc;
+      td.tag.modbus = read_modbus_place(*modbus, td.tag, d_);
+      td.modbus_failed = !td.tag.modbus;
     }
     if (!td.task.empty() && task_index(td.task) < 0) d_.error(td.task_loc, "unknown task '" + td.task + "'");
     if (ok) {
@@ -731,7 +746,10 @@ void Loader::read_drivers(const ConfigNode& n) {
     if (const ConfigNode* bind = dn.find("bind")) {
       if (!bind->is_map()) d_.error(bind->loc, "bind: expected a map of channel: tag");
       else
-        for (const auto& [ch, tagn] : bind->map) {
+        for (const auto& entry : bind->map) {
+          // Named, not a structured binding: clang 14 cannot capture those in a lambda.
+          const std::string& ch = entry.first;
+          const ConfigNode& tagn = entry.second;
           auto it = std::find_if(chans.begin(), chans.end(), [&](const DriverChannel& c) { return c.name == ch; });
           if (it == chans.end()) { d_.error(tagn.loc, "driver " + dd.name + " has no channel '" + ch + "'"); continue; }
           int ti = tag_index(tagn.scalar);
@@ -909,6 +927,20 @@ void Loader::read_metrics(const ConfigNode& n) {
     }
   }
   if (axis_errors_.empty()) d_.error(n.loc, "metrics: axis_errors is missing");
+}
+
+// Two tags may not share a coil or register. Checked with the map the server
+// will build, on the tags read so far; a tag whose modbus: key was wrong is
+// left out so that it causes no second error.
+void Loader::check_modbus_places() {
+  std::vector<Tag> tags;
+  std::vector<SourceLoc> place_loc;
+  for (const auto& td : tags_) {
+    tags.push_back(td.tag);
+    if (td.modbus_failed) tags.back().hmi = HmiAccess::None;
+    place_loc.push_back(td.modbus_loc);
+  }
+  check_modbus_overlaps(tags, place_loc, d_);
 }
 
 void Loader::apply_overrides() {
@@ -1538,6 +1570,7 @@ std::unique_ptr<Program> Loader::build() {
     }
   }
   prog->metrics_from_ns = metrics_from_ns_;
+  prog->modbus = modbus_;
   if (!d_.empty()) return nullptr;
   return prog;
 }

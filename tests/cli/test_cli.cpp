@@ -1,5 +1,10 @@
 // The `syncplc` command end to end: exit statuses, reports, reproducible
 // simulation, user scan-cycle tests, signals.
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -32,6 +37,9 @@ TEST(Cli, CheckPrintsTaskTableExecutionOrderAndTagMap) {
   EXPECT_NE(r.out.find("Execution order"), std::string::npos);
   EXPECT_NE(r.out.find("%QX0.0"), std::string::npos);
   EXPECT_NE(r.out.find("UNIT_DELAY<BOOL>"), std::string::npos);
+  EXPECT_NE(r.out.find("Modbus TCP server: 127.0.0.1:5020, unit 1,"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("  holding registers 3000..3003  nominal_speed LREAL (explicit)  read/write\n"), std::string::npos)
+      << r.out;
 }
 
 TEST(Cli, CheckOfABadProjectReportsEveryErrorWithItsPlaceAndExits2) {
@@ -52,6 +60,36 @@ connections:
   EXPECT_NE(r.err.find(bad + ":9:10: unknown block instance 'y'"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("3 errors"), std::string::npos) << r.err;
   EXPECT_EQ(r.out, "");
+}
+
+TEST(Cli, CheckPrintsTheModbusServerSettingsAndExplicitPlaces) {
+  std::string project = write_temp_file("modbus_check.yaml", R"(tasks: [{name: main, period: 1ms}]
+tags:
+  - {name: speed, type: LREAL, hmi: readwrite, modbus: {table: holding_register, address: 3000}}
+  - {name: level, type: INT, address: "%IW2", hmi: read}
+modbus:
+  port: 5020
+  idle_timeout: 60s
+  word_order: low_first
+  allowed_clients: [192.168.1.0/24, 10.0.0.7]
+)");
+  auto r = run("check " + project);
+  ASSERT_EQ(r.rc, 0) << r.err;
+  EXPECT_NE(r.out.find("\nModbus TCP server: 127.0.0.1:5020, unit 1, max 64 clients, idle timeout 60s, low word first, "
+                       "read/write, clients: 192.168.1.0/24, 10.0.0.7\n"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("Modbus map (OpenPLC convention; 32/64-bit values low word first):\n"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("  holding registers 3000..3003  speed LREAL (explicit)  read/write\n"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("  input register 2  level INT at %IW2  read only\n"), std::string::npos) << r.out;
+
+  std::string off = write_temp_file("modbus_off.yaml", "tasks: [{name: main, period: 1ms}]\nmodbus: {enabled: false}\n");
+  auto o = run("check " + off);
+  ASSERT_EQ(o.rc, 0) << o.err;
+  EXPECT_NE(o.out.find("\nModbus TCP server: off (enabled: false)\n"), std::string::npos) << o.out;
+  std::string none = write_temp_file("modbus_none.yaml", "tasks: [{name: main, period: 1ms}]\n");
+  auto n = run("check " + none);
+  EXPECT_NE(n.out.find("\nModbus TCP server: off (no modbus: section)\n"), std::string::npos) << n.out;
 }
 
 TEST(Cli, MissingFileAndUsageErrorsExit2) {
@@ -145,10 +183,33 @@ TEST(Cli, BlocksListsDescribesAndGeneratesTheReference) {
 }
 
 TEST(Cli, RunForADurationPrintsStatistics) {
-  auto r = run("run " + kDemo + " --duration 1s --no-status");
+  // Port 0: the project's 5020 may be taken on a test machine.
+  auto r = run("run " + kDemo + " --duration 1s --no-status --modbus-port 0");
   EXPECT_EQ(r.rc, 0) << r.err;
   EXPECT_NE(r.out.find("Statistics (real time)"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("line"), std::string::npos);
+  EXPECT_NE(r.err.find("syncplc: modbus: listening on 127.0.0.1:"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("\nModbus TCP on 127.0.0.1:"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("  requests 0, exceptions 0, values written 0\n"), std::string::npos) << r.out;
+}
+
+TEST(Cli, RunRefusesToStartWhenItsModbusPortIsTaken) {
+  // A second server on the same port: a clear error, exit status 2, no PLC half running.
+  std::string path = write_temp_file("modbus_port.yaml", "tasks: [{name: main, period: 1ms}]\n"
+                                     "tags: [{name: x, type: INT, address: \"%MW0\", hmi: read}]\nmodbus: {port: 0}\n");
+  int s = socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ASSERT_EQ(bind(s, reinterpret_cast<sockaddr*>(&a), sizeof a), 0);
+  ASSERT_EQ(listen(s, 1), 0);
+  socklen_t len = sizeof a;
+  getsockname(s, reinterpret_cast<sockaddr*>(&a), &len);
+  auto r = run("run " + path + " --duration 1s --no-status --modbus-port " + std::to_string(ntohs(a.sin_port)));
+  close(s);
+  EXPECT_EQ(r.rc, 2);
+  EXPECT_NE(r.err.find("syncplc: modbus: cannot listen on 127.0.0.1:" + std::to_string(ntohs(a.sin_port)) +
+                       ": Address already in use"), std::string::npos) << r.err;
 }
 
 TEST(Cli, RunStopsCleanlyOnSigterm) {
@@ -158,7 +219,7 @@ TEST(Cli, RunStopsCleanlyOnSigterm) {
   if (pid == 0) {
     FILE* f = std::freopen(o.c_str(), "w", stdout);
     (void)f;
-    execl(SYNCPLC_BINARY, SYNCPLC_BINARY, "run", kDemo.c_str(), "--no-status", static_cast<char*>(nullptr));
+    execl(SYNCPLC_BINARY, SYNCPLC_BINARY, "run", kDemo.c_str(), "--no-status", "--modbus-port", "0", static_cast<char*>(nullptr));
     _exit(127);
   }
   std::this_thread::sleep_for(std::chrono::milliseconds(700));

@@ -75,6 +75,118 @@ TEST(ModbusMap, RangesMustBeMappedAndMustNotCutAValue) {
   EXPECT_EQ(m.range(ModbusTable::Coils, 14, 10)->size(), 10u);
 }
 
+// Explicit places (`modbus: {table, address}`) beside the convention's.
+const char* kExplicit = R"(
+tasks: [{name: main, period: 1ms}]
+tags:
+  - {name: speed, type: LREAL, hmi: readwrite, modbus: {table: holding_register, address: 3000}}
+  - {name: moved, type: INT, address: "%MW0", hmi: readwrite, modbus: {table: input_register, address: 7}}
+  - {name: flags, type: "ARRAY[1..3] OF BOOL", hmi: readwrite, modbus: {table: discrete_input, address: 100}}
+  - {name: coil_cmd, type: BOOL, hmi: readwrite, modbus: {table: coil, address: 9000}}
+  - {name: levels, type: "ARRAY[0..1] OF REAL", hmi: read, modbus: {table: holding_register, address: 65532}}
+  - {name: plain, type: INT, address: "%MW1", hmi: read}
+)";
+
+TEST(ModbusMap, ExplicitPlacesTakePrecedenceOverTheConvention) {
+  auto p = load_test_project(kExplicit);
+  ASSERT_TRUE(p);
+  auto m = ModbusMap::build(*p);
+  auto tag_of = [&](const ModbusPoint* pt) { return pt ? p->tags[pt->tag].name : std::string("-"); };
+  EXPECT_EQ(tag_of(m.at(ModbusTable::HoldingRegisters, 3003)), "speed");
+  EXPECT_EQ(m.at(ModbusTable::HoldingRegisters, 3003)->address, 3000u);
+  EXPECT_EQ(m.at(ModbusTable::HoldingRegisters, 3003)->width, 4u);
+  // %MW0 would be holding 1024: the explicit input register 7 replaces it.
+  EXPECT_EQ(m.at(ModbusTable::HoldingRegisters, 1024), nullptr);
+  EXPECT_EQ(tag_of(m.at(ModbusTable::InputRegisters, 7)), "moved");
+  EXPECT_EQ(tag_of(m.at(ModbusTable::HoldingRegisters, 1025)), "plain");
+  EXPECT_EQ(m.at(ModbusTable::DiscreteInputs, 102)->element, 2u);
+  EXPECT_EQ(m.at(ModbusTable::DiscreteInputs, 103), nullptr);
+  EXPECT_EQ(tag_of(m.at(ModbusTable::Coils, 9000)), "coil_cmd");
+  // Two REALs up to the last register of the table.
+  EXPECT_EQ(m.at(ModbusTable::HoldingRegisters, 65535)->address, 65534u);
+  EXPECT_EQ(m.at(ModbusTable::HoldingRegisters, 65535)->element, 1u);
+  EXPECT_TRUE(m.range(ModbusTable::HoldingRegisters, 65532, 4));
+  EXPECT_EQ(m.range(ModbusTable::HoldingRegisters, 3000, 4)->size(), 1u);
+  EXPECT_FALSE(m.range(ModbusTable::HoldingRegisters, 3000, 2)) << "cuts speed";
+}
+
+TEST(ModbusMap, ExplicitPlacesAreWritableOnlyInCoilsAndHoldingRegistersWithReadwrite) {
+  auto p = load_test_project(kExplicit);
+  ASSERT_TRUE(p);
+  auto m = ModbusMap::build(*p);
+  EXPECT_TRUE(m.at(ModbusTable::HoldingRegisters, 3000)->writable);
+  EXPECT_TRUE(m.at(ModbusTable::Coils, 9000)->writable);
+  EXPECT_FALSE(m.at(ModbusTable::InputRegisters, 7)->writable) << "input registers are read only";
+  EXPECT_FALSE(m.at(ModbusTable::DiscreteInputs, 100)->writable) << "discrete inputs are read only";
+  EXPECT_FALSE(m.at(ModbusTable::HoldingRegisters, 65532)->writable) << "hmi: read";
+}
+
+// Programs built by hand: the map's own overlap rule, without the loader's checks.
+Tag modbus_tag(const std::string& name, IecType type, std::uint32_t length, std::optional<ModbusPlace> place,
+               const char* address = nullptr) {
+  Tag t;
+  t.name = name;
+  t.type = type;
+  t.length = length;
+  t.hmi = HmiAccess::ReadWrite;
+  t.modbus = place;
+  if (address) t.address = *parse_direct_address(address, nullptr);
+  return t;
+}
+
+TEST(ModbusMap, OverlapsLeaveTheLaterTagOutAndAreReported) {
+  std::vector<Tag> tags = {
+      modbus_tag("a", IecType::LREAL, 1, ModbusPlace{ModbusTable::HoldingRegisters, 3000}),
+      modbus_tag("b", IecType::DINT, 1, ModbusPlace{ModbusTable::HoldingRegisters, 3003}),   // into a's last register
+      modbus_tag("c", IecType::INT, 2, ModbusPlace{ModbusTable::HoldingRegisters, 2998}),    // 2998..2999: just before a
+      modbus_tag("d", IecType::INT, 1, ModbusPlace{ModbusTable::InputRegisters, 3000}),      // another table
+  };
+  std::vector<ModbusOverlap> overlaps;
+  auto m = ModbusMap::build(tags, nullptr, &overlaps);
+  ASSERT_EQ(overlaps.size(), 1u);
+  EXPECT_EQ(overlaps[0].tag, 1u);
+  EXPECT_EQ(overlaps[0].other, 0u);
+  EXPECT_EQ(modbus_span_text(overlaps[0].span), "holding registers 3003..3004");
+  EXPECT_EQ(modbus_span_text(overlaps[0].other_span), "holding registers 3000..3003");
+  EXPECT_TRUE(overlaps[0].span.explicit_place);
+  EXPECT_EQ(m.at(ModbusTable::HoldingRegisters, 3004), nullptr) << "b is left out";
+  EXPECT_EQ(m.at(ModbusTable::HoldingRegisters, 3003)->tag, 0u);
+  EXPECT_EQ(m.at(ModbusTable::HoldingRegisters, 2999)->tag, 2u);
+  EXPECT_EQ(m.at(ModbusTable::InputRegisters, 3000)->tag, 3u);
+  // Sorted and free of overlaps.
+  const auto& v = m.points(ModbusTable::HoldingRegisters);
+  for (std::size_t i = 1; i < v.size(); ++i) EXPECT_GE(v[i].address, v[i - 1].address + v[i - 1].width);
+}
+
+TEST(ModbusMap, AnExplicitPlaceWinsOverAConventionPlaceDeclaredBeforeIt) {
+  std::vector<Tag> tags = {
+      modbus_tag("conv", IecType::INT, 1, std::nullopt, "%MW0"),                            // holding 1024
+      modbus_tag("expl", IecType::DINT, 1, ModbusPlace{ModbusTable::HoldingRegisters, 1023}),  // 1023..1024
+  };
+  std::vector<ModbusOverlap> overlaps;
+  auto m = ModbusMap::build(tags, nullptr, &overlaps);
+  ASSERT_EQ(overlaps.size(), 1u);
+  EXPECT_EQ(overlaps[0].tag, 0u) << "the convention's place is the one left out";
+  EXPECT_EQ(overlaps[0].other, 1u);
+  EXPECT_FALSE(overlaps[0].span.explicit_place);
+  EXPECT_TRUE(overlaps[0].other_span.explicit_place);
+  EXPECT_EQ(m.at(ModbusTable::HoldingRegisters, 1024)->tag, 1u);
+}
+
+TEST(ModbusMap, AnExplicitPlaceThatDoesNotFitIsANote) {
+  std::vector<Tag> tags = {
+      modbus_tag("bit", IecType::BOOL, 1, ModbusPlace{ModbusTable::HoldingRegisters, 0}),
+      modbus_tag("long", IecType::LREAL, 1, ModbusPlace{ModbusTable::HoldingRegisters, 65533}),
+      modbus_tag("hidden", IecType::INT, 1, ModbusPlace{ModbusTable::HoldingRegisters, 5}),
+  };
+  tags[2].hmi = HmiAccess::None;
+  std::vector<std::string> notes;
+  auto m = ModbusMap::build(tags, &notes);
+  EXPECT_THAT(notes, ::testing::ElementsAre("bit: a BOOL has no place among the holding registers",
+                                            "long: its holding registers run past 65535"));
+  EXPECT_TRUE(m.points(ModbusTable::HoldingRegisters).empty()) << "hmi none: not on Modbus";
+}
+
 TEST(ModbusEncoding, WorkedExamplesInBothWordOrders) {
   std::uint16_t r[4];
   // REAL 1.0f = 0x3F800000: high word first 3F80 0000, swapped 0000 3F80.
@@ -136,6 +248,51 @@ TEST(ModbusMap, CheckPrintsTheMap) {
   EXPECT_THAT(os.str(), ::testing::HasSubstr("  coils 14..23  lamps BOOL[10] at %QX1.6  read/write\n"));
   EXPECT_THAT(os.str(), ::testing::HasSubstr("  holding registers 4112..4115  big LREAL at %ML4  read/write\n"));
   EXPECT_THAT(os.str(), ::testing::HasSubstr("  input register 5  level INT at %IW5  read only\n"));
+}
+
+TEST(ModbusMap, CheckMarksExplicitPlacesAndPrintsTheWordOrder) {
+  auto p = load_test_project(kExplicit);
+  ASSERT_TRUE(p);
+  std::ostringstream os;
+  print_modbus_map(os, *p, ModbusMap::build(*p), WordOrder::LowFirst);
+  EXPECT_THAT(os.str(), ::testing::HasSubstr("32/64-bit values low word first"));
+  EXPECT_THAT(os.str(), ::testing::HasSubstr("  holding registers 3000..3003  speed LREAL (explicit)  read/write\n"));
+  EXPECT_THAT(os.str(), ::testing::HasSubstr("  input register 7  moved INT (explicit)  read only\n"));
+  EXPECT_THAT(os.str(), ::testing::HasSubstr("  discrete inputs 100..102  flags BOOL[3] (explicit)  read only\n"));
+  EXPECT_THAT(os.str(), ::testing::HasSubstr("  holding register 1025  plain INT at %MW1  read only\n"));
+}
+
+TEST(ModbusConfig, ClientNetworksParseAndPrint) {
+  auto n = parse_client_network("192.168.1.0/24");
+  ASSERT_TRUE(n);
+  EXPECT_EQ(n->address, 0xC0A80100u);
+  EXPECT_EQ(n->prefix, 24);
+  EXPECT_TRUE(n->contains(0xC0A801FEu));
+  EXPECT_FALSE(n->contains(0xC0A80201u));
+  EXPECT_EQ(client_network_text(*n), "192.168.1.0/24");
+  EXPECT_EQ(client_network_text(*parse_client_network("10.1.2.3")), "10.1.2.3");
+  EXPECT_EQ(parse_client_network("0.0.0.0/0")->prefix, 0);
+  for (const char* bad : {"", "10.0.0", "10.0.0.256", "10.0.0.1/33", "10.0.0.1/", "10.0.0.1/x", "10.0.0.1/-1", "host", "10.0.0.1/008"})
+    EXPECT_FALSE(parse_client_network(bad)) << bad;
+}
+
+TEST(ModbusConfig, SettingsOnOneLine) {
+  ModbusConfig c;
+  c.enabled = true;
+  EXPECT_EQ(modbus_settings_text(c),
+            "127.0.0.1:5020, unit 1, max 64 clients, idle timeout 60s, high word first, read/write, clients: any");
+  c.bind = "0.0.0.0";
+  c.port = 0;
+  c.unit_id = 17;
+  c.max_clients = 1;
+  c.idle_timeout_ns = 0;
+  c.word_order = WordOrder::LowFirst;
+  c.read_only = true;
+  c.allowed_clients = {*parse_client_network("10.0.0.0/8"), *parse_client_network("192.168.1.5")};
+  EXPECT_EQ(modbus_settings_text(c), "0.0.0.0:0 (any free port), unit 17, max 1 client, no idle timeout, low word first, "
+                                     "read only, clients: 10.0.0.0/8, 192.168.1.5");
+  c.idle_timeout_ns = 1'500'000'000;
+  EXPECT_THAT(modbus_settings_text(c), ::testing::HasSubstr("idle timeout 1s500ms"));
 }
 
 }  // namespace

@@ -88,6 +88,16 @@ TEST(LoadOk, BottleLine) {
   EXPECT_EQ(p.traces.size(), 7u);
   EXPECT_EQ(p.traces.back().label, "restart_delay.ET");
   EXPECT_EQ(p.watch.size(), 6u);
+
+  // Modbus: the server's settings and the explicitly placed setpoints.
+  EXPECT_TRUE(p.modbus.enabled);
+  EXPECT_EQ(p.modbus.port, 5020);
+  EXPECT_EQ(p.modbus.bind, "127.0.0.1");
+  ASSERT_TRUE(speed->modbus);
+  EXPECT_EQ(speed->modbus->table, ModbusTable::HoldingRegisters);
+  EXPECT_EQ(speed->modbus->address, 3000u);
+  EXPECT_EQ(p.find_tag("auto_mode")->modbus->table, ModbusTable::Coils);
+  EXPECT_FALSE(p.find_tag("batch_size")->modbus) << "placed by its %MW2";
 }
 
 TEST(LoadOk, BottleLineAsTextGivesTheSameMessagesName) {

@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Runs the libFuzzer targets for a bounded time each (default 60 s), under
+# AddressSanitizer and UndefinedBehaviorSanitizer, from the committed seed
+# corpus (copied: libFuzzer adds what it finds to its first corpus folder).
+# Usage: scripts/fuzz.sh [SECONDS] [BUILD_DIR]. A crash, leak, sanitizer
+# report or failed check stops with a non-zero status and leaves the input in
+# BUILD_DIR/fuzz-artifacts/ (rerun it: BUILD_DIR/fuzz/<target> <file>).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds=${1:-60}
+dir=${2:-build-fuzz}
+SYNCPLC_TARGETS=fuzz_modbus_request bash scripts/build.sh "$dir" -DCMAKE_CXX_COMPILER=clang++ \
+  -DSYNCPLC_FUZZ=ON -DSYNCPLC_SANITIZE=address,undefined -DSYNCPLC_TESTS=OFF -DSYNCPLC_BENCH=OFF
+corpus=$(mktemp -d)
+trap 'rm -rf "$corpus"' EXIT
+mkdir -p "$dir/fuzz-artifacts"
+cp fuzz/corpus/modbus_request/* "$corpus/"
+log="$dir/fuzz-artifacts/fuzz_modbus_request.log"
+status=0
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+  "$dir/fuzz/fuzz_modbus_request" -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=10 \
+  -artifact_prefix="$dir/fuzz-artifacts/" -print_final_stats=1 "$corpus" >"$log" 2>&1 || status=$?
+if [ "$status" -ne 0 ]; then
+  cat "$log"
+  echo "fuzz_modbus_request failed (status $status); the input is in $dir/fuzz-artifacts/"
+  exit "$status"
+fi
+grep -E '^(INFO: Seed|#[0-9]+ +DONE|stat::)' "$log"
+echo "fuzz_modbus_request: no failure in $seconds s"
