@@ -155,6 +155,18 @@ def mbpoll_low_first(port, tally):
     P.wait_until(lambda: (lambda v: (v == [-7654321], v))(values(4, 2128, 1, ":int", int)),
                  "mbpoll: DINT copy after mbpoll wrote -7654321 low word first")
     check(values(4, 2110, 1, ":int", int), [4_000_000_000 - 2 ** 32], "mbpoll: UDINT 4e9 as a signed int")
+    # SINT, USINT, BYTE at explicit holding registers (as FC 23 left them) and the INT in input registers.
+    check(values(4, 3000, 3, "", int), [0xFF9C, 99, 0x11], "mbpoll: SINT -100, USINT 99, BYTE 16#11 at 3000..3002")
+    check(values(4, 3010, 3, ":hex", lambda x: int(x, 16)), [0xFF9C, 99, 0x11], "mbpoll: their copies, hex")
+    check(values(3, 3100, 1, "", int), [42], "mbpoll: ir_rw at input register 3100")
+    m.run(["-t", "4", "-r", "3000", "-0"], [0xFF85, 250, 0xFF])
+    tally.ok(written=3)
+    P.wait_until(lambda: (lambda v: (v == [0xFF85, 250, 0xFF], v))(values(4, 3010, 3, "", int)),
+                 "mbpoll: copies after mbpoll wrote SINT -123, USINT 250, BYTE 16#FF")
+    r = m.run(["-t", "4", "-r", "3001", "-0"], [256], ok=False)
+    tally.exception(0x03)
+    if "Illegal data value" not in r.stdout:
+        raise AssertionError("mbpoll writing USINT 256: expected Illegal data value:\n" + r.stdout)
 
 
 def main():
