@@ -1,7 +1,8 @@
 // libFuzzer harness on the Modbus request path: the bytes of one TCP
 // connection go through the server's framing (check_frame) and request
-// handler exactly as the server thread feeds them, against a project with
-// every table, width and access, while the program scans in virtual time.
+// handler exactly as the server thread feeds them, against the handler
+// tests' project (every table, width and access), while the program scans in
+// virtual time.
 // Besides ASan/UBSan, it checks that every reply is a well-formed Modbus TCP
 // frame answering its request (same transaction and unit, the request's
 // function code or its exception), and that a bad header ends the stream.
@@ -21,37 +22,13 @@
 #include "runtime/modbus/frame.hpp"
 #include "runtime/modbus/request_handler.hpp"
 #include "runtime/project/loader.hpp"
+#include "tests/modbus/handler_project.hpp"
 
 namespace {
 
 using namespace syncplc;
 using namespace syncplc::modbus;
 
-const char* kProject = R"(
-tasks:
-  - {name: main, period: 1ms}
-  - {name: slow, period: 10ms, write_queue: 16}
-tags:
-  - {name: run, type: BOOL, address: "%QX0.0", hmi: readwrite}
-  - {name: lamps, type: "ARRAY[0..9] OF BOOL", address: "%QX0.1", hmi: readwrite}
-  - {name: fault, type: BOOL, address: "%QX2.0", hmi: read}
-  - {name: buttons, type: "ARRAY[0..15] OF BOOL", address: "%IX0.0", hmi: read}
-  - {name: level, type: "ARRAY[0..3] OF INT", address: "%IW4", hmi: read}
-  - {name: small, type: SINT, hmi: readwrite, modbus: {table: holding_register, address: 100}}
-  - {name: octet, type: BYTE, hmi: readwrite, modbus: {table: holding_register, address: 101}}
-  - {name: sp, type: INT, address: "%QW2", hmi: readwrite}
-  - {name: sp_echo, type: INT, address: "%QW3", hmi: read}
-  - {name: words, type: "ARRAY[0..7] OF WORD", address: "%MW0", hmi: readwrite}
-  - {name: pos, type: REAL, address: "%MD10", hmi: readwrite}
-  - {name: count, type: DINT, address: "%MD11", hmi: readwrite, task: slow}
-  - {name: big, type: LREAL, address: "%ML6", hmi: readwrite, task: slow}
-  - {name: when, type: TIME, address: "%ML7", hmi: read}
-blocks:
-  - {name: e1, type: MOVE, datatype: INT, task: main}
-connections:
-  - sp -> e1.IN
-  - e1.OUT -> sp_echo
-)";
 
 struct World {
   std::unique_ptr<Program> program;
@@ -63,7 +40,7 @@ struct World {
   std::unique_ptr<RequestHandler> handlers[4];
 
   World() {
-    auto r = load_project_text(kProject, "fuzz.yaml");
+    auto r = load_project_text(testing::kHandlerProject, "handler_project.yaml");
     if (!r.ok()) {
       for (const auto& d : r.diagnostics.list()) std::fprintf(stderr, "%s\n", d.text().c_str());
       std::abort();

@@ -223,9 +223,10 @@ void Server::accept_clients(std::int64_t now) {
                          std::any_of(config_.allowed_clients.begin(), config_.allowed_clients.end(),
                                      [peer](const ClientNetwork& n) { return n.contains(peer); });
     if (!allowed || open_ >= slots_.size()) {
-      // A clean refusal: the client sees the connection closed at once, before any request.
-      close(fd);
+      // A clean refusal: the client sees the connection closed at once, before any
+      // request. Counted first, so whoever sees the close also sees the count.
       counters_.refused.fetch_add(1, std::memory_order_relaxed);
+      close(fd);
       continue;
     }
     std::size_t slot = 0;
@@ -313,15 +314,15 @@ void Server::close_idle(std::int64_t now) {
 void Server::close_connection(std::size_t slot, std::atomic<std::uint64_t>& reason) {
   Connection& c = *slots_[slot];
   if (c.fd < 0) return;
+  --open_;
+  reason.fetch_add(1, std::memory_order_relaxed);  // before the client can see the close
+  counters_.open.store(open_, std::memory_order_relaxed);
   if (epoll_fd_ >= 0) epoll_ctl(epoll_fd_, EPOLL_CTL_DEL, c.fd, nullptr);
   close(c.fd);
   c.fd = -1;
   c.used = 0;
   c.paused = false;
   c.pending.active = false;
-  --open_;
-  reason.fetch_add(1, std::memory_order_relaxed);
-  counters_.open.store(open_, std::memory_order_relaxed);
 }
 
 }  // namespace syncplc::modbus

@@ -13,6 +13,7 @@
 
 #include "runtime/core/virtual_clock.hpp"
 #include "runtime/modbus/request_handler.hpp"
+#include "tests/modbus/handler_project.hpp"
 #include "tests/modbus/modbus_frames.hpp"
 #include "tests/support/project_fixture.hpp"
 
@@ -24,41 +25,11 @@ using testing::Bytes;
 using testing::frame;
 using testing::pdu;
 
-// Two tasks, so requests can span owners; every area and width; echo
-// blocks that copy written tags to read-only ones.
-const char* kProject = R"(
-tasks:
-  - {name: main, period: 1ms}
-  - {name: slow, period: 10ms, write_queue: 16}
-tags:
-  - {name: run, type: BOOL, address: "%QX0.0", hmi: readwrite}
-  - {name: lamps, type: "ARRAY[0..9] OF BOOL", address: "%QX0.1", hmi: readwrite, init: TRUE}
-  - {name: fault, type: BOOL, address: "%QX2.0", hmi: read, init: TRUE}
-  - {name: button, type: BOOL, address: "%IX0.0", hmi: read, init: TRUE}
-  - {name: level, type: INT, address: "%IW7", hmi: read, init: -2}
-  - {name: sp, type: INT, address: "%QW2", hmi: readwrite, init: 7}
-  - {name: sp_echo, type: INT, address: "%QW3", hmi: read}
-  - {name: small, type: SINT, hmi: readwrite, modbus: {table: holding_register, address: 100}}
-  - {name: octet, type: BYTE, hmi: readwrite, modbus: {table: holding_register, address: 101}}
-  - {name: pos, type: REAL, address: "%MD0", hmi: readwrite, init: 1.0}
-  - {name: pos_echo, type: REAL, address: "%MD1", hmi: read}
-  - {name: count, type: DINT, address: "%MD2", hmi: read, init: -2}
-  - {name: big, type: LREAL, address: "%ML2", hmi: readwrite, init: 1.5, task: slow}
-  - {name: when, type: TIME, address: "%ML3", hmi: readwrite, task: slow}
-blocks:
-  - {name: e1, type: MOVE, datatype: INT, task: main}
-  - {name: e2, type: MOVE, datatype: REAL, task: main}
-connections:
-  - sp -> e1.IN
-  - e1.OUT -> sp_echo
-  - pos -> e2.IN
-  - e2.OUT -> pos_echo
-)";
 
 class Handler : public ::testing::Test {
  protected:
   void SetUp() override {
-    program = load_test_project(kProject);
+    program = load_test_project(testing::kHandlerProject);
     ASSERT_TRUE(program);
     clock = std::make_unique<VirtualClock>(*program);
     ASSERT_EQ(socketpair(AF_UNIX, SOCK_STREAM, 0, fds), 0);

@@ -18,6 +18,7 @@
 
 #include "runtime/core/realtime.hpp"
 #include "runtime/modbus/server.hpp"
+#include "tests/realtime/quiet_options.hpp"
 #include "tests/support/project_fixture.hpp"
 
 namespace syncplc {
@@ -46,15 +47,6 @@ connections:
   - sp -> e.IN
   - e.OUT -> sp_echo
 )";
-
-RealtimeRunner::Options quiet_options() {
-  RealtimeRunner::Options o;
-  o.fifo = false;
-  o.lock_memory = false;
-  o.start_delay_ns = 1'000'000;
-  o.cpu_latency_us = -1;
-  return o;
-}
 
 double lreal_of(const std::uint16_t* r) {  // high word first
   std::uint64_t u = 0;

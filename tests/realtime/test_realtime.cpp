@@ -7,19 +7,11 @@
 #include <thread>
 
 #include "runtime/core/realtime.hpp"
+#include "tests/realtime/quiet_options.hpp"
 #include "tests/support/project_fixture.hpp"
 
 namespace syncplc {
 namespace {
-
-RealtimeRunner::Options quiet_options() {
-  RealtimeRunner::Options o;
-  o.fifo = false;         // do not compete with the machine's own real-time work in tests
-  o.lock_memory = false;
-  o.start_delay_ns = 1'000'000;
-  o.cpu_latency_us = -1;
-  return o;
-}
 
 // A fast task publishes four equal values; a slower task counts scans in
 // which they differ; the test thread reads the published array concurrently
