@@ -7,6 +7,7 @@ PACKAGES=(
   libyaml-cpp-dev libcli11-dev libfmt-dev libspdlog-dev nlohmann-json3-dev
   libeigen3-dev libmodbus-dev libsqlite3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  python3-pymodbus python3-serial-asyncio mbpoll  # Modbus peer tests; pymodbus's client needs serial-asyncio
   rt-tests
   clang libclang-rt-14-dev
 )

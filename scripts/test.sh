@@ -2,8 +2,9 @@
 # Installs what is needed, builds, and runs every test three times:
 #   1. the release build (RelWithDebInfo), all tests;
 #   2. AddressSanitizer + UndefinedBehaviorSanitizer, all tests;
-#   3. ThreadSanitizer, the tests of threaded parts (label "threaded") and the
-#      scheduler tests;
+#   3. ThreadSanitizer, the tests of threaded parts (label "threaded"), the CLI
+#      tests and the Modbus peer tests (label "peers": pymodbus and mbpoll
+#      against the real `syncplc run`);
 #   4. the libFuzzer harness of the Modbus request path, 60 s under ASan + UBSan
 #      (scripts/fuzz.sh; built with clang).
 # Any failure stops the script with a non-zero status.
@@ -26,7 +27,7 @@ echo "== ThreadSanitizer"
 SYNCPLC_TARGETS="syncplc test_realtime test_cli" \
   bash scripts/build.sh build-tsan -DSYNCPLC_SANITIZE=thread -DSYNCPLC_BENCH=OFF
 (cd build-tsan && TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
-   ctest --output-on-failure -j "$jobs" -L 'threaded|cli')
+   ctest --output-on-failure -j "$jobs" -L 'threaded|cli|peers')
 echo "== libFuzzer: Modbus request handling"
 bash scripts/fuzz.sh 60 build-fuzz
 echo "== all test runs passed"

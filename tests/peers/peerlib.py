@@ -1,0 +1,443 @@
+"""What the Modbus peer tests share: start and stop `syncplc run`, count what
+the script did, compare it with the counters the server prints, and talk
+raw Modbus TCP over a plain socket where a well-behaved client cannot.
+
+Run the tests with Debian's interpreter, the only one that sees
+python3-pymodbus:  /usr/bin/python3 tests/peers/test_X.py build/syncplc
+"""
+
+import atexit
+import os
+import re
+import select
+import signal
+import socket
+import struct
+import subprocess
+import sys
+import threading
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+# How long a write may take to show in its read-only copy: it is applied at
+# the start of the owning task's next scan (2 ms here), but a sanitizer build
+# on a loaded 2-core machine can be much slower. Generous on purpose.
+ECHO_TIMEOUT = 5.0
+# Safety net: a syncplc the script forgot (or could not stop) ends by itself.
+RUN_LIMIT = "280s"
+
+_running = []
+
+
+def _kill_leftovers():
+    for p in _running:
+        if p.poll() is None:
+            p.kill()
+
+
+atexit.register(_kill_leftovers)
+
+
+def syncplc_binary():
+    if len(sys.argv) < 2:
+        sys.exit("usage: /usr/bin/python3 %s PATH/TO/syncplc" % sys.argv[0])
+    path = sys.argv[1]
+    if not os.access(path, os.X_OK):
+        sys.exit("not an executable: %s" % path)
+    return path
+
+
+def project(name):
+    return os.path.join(HERE, name)
+
+
+class Counters:
+    """The server's statistics block, as `syncplc run` prints it on stdout."""
+
+    LINE1 = re.compile(r"requests (\d+), exceptions (\d+)(?: \(([^)]*)\))?, values written (\d+)")
+    LINE2 = re.compile(r"connections: (\d+) accepted, (\d+) refused, (\d+) open; closed: (\d+) by the client, "
+                       r"(\d+) bad frame, (\d+) idle, (\d+) not reading")
+
+    def __init__(self, text):
+        m1 = self.LINE1.search(text)
+        m2 = self.LINE2.search(text)
+        if not m1 or not m2 or "Modbus TCP on 127.0.0.1:" not in text:
+            raise AssertionError("no Modbus statistics in the output of syncplc run:\n" + text)
+        self.requests = int(m1.group(1))
+        self.exceptions = int(m1.group(2))
+        self.by_code = {}
+        if m1.group(3):
+            for part in m1.group(3).split(","):
+                code, n = part.split(":")
+                self.by_code[int(code.strip(), 16)] = int(n)
+        self.values_written = int(m1.group(4))
+        (self.accepted, self.refused, self.open, self.closed_by_client, self.closed_bad_frame, self.closed_idle,
+         self.closed_not_reading) = (int(g) for g in m2.groups())
+        self.text = text
+
+    def __repr__(self):
+        return "Counters(%s)" % ", ".join("%s=%r" % kv for kv in sorted(vars(self).items()) if kv[0] != "text")
+
+
+class Tally:
+    """What the script did, to be compared with the server's counters."""
+
+    def __init__(self):
+        self.requests = 0
+        self.by_code = {}
+        self.values_written = 0
+        self.accepted = 0
+        self.refused = 0
+        self.closed_bad_frame = 0
+        self.closed_idle = 0
+        self.closed_not_reading = 0
+        self.lock = threading.Lock()
+
+    def ok(self, n=1, written=0):
+        with self.lock:
+            self.requests += n
+            self.values_written += written
+
+    def exception(self, code, n=1):
+        with self.lock:
+            self.requests += n
+            self.by_code[code] = self.by_code.get(code, 0) + n
+
+    def connection(self, n=1):
+        with self.lock:
+            self.accepted += n
+
+    @property
+    def exceptions(self):
+        return sum(self.by_code.values())
+
+
+class Server:
+    """`syncplc run PROJECT --no-status --modbus-port 0`, stopped with SIGTERM."""
+
+    def __init__(self, binary, project_file, extra=()):
+        self.binary = binary
+        self.project_file = project_file
+        self.stderr_lines = []
+        args = [binary, "run", project_file, "--no-status", "--modbus-port", "0", "-d", RUN_LIMIT, *extra]
+        self.proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        _running.append(self.proc)
+        self.port = None
+        self.unit = None
+        self.mapped = None
+        deadline = time.monotonic() + 60
+        while time.monotonic() < deadline:
+            line = self.proc.stderr.readline()
+            if not line:
+                break
+            self.stderr_lines.append(line)
+            m = re.search(r"modbus: listening on 127\.0\.0\.1:(\d+) \(unit (\d+), (\d+) values mapped\)", line)
+            if m:
+                self.port, self.unit, self.mapped = (int(g) for g in m.groups())
+                break
+        if self.port is None:
+            self.proc.kill()
+            out, err = self.proc.communicate()
+            raise AssertionError("syncplc run %s did not report its Modbus port; stderr:\n%s%s\nstdout:\n%s"
+                                 % (project_file, "".join(self.stderr_lines), err, out))
+        self._drain = threading.Thread(target=self._read_stderr, daemon=True)
+        self._drain.start()
+
+    def _read_stderr(self):
+        for line in self.proc.stderr:
+            self.stderr_lines.append(line)
+
+    def stop(self):
+        """SIGTERM; returns the counters it printed. It must exit with status 0."""
+        self.proc.send_signal(signal.SIGTERM)
+        try:
+            out = self.proc.stdout.read()
+            rc = self.proc.wait(timeout=60)
+        except subprocess.TimeoutExpired:
+            self.proc.kill()
+            raise AssertionError("syncplc run did not stop within 60 s of SIGTERM")
+        self._drain.join(timeout=10)
+        self.stdout = out
+        stderr = "".join(self.stderr_lines)
+        if rc != 0:
+            raise AssertionError("syncplc run exited with status %d\nstdout:\n%s\nstderr:\n%s" % (rc, out, stderr))
+        if "Stopped by SIGTERM" not in out:
+            raise AssertionError("syncplc run stopped before SIGTERM (the -d %s safety net?)\n%s" % (RUN_LIMIT, out))
+        for bad in ("ERROR: AddressSanitizer", "runtime error:", "WARNING: ThreadSanitizer"):
+            if bad in stderr:
+                raise AssertionError("sanitizer report on stderr:\n" + stderr)
+        return Counters(out)
+
+
+def check_counters(c, t, requests_at_least=False, label=""):
+    """Compare the server's counters with the script's tally; one message with every difference."""
+    problems = []
+
+    def same(what, got, want):
+        if got != want:
+            problems.append("%s: server says %r, the script did %r" % (what, got, want))
+
+    if requests_at_least:
+        if c.requests < t.requests:
+            problems.append("requests: server says %d, the script sent at least %d" % (c.requests, t.requests))
+    else:
+        same("requests", c.requests, t.requests)
+    same("exceptions by code", c.by_code, t.by_code)
+    same("exceptions", c.exceptions, t.exceptions)
+    same("values written", c.values_written, t.values_written)
+    same("connections accepted", c.accepted, t.accepted)
+    same("connections refused", c.refused, t.refused)
+    same("connections open at the end", c.open, 0)
+    same("closed for a bad frame", c.closed_bad_frame, t.closed_bad_frame)
+    same("closed idle", c.closed_idle, t.closed_idle)
+    same("closed not reading", c.closed_not_reading, t.closed_not_reading)
+    same("closed by the client (the rest)", c.closed_by_client,
+         c.accepted - c.closed_bad_frame - c.closed_idle - c.closed_not_reading)
+    if problems:
+        raise AssertionError("%scounters do not match:\n  %s\nserver output:\n%s"
+                             % (label + ": " if label else "", "\n  ".join(problems), c.text))
+    print("%scounters match: %r" % (label + ": " if label else "", c))
+
+
+# --- pymodbus -----------------------------------------------------------------------
+
+def pymodbus_client(port, timeout=5):
+    from pymodbus.client import ModbusTcpClient  # only /usr/bin/python3 has it
+    # retries=0: one request per call, so the script's count is the server's.
+    c = ModbusTcpClient("127.0.0.1", port=port, timeout=timeout, retries=0, retry_on_empty=False)
+    if not c.connect():
+        raise AssertionError("pymodbus could not connect to 127.0.0.1:%d" % port)
+    return c
+
+
+def expect_ok(resp, what):
+    if resp is None or not hasattr(resp, "isError") or resp.isError():
+        raise AssertionError("%s: expected a normal response, got %r" % (what, resp))
+    return resp
+
+
+def expect_exception(resp, code, what):
+    got = getattr(resp, "exception_code", None)
+    if not (hasattr(resp, "isError") and resp.isError() and got == code):
+        raise AssertionError("%s: expected exception %02X, got %r" % (what, code, resp))
+
+
+def wait_until(fn, what, timeout=ECHO_TIMEOUT, interval=0.005):
+    """Polls fn() until it returns a true value; returns (value, polls)."""
+    deadline = time.monotonic() + timeout
+    polls = 0
+    last = None
+    while True:
+        polls += 1
+        ok, last = fn()
+        if ok:
+            return last, polls
+        if time.monotonic() > deadline:
+            raise AssertionError("%s: still %r after %.1f s" % (what, last, timeout))
+        time.sleep(interval)
+
+
+# --- raw Modbus TCP -----------------------------------------------------------------
+
+def mbap(tid, unit, pdu, protocol=0, length=None):
+    return struct.pack(">HHHB", tid, protocol, len(pdu) + 1 if length is None else length, unit) + pdu
+
+
+def connect(port, timeout=5.0):
+    s = socket.create_connection(("127.0.0.1", port), timeout=timeout)
+    s.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
+    return s
+
+
+def recv_exact(s, n):
+    data = b""
+    while len(data) < n:
+        chunk = s.recv(n - len(data))
+        if not chunk:
+            raise AssertionError("connection closed after %d of %d bytes of a reply" % (len(data), n))
+        data += chunk
+    return data
+
+
+def recv_reply(s):
+    """One whole Modbus TCP reply: (tid, unit, pdu)."""
+    head = recv_exact(s, 7)
+    tid, proto, length, unit = struct.unpack(">HHHB", head)
+    if proto != 0 or not 2 <= length <= 254:
+        raise AssertionError("reply with protocol id %d, length %d" % (proto, length))
+    return tid, unit, recv_exact(s, length - 1)
+
+
+def transact(s, frame):
+    s.sendall(frame)
+    tid, unit, pdu = recv_reply(s)
+    want_tid = struct.unpack(">H", frame[:2])[0]
+    if tid != want_tid:
+        raise AssertionError("reply has transaction id %d, the request %d" % (tid, want_tid))
+    return pdu
+
+
+def raw_exception(s, frame, code, what):
+    pdu = transact(s, frame)
+    fc = frame[7]
+    if pdu != bytes([fc | 0x80, code]):
+        raise AssertionError("%s: expected exception %02X (%02X %02X), got %s"
+                             % (what, code, fc | 0x80, code, pdu.hex(" ")))
+
+
+def closed_by_server(s, timeout=5.0):
+    """True when the server closes the connection within timeout (EOF or reset)."""
+    s.settimeout(timeout)
+    try:
+        data = s.recv(1024)
+    except ConnectionResetError:
+        return True
+    except socket.timeout:
+        return False
+    if data:
+        raise AssertionError("expected the connection to be closed, got %d bytes: %s" % (len(data), data.hex(" ")))
+    return True
+
+
+def refused(port, timeout=5.0):
+    """Connects; True when the server closes the connection at once, before any request."""
+    s = connect(port)
+    try:
+        return closed_by_server(s, timeout)
+    finally:
+        s.close()
+
+
+def readable_soon(s, timeout):
+    r, _, _ = select.select([s], [], [], timeout)
+    return bool(r)
+
+
+def run(args, **kw):
+    return subprocess.run(args, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, **kw)
+
+
+# --- typed values <-> registers, with pymodbus's payload builder and decoder ----------
+
+WIDTH = {"BOOL": 1, "SINT": 1, "USINT": 1, "BYTE": 1, "INT": 1, "UINT": 1, "WORD": 1,
+         "DINT": 2, "UDINT": 2, "DWORD": 2, "REAL": 2,
+         "LINT": 4, "ULINT": 4, "LWORD": 4, "LREAL": 4, "TIME": 4}
+_CODEC = {"SINT": "16bit_int", "USINT": "16bit_uint", "BYTE": "16bit_uint", "INT": "16bit_int",
+          "UINT": "16bit_uint", "WORD": "16bit_uint", "DINT": "32bit_int", "UDINT": "32bit_uint",
+          "DWORD": "32bit_uint", "REAL": "32bit_float", "LINT": "64bit_int", "ULINT": "64bit_uint",
+          "LWORD": "64bit_uint", "LREAL": "64bit_float", "TIME": "64bit_int"}
+
+
+def _endian(word_order):
+    from pymodbus.constants import Endian
+    return {"high_first": Endian.Big, "low_first": Endian.Little}[word_order]
+
+
+def encode(values, word_order="high_first"):
+    """[(type, value), ...] -> registers, each big-endian, words in word_order."""
+    from pymodbus.constants import Endian
+    from pymodbus.payload import BinaryPayloadBuilder
+    b = BinaryPayloadBuilder(byteorder=Endian.Big, wordorder=_endian(word_order))
+    for t, v in values:
+        getattr(b, "add_" + _CODEC[t])(v)
+    return b.to_registers()
+
+
+def decode(types, regs, word_order="high_first"):
+    """registers -> [value, ...] of the given types."""
+    from pymodbus.constants import Endian
+    from pymodbus.payload import BinaryPayloadDecoder
+    want = sum(WIDTH[t] for t in types)
+    if len(regs) != want:
+        raise AssertionError("%d registers for %s, expected %d" % (len(regs), types, want))
+    d = BinaryPayloadDecoder.fromRegisters(list(regs), byteorder=Endian.Big, wordorder=_endian(word_order))
+    return [getattr(d, "decode_" + _CODEC[t])() for t in types]
+
+
+def same_value(t, a, b):
+    """Equal as the tag stores them (REAL compared as float32 bit patterns)."""
+    if t == "REAL":
+        return struct.pack(">f", a) == struct.pack(">f", b)
+    if t == "LREAL":
+        return struct.pack(">d", a) == struct.pack(">d", b)
+    return a == b
+
+
+class Peer:
+    """A pymodbus client that counts what it does into a Tally."""
+
+    def __init__(self, port, tally, unit=1, timeout=5):
+        self.c = pymodbus_client(port, timeout)
+        self.tally = tally
+        self.unit = unit
+        tally.connection()
+
+    def close(self):
+        self.c.close()
+
+    def _call(self, name, *args, **kw):
+        kw.setdefault("slave", self.unit)
+        return getattr(self.c, name)(*args, **kw)
+
+    _READ = {"coil": "read_coils", "discrete": "read_discrete_inputs",
+             "input": "read_input_registers", "holding": "read_holding_registers"}
+
+    def read(self, table, address, count, **kw):
+        r = self._call(self._READ[table], address, count, **kw)
+        expect_ok(r, "read %s %d..%d" % (table, address, address + count - 1))
+        self.tally.ok()
+        if table in ("coil", "discrete"):
+            return [bool(b) for b in r.bits[:count]]
+        return list(r.registers)
+
+    def read_values(self, address, types, table="holding", word_order="high_first"):
+        return decode(types, self.read(table, address, sum(WIDTH[t] for t in types)), word_order)
+
+    def expect(self, code, name, *args, what="", **kw):
+        """A request that must get exception `code`."""
+        r = self._call(name, *args, **kw)
+        expect_exception(r, code, what or "%s%r" % (name, args))
+        self.tally.exception(code)
+
+    def write_coil(self, address, value):
+        expect_ok(self._call("write_coil", address, value), "write coil %d" % address)
+        self.tally.ok(written=1)
+
+    def write_coils(self, address, values):
+        expect_ok(self._call("write_coils", address, values), "write coils %d.." % address)
+        self.tally.ok(written=len(values))
+
+    def write_register(self, address, value):
+        expect_ok(self._call("write_register", address, value & 0xFFFF), "write register %d" % address)
+        self.tally.ok(written=1)
+
+    def write_registers(self, address, regs, values):
+        """FC 16 of `regs`; `values` is how many tag values they hold (what the server counts)."""
+        expect_ok(self._call("write_registers", address, list(regs)), "write registers %d.." % address)
+        self.tally.ok(written=values)
+
+    def write_values(self, address, typed, word_order="high_first"):
+        self.write_registers(address, encode(typed, word_order), len(typed))
+
+    def readwrite(self, read_address, read_count, write_address, regs, values):
+        r = self._call("readwrite_registers", read_address=read_address, read_count=read_count,
+                       write_address=write_address, write_registers=list(regs))
+        expect_ok(r, "FC 23 write %d.. read %d.." % (write_address, read_address))
+        self.tally.ok(written=values)
+        return list(r.registers)
+
+    def wait_read(self, table, address, count, want, what, timeout=ECHO_TIMEOUT):
+        """Reads until the values are `want` (a list, or a predicate); every poll is tallied."""
+        pred = want if callable(want) else (lambda v: v == want)
+
+        def poll():
+            v = self.read(table, address, count)
+            return pred(v), v
+        return wait_until(poll, what, timeout)[0]
+
+    def wait_values(self, address, types, want, what, table="holding", word_order="high_first"):
+        def poll():
+            v = self.read_values(address, types, table, word_order)
+            return all(same_value(t, a, b) for t, a, b in zip(types, v, want)), v
+        return wait_until(poll, what)[0]
