@@ -31,6 +31,7 @@
 #                   with its server idle (a control: Modbus traffic on the machine, not syncplc's server)
 #   JITTER_ROUNDS   (default 2)
 #   LOAD_PREFIX     command put before every bench_modbus_load (e.g. "taskset -c 1"); default none
+#   ISOLATE         1: the task on CPU 1, the server thread and the load on CPU 0 (see below)
 #
 # Client and server share the machine's CPUs: on a 2-CPU machine the load
 # generator's threads compete with the server thread (and the 1 ms task) for
@@ -50,6 +51,20 @@ jitter_s=${JITTER_S:-30}
 jitter_clients=${JITTER_CLIENTS:-8 64}
 jitter_rounds=${JITTER_ROUNDS:-2}
 read -r -a load_prefix <<<"${LOAD_PREFIX:-}"
+
+# ISOLATE=1: the deployment layout on 2 CPUs. The 1 ms task is pinned to CPU 1
+# (task `cpu: 1`), the Modbus server thread kept to CPU 0 (`modbus: {cpus: [0]}`),
+# and the load generator run on CPU 0 (taskset), standing in for remote clients
+# whose network interrupts are steered away from the real-time CPU.
+if [ "${ISOLATE:-0}" = 1 ]; then
+  isolated=$(mktemp --suffix=.yaml)
+  trap 'rm -f "$isolated"' EXIT
+  sed 's/^  - {name: main, period: 1ms, priority: 80}$/  - {name: main, period: 1ms, priority: 80, cpu: 1}/' "$project" >"$isolated"
+  grep -q 'cpu: 1}' "$isolated" || { echo "modbus_bench.sh: ISOLATE=1 expects the task line of $project" >&2; exit 2; }
+  printf '\nmodbus: {cpus: [0]}\n' >>"$isolated"
+  project=$isolated
+  [ ${#load_prefix[@]} -eq 0 ] && load_prefix=(taskset -c 0)
+fi
 
 syncplc=$build/syncplc
 load=$build/bench/bench_modbus_load

@@ -68,13 +68,15 @@ std::string idle_timeout_text(std::int64_t ns) {
 }  // namespace
 
 std::string modbus_settings_text(const ModbusConfig& c) {
+  std::string cpus;
+  for (int cpu : c.cpus) cpus += (cpus.empty() ? ", on CPU " : ",") + std::to_string(cpu);
   std::string clients;
   for (const auto& n : c.allowed_clients) clients += (clients.empty() ? "" : ", ") + client_network_text(n);
   return c.bind + ":" + std::to_string(c.port) + (c.port == 0 ? " (any free port)" : "") + ", unit " +
          std::to_string(c.unit_id) + ", max " + std::to_string(c.max_clients) + (c.max_clients == 1 ? " client" : " clients") +
          ", " + idle_timeout_text(c.idle_timeout_ns) + ", " +
          (c.word_order == WordOrder::HighFirst ? "high word first" : "low word first") + ", " +
-         (c.read_only ? "read only" : "read/write") + ", clients: " + (clients.empty() ? "any" : clients);
+         (c.read_only ? "read only" : "read/write") + ", clients: " + (clients.empty() ? "any" : clients) + cpus;
 }
 
 }  // namespace syncplc

@@ -47,6 +47,10 @@ struct ModbusConfig {
   WordOrder word_order = WordOrder::HighFirst;
   std::vector<ClientNetwork> allowed_clients;  // empty: any client
   bool read_only = false;          // every write answers exception 02
+  // CPUs the server thread may run on (empty: any). Keeping it, and the NIC's
+  // interrupts, off the CPUs of the real-time tasks keeps its work out of their
+  // start jitter (docs/benchmarks.md, section 5).
+  std::vector<int> cpus;
 };
 
 // The settings on one line, as `syncplc check` prints them:

@@ -250,13 +250,19 @@ bool ModbusMap::range(ModbusTable t, std::uint32_t address, std::uint32_t count,
   // where the one before ended.
   const auto& v = tables_[static_cast<int>(t)];
   auto it = std::lower_bound(v.begin(), v.end(), address, [](const ModbusPoint& p, std::uint32_t a) { return p.address < a; });
+  out.resize(count);  // at most one point per address; shrunk below (no allocation once grown)
+  std::size_t n = 0;
   std::uint64_t a = address;
   while (a < end) {
-    if (it == v.end() || it->address != a || it->address + it->width > end) return false;  // unmapped, or a value cut
-    out.push_back(&*it);
+    if (it == v.end() || it->address != a || it->address + it->width > end) {  // unmapped, or a value cut
+      out.clear();
+      return false;
+    }
+    out[n++] = &*it;
     a += it->width;
     ++it;
   }
+  out.resize(n);
   return true;
 }
 

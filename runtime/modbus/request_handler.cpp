@@ -106,8 +106,12 @@ RequestHandler::Outcome RequestHandler::reply(int fd, const std::uint8_t* frame,
 
 void RequestHandler::load(ModbusTable t, const std::vector<const ModbusPoint*>& points) {
   owners_.clear();
-  for (const auto* pt : points)
-    if (std::find(owners_.begin(), owners_.end(), pt->owner) == owners_.end()) owners_.push_back(pt->owner);
+  std::uint16_t last = 0xFFFF;
+  for (const auto* pt : points) {
+    if (pt->owner == last) continue;  // neighbours usually share an owner
+    last = pt->owner;
+    if (std::find(owners_.begin(), owners_.end(), last) == owners_.end()) owners_.push_back(last);
+  }
   std::uint8_t* bits = t == ModbusTable::Coils ? scratch_->tab_bits : scratch_->tab_input_bits;
   std::uint16_t* regs = t == ModbusTable::HoldingRegisters ? scratch_->tab_registers : scratch_->tab_input_registers;
   const bool bit_table = t == ModbusTable::Coils || t == ModbusTable::DiscreteInputs;
@@ -117,7 +121,8 @@ void RequestHandler::load(ModbusTable t, const std::vector<const ModbusPoint*>& 
         if (pt->owner != owner) continue;
         const Cell c = image[pt->cell];
         if (bit_table) bits[pt->address] = (c.raw & 0xFF) ? 1 : 0;
-        else encode_registers(pt->type, c, config_.word_order, regs + pt->address);
+        else if (pt->width == 1 && pt->type != IecType::SINT) regs[pt->address] = static_cast<std::uint16_t>(c.raw);
+        else encode_registers(pt->type, c, config_.word_order, regs + pt->address);  // wide values, SINT's sign
       }
     });
   }

@@ -6,6 +6,8 @@
 #include <modbus/modbus.h>
 #include <netinet/in.h>
 #include <netinet/tcp.h>
+#include <pthread.h>
+#include <sched.h>
 #include <sys/epoll.h>
 #include <sys/eventfd.h>
 #include <sys/resource.h>
@@ -105,6 +107,18 @@ bool Server::start(std::string* error) {
   stop_.store(false);
   running_ = true;
   thread_ = std::thread([this] { loop(); });
+  if (!config_.cpus.empty()) {
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    for (int cpu : config_.cpus) CPU_SET(cpu, &set);
+    if (const int rc = pthread_setaffinity_np(thread_.native_handle(), sizeof set, &set); rc != 0) {
+      std::string list;
+      for (int cpu : config_.cpus) list += (list.empty() ? "" : ",") + std::to_string(cpu);
+      *error = "cannot keep the server thread to CPU " + list + ": " + std::strerror(rc);
+      stop();
+      return false;
+    }
+  }
   return true;
 }
 

@@ -8,7 +8,7 @@ namespace syncplc {
 namespace {
 
 const char* const kSectionKeys =
-    "enabled, port, bind, unit_id, max_clients, idle_timeout, word_order, allowed_clients, read_only";
+    "enabled, port, bind, unit_id, max_clients, idle_timeout, word_order, allowed_clients, read_only, cpus";
 
 // A BOOL setting; false (and `out` unchanged) after reporting a bad value.
 bool read_flag(const ConfigNode& v, const std::string& what, bool& out, Diagnostics& d) {
@@ -85,6 +85,20 @@ void read_allowed_clients(const ConfigNode& v, ModbusConfig& out, Diagnostics& d
   }
 }
 
+// A list of CPU numbers (or one number) the server thread may run on.
+void read_cpus(const ConfigNode& v, ModbusConfig& out, Diagnostics& d) {
+  if (v.is_scalar()) {
+    if (auto c = read_integer(v, "modbus cpus", 0, 1023, d)) out.cpus = {static_cast<int>(*c)};
+    return;
+  }
+  if (!v.is_list() || v.items.empty()) {
+    d.error(v.loc, "modbus cpus: expected a CPU number or a non-empty list of them, e.g. [0, 1]");
+    return;
+  }
+  for (const auto& i : v.items)
+    if (auto c = read_integer(i, "modbus cpus", 0, 1023, d)) out.cpus.push_back(static_cast<int>(*c));
+}
+
 std::optional<ModbusTable> table_by_key(const std::string& key) {
   for (auto t : {ModbusTable::Coils, ModbusTable::DiscreteInputs, ModbusTable::InputRegisters, ModbusTable::HoldingRegisters})
     if (modbus_table_key(t) == key) return t;
@@ -135,6 +149,7 @@ void read_modbus_section(const ConfigNode& n, ModbusConfig& out, Diagnostics& d)
     else if (k == "word_order") read_word_order(v, out, d);
     else if (k == "allowed_clients") read_allowed_clients(v, out, d);
     else if (k == "read_only") read_flag(v, "modbus read_only", out.read_only, d);
+    else if (k == "cpus") read_cpus(v, out, d);
     else d.error(v.loc, "unknown key '" + k + "' in modbus (" + kSectionKeys + ")");
   }
 }

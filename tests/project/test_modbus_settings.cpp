@@ -103,6 +103,7 @@ modbus:
   allowed_clients: [10.0.0.0/33, 1.2.3.4, nope]
   read_only: sometimes
   colour: red
+  cpus: [0, 1024]
 )"),
               ElementsAre("p.yaml:3:12: modbus enabled: 'maybe' is not a BOOL (TRUE or FALSE)",
                           "p.yaml:4:9: modbus port must be an integer 0..65535, not '70000'",
@@ -115,7 +116,19 @@ modbus:
                           "p.yaml:10:43: modbus allowed_clients: 'nope' is not an IPv4 address or network (a.b.c.d or a.b.c.d/n, n 0..32)",
                           "p.yaml:11:14: modbus read_only: 'sometimes' is not a BOOL (TRUE or FALSE)",
                           "p.yaml:12:11: unknown key 'colour' in modbus (enabled, port, bind, unit_id, max_clients, idle_timeout, "
-                          "word_order, allowed_clients, read_only)"));
+                          "word_order, allowed_clients, read_only, cpus)",
+                          "p.yaml:13:13: modbus cpus must be an integer 0..1023, not '1024'"));
+}
+
+TEST(ModbusSection, CpusAreOneNumberOrAList) {
+  auto r = load("tasks: [{name: main, period: 1ms}]\nmodbus: {cpus: [0, 3]}\n");
+  ASSERT_LOADS(r);
+  EXPECT_EQ(r.program->modbus.cpus, (std::vector<int>{0, 3}));
+  auto one = load("tasks: [{name: main, period: 1ms}]\nmodbus: {cpus: 2}\n");
+  ASSERT_LOADS(one);
+  EXPECT_EQ(one.program->modbus.cpus, (std::vector<int>{2}));
+  EXPECT_THAT(errors("tasks: [{name: main, period: 1ms}]\nmodbus: {cpus: []}\n"),
+              ElementsAre("p.yaml:2:16: modbus cpus: expected a CPU number or a non-empty list of them, e.g. [0, 1]"));
 }
 
 TEST(ModbusSection, MoreBadValues) {
@@ -149,7 +162,7 @@ tasks: [{name: main, period: 1ms}]
 modbus: [5020]
 )"),
               ElementsAre("p.yaml:2:9: modbus: expected a map {enabled, port, bind, unit_id, max_clients, idle_timeout, "
-                          "word_order, allowed_clients, read_only}"));
+                          "word_order, allowed_clients, read_only, cpus}"));
 }
 
 TEST(ModbusSection, ComesFromAnIncludedFileOrFromOneFileOnly) {

@@ -223,3 +223,25 @@ TEST_F(ModbusServerThreads, TheProgramIsReplacedUnderLoad) {
 
 }  // namespace
 }  // namespace syncplc
+
+namespace syncplc {
+namespace {
+
+TEST(ModbusServerCpus, TheThreadKeepsToItsCpusOrTheServerDoesNotStart) {
+  auto program = load_test_project(kProject);
+  ASSERT_TRUE(program);
+  ModbusConfig cfg;
+  cfg.port = 0;
+  cfg.cpus = {0};
+  modbus::Server on_cpu0(*program, cfg);
+  std::string err;
+  EXPECT_TRUE(on_cpu0.start(&err)) << err;
+  on_cpu0.stop();
+  cfg.cpus = {1023};  // no such CPU here
+  modbus::Server nowhere(*program, cfg);
+  EXPECT_FALSE(nowhere.start(&err));
+  EXPECT_EQ(err, "cannot keep the server thread to CPU 1023: Invalid argument");
+}
+
+}  // namespace
+}  // namespace syncplc
