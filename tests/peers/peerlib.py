@@ -441,3 +441,37 @@ class Peer:
             v = self.read_values(address, types, table, word_order)
             return all(same_value(t, a, b) for t, a, b in zip(types, v, want)), v
         return wait_until(poll, what)[0]
+
+
+# --- checks shared by the test scripts ---------------------------------------
+
+# (first register, first register of the read-only copies, types) of the
+# writable %MD and %ML blocks of peers_common.yaml.
+MD, MD_R, MD_T = 2108, 2128, ["DINT", "UDINT", "DWORD", "REAL"]
+ML, ML_R, ML_T = 4216, 4256, ["LINT", "ULINT", "LWORD", "LREAL", "TIME"]
+
+
+def check_equal(got, want, what):
+    if got != want:
+        raise AssertionError("%s: got %r, expected %r" % (what, got, want))
+
+
+def check_true(cond, message):
+    if not cond:
+        raise AssertionError(message)
+
+
+def check_values(types, got, want, what):
+    if len(got) != len(want) or not all(same_value(t, a, b) for t, a, b in zip(types, got, want)):
+        raise AssertionError("%s: got %r, expected %r" % (what, got, want))
+
+
+def pymodbus_unanswered(port):
+    """A pymodbus read from a client the server refuses: an error without an exception code, or an exception."""
+    c = pymodbus_client(port, timeout=2)
+    try:
+        r = c.read_holding_registers(1024, 1, slave=1)
+    except Exception as e:  # noqa: BLE001
+        r = e
+    c.close()
+    return isinstance(r, Exception) or (r.isError() and not hasattr(r, "exception_code")), r

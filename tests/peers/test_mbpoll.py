@@ -83,9 +83,7 @@ class Mbpoll:
             time.sleep(0.01)
 
 
-def check(got, want, what):
-    if got != want:
-        raise AssertionError("%s: got %r, expected %r" % (what, got, want))
+check = P.check_equal
 
 
 def hex_regs(s):

@@ -15,19 +15,14 @@ import peerlib as P
 
 INT16 = lambda v: v & 0xFFFF  # noqa: E731  a signed value as the register holds it
 
-# (address, types) of the writable %MD/%ML blocks and of their copies.
-MD, MD_R, MD_T = 2108, 2128, ["DINT", "UDINT", "DWORD", "REAL"]
-ML, ML_R, ML_T = 4216, 4256, ["LINT", "ULINT", "LWORD", "LREAL", "TIME"]
+MD, MD_R, MD_T = P.MD, P.MD_R, P.MD_T
+ML, ML_R, ML_T = P.ML, P.ML_R, P.ML_T
 
 
-def check(got, want, what):
-    if got != want:
-        raise AssertionError("%s: got %r, expected %r" % (what, got, want))
+check = P.check_equal
 
 
-def check_values(types, got, want, what):
-    if not all(P.same_value(t, a, b) for t, a, b in zip(types, got, want)) or len(got) != len(want):
-        raise AssertionError("%s: got %r, expected %r" % (what, got, want))
+check_values = P.check_values
 
 
 def reads(peer):
