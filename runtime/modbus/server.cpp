@@ -134,8 +134,13 @@ void Server::stop() {
     running_ = false;
   }
   swap_cv_.notify_all();
-  for (std::size_t i = 0; i < slots_.size(); ++i)
-    if (slots_[i]->fd >= 0) close_connection(i, counters_.closed_by_peer);
+  // Connections still open at shutdown are closed without counting them as
+  // closed by anyone: the counters say what happened while serving.
+  for (auto& c : slots_)
+    if (c->fd >= 0) {
+      close(c->fd);
+      c->fd = -1;
+    }
   for (int* fd : {&listen_fd_, &epoll_fd_, &wake_fd_})
     if (*fd >= 0) { close(*fd); *fd = -1; }
 }
