@@ -33,14 +33,20 @@ std::int64_t now_ns() {
   return std::int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
 }
 
-// Enough descriptors for every client: Debian's soft limit is 1024.
-void raise_descriptor_limit(int clients) {
+// Enough descriptors for every client: Debian's soft limit is 1024. Returns
+// a warning when the hard limit leaves fewer (accept() then fails with
+// EMFILE before max_clients and the server pauses accepting for a moment).
+std::string raise_descriptor_limit(int clients) {
   rlimit r{};
-  if (getrlimit(RLIMIT_NOFILE, &r) != 0) return;
+  if (getrlimit(RLIMIT_NOFILE, &r) != 0) return {};
   const rlim_t want = static_cast<rlim_t>(clients) + 256;
-  if (r.rlim_cur >= want) return;
+  if (r.rlim_cur >= want) return {};
   r.rlim_cur = std::min(want, r.rlim_max);
-  setrlimit(RLIMIT_NOFILE, &r);
+  if (setrlimit(RLIMIT_NOFILE, &r) == 0 && r.rlim_cur >= want) return {};
+  getrlimit(RLIMIT_NOFILE, &r);
+  return "max_clients " + std::to_string(clients) + " needs " + std::to_string(want) +
+         " descriptors, this process may open only " + std::to_string(r.rlim_cur) +
+         " (raise the hard limit: ulimit -Hn, LimitNOFILE=)";
 }
 
 }  // namespace
@@ -71,7 +77,7 @@ std::size_t Server::handler_map_size() const {
 std::string Server::endpoint() const { return config_.bind + ":" + std::to_string(port_); }
 
 bool Server::start(std::string* error) {
-  raise_descriptor_limit(config_.max_clients);
+  warning_ = raise_descriptor_limit(config_.max_clients);
   modbus_t* ctx = modbus_new_tcp(config_.bind.c_str(), config_.port);
   if (!ctx) {
     *error = std::string("cannot create the listening context: ") + modbus_strerror(errno);
@@ -107,6 +113,7 @@ bool Server::start(std::string* error) {
   stop_.store(false);
   running_ = true;
   thread_ = std::thread([this] { loop(); });
+  pthread_setname_np(thread_.native_handle(), "modbus");  // as ps -L and top -H show it; task threads carry their task's name
   if (!config_.cpus.empty()) {
     cpu_set_t set;
     CPU_ZERO(&set);
@@ -118,8 +125,34 @@ bool Server::start(std::string* error) {
       stop();
       return false;
     }
+  } else {
+    keep_off_task_cpus();
   }
   return true;
+}
+
+// Without `cpus`, the server thread keeps off the CPUs the project pins its
+// real-time tasks to (task `cpu:`), as long as another CPU is left: its
+// system calls and TCP processing would otherwise run where a task must
+// wake on time (docs/benchmarks.md section 5). Nothing pinned: any CPU.
+void Server::keep_off_task_cpus() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(getpid(), sizeof set, &set) != 0) return;  // the process's, not this thread's
+  bool changed = false;
+  for (const auto& task : program_->tasks) {
+    const int cpu = task->config().cpu;
+    if (cpu >= 0 && cpu < CPU_SETSIZE && CPU_ISSET(cpu, &set)) {
+      CPU_CLR(cpu, &set);
+      changed = true;
+    }
+  }
+  if (CPU_COUNT(&set) == 0) return;
+  if (!changed && !off_task_cpus_) return;
+  off_task_cpus_ = changed;
+  if (const int rc = pthread_setaffinity_np(thread_.native_handle(), sizeof set, &set); rc != 0)
+    warning_ += (warning_.empty() ? "" : "; ") + std::string("cannot keep the server thread off the tasks' CPUs: ") +
+                std::strerror(rc);
 }
 
 void Server::stop() {
@@ -173,6 +206,7 @@ void Server::take_new_program() {
   deferred_.clear();
   program_ = next_program_;
   handler_->set_program(*program_);
+  if (config_.cpus.empty()) keep_off_task_cpus();  // the new program may pin its tasks elsewhere
   swap_requested_.store(false, std::memory_order_release);
   swap_cv_.notify_all();
 }

@@ -50,6 +50,12 @@ class Server {
   std::string endpoint() const;               // "127.0.0.1:5020"
   const ModbusConfig& config() const { return config_; }
   const Counters& counters() const { return counters_; }
+  // Set by start() when the server runs with less than it was configured for
+  // (too few descriptors for max_clients); empty otherwise.
+  const std::string& warning() const { return warning_; }
+  // True when the server thread was kept off the CPUs of pinned tasks
+  // (no `cpus` setting, and a CPU without a pinned task was left).
+  bool off_task_cpus() const { return off_task_cpus_; }
   // Coils, inputs and registers mapped (values, not registers).
   std::size_t handler_map_size() const;
 
@@ -69,6 +75,7 @@ class Server {
   void close_connection(std::size_t slot, std::atomic<std::uint64_t>& reason);
   void watch(int fd, std::uint64_t key, std::uint32_t events, bool add);
   void take_new_program();
+  void keep_off_task_cpus();
 
   Program* program_;
   ModbusConfig config_;
@@ -90,6 +97,8 @@ class Server {
   Program* next_program_ = nullptr;
   std::atomic<bool> swap_requested_{false};
   bool running_ = false;
+  std::string warning_;
+  bool off_task_cpus_ = false;
 };
 
 }  // namespace syncplc::modbus

@@ -5,6 +5,7 @@
 // timing; these run under ThreadSanitizer (label "threaded").
 #include <modbus/modbus.h>
 #include <netinet/in.h>
+#include <sched.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -13,6 +14,8 @@
 #include <atomic>
 #include <chrono>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <thread>
 #include <vector>
 
@@ -241,6 +244,73 @@ TEST(ModbusServerCpus, TheThreadKeepsToItsCpusOrTheServerDoesNotStart) {
   modbus::Server nowhere(*program, cfg);
   EXPECT_FALSE(nowhere.start(&err));
   EXPECT_EQ(err, "cannot keep the server thread to CPU 1023: Invalid argument");
+}
+
+// The CPUs the server thread ("modbus") may run on, from /proc.
+std::string modbus_thread_cpus() {
+  for (const auto& t : std::filesystem::directory_iterator("/proc/self/task")) {
+    std::ifstream comm(t.path() / "comm");
+    std::string name;
+    std::getline(comm, name);
+    if (name != "modbus") continue;
+    std::ifstream status(t.path() / "status");
+    for (std::string line; std::getline(status, line);)
+      if (line.rfind("Cpus_allowed_list:", 0) == 0) return line.substr(line.find_first_not_of(" \t", 18));
+  }
+  return "no modbus thread";
+}
+
+TEST(ModbusServerCpus, WithoutCpusTheThreadKeepsOffPinnedTasksCpus) {
+  cpu_set_t all;
+  ASSERT_EQ(sched_getaffinity(0, sizeof all, &all), 0);
+  if (!CPU_ISSET(0, &all) || !CPU_ISSET(1, &all)) GTEST_SKIP() << "needs CPUs 0 and 1";
+  std::string others;  // every CPU this process may use but 0
+  for (int c = 1; c < CPU_SETSIZE; ++c)
+    if (CPU_ISSET(c, &all)) others += (others.empty() ? "" : ",") + std::to_string(c);
+  std::string everything = "0," + others;
+  auto compact = [](std::string list) {  // "1,2,3" as /proc writes it: "1-3"
+    std::vector<int> v;
+    for (std::size_t at = 0; at < list.size();) {
+      const std::size_t end = list.find(',', at);
+      v.push_back(std::stoi(list.substr(at, end - at)));
+      at = end == std::string::npos ? list.size() : end + 1;
+    }
+    std::string out;
+    for (std::size_t i = 0; i < v.size();) {
+      std::size_t j = i;
+      while (j + 1 < v.size() && v[j + 1] == v[j] + 1) ++j;
+      out += (out.empty() ? "" : ",") + std::to_string(v[i]) + (j > i ? "-" + std::to_string(v[j]) : "");
+      i = j + 1;
+    }
+    return out;
+  };
+  std::string project = kProject;
+  const std::string task_line = "  - {name: fast, period: 200us}";
+  project.replace(project.find(task_line), task_line.size(), "  - {name: fast, period: 200us, cpu: 0}");
+  auto pinned = load_test_project(project);
+  auto free = load_test_project(kProject);
+  ASSERT_TRUE(pinned && free);
+  ModbusConfig cfg;
+  cfg.port = 0;
+  std::string err;
+  {
+    modbus::Server server(*pinned, cfg);
+    ASSERT_TRUE(server.start(&err)) << err;
+    EXPECT_TRUE(server.off_task_cpus());
+    EXPECT_EQ(modbus_thread_cpus(), compact(others)) << "off CPU 0, where task fast runs";
+    server.replace_program(*free);  // an online change to a program that pins nothing
+    EXPECT_FALSE(server.off_task_cpus());
+    EXPECT_EQ(modbus_thread_cpus(), compact(everything));
+    server.replace_program(*pinned);
+    EXPECT_EQ(modbus_thread_cpus(), compact(others));
+  }
+  {
+    cfg.cpus = {0};  // set by hand: the setting wins, even on a pinned task's CPU
+    modbus::Server server(*pinned, cfg);
+    ASSERT_TRUE(server.start(&err)) << err;
+    EXPECT_FALSE(server.off_task_cpus());
+    EXPECT_EQ(modbus_thread_cpus(), "0");
+  }
 }
 
 }  // namespace
