@@ -31,7 +31,7 @@
 #                   with its server idle (a control: Modbus traffic on the machine, not syncplc's server)
 #   JITTER_ROUNDS   (default 2)
 #   LOAD_PREFIX     command put before every bench_modbus_load (e.g. "taskset -c 1"); default none
-#   ISOLATE         1: the task on CPU 1, the server thread and the load on CPU 0 (see below)
+#   ISOLATE         1: the task on CPU 1, the load on CPU 0 (the server thread keeps off CPU 1; see below)
 #
 # Client and server share the machine's CPUs: on a 2-CPU machine the load
 # generator's threads compete with the server thread (and the 1 ms task) for
@@ -53,15 +53,14 @@ jitter_rounds=${JITTER_ROUNDS:-2}
 read -r -a load_prefix <<<"${LOAD_PREFIX:-}"
 
 # ISOLATE=1: the deployment layout on 2 CPUs. The 1 ms task is pinned to CPU 1
-# (task `cpu: 1`), the Modbus server thread kept to CPU 0 (`modbus: {cpus: [0]}`),
-# and the load generator run on CPU 0 (taskset), standing in for remote clients
-# whose network interrupts are steered away from the real-time CPU.
+# (task `cpu: 1`); the Modbus server thread then keeps off it by itself (no
+# `cpus` setting: it avoids the pinned tasks' CPUs), and the load generator
+# runs on CPU 0 (taskset), standing in for remote clients whose network
+# interrupts are steered away from the real-time CPU.
 if [ "${ISOLATE:-0}" = 1 ]; then
-  isolated=$(mktemp --suffix=.yaml)
-  trap 'rm -f "$isolated"' EXIT
+  isolated=$(mktemp --suffix=.yaml)  # removed by cleanup below
   sed 's/^  - {name: main, period: 1ms, priority: 80}$/  - {name: main, period: 1ms, priority: 80, cpu: 1}/' "$project" >"$isolated"
   grep -q 'cpu: 1}' "$isolated" || { echo "modbus_bench.sh: ISOLATE=1 expects the task line of $project" >&2; exit 2; }
-  printf '\nmodbus: {cpus: [0]}\n' >>"$isolated"
   project=$isolated
   [ ${#load_prefix[@]} -eq 0 ] && load_prefix=(taskset -c 0)
 fi
@@ -80,6 +79,8 @@ cleanup() {
   for p in "${pids[@]}"; do kill -TERM "$p" 2>/dev/null || true; done
   wait 2>/dev/null || true
   rm -rf "$tmp"
+  [ -n "${isolated:-}" ] && rm -f "$isolated"
+  return 0
 }
 trap cleanup EXIT
 
@@ -98,14 +99,13 @@ port_of() {
 }
 
 # On-CPU time (ns, from /proc/PID/task/TID/schedstat) of a server's thread:
-# the bare server's only thread, or syncplc's Modbus thread (the thread named
-# like the process that is not the main thread; the task threads carry their
-# task's name).
+# the bare server's only thread, or syncplc's Modbus thread (named "modbus";
+# the task threads carry their task's name).
 server_tid() {
   local pid=$1 t
   [ "$(ls /proc/"$pid"/task | wc -l)" -eq 1 ] && { echo "$pid"; return; }
   for t in /proc/"$pid"/task/*; do
-    [ "${t##*/}" != "$pid" ] && [ "$(cat "$t"/comm)" = "$(cat /proc/"$pid"/comm)" ] && { echo "${t##*/}"; return; }
+    [ "$(cat "$t"/comm)" = modbus ] && { echo "${t##*/}"; return; }
   done
 }
 cpu_ns() { awk '{ print $1 }' /proc/"$1"/task/"$2"/schedstat; }
