@@ -44,6 +44,7 @@ std::uint64_t mix_seed(std::uint64_t seed, const std::string& name) {
 struct TaskDecl {
   TaskConfig cfg;
   SourceLoc loc;
+  std::optional<SourceLoc> write_queue_loc;  // set by the project (else the default, which may grow)
 };
 
 struct TagDecl {
@@ -131,7 +132,9 @@ class Loader : public DriverSetup {
   void override_driver_settings(ConfigNode& drivers);
   void read_connections(const ConfigNode& n);
   void read_metrics(const ConfigNode& n);
+  std::vector<Tag> modbus_tags() const;
   void check_modbus_places();
+  void size_write_queues();
   bool parse_endpoint(const std::string& text, const SourceLoc& loc, Endpoint& e);
   void apply_overrides();
   void check_params();
@@ -375,7 +378,10 @@ void Loader::read_tasks(const ConfigNode& n) {
       } else if (k == "write_queue") {
         auto c = parse_value(IecType::UDINT, v.scalar, &err);
         if (!c || c->get<std::uint32_t>() < 16 || c->get<std::uint32_t>() > 1'000'000) d_.error(v.loc, "write_queue: 16..1000000 entries");
-        else td.cfg.write_queue = c->get<std::uint32_t>();
+        else {
+          td.cfg.write_queue = c->get<std::uint32_t>();
+          td.write_queue_loc = v.loc;
+        }
       } else if (k == "watchdog") {
         if (!v.is_map()) { d_.error(v.loc, "watchdog: expected a map {time, sensitivity, action}"); continue; }
         td.cfg.watchdog = true;
@@ -932,15 +938,36 @@ void Loader::read_metrics(const ConfigNode& n) {
 // Two tags may not share a coil or register. Checked with the map the server
 // will build, on the tags read so far; a tag whose modbus: key was wrong is
 // left out so that it causes no second error.
-void Loader::check_modbus_places() {
+std::vector<Tag> Loader::modbus_tags() const {
   std::vector<Tag> tags;
-  std::vector<SourceLoc> place_loc;
   for (const auto& td : tags_) {
     tags.push_back(td.tag);
     if (td.modbus_failed) tags.back().hmi = HmiAccess::None;
-    place_loc.push_back(td.modbus_loc);
   }
-  check_modbus_overlaps(tags, place_loc, d_);
+  return tags;
+}
+
+void Loader::check_modbus_places() {
+  std::vector<SourceLoc> place_loc;
+  for (const auto& td : tags_) place_loc.push_back(td.modbus_loc);
+  check_modbus_overlaps(modbus_tags(), place_loc, d_);
+}
+
+// A task's write queue must hold the largest write one Modbus request can
+// bring it (largest_modbus_writes): the default grows to fit, a write_queue
+// the project set too small is an error at that key.
+void Loader::size_write_queues() {
+  const auto most = largest_modbus_writes(modbus_tags(), tasks_.size());
+  for (std::size_t i = 0; i < tasks_.size(); ++i) {
+    TaskDecl& td = tasks_[i];
+    if (most[i] <= td.cfg.write_queue) continue;
+    if (td.write_queue_loc)
+      d_.error(*td.write_queue_loc, "write_queue " + std::to_string(td.cfg.write_queue) + " of task " + td.cfg.name +
+                                        " cannot hold one Modbus write to its tags: a request can queue " +
+                                        std::to_string(most[i]) + " values to it at once");
+    else
+      td.cfg.write_queue = most[i];
+  }
 }
 
 void Loader::apply_overrides() {
@@ -1389,6 +1416,7 @@ std::unique_ptr<Program> Loader::build() {
   prog->version = version_;
   prog->file = file_;
   prog->seed = seed_;
+  size_write_queues();
   const std::size_t nt = tasks_.size();
   for (std::size_t i = 0; i < nt; ++i) prog->tasks.push_back(std::make_unique<Task>(static_cast<std::uint16_t>(i), tasks_[i].cfg));
 

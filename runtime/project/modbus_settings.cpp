@@ -2,6 +2,8 @@
 
 #include <arpa/inet.h>
 
+#include <algorithm>
+
 #include "runtime/modbus/register_map.hpp"
 
 namespace syncplc {
@@ -204,6 +206,20 @@ void check_modbus_overlaps(const std::vector<Tag>& tags, const std::vector<Sourc
     d.error(place_loc[blamed], "modbus place of " + b.name + " (" + span_of(b, blamed_span) + ") overlaps " + n.name + " (" +
                                    span_of(n, named_span) + ", defined at " + n.loc.text() + ")");
   }
+}
+
+std::vector<std::size_t> largest_modbus_writes(const std::vector<Tag>& tags, std::size_t tasks) {
+  constexpr std::size_t kMaxWriteCoils = 1968, kMaxWriteRegisters = 123;  // FC 15, FC 16 (Modbus V1.1b3 §6.11, §6.12)
+  const ModbusMap map = ModbusMap::build(tags);
+  std::vector<std::size_t> coils(tasks, 0), registers(tasks, 0);
+  for (const auto& pt : map.points(ModbusTable::Coils))
+    if (pt.writable) ++coils[pt.owner];
+  for (const auto& pt : map.points(ModbusTable::HoldingRegisters))
+    if (pt.writable) ++registers[pt.owner];
+  std::vector<std::size_t> most(tasks);
+  for (std::size_t t = 0; t < tasks; ++t)
+    most[t] = std::max(std::min(coils[t], kMaxWriteCoils), std::min(registers[t], kMaxWriteRegisters));
+  return most;
 }
 
 }  // namespace syncplc

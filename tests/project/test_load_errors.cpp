@@ -263,6 +263,23 @@ tasks:
                              "p.yaml:2:55: cpu: a CPU number 0..1023", "p.yaml:2:72: write_queue: 16..1000000 entries"));
 }
 
+TEST(LoadErrors, AWriteQueueTooSmallForOneModbusWrite) {
+  // 20 writable registers of task a: one FC 16 can queue 20 values, its queue holds 16.
+  // Task b's 200 coils, read only, and c's default queue (which grows) are no error.
+  auto e = errors(R"(
+tasks:
+  - {name: a, period: 1ms, write_queue: 16}
+  - {name: b, period: 1ms, write_queue: 16}
+  - {name: c, period: 1ms}
+tags:
+  - {name: sp, type: "ARRAY[0..19] OF INT", address: "%MW0", hmi: readwrite, task: a}
+  - {name: lamps, type: "ARRAY[0..199] OF BOOL", address: "%QX0.0", hmi: read, task: b}
+  - {name: valves, type: "ARRAY[0..1999] OF BOOL", address: "%QX100.0", hmi: readwrite, task: c}
+)");
+  EXPECT_THAT(e, ElementsAre("p.yaml:2:41: write_queue 16 of task a cannot hold one Modbus write to its tags: "
+                             "a request can queue 20 values to it at once"));
+}
+
 // --- blocks -------------------------------------------------------------------------------
 
 TEST(LoadErrors, UnknownBlockType) {

@@ -157,6 +157,25 @@ tasks:
   EXPECT_EQ(c.action, WatchdogAction::Stop);
 }
 
+TEST(LoadOk, TheDefaultWriteQueueGrowsToTheLargestModbusWrite) {
+  // FC 15 can carry 1968 coils, FC 16 123 registers: what one request can queue
+  // to a task must fit its queue (applied whole in one scan).
+  auto r = load(R"(
+tasks:
+  - {name: coils, period: 1ms}
+  - {name: regs, period: 1ms}
+  - {name: few, period: 1ms, write_queue: 16}
+tags:
+  - {name: valves, type: "ARRAY[0..2999] OF BOOL", address: "%QX0.0", hmi: readwrite, task: coils}
+  - {name: sp, type: "ARRAY[0..999] OF INT", address: "%MW0", hmi: readwrite, task: regs}
+  - {name: trims, type: "ARRAY[0..15] OF LREAL", address: "%ML300", hmi: readwrite, task: few}
+)");
+  ASSERT_LOADS(r);
+  EXPECT_EQ(r.program->tasks[0]->config().write_queue, 1968u);
+  EXPECT_EQ(r.program->tasks[1]->config().write_queue, 1024u) << "123 fit the default";
+  EXPECT_EQ(r.program->tasks[2]->config().write_queue, 16u) << "16 values, 64 registers";
+}
+
 TEST(LoadOk, PeriodLimitsAreInclusive) {
   ASSERT_LOADS(load("tasks: [{name: a, period: 100us}, {name: b, period: 10s}, {name: c, period: 0.5ms}]\n"));
 }
