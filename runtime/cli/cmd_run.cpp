@@ -148,10 +148,15 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
         for (const auto& d : next.diagnostics.sorted()) std::cerr << d.text() << "\n";
         std::cerr << "syncplc: reload failed; the running program continues unchanged\n";
       } else {
+        // No request is taken from here until the server has the program to
+        // serve: a write acknowledged before reaches the old queues, which are
+        // applied to the old image and so carried over with the tags.
+        if (modbus_server) modbus_server->hold();
         runner->request_stop();
         runner->join();
         p.close_drivers();
         print_events(std::cerr, p);
+        for (auto& t : p.tasks) t->flush_queued_writes();
         std::size_t kept = carry_over_tags(p, *next.program);
         if (!next.program->open_drivers(&err)) {
           std::cerr << "syncplc: reload: " << err << "; restarting the previous program\n";
@@ -159,6 +164,7 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
             std::cerr << "syncplc: " << err << "\n";
             return kExitInvalid;
           }
+          if (modbus_server) modbus_server->replace_program(p);  // the same program again
         } else {
           // The server lets go of the old program before it is destroyed;
           // changed server settings mean a new server (clients reconnect).

@@ -180,11 +180,31 @@ void Task::apply_safe_state(ScanContext& ctx) noexcept {
 }
 
 bool Task::enqueue(const QueuedWrite* writes, std::size_t n) {
-  std::lock_guard lock(write_producers_);
-  if (!writes_.has_room(n)) return false;
-  for (std::size_t i = 0; i < n; ++i) writes_.stage(writes[i]);
-  writes_.commit();
-  return true;
+  const WriteBatch one{this, writes, n};
+  return enqueue_all(&one, 1);
+}
+
+bool Task::enqueue_all(const WriteBatch* batches, std::size_t count) {
+  // With every producer lock held no other writer can take room, and a scan
+  // only makes more: checked room stays room until the commits.
+  for (std::size_t i = 0; i < count; ++i) batches[i].task->write_producers_.lock();
+  bool room = true;
+  for (std::size_t i = 0; i < count && room; ++i) room = batches[i].task->writes_.has_room(batches[i].n);
+  if (room)
+    for (std::size_t i = 0; i < count; ++i) {
+      auto& ring = batches[i].task->writes_;
+      for (std::size_t k = 0; k < batches[i].n; ++k) ring.stage(batches[i].writes[k]);
+      ring.commit();
+    }
+  for (std::size_t i = count; i-- > 0;) batches[i].task->write_producers_.unlock();
+  return room;
+}
+
+void Task::flush_queued_writes() {
+  std::lock_guard lock(write_producers_);  // no writer is half-way through a batch
+  if (writes_.size_approx() == 0) return;
+  apply_writes();
+  publish();
 }
 
 void Task::read_published(std::uint32_t first, std::uint32_t n, Cell* out) {

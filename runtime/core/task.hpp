@@ -143,6 +143,19 @@ class Task : private EventSink {
   // Queues writes to be applied together at the start of the next scan; false
   // (nothing queued) when the queue lacks room. Thread-safe, never blocks the scan.
   bool enqueue(const QueuedWrite* writes, std::size_t n);
+  // One request's writes to several tasks: every batch is queued, or none
+  // (false) when one task's queue lacks room. Batches name distinct tasks in
+  // ascending index order (the order their locks are taken in).
+  struct WriteBatch {
+    Task* task;
+    const QueuedWrite* writes;
+    std::size_t n;
+  };
+  static bool enqueue_all(const WriteBatch* batches, std::size_t count);
+  // Once the task has stopped for good (online change): applies the writes
+  // still queued to the image and publishes it, so that a write its sender
+  // was told is queued is not lost with the old program. Never while it runs.
+  void flush_queued_writes();
   // Copies the latest published values of the owned cells [first, first+n).
   void read_published(std::uint32_t first, std::uint32_t n, Cell* out);
   // Calls f(const Cell* owned) with the latest published snapshot, held for

@@ -73,6 +73,7 @@ RequestHandler::RequestHandler(const ModbusConfig& config, Counters& counters) :
   staged_.reserve(kMaxWriteBits);
   staged_task_.reserve(kMaxWriteBits);
   batch_.reserve(kMaxWriteBits);
+  batches_.reserve(16);
 }
 
 RequestHandler::~RequestHandler() {
@@ -158,16 +159,27 @@ bool RequestHandler::queue_staged(PendingReply* pending) {
   owners_.clear();
   for (const std::uint16_t o : staged_task_)
     if (std::find(owners_.begin(), owners_.end(), o) == owners_.end()) owners_.push_back(o);
+  std::sort(owners_.begin(), owners_.end());  // Task::enqueue_all takes the tasks' locks in index order
+  batch_.clear();
+  batches_.clear();
   for (const std::uint16_t owner : owners_) {
-    batch_.clear();
+    const std::size_t first = batch_.size();
     for (std::size_t i = 0; i < staged_.size(); ++i)
       if (staged_task_[i] == owner) batch_.push_back(staged_[i]);
-    Task& task = *program_->tasks[owner];
-    if (!task.enqueue(batch_.data(), batch_.size())) return false;
-    counters_.values_written.fetch_add(batch_.size(), std::memory_order_relaxed);
-    // Read after queuing: publication n + 2 comes from a scan that started after this write was queued.
-    if (pending) pending->waits.push_back(PendingReply::Wait{owner, task.published_count() + 2});
+    batches_.push_back(Task::WriteBatch{program_->tasks[owner].get(), nullptr, batch_.size() - first});
   }
+  const QueuedWrite* at = batch_.data();
+  for (auto& b : batches_) {
+    b.writes = at;
+    at += b.n;
+  }
+  // All or nothing: a request whose write spans two tasks is never half applied.
+  if (!Task::enqueue_all(batches_.data(), batches_.size())) return false;
+  counters_.values_written.fetch_add(batch_.size(), std::memory_order_relaxed);
+  // Read after queuing: publication n + 2 comes from a scan that started after this write was queued.
+  if (pending)
+    for (const std::uint16_t owner : owners_)
+      pending->waits.push_back(PendingReply::Wait{owner, program_->tasks[owner]->published_count() + 2});
   return true;
 }
 
@@ -277,21 +289,35 @@ RequestHandler::Outcome RequestHandler::finish(int fd, PendingReply& pending, st
     return program_->tasks[w.task]->published_count() >= w.published;
   });
   if (!published && now_ns >= pending.deadline_ns) return exception(fd, pending.frame, kServerDeviceFailure);
-  // Checked when it was queued, against the same program.
+  return answer_now(fd, pending);
+}
+
+RequestHandler::Outcome RequestHandler::answer_now(int fd, PendingReply& pending) {
+  pending.active = false;
+  // Checked when it was queued; after an online change the new program may not map it.
   if (!map_.range(ModbusTable::HoldingRegisters, get_u16(pending.frame + kAddress), get_u16(pending.frame + kQuantity),
                   reads_))
     return exception(fd, pending.frame, kServerDeviceFailure);
   load(ModbusTable::HoldingRegisters, reads_);
-  // modbus_reply writes the request's values into the scratch mapping before it reads
-  // the read range back; where the two overlap the reply shows the written values, as
-  // the protocol says (write before read). Those values are what was published, unless
-  // the program itself changed them in that scan.
-  return reply(fd, pending.frame, pending.length);
+  // Built here, not by modbus_reply: that would copy the request's values into
+  // the read range first, and so show what the client sent where the program
+  // has since changed it. This reads back the snapshot that holds the write
+  // and what the scan made of it.
+  const std::uint16_t first = get_u16(pending.frame + kAddress), count = get_u16(pending.frame + kQuantity);
+  std::uint8_t out[kMbapLength + 2 + 2 * kMaxWriteReadRead];
+  const std::size_t length = kMbapLength + 2 + 2 * std::size_t{count};
+  std::copy(pending.frame, pending.frame + kMbapLength, out);  // transaction id, protocol id, unit id
+  out[4] = static_cast<std::uint8_t>((length - 6) >> 8);
+  out[5] = static_cast<std::uint8_t>(length - 6);
+  out[kFunction] = kWriteReadRegisters;
+  out[kFunction + 1] = static_cast<std::uint8_t>(2 * count);
+  for (std::uint32_t i = 0; i < count; ++i) {
+    const std::uint16_t r = scratch_->tab_registers[first + i];
+    out[kFunction + 2 + 2 * i] = static_cast<std::uint8_t>(r >> 8);
+    out[kFunction + 3 + 2 * i] = static_cast<std::uint8_t>(r);
+  }
+  return send(fd, out, length, MSG_NOSIGNAL) == static_cast<ssize_t>(length) ? Outcome::Sent : Outcome::SendFailed;
 }
 
-RequestHandler::Outcome RequestHandler::abandon(int fd, PendingReply& pending) {
-  pending.active = false;
-  return exception(fd, pending.frame, kServerDeviceFailure);
-}
 
 }  // namespace syncplc::modbus

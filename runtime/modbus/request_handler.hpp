@@ -6,17 +6,19 @@
 // (03). Only a request that has passed every check reaches libmodbus's
 // modbus_reply, which builds and sends the normal response from a scratch
 // mapping the handler fills from the tasks' published snapshots; exception
-// responses (9 bytes) are built here. That order
+// responses (9 bytes) and the response to a write and read (FC 23, whose
+// read part must come from the snapshot, not from the request) are built here. That order
 // also keeps modbus_reply away from its own error paths, which sleep for the
 // response timeout and flush the socket (libmodbus 3.1.6): the server thread
 // must never sleep.
 //
 // Reads take each owning task's latest published snapshot once, under that
 // task's snapshot lock, so a request never mixes two scans of one task.
-// Writes become QueuedWrites, one batch per owning task, applied at the
-// start of its next scan in arrival order; the reply is sent after they are
-// queued. A write and read (FC 23) is answered once the write is in a
-// published snapshot (Task::published_count), so its read part shows it.
+// Writes become QueuedWrites, one batch per owning task, all queued or
+// none, applied at the start of each task's next scan in arrival order; the
+// reply is sent after they are queued. A write and read (FC 23) is answered
+// once the write is in a published snapshot (Task::published_count), so its
+// read part shows it as the program left it.
 #pragma once
 
 #include <cstdint>
@@ -80,8 +82,11 @@ class RequestHandler {
   bool ready(const PendingReply& pending, std::int64_t now_ns) const;
   // Sends it: the read part, or exception 04 when the write was not published by the deadline.
   Outcome finish(int fd, PendingReply& pending, std::int64_t now_ns);
-  // Answers a deferred request with exception 04 at once (the program is being replaced).
-  Outcome abandon(int fd, PendingReply& pending);
+  // Sends it now, its read part from the snapshots of the program set now:
+  // after an online change, whose new program starts with the values the old
+  // one ended with, its queued writes included. Exception 04 when the new
+  // program does not map the read range.
+  Outcome answer_now(int fd, PendingReply& pending);
 
  private:
   Outcome exception(int fd, const std::uint8_t* frame, std::uint8_t code);
@@ -92,7 +97,7 @@ class RequestHandler {
   // big-endian words). False when a value is outside its tag's type (exception 03).
   bool stage_bits(const std::vector<const ModbusPoint*>& points, const std::uint8_t* bits);
   bool stage_registers(const std::vector<const ModbusPoint*>& points, const std::uint8_t* words);
-  // Queues the staged writes, one batch per owning task. False: a queue was full (exception 06).
+  // Queues the staged writes, one batch per owning task, all or none. False: a queue was full (exception 06).
   bool queue_staged(PendingReply* waits);
 
   const ModbusConfig& config_;
@@ -104,7 +109,8 @@ class RequestHandler {
   std::vector<const ModbusPoint*> reads_, writes_;  // the points of a request (reused: no allocation)
   std::vector<QueuedWrite> staged_;           // cell values, in address order
   std::vector<std::uint16_t> staged_task_;    // owner of each staged value
-  std::vector<QueuedWrite> batch_;
+  std::vector<QueuedWrite> batch_;            // staged_, grouped by owning task
+  std::vector<Task::WriteBatch> batches_;     // one per owning task, into batch_
   std::vector<std::uint16_t> owners_;
 };
 

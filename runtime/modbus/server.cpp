@@ -157,7 +157,11 @@ void Server::keep_off_task_cpus() {
 
 void Server::stop() {
   if (thread_.joinable()) {
-    stop_.store(true, std::memory_order_release);
+    {
+      std::lock_guard lk(swap_mutex_);  // a thread held for an online change waits on swap_cv_
+      stop_.store(true, std::memory_order_release);
+    }
+    swap_cv_.notify_all();
     const std::uint64_t one = 1;
     if (write(wake_fd_, &one, sizeof one) < 0) { /* the loop also polls stop_ every 100 ms */ }
     thread_.join();
@@ -178,6 +182,15 @@ void Server::stop() {
     if (*fd >= 0) { close(*fd); *fd = -1; }
 }
 
+void Server::hold() {
+  std::unique_lock lk(swap_mutex_);
+  if (!running_ || held_) return;
+  hold_requested_.store(true, std::memory_order_release);
+  const std::uint64_t one = 1;
+  if (write(wake_fd_, &one, sizeof one) < 0) { /* polled every 100 ms as well */ }
+  swap_cv_.wait(lk, [this] { return held_ || !running_ || stop_.load(); });
+}
+
 void Server::replace_program(Program& program) {
   std::unique_lock lk(swap_mutex_);
   if (!running_) {
@@ -186,28 +199,51 @@ void Server::replace_program(Program& program) {
     return;
   }
   next_program_ = &program;
-  swap_requested_.store(true, std::memory_order_release);
-  const std::uint64_t one = 1;
-  if (write(wake_fd_, &one, sizeof one) < 0) { /* polled every 100 ms as well */ }
-  swap_cv_.wait(lk, [this] { return !swap_requested_.load() || !running_; });
+  if (!held_) {
+    hold_requested_.store(true, std::memory_order_release);
+    const std::uint64_t one = 1;
+    if (write(wake_fd_, &one, sizeof one) < 0) { /* polled every 100 ms as well */ }
+  }
+  swap_cv_.notify_all();
+  swap_cv_.wait(lk, [this] { return next_program_ == nullptr || !running_ || stop_.load(); });
 }
 
-void Server::take_new_program() {
-  std::lock_guard lk(swap_mutex_);
-  for (std::size_t slot : deferred_) {
-    Connection& c = *slots_[slot];
-    if (c.fd < 0) continue;
-    if (handler_->abandon(c.fd, c.pending) != RequestHandler::Outcome::Sent) close_connection(slot, counters_.closed_unsendable);
-    else {
-      c.paused = false;
-      watch(c.fd, slot + 1, EPOLLIN | EPOLLRDHUP, false);
-    }
-  }
-  deferred_.clear();
+// In the server thread: parks until replace_program() (or stop()) gives the
+// next program, then serves it. Clients wait meanwhile: their requests stay
+// in the kernel's buffers, nothing is read, answered or lost.
+void Server::hold_and_take_new_program() {
+  std::unique_lock lk(swap_mutex_);
+  held_ = true;
+  swap_cv_.notify_all();
+  swap_cv_.wait(lk, [this] { return next_program_ != nullptr || stop_.load(); });
+  held_ = false;
+  hold_requested_.store(false, std::memory_order_release);
+  if (!next_program_) return;  // stopping
+  const std::int64_t now = now_ns();
   program_ = next_program_;
   handler_->set_program(*program_);
   if (config_.cpus.empty()) keep_off_task_cpus();  // the new program may pin its tasks elsewhere
-  swap_requested_.store(false, std::memory_order_release);
+  // Write-and-reads that waited for the old program's scans are answered from
+  // the new program (which starts with the old one's values, their writes
+  // included: syncplc run flushes the old queues before it carries the tags
+  // over); what their clients sent behind them is served at once.
+  std::vector<std::size_t> waiting;
+  waiting.swap(deferred_);
+  for (std::size_t slot : waiting) {
+    Connection& c = *slots_[slot];
+    if (c.fd < 0) continue;
+    if (handler_->answer_now(c.fd, c.pending) != RequestHandler::Outcome::Sent) {
+      close_connection(slot, counters_.closed_unsendable);
+      continue;
+    }
+    c.paused = false;
+    watch(c.fd, slot + 1, EPOLLIN | EPOLLRDHUP, false);
+  }
+  for (std::size_t slot : waiting)
+    if (slots_[slot]->fd >= 0 && !slots_[slot]->paused) serve_frames(slot, now);
+  waiting.clear();
+  if (deferred_.empty()) deferred_.swap(waiting);  // keep the reserved capacity
+  next_program_ = nullptr;
   swap_cv_.notify_all();
 }
 
@@ -225,7 +261,10 @@ void Server::loop() {
     const int timeout_ms = deferred_.empty() ? static_cast<int>(kIdleCheckNs / 1'000'000) : 1;
     const int n = epoll_wait(epoll_fd_, events, 64, timeout_ms);
     const std::int64_t now = now_ns();
-    if (swap_requested_.load(std::memory_order_acquire)) take_new_program();
+    if (hold_requested_.load(std::memory_order_acquire)) {
+      hold_and_take_new_program();
+      continue;  // the events of this round may be of connections closed meanwhile: wait again
+    }
     for (int i = 0; i < n; ++i) {
       const std::uint64_t key = events[i].data.u64;
       if (key == kWakeKey) {
@@ -237,9 +276,16 @@ void Server::loop() {
         const std::size_t slot = key - 1;
         if (slot >= slots_.size() || slots_[slot]->fd < 0) continue;
         if (slots_[slot]->paused) {
-          // The client hung up or shut its side while its FC 23 waits: stop
+          if (events[i].events & (EPOLLHUP | EPOLLERR)) {
+            // Reset, or both directions shut, while its FC 23 waits: nobody
+            // can read the reply. (epoll reports these whatever the mask, so
+            // the connection must go, or the loop would spin.)
+            close_connection(slot, counters_.closed_by_peer);
+            continue;
+          }
+          // The client shut its sending side while its FC 23 waits: stop
           // watching (level-triggered, this would spin); the reply is still
-          // tried, and the next read finds the end of the stream.
+          // sent, and the next read finds the end of the stream.
           watch(slots_[slot]->fd, key, 0, false);
           continue;
         }
@@ -302,6 +348,10 @@ void Server::accept_clients(std::int64_t now) {
 
 void Server::on_readable(std::size_t slot, std::int64_t now) {
   Connection& c = *slots_[slot];
+  if (c.used == kBufferSize) {  // whole frames only (a frame is at most 260 bytes): answer them first
+    serve_frames(slot, now);
+    if (c.fd < 0 || c.used == kBufferSize) return;
+  }
   // One recv per readiness: every ready connection gets its turn in each round.
   const ssize_t got = recv(c.fd, c.buf + c.used, kBufferSize - c.used, 0);
   if (got == 0) { close_connection(slot, counters_.closed_by_peer); return; }
@@ -367,6 +417,8 @@ void Server::close_idle(std::int64_t now) {
 void Server::close_connection(std::size_t slot, std::atomic<std::uint64_t>& reason) {
   Connection& c = *slots_[slot];
   if (c.fd < 0) return;
+  // A reply still waiting goes with it (the slot may be taken by a new client at once).
+  if (c.paused) deferred_.erase(std::remove(deferred_.begin(), deferred_.end(), slot), deferred_.end());
   --open_;
   reason.fetch_add(1, std::memory_order_relaxed);  // before the client can see the close
   counters_.open.store(open_, std::memory_order_relaxed);

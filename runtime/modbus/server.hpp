@@ -59,9 +59,15 @@ class Server {
   // Coils, inputs and registers mapped (values, not registers).
   std::size_t handler_map_size() const;
 
-  // Serves `program` from now on (after an online change): returns once the
-  // server thread has let go of the previous one. Writes and reads waiting
-  // for the previous program's scans are answered with exception 04.
+  // Online change, in two steps. hold(): returns once the server thread has
+  // stopped taking requests (clients wait, their requests stay queued in the
+  // kernel), so that no write reaches the old program's queues after its
+  // tasks stopped. replace_program(): serves `program` from now on, held or
+  // not; returns once the thread has let go of the previous one. Write and
+  // reads (FC 23) still waiting for the previous program's scans are answered
+  // from the new program's snapshots: the caller has flushed the old tasks'
+  // queues (Task::flush_queued_writes) and carried the tags over by then.
+  void hold();
   void replace_program(Program& program);
 
  private:
@@ -74,7 +80,7 @@ class Server {
   void close_idle(std::int64_t now);
   void close_connection(std::size_t slot, std::atomic<std::uint64_t>& reason);
   void watch(int fd, std::uint64_t key, std::uint32_t events, bool add);
-  void take_new_program();
+  void hold_and_take_new_program();
   void keep_off_task_cpus();
 
   Program* program_;
@@ -94,8 +100,9 @@ class Server {
   std::atomic<bool> stop_{false};
   std::mutex swap_mutex_;
   std::condition_variable swap_cv_;
-  Program* next_program_ = nullptr;
-  std::atomic<bool> swap_requested_{false};
+  Program* next_program_ = nullptr;           // under swap_mutex_
+  std::atomic<bool> hold_requested_{false};
+  bool held_ = false;                           // under swap_mutex_: the thread is parked
   bool running_ = false;
   std::string warning_;
   bool off_task_cpus_ = false;

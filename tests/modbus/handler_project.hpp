@@ -1,7 +1,9 @@
 // The project the Modbus request handler is tested and fuzzed against: two
 // tasks, so requests can span owners; every table and width; read-only and
 // readwrite tags; explicit places for the 8-bit types; echo blocks that copy
-// written tags to read-only ones. Only IEC blocks, so the fuzzer (which has
+// written tags to read-only ones; a readwrite tag the program overwrites
+// every scan (forced); trim (main) beside big (slow) in holding registers
+// 4100..4107, so one write can span both tasks. Only IEC blocks, so the fuzzer (which has
 // no test blocks) loads it too.
 #pragma once
 
@@ -26,10 +28,14 @@ tags:
   - {name: count, type: DINT, address: "%MD2", hmi: read, init: -2}
   - {name: big, type: LREAL, address: "%ML2", hmi: readwrite, init: 1.5, task: slow}
   - {name: when, type: TIME, address: "%ML3", hmi: readwrite, task: slow}
+  - {name: trim, type: LREAL, hmi: readwrite, task: main, modbus: {table: holding_register, address: 4100}}
+  - {name: forced, type: INT, address: "%QW4", hmi: readwrite}
 blocks:
   - {name: e1, type: MOVE, datatype: INT, task: main}
   - {name: e2, type: MOVE, datatype: REAL, task: main}
+  - {name: force, type: MOVE, datatype: INT, task: main, inputs: {IN: 42}}
 connections:
+  - force.OUT -> forced
   - sp -> e1.IN
   - e1.OUT -> sp_echo
   - pos -> e2.IN

@@ -237,6 +237,76 @@ TEST_F(Handler, WriteAndReadAnswersOnceTheWriteIsPublished) {
   EXPECT_EQ(body(answer()), exception_of(0x17, 0x04));
 }
 
+TEST_F(Handler, AWriteSpanningTwoTasksIsQueuedWholeOrNotAtAll) {
+  // Fill slow's queue (16 values), then write trim (main) and big (slow) in one request.
+  for (int i = 0; i < 16; ++i) ASSERT_EQ(body(ask(frame(testing::write_registers(4104, {0x4000, 0, 0, 0}))))[0], 0x10);
+  const Bytes both = frame(testing::write_registers(4100, {0x4008, 0, 0, 0, 0x4010, 0, 0, 0}));  // trim 3.0, big 4.0
+  EXPECT_EQ(body(ask(both)), exception_of(0x10, 0x06));
+  EXPECT_EQ(counters.values_written.load(), 16u) << "nothing of the refused request was counted";
+  scan_until(3'000'000);
+  EXPECT_EQ(tag_cell(*program, "trim").get<double>(), 0.0) << "main's part was not queued either";
+  scan_until(10'000'000);  // slow's scan empties its queue
+  EXPECT_EQ(body(ask(both))[0], 0x10);
+  scan_until(20'000'000);
+  EXPECT_EQ(tag_cell(*program, "trim").get<double>(), 3.0);
+  EXPECT_EQ(tag_cell(*program, "big").get<double>(), 4.0);
+}
+
+TEST_F(Handler, WriteAndReadShowsWhatTheProgramMadeOfTheWrite) {
+  // forced is readwrite, but a MOVE writes 42 into it every scan: the read part
+  // of FC 23 shows the published 42, not the 7 the client sent.
+  ask(frame(testing::write_read(4, 1, 4, {7})), RequestHandler::Outcome::Deferred);
+  std::int64_t t = now;
+  while (!handler->ready(pending, t)) scan_until(t += 1'000'000);
+  EXPECT_EQ(handler->finish(fds[0], pending, t), RequestHandler::Outcome::Sent);
+  EXPECT_EQ(body(answer()), (Bytes{0x17, 2, 0, 42}));
+  EXPECT_EQ(body(ask(frame(pdu(0x03, 4, 1)))), (Bytes{0x03, 2, 0, 42})) << "as FC 3 shows it";
+  // Where the program leaves the written value alone, the reply shows it (sp and its echo).
+  ask(frame(testing::write_read(2, 2, 2, {9})), RequestHandler::Outcome::Deferred);
+  while (!handler->ready(pending, t)) scan_until(t += 1'000'000);
+  EXPECT_EQ(handler->finish(fds[0], pending, t), RequestHandler::Outcome::Sent);
+  EXPECT_EQ(answer(), (Bytes{0x12, 0x34, 0, 0, 0, 7, 1, 0x17, 4, 0, 9, 0, 9})) << "the whole frame, header included";
+}
+
+TEST(HandlerQueues, TheLargestWriteOfTheProtocolFitsTheDefaultQueue) {
+  // 2000 writable coils in one task: FC 15 may carry 1968 of them at once, more
+  // than the default queue of 1024, which therefore grows at load.
+  auto program = load_test_project(R"(
+tasks:
+  - {name: main, period: 1ms}
+tags:
+  - {name: valves, type: "ARRAY[0..1999] OF BOOL", address: "%QX0.0", hmi: readwrite}
+)");
+  ASSERT_TRUE(program);
+  EXPECT_GE(program->tasks[0]->config().write_queue, 1968u);
+  VirtualClock clock(*program);
+  clock.run_until(1'000'000, true);
+  ModbusConfig config;
+  Counters counters;
+  RequestHandler handler(config, counters);
+  handler.set_program(*program);
+  int fds[2];
+  ASSERT_EQ(socketpair(AF_UNIX, SOCK_STREAM, 0, fds), 0);
+  Bytes coils;
+  coils.push_back(0x0F);
+  testing::put16(coils, 0);
+  testing::put16(coils, 1968);
+  coils.push_back(1968 / 8);
+  for (int i = 0; i < 1968 / 8; ++i) coils.push_back(0xFF);
+  const Bytes request = frame(coils);
+  PendingReply pending;
+  EXPECT_EQ(handler.handle(fds[0], request.data(), request.size(), pending, 1'000'000), RequestHandler::Outcome::Sent);
+  std::uint8_t reply[16];
+  ASSERT_EQ(read(fds[1], reply, sizeof reply), 12);
+  EXPECT_EQ(reply[7], 0x0F) << "not exception 06";
+  clock.run_until(2'000'000, true);
+  std::vector<Cell> v(2000);
+  program->read_tag(*program->find_tag("valves"), v.data());
+  EXPECT_TRUE(v[0].get<bool>() && v[1967].get<bool>() && !v[1968].get<bool>());
+  close(fds[0]);
+  close(fds[1]);
+}
+
 TEST_F(Handler, ASocketThatTakesNothingFailsTheSendInsteadOfBlocking) {
   // Fill the peer's receive side: a client that stopped reading.
   fcntl(fds[0], F_SETFL, O_NONBLOCK);

@@ -21,6 +21,7 @@
 
 #include "runtime/core/realtime.hpp"
 #include "runtime/modbus/server.hpp"
+#include "runtime/project/online_change.hpp"
 #include "tests/realtime/quiet_options.hpp"
 #include "tests/support/project_fixture.hpp"
 
@@ -311,6 +312,118 @@ TEST(ModbusServerCpus, WithoutCpusTheThreadKeepsOffPinnedTasksCpus) {
     EXPECT_FALSE(server.off_task_cpus());
     EXPECT_EQ(modbus_thread_cpus(), "0");
   }
+}
+
+// A task so slow that a write and read (FC 23) to it waits for seconds: what
+// the server does with the connection meanwhile. No task thread runs here;
+// the program's first snapshot is its initial values.
+const char* kSlowProject = R"(
+tasks:
+  - {name: slow, period: 10s}
+tags:
+  - {name: a, type: INT, address: "%MW0", hmi: readwrite, init: 5}
+  - {name: b, type: INT, address: "%MW1", hmi: readwrite, init: 6}
+)";
+
+int connect_raw(int port) {
+  const int s = socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_port = htons(static_cast<std::uint16_t>(port));
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  if (connect(s, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0) {
+    close(s);
+    return -1;
+  }
+  timeval tv{5, 0};
+  setsockopt(s, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+  return s;
+}
+
+// One reply (MBAP header and PDU), or empty on timeout or close.
+std::vector<std::uint8_t> recv_reply(int s) {
+  std::vector<std::uint8_t> out(7);
+  std::size_t got = 0;
+  auto fill = [&](std::size_t want) {
+    while (got < want) {
+      const ssize_t n = recv(s, out.data() + got, want - got, 0);
+      if (n <= 0) return false;
+      got += static_cast<std::size_t>(n);
+    }
+    return true;
+  };
+  if (!fill(7)) return {};
+  out.resize(6 + ((out[4] << 8) | out[5]));
+  if (!fill(out.size())) return {};
+  return out;
+}
+
+template <class F>
+bool within(std::chrono::milliseconds limit, F done) {
+  const auto end = std::chrono::steady_clock::now() + limit;
+  while (!done()) {
+    if (std::chrono::steady_clock::now() > end) return false;
+    std::this_thread::sleep_for(2ms);
+  }
+  return true;
+}
+
+// FC 23: write b := 9, read a..b; then FC 3 of a..b, pipelined behind it.
+const std::uint8_t kWriteRead[] = {0, 1, 0, 0, 0, 13, 1, 0x17, 0x04, 0x00, 0, 2, 0x04, 0x01, 0, 1, 2, 0, 9};
+const std::uint8_t kRead[] = {0, 2, 0, 0, 0, 6, 1, 0x03, 0x04, 0x00, 0, 2};
+
+TEST(ModbusServerWaiting, AClientThatResetsWhileItsWriteAndReadWaitsIsClosedAtOnce) {
+  auto program = load_test_project(kSlowProject);
+  ASSERT_TRUE(program);
+  ModbusConfig cfg;
+  cfg.port = 0;
+  modbus::Server server(*program, cfg);
+  std::string err;
+  ASSERT_TRUE(server.start(&err)) << err;
+  const int s = connect_raw(server.port());
+  ASSERT_GE(s, 0);
+  ASSERT_EQ(send(s, kWriteRead, sizeof kWriteRead, 0), static_cast<ssize_t>(sizeof kWriteRead));
+  ASSERT_TRUE(within(2s, [&] { return server.counters().summary().requests == 1; }));
+  const linger reset{1, 0};  // close with RST
+  setsockopt(s, SOL_SOCKET, SO_LINGER, &reset, sizeof reset);
+  close(s);
+  // Its reply would wait 2 s + 3 periods (32 s); epoll reports the reset all
+  // that time, so the connection must go now (or the loop spins).
+  EXPECT_TRUE(within(2s, [&] { return server.counters().summary().open == 0; }));
+  EXPECT_EQ(server.counters().summary().closed_by_peer, 1u);
+  // And the server goes on serving.
+  const int t = connect_raw(server.port());
+  ASSERT_EQ(send(t, kRead, sizeof kRead, 0), static_cast<ssize_t>(sizeof kRead));
+  EXPECT_EQ(recv_reply(t), (std::vector<std::uint8_t>{0, 2, 0, 0, 0, 7, 1, 0x03, 4, 0, 5, 0, 6}));
+  close(t);
+}
+
+TEST(ModbusServerWaiting, AtAProgramChangeAWaitingWriteAndReadIsAnsweredAndWhatFollowsItServed) {
+  auto program = load_test_project(kSlowProject);
+  auto next = load_test_project(kSlowProject);
+  ASSERT_TRUE(program && next);
+  ModbusConfig cfg;
+  cfg.port = 0;
+  modbus::Server server(*program, cfg);
+  std::string err;
+  ASSERT_TRUE(server.start(&err)) << err;
+  const int s = connect_raw(server.port());
+  ASSERT_GE(s, 0);
+  std::vector<std::uint8_t> both(kWriteRead, kWriteRead + sizeof kWriteRead);
+  both.insert(both.end(), kRead, kRead + sizeof kRead);
+  ASSERT_EQ(send(s, both.data(), both.size(), 0), static_cast<ssize_t>(both.size()));
+  ASSERT_TRUE(within(2s, [&] { return server.counters().summary().requests == 1; })) << "FC 23 read, FC 3 behind it";
+  // As syncplc run does at an online change: hold, stop the old tasks, apply
+  // their queues, carry the tags over, serve the new program.
+  server.hold();
+  program->tasks[0]->flush_queued_writes();
+  carry_over_tags(*program, *next);
+  server.replace_program(*next);
+  EXPECT_EQ(recv_reply(s), (std::vector<std::uint8_t>{0, 1, 0, 0, 0, 7, 1, 0x17, 4, 0, 5, 0, 9}))
+      << "the write and read, from the new program: b = 9 carried over";
+  EXPECT_EQ(recv_reply(s), (std::vector<std::uint8_t>{0, 2, 0, 0, 0, 7, 1, 0x03, 4, 0, 5, 0, 9}))
+      << "the read that waited behind it";
+  close(s);
 }
 
 }  // namespace
