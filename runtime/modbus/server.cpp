@@ -348,10 +348,6 @@ void Server::accept_clients(std::int64_t now) {
 
 void Server::on_readable(std::size_t slot, std::int64_t now) {
   Connection& c = *slots_[slot];
-  if (c.used == kBufferSize) {  // whole frames only (a frame is at most 260 bytes): answer them first
-    serve_frames(slot, now);
-    if (c.fd < 0 || c.used == kBufferSize) return;
-  }
   // One recv per readiness: every ready connection gets its turn in each round.
   const ssize_t got = recv(c.fd, c.buf + c.used, kBufferSize - c.used, 0);
   if (got == 0) { close_connection(slot, counters_.closed_by_peer); return; }

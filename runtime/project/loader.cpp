@@ -309,6 +309,7 @@ LoadResult Loader::run(ConfigNode root, const std::string& path) {
   check_connections();
   find_owners();
   // Every check runs whatever failed before it, so one load reports every error.
+  size_write_queues();
   check_values();
   order_blocks();
   create_blocks();
@@ -955,8 +956,10 @@ void Loader::check_modbus_places() {
 
 // A task's write queue must hold the largest write one Modbus request can
 // bring it (largest_modbus_writes): the default grows to fit, a write_queue
-// the project set too small is an error at that key.
+// the project set too small is an error at that key. A read-only server
+// queues nothing (and --modbus-port does not change read_only).
 void Loader::size_write_queues() {
+  if (modbus_.read_only) return;
   const auto most = largest_modbus_writes(modbus_tags(), tasks_.size());
   for (std::size_t i = 0; i < tasks_.size(); ++i) {
     TaskDecl& td = tasks_[i];
@@ -1416,7 +1419,6 @@ std::unique_ptr<Program> Loader::build() {
   prog->version = version_;
   prog->file = file_;
   prog->seed = seed_;
-  size_write_queues();
   const std::size_t nt = tasks_.size();
   for (std::size_t i = 0; i < nt; ++i) prog->tasks.push_back(std::make_unique<Task>(static_cast<std::uint16_t>(i), tasks_[i].cfg));
 

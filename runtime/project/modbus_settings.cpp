@@ -213,9 +213,9 @@ std::vector<std::size_t> largest_modbus_writes(const std::vector<Tag>& tags, std
   const ModbusMap map = ModbusMap::build(tags);
   std::vector<std::size_t> coils(tasks, 0), registers(tasks, 0);
   for (const auto& pt : map.points(ModbusTable::Coils))
-    if (pt.writable) ++coils[pt.owner];
+    if (pt.writable && pt.owner < tasks) ++coils[pt.owner];  // no owner when the tasks failed to load
   for (const auto& pt : map.points(ModbusTable::HoldingRegisters))
-    if (pt.writable) ++registers[pt.owner];
+    if (pt.writable && pt.owner < tasks) ++registers[pt.owner];
   std::vector<std::size_t> most(tasks);
   for (std::size_t t = 0; t < tasks; ++t)
     most[t] = std::max(std::min(coils[t], kMaxWriteCoils), std::min(registers[t], kMaxWriteRegisters));

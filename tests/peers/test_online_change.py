@@ -29,6 +29,9 @@ def main():
     try:
         peer = P.Peer(server.port, tally)
         P.check_equal(peer.read("holding", 1024, 2), [5, 6], "initial values")
+        # The tasks start 20 ms after the server listens: let the slow task's
+        # first scan pass, so that its next one is 10 s away.
+        time.sleep(1.0)
         peer.write_register(1024, 77)
         P.check_equal(peer.read("holding", 1024, 2), [5, 6], "the write waits for the slow task's next scan")
 

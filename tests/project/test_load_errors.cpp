@@ -275,9 +275,13 @@ tags:
   - {name: sp, type: "ARRAY[0..19] OF INT", address: "%MW0", hmi: readwrite, task: a}
   - {name: lamps, type: "ARRAY[0..199] OF BOOL", address: "%QX0.0", hmi: read, task: b}
   - {name: valves, type: "ARRAY[0..1999] OF BOOL", address: "%QX100.0", hmi: readwrite, task: c}
+blocks:
+  - {name: m, type: NOPE, task: a}
 )");
   EXPECT_THAT(e, ElementsAre("p.yaml:2:41: write_queue 16 of task a cannot hold one Modbus write to its tags: "
-                             "a request can queue 20 values to it at once"));
+                             "a request can queue 20 values to it at once",
+                             "p.yaml:10:21: unknown block type 'NOPE' (see `syncplc blocks`)"))
+      << "reported in the same load as the other errors";
 }
 
 // --- blocks -------------------------------------------------------------------------------

@@ -176,6 +176,18 @@ tags:
   EXPECT_EQ(r.program->tasks[2]->config().write_queue, 16u) << "16 values, 64 registers";
 }
 
+TEST(LoadOk, AReadOnlyModbusServerQueuesNothingSoAnyWriteQueueWillDo) {
+  auto r = load(R"(
+tasks:
+  - {name: a, period: 1ms, write_queue: 16}
+tags:
+  - {name: sp, type: "ARRAY[0..19] OF INT", address: "%MW0", hmi: readwrite}
+modbus: {read_only: true}
+)");
+  ASSERT_LOADS(r);
+  EXPECT_EQ(r.program->tasks[0]->config().write_queue, 16u);
+}
+
 TEST(LoadOk, PeriodLimitsAreInclusive) {
   ASSERT_LOADS(load("tasks: [{name: a, period: 100us}, {name: b, period: 10s}, {name: c, period: 0.5ms}]\n"));
 }
