@@ -372,53 +372,55 @@ bool within(std::chrono::milliseconds limit, F done) {
 const std::uint8_t kWriteRead[] = {0, 1, 0, 0, 0, 13, 1, 0x17, 0x04, 0x00, 0, 2, 0x04, 0x01, 0, 1, 2, 0, 9};
 const std::uint8_t kRead[] = {0, 2, 0, 0, 0, 6, 1, 0x03, 0x04, 0x00, 0, 2};
 
-TEST(ModbusServerWaiting, AClientThatResetsWhileItsWriteAndReadWaitsIsClosedAtOnce) {
-  auto program = load_test_project(kSlowProject);
-  ASSERT_TRUE(program);
-  ModbusConfig cfg;
-  cfg.port = 0;
-  modbus::Server server(*program, cfg);
-  std::string err;
-  ASSERT_TRUE(server.start(&err)) << err;
-  const int s = connect_raw(server.port());
+class ModbusServerWaiting : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    program = load_test_project(kSlowProject);
+    ASSERT_TRUE(program);
+    ModbusConfig cfg;
+    cfg.port = 0;
+    server = std::make_unique<modbus::Server>(*program, cfg);
+    std::string err;
+    ASSERT_TRUE(server->start(&err)) << err;
+  }
+  std::unique_ptr<Program> program;
+  std::unique_ptr<modbus::Server> server;
+};
+
+TEST_F(ModbusServerWaiting, AClientThatResetsWhileItsWriteAndReadWaitsIsClosedAtOnce) {
+  const int s = connect_raw(server->port());
   ASSERT_GE(s, 0);
   ASSERT_EQ(send(s, kWriteRead, sizeof kWriteRead, 0), static_cast<ssize_t>(sizeof kWriteRead));
-  ASSERT_TRUE(within(2s, [&] { return server.counters().summary().requests == 1; }));
+  ASSERT_TRUE(within(2s, [&] { return server->counters().summary().requests == 1; }));
   const linger reset{1, 0};  // close with RST
   setsockopt(s, SOL_SOCKET, SO_LINGER, &reset, sizeof reset);
   close(s);
   // Its reply would wait 2 s + 3 periods (32 s); epoll reports the reset all
   // that time, so the connection must go now (or the loop spins).
-  EXPECT_TRUE(within(2s, [&] { return server.counters().summary().open == 0; }));
-  EXPECT_EQ(server.counters().summary().closed_by_peer, 1u);
+  EXPECT_TRUE(within(2s, [&] { return server->counters().summary().open == 0; }));
+  EXPECT_EQ(server->counters().summary().closed_by_peer, 1u);
   // And the server goes on serving.
-  const int t = connect_raw(server.port());
+  const int t = connect_raw(server->port());
   ASSERT_EQ(send(t, kRead, sizeof kRead, 0), static_cast<ssize_t>(sizeof kRead));
   EXPECT_EQ(recv_reply(t), (std::vector<std::uint8_t>{0, 2, 0, 0, 0, 7, 1, 0x03, 4, 0, 5, 0, 6}));
   close(t);
 }
 
-TEST(ModbusServerWaiting, AtAProgramChangeAWaitingWriteAndReadIsAnsweredAndWhatFollowsItServed) {
-  auto program = load_test_project(kSlowProject);
+TEST_F(ModbusServerWaiting, AtAProgramChangeAWaitingWriteAndReadIsAnsweredAndWhatFollowsItServed) {
   auto next = load_test_project(kSlowProject);
-  ASSERT_TRUE(program && next);
-  ModbusConfig cfg;
-  cfg.port = 0;
-  modbus::Server server(*program, cfg);
-  std::string err;
-  ASSERT_TRUE(server.start(&err)) << err;
-  const int s = connect_raw(server.port());
+  ASSERT_TRUE(next);
+  const int s = connect_raw(server->port());
   ASSERT_GE(s, 0);
   std::vector<std::uint8_t> both(kWriteRead, kWriteRead + sizeof kWriteRead);
   both.insert(both.end(), kRead, kRead + sizeof kRead);
   ASSERT_EQ(send(s, both.data(), both.size(), 0), static_cast<ssize_t>(both.size()));
-  ASSERT_TRUE(within(2s, [&] { return server.counters().summary().requests == 1; })) << "FC 23 read, FC 3 behind it";
+  ASSERT_TRUE(within(2s, [&] { return server->counters().summary().requests == 1; })) << "FC 23 read, FC 3 behind it";
   // As syncplc run does at an online change: hold, stop the old tasks, apply
   // their queues, carry the tags over, serve the new program.
-  server.hold();
+  server->hold();
   program->tasks[0]->flush_queued_writes();
   carry_over_tags(*program, *next);
-  server.replace_program(*next);
+  server->replace_program(*next);
   EXPECT_EQ(recv_reply(s), (std::vector<std::uint8_t>{0, 1, 0, 0, 0, 7, 1, 0x17, 4, 0, 5, 0, 9}))
       << "the write and read, from the new program: b = 9 carried over";
   EXPECT_EQ(recv_reply(s), (std::vector<std::uint8_t>{0, 2, 0, 0, 0, 7, 1, 0x03, 4, 0, 5, 0, 9}))
