@@ -319,5 +319,4 @@ RequestHandler::Outcome RequestHandler::answer_now(int fd, PendingReply& pending
   return send(fd, out, length, MSG_NOSIGNAL) == static_cast<ssize_t>(length) ? Outcome::Sent : Outcome::SendFailed;
 }
 
-
 }  // namespace syncplc::modbus

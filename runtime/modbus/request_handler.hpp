@@ -7,10 +7,10 @@
 // modbus_reply, which builds and sends the normal response from a scratch
 // mapping the handler fills from the tasks' published snapshots; exception
 // responses (9 bytes) and the response to a write and read (FC 23, whose
-// read part must come from the snapshot, not from the request) are built here. That order
-// also keeps modbus_reply away from its own error paths, which sleep for the
-// response timeout and flush the socket (libmodbus 3.1.6): the server thread
-// must never sleep.
+// read part must come from the snapshot, not from the request) are built
+// here. That order also keeps modbus_reply away from its own error paths,
+// which sleep for the response timeout and flush the socket (libmodbus
+// 3.1.6): the server thread must never sleep.
 //
 // Reads take each owning task's latest published snapshot once, under that
 // task's snapshot lock, so a request never mixes two scans of one task.
