@@ -30,7 +30,7 @@ class SubBlock final : public Block {
 
  public:
   explicit SubBlock(BlockSetup&) {}
-  void execute(ScanContext&) override { out<V>(kOut, wrap_sub(in<V>(kIn1), in<V>(kIn2))); }
+  void execute(ScanContext&) noexcept override { out<V>(kOut, wrap_sub(in<V>(kIn1), in<V>(kIn2))); }
 };
 
 template <IecType T>
@@ -39,7 +39,7 @@ class DivBlock final : public Block {
 
  public:
   explicit DivBlock(BlockSetup&) {}
-  void execute(ScanContext& ctx) override {
+  void execute(ScanContext& ctx) noexcept override {
     const V a = in<V>(kIn1);
     const V b = in<V>(kIn2);
     V r;
@@ -65,7 +65,7 @@ class ModBlock final : public Block {
 
  public:
   explicit ModBlock(BlockSetup&) {}
-  void execute(ScanContext& ctx) override {
+  void execute(ScanContext& ctx) noexcept override {
     const V a = in<V>(kIn1);
     const V b = in<V>(kIn2);
     V r;
@@ -87,7 +87,7 @@ class AbsBlock final : public Block {
 
  public:
   explicit AbsBlock(BlockSetup&) {}
-  void execute(ScanContext&) override {
+  void execute(ScanContext&) noexcept override {
     const V a = in<V>(0);
     V r;
     if constexpr (std::is_floating_point_v<V>) r = std::fabs(a);

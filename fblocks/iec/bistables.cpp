@@ -8,7 +8,7 @@ enum : int { kSet = 0, kReset = 1, kQ1 = 2 };
 
 class Sr final : public Block {
  public:
-  void execute(ScanContext&) override {
+  void execute(ScanContext&) noexcept override {
     q_ = in<bool>(kSet) || (!in<bool>(kReset) && q_);
     out<bool>(kQ1, q_);
   }
@@ -19,7 +19,7 @@ class Sr final : public Block {
 
 class Rs final : public Block {
  public:
-  void execute(ScanContext&) override {
+  void execute(ScanContext&) noexcept override {
     q_ = !in<bool>(kReset) && (in<bool>(kSet) || q_);
     out<bool>(kQ1, q_);
   }

@@ -17,7 +17,7 @@ std::int64_t monotonic_ns() noexcept {
 
 class Burn final : public Block {
  public:
-  void execute(ScanContext& ctx) override {
+  void execute(ScanContext& ctx) noexcept override {
     const std::int64_t exec = in<std::int64_t>(kExec);
     if (exec > 0) {
       if (ctx.virtual_time) {

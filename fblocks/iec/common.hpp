@@ -152,7 +152,7 @@ class FoldBlock final : public Block {
 
  public:
   explicit FoldBlock(BlockSetup& s) : ins_(s) {}
-  void execute(ScanContext&) override {
+  void execute(ScanContext&) noexcept override {
     V acc = in<V>(ins_.idx[0]);
     for (int k = 1; k < ins_.count; ++k) acc = Op::apply(acc, in<V>(ins_.idx[k]));
     out<V>(kExtOut, acc);

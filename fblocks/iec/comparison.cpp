@@ -17,7 +17,7 @@ struct CompareOf {
 
    public:
     explicit Block(BlockSetup&) {}
-    void execute(ScanContext&) override { out<bool>(kOut, Cmp{}(in<V>(kIn1), in<V>(kIn2))); }
+    void execute(ScanContext&) noexcept override { out<bool>(kOut, Cmp{}(in<V>(kIn1), in<V>(kIn2))); }
   };
 };
 

@@ -12,7 +12,7 @@ class Ctu final : public Block {
 
  public:
   explicit Ctu(BlockSetup&) {}
-  void execute(ScanContext&) override {
+  void execute(ScanContext&) noexcept override {
     const bool cu = in<bool>(kCu);
     const bool edge = cu && !cu_m_;
     cu_m_ = cu;
@@ -34,7 +34,7 @@ class Ctd final : public Block {
 
  public:
   explicit Ctd(BlockSetup&) {}
-  void execute(ScanContext&) override {
+  void execute(ScanContext&) noexcept override {
     const bool cd = in<bool>(kCd);
     const bool edge = cd && !cd_m_;
     cd_m_ = cd;
@@ -56,7 +56,7 @@ class Ctud final : public Block {
 
  public:
   explicit Ctud(BlockSetup&) {}
-  void execute(ScanContext&) override {
+  void execute(ScanContext&) noexcept override {
     const bool cu = in<bool>(kCu);
     const bool cd = in<bool>(kCd);
     const bool up = cu && !cu_m_;

@@ -8,7 +8,7 @@ enum : int { kClk = 0, kQ = 1 };
 
 class RTrig final : public Block {
  public:
-  void execute(ScanContext&) override {
+  void execute(ScanContext&) noexcept override {
     const bool clk = in<bool>(kClk);
     out<bool>(kQ, clk && !m_);
     m_ = clk;
@@ -20,7 +20,7 @@ class RTrig final : public Block {
 
 class FTrig final : public Block {
  public:
-  void execute(ScanContext&) override {
+  void execute(ScanContext&) noexcept override {
     const bool clk = in<bool>(kClk);
     out<bool>(kQ, !clk && m_);
     m_ = clk;

@@ -39,7 +39,7 @@ class NotBlock final : public Block {
 
  public:
   explicit NotBlock(BlockSetup&) {}
-  void execute(ScanContext&) override {
+  void execute(ScanContext&) noexcept override {
     if constexpr (std::is_same_v<V, bool>) out<bool>(1, !in<bool>(0));
     else out<V>(1, static_cast<V>(~in<V>(0)));
   }

@@ -38,7 +38,7 @@ class LimitBlock final : public Block {
 
  public:
   explicit LimitBlock(BlockSetup&) {}
-  void execute(ScanContext&) override {
+  void execute(ScanContext&) noexcept override {
     const V mn = in<V>(kMn);
     const V mx = in<V>(kMx);
     V v = in<V>(kIn);
@@ -53,12 +53,12 @@ class SelBlock final : public Block {
   enum : int { kG = 0, kIn0 = 1, kIn1 = 2, kOut = 3 };
 
  public:
-  void execute(ScanContext&) override { *pin_cell(kOut) = *pin_cell(in<bool>(kG) ? kIn1 : kIn0); }
+  void execute(ScanContext&) noexcept override { *pin_cell(kOut) = *pin_cell(in<bool>(kG) ? kIn1 : kIn0); }
 };
 
 class MoveBlock final : public Block {
  public:
-  void execute(ScanContext&) override { *pin_cell(1) = *pin_cell(0); }
+  void execute(ScanContext&) noexcept override { *pin_cell(1) = *pin_cell(0); }
 };
 
 BlockTypeInfo sel_info(const char* name, std::string doc) {

@@ -15,7 +15,7 @@ std::int64_t preset(const Block& b) {
 
 class Ton final : public Block {
  public:
-  void execute(ScanContext& ctx) override {
+  void execute(ScanContext& ctx) noexcept override {
     const bool in = this->in<bool>(kIn);
     if (!in) {
       running_ = false;
@@ -41,7 +41,7 @@ class Ton final : public Block {
 
 class Tof final : public Block {
  public:
-  void execute(ScanContext& ctx) override {
+  void execute(ScanContext& ctx) noexcept override {
     const bool in = this->in<bool>(kIn);
     if (in) {
       timing_ = false;
@@ -80,7 +80,7 @@ class Tof final : public Block {
 
 class Tp final : public Block {
  public:
-  void execute(ScanContext& ctx) override {
+  void execute(ScanContext& ctx) noexcept override {
     const bool in = this->in<bool>(kIn);
     if (!pulsing_ && in && !prev_in_) {
       pulsing_ = true;

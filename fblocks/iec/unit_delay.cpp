@@ -11,8 +11,8 @@ enum : int { kIn = 0, kOut = 1 };
 // all-zero cell is the zero of every type (FALSE, 0, 0.0, T#0s).
 class UnitDelay final : public Block {
  public:
-  void execute(ScanContext&) override { *pin_cell(kOut) = state_; }
-  void end_of_scan() override { state_ = *pin_cell(kIn); }
+  void execute(ScanContext&) noexcept override { *pin_cell(kOut) = state_; }
+  void end_of_scan() noexcept override { state_ = *pin_cell(kIn); }
 
  private:
   Cell state_{};

@@ -53,7 +53,7 @@ class NonlinearFilter final : public Block {
         start_at_r_(s.param<bool>("start_at_r")),
         period_s_(static_cast<double>(s.task_period_ns()) * 1e-9) {}
 
-  void execute(ScanContext& ctx) override {
+  void execute(ScanContext& ctx) noexcept override {
     const double T = period_s_;
     const double dt = ctx.dt_ns > 0 ? static_cast<double>(ctx.dt_ns) * 1e-9 : T;
     const double r = in<double>(kR);

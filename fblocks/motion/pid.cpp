@@ -32,7 +32,7 @@ class PdController final : public Block {
   PdController(double kp, double kd, double lo, double hi, bool use_v)
       : kp_(kp), kd_(kd), lo_(lo), hi_(hi), use_v_(use_v) {}
 
-  void execute(ScanContext& ctx) override {
+  void execute(ScanContext& ctx) noexcept override {
     const double e = in<double>(kPdXd) - in<double>(kPdX);
     double ed;
     if (use_v_) {
@@ -90,7 +90,7 @@ class Pid final : public Block {
  public:
   explicit Pid(const PidConfig& c) : c_(c) {}
 
-  void execute(ScanContext& ctx) override {
+  void execute(ScanContext& ctx) noexcept override {
     const double h = ctx.dt_ns > 0 ? static_cast<double>(ctx.dt_ns) * 1e-9 : 0.0;
     const double e = in<double>(kSp) - in<double>(kPv);
     const double s = c_.d_on_error ? e : -in<double>(kPv);  // the signal the D term differentiates

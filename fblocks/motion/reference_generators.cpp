@@ -72,7 +72,7 @@ class CosineTrajectory final : public Block {
     if (cycles_ < 0 || delay_ < 0) s.error(s.type().name + ": cycles and delay must not be negative");
   }
 
-  void execute(ScanContext& ctx) override {
+  void execute(ScanContext& ctx) noexcept override {
     double x = offset_, v = 0, a = 0;
     bool done = false;
     if (auto t = clock_.step(in<bool>(kEnable), ctx.now_ns)) {
@@ -191,7 +191,7 @@ class Circle final : public Block {
     path_.init(feed, 2 * kPi * r_ * turns, ramp);
   }
 
-  void execute(ScanContext& ctx) override {
+  void execute(ScanContext& ctx) noexcept override {
     double s = 0, sd = 0, sdd = 0;
     bool done = false;
     if (auto t = clock_.step(in<bool>(kEnable), ctx.now_ns)) done = path_.at(*t, s, sd, sdd);
@@ -284,7 +284,7 @@ class StepRampSequence final : public Block {
     restart();
   }
 
-  void execute(ScanContext& ctx) override {
+  void execute(ScanContext& ctx) noexcept override {
     const auto t = clock_.step(in<bool>(kEnable), ctx.now_ns);
     if (!t) {
       if (started_) restart();

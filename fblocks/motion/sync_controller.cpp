@@ -70,7 +70,7 @@ class SyncController final : public Block {
     }
   }
 
-  void execute(ScanContext& ctx) override {
+  void execute(ScanContext& ctx) noexcept override {
     const double a_d = in<double>(kAd);
     const double v_d = in<double>(kVd);
     const double e = in<double>(kXd) - in<double>(kX);

@@ -23,7 +23,7 @@ class TaylorEstimator final : public Block {
       : est_(s.param<std::int16_t>("order"), static_cast<EstimatorHistory>(s.param<std::int16_t>("history")),
              s.param<std::uint32_t>("max_extrapolation")) {}
 
-  void execute(ScanContext&) override {
+  void execute(ScanContext&) noexcept override {
     const double y = est_.update(in<bool>(kValid), in<double>(kIn));
     out<double>(kOut, y);
     out<bool>(kEstimated, est_.estimated());

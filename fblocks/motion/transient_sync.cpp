@@ -100,7 +100,7 @@ class TransientSync final : public Block {
         x_(n_), v_(n_), r_prev_(n_), vmin_prev_(n_), vmax_prev_(n_), nom_(n_), last_(n_), rin_(n_), z_(n_),
         pb_(n_), pb_key_(n_), zs_(n_), zs_key_(n_), ref_(n_), steps_(n_), arrival_(n_), flags_(n_), pred_(n_) {}
 
-  void execute(ScanContext& ctx) override {
+  void execute(ScanContext& ctx) noexcept override {
     const double T = period_s_;  // the filters' sampling time
     const double dt = ctx.dt_ns > 0 ? static_cast<double>(ctx.dt_ns) * 1e-9 : T;
     const bool first = first_;

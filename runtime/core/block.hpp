@@ -53,6 +53,11 @@ struct ParamDecl {
   std::optional<double> max;
   std::string unit;
   std::string doc;
+  // A tunable parameter (a gain, a limit, a feed) may change while the block
+  // runs: on an online change the running instance keeps its state and takes
+  // the new value through Block::retune_from. Any other parameter is structure:
+  // changing it starts the instance fresh.
+  bool tunable = false;
 };
 
 struct ScanContext;
@@ -61,11 +66,19 @@ class BlockSetup;
 class Block {
  public:
   virtual ~Block() = default;
-  // One scan. ctx.now_ns is the planned release time of the scan.
-  virtual void execute(ScanContext& ctx) = 0;
+  // One scan. ctx.now_ns is the planned release time of the scan. noexcept
+  // by contract: nothing may escape a scan (a block that cannot compute
+  // raises ctx.fault and holds its last valid output).
+  virtual void execute(ScanContext& ctx) noexcept = 0;
   // Unit-delay blocks only (BlockTypeInfo::unit_delay): called after every
   // block of the task has executed; store the input for the next scan here.
-  virtual void end_of_scan() {}
+  virtual void end_of_scan() noexcept {}
+  // Online change of an instance whose tunable parameters (ParamDecl::tunable)
+  // changed and nothing else: `fresh` is a new instance of the same type built
+  // from the new parameters; take its tunable values and keep every state
+  // variable, bumplessly (the output must not jump because a gain changed).
+  // Runs on the task's thread between two scans: no allocation, no I/O.
+  virtual void retune_from(const Block& fresh) noexcept { (void)fresh; }
 
   template <class T>
   T in(int pin) const noexcept { return pins_[pin]->get<T>(); }

@@ -83,6 +83,7 @@ struct BlockInstance {
   std::string name;
   const BlockTypeInfo* type = nullptr;
   IecType datatype = IecType::LREAL;
+  std::vector<Cell> params;         // by ParamDecl index, as loaded (online change compares them)
   std::unique_ptr<Block> block;
   std::vector<Cell*> pins;          // bound pin cells, by declaration index
   std::vector<std::uint32_t> pin_cell;  // image index of each pin (its first element)

@@ -1491,6 +1491,7 @@ std::unique_ptr<Program> Loader::build() {
       bi.name = in.name;
       bi.type = in.type;
       bi.datatype = in.datatype.value_or(IecType::LREAL);
+      bi.params = in.param_cells;
       bi.pin_cell = pin_cells[i];
       bi.pin_length = in.pin_length;
       bi.block = std::move(in.block);

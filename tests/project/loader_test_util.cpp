@@ -12,7 +12,7 @@ namespace {
 class Gain final : public Block {
  public:
   explicit Gain(BlockSetup& s) : k_(s.param<double>("K")), n_(s.param<std::int32_t>("N")) {}
-  void execute(ScanContext&) override { out<double>(1, in<double>(0) * k_); }
+  void execute(ScanContext&) noexcept override { out<double>(1, in<double>(0) * k_); }
   double k() const { return k_; }
   std::int32_t n() const { return n_; }
 
@@ -23,7 +23,7 @@ class Gain final : public Block {
 
 class Pass final : public Block {
  public:
-  void execute(ScanContext&) override { out<double>(1, in<double>(0)); }
+  void execute(ScanContext&) noexcept override { out<double>(1, in<double>(0)); }
 };
 
 PinDecl pin(const char* name, PinDir dir, bool required) {

@@ -11,7 +11,7 @@ namespace {
 class Record final : public Block {
  public:
   explicit Record(std::string name) : name_(std::move(name)) {}
-  void execute(ScanContext& ctx) override {
+  void execute(ScanContext& ctx) noexcept override {
     double v = in<double>(0);
     records().push_back({name_, ctx.task, ctx.now_ns, ctx.dt_ns, ctx.scan, v});
     out<double>(1, v);
@@ -23,7 +23,7 @@ class Record final : public Block {
 
 class Hook final : public Block {
  public:
-  void execute(ScanContext& ctx) override {
+  void execute(ScanContext& ctx) noexcept override {
     if (hook()) hook()(ctx);
     out<double>(1, in<double>(0));
   }
@@ -31,7 +31,7 @@ class Hook final : public Block {
 
 class Stamp final : public Block {
  public:
-  void execute(ScanContext& ctx) override {
+  void execute(ScanContext& ctx) noexcept override {
     double v = static_cast<double>(ctx.now_ns) / 1e6;
     for (int i = 0; i < 4; ++i) out<double>(i, v);
   }
@@ -43,7 +43,7 @@ class ArrayGain final : public Block {
   explicit ArrayGain(BlockSetup& s) : n_(s.pin_length(0)), gain_(s.param<double>("GAIN")) {
     if (s.pin_length(1) != n_) s.error("pin lengths disagree");
   }
-  void execute(ScanContext&) override {
+  void execute(ScanContext&) noexcept override {
     double sum = 0;
     for (std::uint32_t i = 0; i < n_; ++i) {
       double v = in<double>(0, i);
