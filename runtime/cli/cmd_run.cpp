@@ -11,7 +11,8 @@
 #include "runtime/cli/commands.hpp"
 #include "runtime/core/realtime.hpp"
 #include "runtime/modbus/server.hpp"
-#include "runtime/project/online_change.hpp"
+#include "runtime/cli/reload.hpp"
+#include "runtime/cli/serve_modbus.hpp"
 #include "runtime/project/report.hpp"
 
 namespace syncplc::cli {
@@ -19,44 +20,6 @@ namespace {
 
 // The live screen reads statistics (atomics) and published snapshots only:
 // it never touches a task's image and never takes a lock a scan could wait on.
-// The settings a running server cannot change without a restart.
-bool same_server(const ModbusConfig& a, const ModbusConfig& b) {
-  auto key = [](const ModbusConfig& c) {
-    std::string nets;
-    for (const auto& n : c.allowed_clients) nets += std::to_string(n.address) + "/" + std::to_string(n.prefix) + ",";
-    return std::make_tuple(c.enabled, c.port, c.bind, c.unit_id, c.max_clients, c.idle_timeout_ns, c.word_order, nets,
-                           c.read_only, c.cpus);
-  };
-  return key(a) == key(b);
-}
-
-std::unique_ptr<modbus::Server> start_modbus(Program& p, std::optional<int> port_override) {
-  ModbusConfig cfg = p.modbus;
-  if (port_override) {
-    cfg.enabled = true;
-    cfg.port = *port_override;
-  }
-  if (!cfg.enabled) return nullptr;
-  auto server = std::make_unique<modbus::Server>(p, cfg);
-  std::string err;
-  if (!server->start(&err)) {
-    std::cerr << "syncplc: modbus: " << err << "\n";
-    return nullptr;
-  }
-  std::cerr << "syncplc: modbus: listening on " << server->endpoint() << " (unit " << cfg.unit_id << ", "
-            << server->handler_map_size() << " values mapped)\n";
-  if (server->off_task_cpus()) {
-    std::set<int> pinned;
-    for (const auto& t : p.tasks)
-      if (t->config().cpu >= 0) pinned.insert(t->config().cpu);
-    std::string cpus;
-    for (int c : pinned) cpus += (cpus.empty() ? "" : ", ") + std::to_string(c);
-    std::cerr << "syncplc: modbus: the server thread keeps off CPU " << cpus << " (pinned tasks)\n";
-  }
-  if (!server->warning().empty()) std::cerr << "syncplc: modbus: warning: " << server->warning() << "\n";
-  return server;
-}
-
 void draw_status(std::ostream& os, Program& p, double elapsed, const std::deque<std::string>& recent,
                  const modbus::Server* server) {
   std::ostringstream s;
@@ -130,6 +93,7 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
   }
   auto runner = std::make_unique<RealtimeRunner>(*program, runner_options);
   runner->start();
+  Reloader reloader(project, o, modbus_port);
   const bool live = !no_status && isatty(STDOUT_FILENO);
   const std::int64_t t0 = RealtimeRunner::monotonic_ns();
   std::deque<std::string> recent;
@@ -143,48 +107,13 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
     Program& p = *program;
     if (sig == SIGHUP) {
       // Online change: load and check the file first; only a good project replaces the running one.
-      auto next = load_project(project, o);
-      if (!next.ok()) {
-        for (const auto& d : next.diagnostics.sorted()) std::cerr << d.text() << "\n";
-        std::cerr << "syncplc: reload failed; the running program continues unchanged\n";
-      } else {
-        // No request is taken from here until the server has the program to
-        // serve: a write acknowledged before reaches the old queues, which are
-        // applied to the old image and so carried over with the tags.
-        if (modbus_server) modbus_server->hold();
-        runner->request_stop();
-        runner->join();
-        p.close_drivers();
-        print_events(std::cerr, p);
-        for (auto& t : p.tasks) t->flush_queued_writes();
-        std::size_t kept = carry_over_tags(p, *next.program);
-        if (!next.program->open_drivers(&err)) {
-          std::cerr << "syncplc: reload: " << err << "; restarting the previous program\n";
-          if (!p.open_drivers(&err)) {
-            std::cerr << "syncplc: " << err << "\n";
-            return kExitInvalid;
-          }
-          if (modbus_server) modbus_server->replace_program(p);  // the same program again
-        } else {
-          // The server lets go of the old program before it is destroyed;
-          // changed server settings mean a new server (clients reconnect).
-          ModbusConfig next_cfg = next.program->modbus;
-          if (modbus_port) { next_cfg.enabled = true; next_cfg.port = *modbus_port; }
-          if (modbus_server && same_server(modbus_server->config(), next_cfg)) {
-            modbus_server->replace_program(*next.program);
-          } else {
-            modbus_server.reset();
-            modbus_server = start_modbus(*next.program, modbus_port);
-          }
-          program = std::move(next.program);
-          std::cerr << "syncplc: reloaded " << project << " (" << kept << " tag values carried over)\n";
-        }
-        runner = std::make_unique<RealtimeRunner>(*program, runner_options);
-        runner->start();
-        warned = false;
-      }
+      ReloadResult rr = reloader.reload(program, *runner, modbus_server, std::cerr);
+      for (const auto& line : rr.lines) std::cerr << line << "\n";
+      std::cerr << "syncplc: " << rr.summary << "\n";
+      if (live) recent.push_back(rr.summary);
       continue;
     }
+    reloader.poll(*runner, std::cerr);
     if (!warned) {
       for (const auto& w : runner->warnings()) std::cerr << "syncplc: warning: " << w << "\n";
       warned = !runner->warnings().empty() || RealtimeRunner::monotonic_ns() - t0 > 1'000'000'000;

@@ -44,6 +44,32 @@ struct ConfigEntry {
   ConfigEntry(std::string k, ConfigNode v) : first(std::move(k)), second(std::move(v)) {}
 };
 
+// The node as text without source locations, keys in file order, `skip_key`
+// left out at the top level: two entries that say the same thing compare
+// equal (online change keeps a driver whose settings did not change).
+inline std::string canonical_text(const ConfigNode& n, const std::string& skip_key = {}) {
+  switch (n.kind) {
+    case ConfigNode::Kind::Null: return "~";
+    case ConfigNode::Kind::Scalar: {
+      std::string s = "\"";
+      for (char c : n.scalar) s += (c == '"' || c == '\\') ? std::string("\\") + c : std::string(1, c);
+      return s + "\"";
+    }
+    case ConfigNode::Kind::List: {
+      std::string s = "[";
+      for (const auto& i : n.items) s += canonical_text(i) + ",";
+      return s + "]";
+    }
+    case ConfigNode::Kind::Map: {
+      std::string s = "{";
+      for (const auto& e : n.map)
+        if (skip_key.empty() || e.first != skip_key) s += e.first + ":" + canonical_text(e.second) + ",";
+      return s + "}";
+    }
+  }
+  return {};
+}
+
 inline const ConfigNode* ConfigNode::find(const std::string& key) const {
   for (const auto& [k, v] : map)
     if (k == key) return &v;

@@ -58,6 +58,16 @@ class Histogram {
     max_.store(std::numeric_limits<std::int64_t>::min(), std::memory_order_relaxed);
   }
 
+  // Takes over another histogram's counts (online change: the new task's
+  // statistics go on from the old one's). Call before this one records.
+  void continue_from(const Histogram& o) noexcept {
+    for (int i = 0; i < kBuckets; ++i) buckets_[i].store(o.buckets_[i].load(std::memory_order_relaxed), std::memory_order_relaxed);
+    count_.store(o.count_.load(std::memory_order_relaxed), std::memory_order_relaxed);
+    sum_.store(o.sum_.load(std::memory_order_relaxed), std::memory_order_relaxed);
+    min_.store(o.min_.load(std::memory_order_relaxed), std::memory_order_relaxed);
+    max_.store(o.max_.load(std::memory_order_relaxed), std::memory_order_relaxed);
+  }
+
   static int index(std::uint64_t u) noexcept {
     if (u < kSub) return static_cast<int>(u);
     int msb = 63 - __builtin_clzll(u);

@@ -61,6 +61,10 @@ struct DriverBinding {
   std::string type;
   std::uint16_t task = 0;
   std::vector<std::string> bound_tags;  // per channel, "" when unbound
+  std::vector<Cell*> cells;             // per channel, the bound cell in the task's image (nullptr: unbound)
+  // type, task period, seed and the entry without `bind`: equal settings
+  // mean the same driver (an online change keeps it open, state and all).
+  std::string settings;
 };
 
 class Program {

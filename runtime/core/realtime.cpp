@@ -35,7 +35,7 @@ std::int64_t RealtimeRunner::monotonic_ns() {
   return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
 }
 
-RealtimeRunner::RealtimeRunner(Program& program, Options options) : program_(program), options_(options) {}
+RealtimeRunner::RealtimeRunner(Program& program, Options options) : program_(&program), options_(options) {}
 
 RealtimeRunner::~RealtimeRunner() {
   request_stop();
@@ -50,55 +50,115 @@ constexpr bool kSanitizerBuild = true;
 constexpr bool kSanitizerBuild = false;
 #endif
 
+void RealtimeRunner::warn(std::string w) {
+  std::lock_guard lock(warnings_mutex_);
+  warnings_.push_back(std::move(w));
+}
+
 void RealtimeRunner::start() {
   if (kSanitizerBuild && options_.lock_memory) {
-    std::lock_guard lock(warnings_mutex_);
-    warnings_.push_back("sanitizer build: memory is not locked (mlockall skipped)");
+    warn("sanitizer build: memory is not locked (mlockall skipped)");
   } else if (options_.lock_memory && mlockall(MCL_CURRENT | MCL_FUTURE) != 0) {
-    std::lock_guard lock(warnings_mutex_);
-    warnings_.push_back(std::string("mlockall failed (") + std::strerror(errno) +
-                        "): page faults may delay scans; run as root or raise RLIMIT_MEMLOCK");
+    warn(std::string("mlockall failed (") + std::strerror(errno) +
+         "): page faults may delay scans; run as root or raise RLIMIT_MEMLOCK");
   }
   if (options_.cpu_latency_us >= 0) {
     std::string err;
-    if (!cpu_latency_.hold(options_.cpu_latency_us, &err)) {
-      std::lock_guard lock(warnings_mutex_);
-      warnings_.push_back("cannot hold /dev/cpu_dma_latency at " + std::to_string(options_.cpu_latency_us) + " us (" +
-                          err + "): idle CPUs may wake tasks late");
-    }
+    if (!cpu_latency_.hold(options_.cpu_latency_us, &err))
+      warn("cannot hold /dev/cpu_dma_latency at " + std::to_string(options_.cpu_latency_us) + " us (" + err +
+           "): idle CPUs may wake tasks late");
   }
   stop_.store(false);
-  for (auto& t : program_.tasks) t->reset_timing();
-  scan_started_ = std::make_unique<std::atomic<std::int64_t>[]>(program_.tasks.size());
-  for (std::size_t i = 0; i < program_.tasks.size(); ++i) scan_started_[i].store(-1);
+  for (auto& t : program_->tasks) t->reset_timing();
   epoch_ = monotonic_ns() + options_.start_delay_ns;
-  alive_.store(static_cast<int>(program_.tasks.size()));
-  for (std::size_t i = 0; i < program_.tasks.size(); ++i) threads_.emplace_back([this, i] { task_thread(i); });
+  by_task_.clear();
+  for (auto& t : program_->tasks) {
+    Worker& w = workers_.emplace_back();
+    w.task.store(t.get());
+    by_task_.push_back(&w);
+  }
+  for (auto* w : by_task_) w->thread = std::thread([this, w] { task_thread(*w, Start{}); });
 }
 
 void RealtimeRunner::join() {
-  for (auto& t : threads_)
-    if (t.joinable()) t.join();
-  threads_.clear();
+  for (auto& w : workers_)
+    if (w.thread.joinable()) w.thread.join();
+  workers_.clear();
+  by_task_.clear();
   cpu_latency_.release();
 }
 
 std::int64_t RealtimeRunner::scan_running_ns(std::size_t task) const {
-  if (!scan_started_ || task >= program_.tasks.size()) return 0;
-  std::int64_t s = scan_started_[task].load(std::memory_order_relaxed);
+  if (task >= by_task_.size()) return 0;
+  std::int64_t s = by_task_[task]->scan_started.load(std::memory_order_relaxed);
   return s < 0 ? 0 : std::max<std::int64_t>(0, monotonic_ns() - epoch_ - s);
 }
 
-bool RealtimeRunner::running() const { return alive_.load(std::memory_order_acquire) > 0; }
+bool RealtimeRunner::running() const {
+  for (const auto& w : workers_) {
+    if (!w.alive.load(std::memory_order_acquire)) continue;
+    const Task* t = w.task.load(std::memory_order_acquire);
+    if (t && !t->stopped()) return true;
+  }
+  return false;
+}
 
 std::vector<std::string> RealtimeRunner::warnings() const {
   std::lock_guard lock(warnings_mutex_);
   return warnings_;
 }
 
-void RealtimeRunner::task_thread(std::size_t index) {
-  Task& task = *program_.tasks[index];
-  const auto& cfg = task.config();
+void RealtimeRunner::begin_change(ProgramChange& change) {
+  change_ = &change;
+  // Added tasks: a thread each, asleep until its first release at or after T.
+  std::vector<std::pair<Worker*, Start>> added;
+  for (std::size_t i = 0; i < change.to->tasks.size(); ++i) {
+    TaskHandover* h = change.for_new_task(i);
+    if (h->from) continue;
+    Task& t = *h->to;
+    t.reset_timing();
+    const auto& c = t.config();
+    Start st;
+    st.k = std::max<std::int64_t>(0, (change.switch_ns - c.phase_ns + c.period_ns - 1) / c.period_ns);
+    st.prev_planned = t.release_ns(st.k) - c.period_ns;
+    st.perform = h;
+    Worker& w = workers_.emplace_back();
+    w.task.store(&t);
+    added.emplace_back(&w, st);
+  }
+  begin_mirroring(change);  // the running threads see their handovers from here on
+  for (auto& [w, st] : added) {
+    Start s = st;
+    w->thread = std::thread([this, w, s] { task_thread(*w, s); });
+  }
+}
+
+bool RealtimeRunner::change_complete() const {
+  if (!change_) return true;
+  for (const auto& h : change_->handovers)
+    if (!h->done.load(std::memory_order_acquire)) return false;
+  return true;
+}
+
+void RealtimeRunner::finish_change() {
+  if (!change_) return;
+  std::vector<Worker*> next;
+  for (const auto& t : change_->to->tasks)
+    for (auto& w : workers_)
+      if (w.task.load(std::memory_order_acquire) == t.get()) next.push_back(&w);
+  // Threads of removed tasks have returned (their handover is done).
+  for (auto& w : workers_)
+    if (std::find(next.begin(), next.end(), &w) == next.end() && w.thread.joinable()) w.thread.join();
+  workers_.remove_if([&](const Worker& w) { return std::find(next.begin(), next.end(), &w) == next.end(); });
+  by_task_.clear();
+  for (const auto& t : change_->to->tasks)
+    for (auto& w : workers_)
+      if (w.task.load(std::memory_order_acquire) == t.get()) by_task_.push_back(&w);
+  program_ = change_->to;
+  change_ = nullptr;
+}
+
+void RealtimeRunner::configure_thread(const TaskConfig& cfg) {
   {
     std::string name = cfg.name.substr(0, 15);
     pthread_setname_np(pthread_self(), name.c_str());
@@ -107,31 +167,71 @@ void RealtimeRunner::task_thread(std::size_t index) {
     sched_param sp{};
     sp.sched_priority = std::clamp(cfg.priority, sched_get_priority_min(SCHED_FIFO), sched_get_priority_max(SCHED_FIFO));
     int rc = pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp);
-    if (rc != 0) {
-      std::lock_guard lock(warnings_mutex_);
-      warnings_.push_back("task " + cfg.name + ": cannot use SCHED_FIFO priority " + std::to_string(sp.sched_priority) +
-                          " (" + std::strerror(rc) + "); running at normal priority, expect more jitter");
-    }
+    if (rc != 0)
+      warn("task " + cfg.name + ": cannot use SCHED_FIFO priority " + std::to_string(sp.sched_priority) + " (" +
+           std::strerror(rc) + "); running at normal priority, expect more jitter");
   }
+  cpu_set_t set;
+  CPU_ZERO(&set);
   if (cfg.cpu >= 0) {
-    cpu_set_t set;
-    CPU_ZERO(&set);
     CPU_SET(cfg.cpu, &set);
-    int rc = pthread_setaffinity_np(pthread_self(), sizeof set, &set);
-    if (rc != 0) {
-      std::lock_guard lock(warnings_mutex_);
-      warnings_.push_back("task " + cfg.name + ": cannot pin to CPU " + std::to_string(cfg.cpu) + " (" +
-                          std::strerror(rc) + ")");
-    }
+  } else {
+    for (int c = 0; c < CPU_SETSIZE; ++c) CPU_SET(c, &set);  // an online change may unpin a task
   }
-  prefault_stack();
+  int rc = pthread_setaffinity_np(pthread_self(), sizeof set, &set);
+  if (rc != 0 && cfg.cpu >= 0)
+    warn("task " + cfg.name + ": cannot pin to CPU " + std::to_string(cfg.cpu) + " (" + std::strerror(rc) + ")");
+}
 
-  std::int64_t k = 0;
-  std::int64_t prev_planned = 0;
+void RealtimeRunner::task_thread(Worker& w, Start start) {
+  Task* task = w.task.load(std::memory_order_acquire);
+  configure_thread(task->config());
+  prefault_stack();
+  if (start.perform) start.perform->perform();
+
+  std::int64_t k = start.k;
+  // The first scan's dt is one period, as in virtual time.
+  std::int64_t prev_planned = start.perform ? start.prev_planned : task->release_ns(k) - task->config().period_ns;
   std::uint64_t n = 0;
   constexpr std::int64_t kStopPoll = 100'000'000;  // a long period still notices a stop within 100 ms
+  bool stopped = false;  // by the watchdog: wait for an online change (or the end)
   while (!stop_.load(std::memory_order_acquire)) {
-    const std::int64_t planned = task.release_ns(k);
+    std::int64_t planned = task->release_ns(k);
+    // Online change: between two scans, at the first release at or after T.
+    if (TaskHandover* h = task->handover(); h && h->from == task && (planned >= h->switch_ns || stopped)) {
+      if (stopped) {
+        // Restarted by the change: the first grid point at or after T.
+        const std::int64_t T = h->switch_ns;
+        if (now_ns() < T) {
+          timespec ts = to_timespec(epoch_ + std::min(T, now_ns() + kStopPoll));
+          clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr);
+          continue;
+        }
+      }
+      const std::int64_t at = stopped ? h->switch_ns : planned;
+      if (!h->to) {
+        h->perform();
+        break;  // removed: its last scan was the one before T
+      }
+      const TaskConfig old_cfg = task->config();
+      h->to->reset_timing();
+      h->perform();
+      task = h->to;
+      w.task.store(task, std::memory_order_release);
+      const auto& c = task->config();
+      if (h->timing_changed || stopped) {
+        k = std::max<std::int64_t>(0, (at - c.phase_ns + c.period_ns - 1) / c.period_ns);
+        if (stopped) prev_planned = task->release_ns(k) - c.period_ns;
+      }
+      if (c.priority != old_cfg.priority || c.cpu != old_cfg.cpu || c.name != old_cfg.name) configure_thread(c);
+      stopped = false;
+      continue;
+    }
+    if (stopped) {
+      timespec ts = to_timespec(monotonic_ns() + kStopPoll);
+      clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr);
+      continue;
+    }
     const std::int64_t deadline = epoch_ + planned;
     bool stopping = false;
     for (;;) {
@@ -143,24 +243,24 @@ void RealtimeRunner::task_thread(std::size_t index) {
       }
     }
     if (stopping) break;
-    const std::int64_t start = monotonic_ns() - epoch_;
-    scan_started_[index].store(start, std::memory_order_relaxed);
+    const std::int64_t begin = monotonic_ns() - epoch_;
+    w.scan_started.store(begin, std::memory_order_relaxed);
     ScanContext ctx;
     ctx.now_ns = planned;
-    ctx.dt_ns = n == 0 ? cfg.period_ns : planned - prev_planned;
+    ctx.dt_ns = planned - prev_planned;
     ctx.scan = n;
     ctx.virtual_time = false;
-    task.scan(ctx);
+    task->scan(ctx);
     const std::int64_t end = monotonic_ns() - epoch_;
-    scan_started_[index].store(-1, std::memory_order_relaxed);
-    task.publish();
-    auto next = task.account(k, planned, start, end);
+    w.scan_started.store(-1, std::memory_order_relaxed);
+    task->publish();
+    auto next = task->account(k, planned, begin, end);
     prev_planned = planned;
     ++n;
     k = next.index;
-    if (next.stop) break;
+    if (next.stop) stopped = true;
   }
-  alive_.fetch_sub(1, std::memory_order_acq_rel);
+  w.alive.store(false, std::memory_order_release);
 }
 
 }  // namespace syncplc

@@ -3,18 +3,25 @@
 // locked with mlockall, releases on absolute CLOCK_MONOTONIC deadlines with
 // clock_nanosleep(TIMER_ABSTIME). All tasks share one epoch, so their grids
 // keep their phase relation and never drift.
+//
+// Online change (program_change.hpp): each thread switches its task to the
+// new program between two scans, at its first release at or after the switch
+// instant, on the same grid (re-timed tasks: the new grid from there); the
+// epoch never changes, so no scan is skipped or late because of a change.
 #pragma once
 
 #include <atomic>
+#include <cstdint>
+#include <list>
 #include <memory>
 #include <mutex>
-#include <cstdint>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "runtime/core/cpu_latency.hpp"
 #include "runtime/core/program.hpp"
+#include "runtime/core/program_change.hpp"
 
 namespace syncplc {
 
@@ -35,28 +42,52 @@ class RealtimeRunner {
   void start();
   void request_stop() { stop_.store(true, std::memory_order_release); }
   void join();
+  // Some task is still scanning (not every one stopped by its watchdog).
   bool running() const;
   // Warnings collected at start (no SCHED_FIFO permission, mlockall failed...).
   std::vector<std::string> warnings() const;
   std::int64_t epoch_ns() const { return epoch_; }
+  // Now on the tasks' time axis (ns since the epoch).
+  std::int64_t now_ns() const { return monotonic_ns() - epoch_; }
   // Supervision from a non-real-time thread: for each task, how long its
   // current scan has been running (0 when it is between scans). The watchdog
   // proper is evaluated when a scan ends; this is how a scan that never ends
   // is noticed (it cannot be interrupted safely, only reported).
   std::int64_t scan_running_ns(std::size_t task) const;
+  Program& program() const { return *program_; }
+
+  // Online change, from the main thread: set change.switch_ns (switch_instant),
+  // then begin_change; poll change_complete(); then finish_change(), after
+  // which program() is change.to and change.from may be destroyed.
+  void begin_change(ProgramChange& change);
+  bool change_complete() const;
+  void finish_change();
 
   static std::int64_t monotonic_ns();
 
  private:
-  void task_thread(std::size_t index);
+  struct Worker {
+    std::thread thread;
+    std::atomic<Task*> task{nullptr};
+    std::atomic<std::int64_t> scan_started{-1};  // -1 between scans
+    std::atomic<bool> alive{true};
+  };
+  struct Start {
+    std::int64_t k = 0;             // first grid index
+    std::int64_t prev_planned = 0;
+    TaskHandover* perform = nullptr;  // an added task's handover, performed before its first scan
+  };
+  void task_thread(Worker& w, Start start);
+  void configure_thread(const TaskConfig& cfg);
+  void warn(std::string w);
 
-  Program& program_;
+  Program* program_;
   Options options_;
-  std::vector<std::thread> threads_;
+  std::list<Worker> workers_;    // stable addresses; one per running task, and those an online change adds
+  std::vector<Worker*> by_task_; // the current program's task i runs on by_task_[i]
+  ProgramChange* change_ = nullptr;
   CpuLatencyRequest cpu_latency_;
-  std::unique_ptr<std::atomic<std::int64_t>[]> scan_started_;  // per task, -1 between scans
   std::atomic<bool> stop_{false};
-  std::atomic<int> alive_{0};
   std::int64_t epoch_ = 0;
   mutable std::mutex warnings_mutex_;
   std::vector<std::string> warnings_;

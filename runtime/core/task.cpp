@@ -1,5 +1,7 @@
 #include "runtime/core/task.hpp"
 
+#include "runtime/core/program_change.hpp"
+
 #include <cstring>
 
 namespace syncplc {
@@ -25,9 +27,26 @@ TaskStats::Summary TaskStats::summary() const {
   s.watchdog_trips = watchdog_trips.load(std::memory_order_relaxed);
   s.writes_applied = writes_applied.load(std::memory_order_relaxed);
   s.events_dropped = events_dropped.load(std::memory_order_relaxed);
+  s.late_reads = late_reads.load(std::memory_order_relaxed);
   s.exec = exec.summary();
   s.jitter = jitter.summary();
   return s;
+}
+
+void TaskStats::continue_from(const TaskStats& o) noexcept {
+  exec.continue_from(o.exec);
+  jitter.continue_from(o.jitter);
+  auto carry = [](std::atomic<std::uint64_t>& to, const std::atomic<std::uint64_t>& from) {
+    to.store(from.load(std::memory_order_relaxed), std::memory_order_relaxed);
+  };
+  carry(scans, o.scans);
+  carry(overruns, o.overruns);
+  carry(skipped, o.skipped);
+  carry(watchdog_trips, o.watchdog_trips);
+  carry(writes_applied, o.writes_applied);
+  carry(events_dropped, o.events_dropped);
+  carry(late_reads, o.late_reads);
+  last_exec_ns.store(o.last_exec_ns.load(std::memory_order_relaxed), std::memory_order_relaxed);
 }
 
 Task::Task(std::uint16_t index, TaskConfig cfg) : index_(index), cfg_(std::move(cfg)) {}
@@ -74,6 +93,9 @@ void Task::apply_writes() noexcept {
     image[w.cell] = w.value;
     ++n;
   }
+  // During an online change HMIs already write to the new program: its
+  // queue is applied here, so a write takes effect at the next scan as ever.
+  if (TaskHandover* h = handover_.load(std::memory_order_acquire)) n += h->apply_successor_writes(image.data());
   if (n) stats.writes_applied.fetch_add(n, std::memory_order_relaxed);
 }
 
@@ -92,8 +114,10 @@ void Task::scan(ScanContext& ctx) noexcept {
   };
 
   apply_writes();                                       // 1
-  for (auto& in : inbound) {                            // 2: other tasks' tags
-    const Cell* src = in.channel->acquire();
+  for (auto& in : inbound) {                            // 2: other tasks' tags, as visible at this release
+    bool late = false;
+    const Cell* src = in.channel->read_at(ctx.now_ns, &late);
+    if (late) stats.late_reads.fetch_add(1, std::memory_order_relaxed);
     for (const auto& c : in.copies) std::memcpy(static_cast<void*>(img + c.dst), src + c.src, c.n * sizeof(Cell));
   }
   for (auto* d : drivers) d->latch_inputs(ctx);         // 2: field inputs
@@ -117,8 +141,16 @@ void Task::scan(ScanContext& ctx) noexcept {
 }
 
 void Task::publish() noexcept {
-  for (auto& ch : channels) ch->publish(image.data());
+  // LET: this scan's outputs are visible from its next grid point on.
+  const SnapshotStamp stamp{scan_count_, now_, now_ + cfg_.period_ns};
+  for (auto& ch : channels) ch->publish(image.data(), stamp);
+  if (TaskHandover* h = handover_.load(std::memory_order_acquire)) h->mirror(image.data(), stamp);
   published_.fetch_add(1, std::memory_order_release);
+}
+
+void Task::publish_for_predecessor(const SnapshotStamp& s) noexcept {
+  for (auto& ch : channels) ch->publish(image.data(), s);
+  published_.fetch_add(1, std::memory_order_release);  // holds the writes applied for this task (Modbus FC 23 waits)
 }
 
 Task::Next Task::account(std::int64_t k, std::int64_t planned, std::int64_t start, std::int64_t end) noexcept {

@@ -23,7 +23,7 @@
 #include "runtime/core/histogram.hpp"
 #include "runtime/core/io_driver.hpp"
 #include "runtime/core/spsc_ring.hpp"
-#include "runtime/core/triple_buffer.hpp"
+#include "runtime/core/snapshot_channel.hpp"
 
 namespace syncplc {
 
@@ -69,14 +69,22 @@ struct TaskStats {
   std::atomic<std::uint64_t> watchdog_trips{0};
   std::atomic<std::uint64_t> writes_applied{0};
   std::atomic<std::uint64_t> events_dropped{0};
+  // Inbound reads that found not even the producer's previous scan visible
+  // (this scan started more than a producer period late): the values then
+  // differ from virtual time's.
+  std::atomic<std::uint64_t> late_reads{0};
   std::atomic<std::int64_t> last_exec_ns{0};
 
   struct Summary {
-    std::uint64_t scans, overruns, skipped, watchdog_trips, writes_applied, events_dropped;
+    std::uint64_t scans, overruns, skipped, watchdog_trips, writes_applied, events_dropped, late_reads;
     Histogram::Summary exec, jitter;
   };
   Summary summary() const;
+  // Online change: the new task's statistics go on from the old task's.
+  void continue_from(const TaskStats& old) noexcept;
 };
+
+struct TaskHandover;
 
 // One block instance placed in a task.
 struct BlockInstance {
@@ -92,9 +100,10 @@ struct BlockInstance {
   std::vector<CellCopy> copy_out;   // after execute: output -> tags
 };
 
-// Values of other tasks' tags, taken from their snapshot channels.
+// Values of other tasks' tags, taken from their snapshot channels at the
+// consumer's release instant (logical execution time, snapshot_channel.hpp).
 struct Inbound {
-  TripleBuffer* channel = nullptr;
+  SnapshotChannel* channel = nullptr;
   std::uint32_t producer = 0;
   std::vector<CellCopy> copies;  // src: producer's owned range; dst: this image
 };
@@ -117,8 +126,9 @@ class Task : private EventSink {
   std::vector<IoDriver*> drivers;
   std::vector<std::pair<std::uint32_t, Cell>> safe_values;  // cell, value on SafeStop
   // Snapshot channels this task publishes into: [0] is read by non-real-time
-  // threads (under external_mutex), the others each by one consuming task.
-  std::vector<std::unique_ptr<TripleBuffer>> channels;
+  // threads (under external_mutex; newest publication only), the others each
+  // by one consuming task (with the publication before, for LET reads).
+  std::vector<std::unique_ptr<SnapshotChannel>> channels;
   std::mutex external_mutex;        // serialises readers of channels[0]; never taken by the scan
 
   // Sizes queues and channels and binds pins. Call once, after the image is final.
@@ -164,7 +174,14 @@ class Task : private EventSink {
   template <class F>
   void with_published(F&& f) {
     std::lock_guard lock(external_mutex);
-    f(static_cast<const Cell*>(channels[0]->acquire()));
+    f(static_cast<const Cell*>(channels[0]->latest()));
+  }
+  // The stamp of the newest publication: its scan count and logical times.
+  SnapshotStamp published_stamp() {
+    std::lock_guard lock(external_mutex);
+    SnapshotStamp s;
+    channels[0]->latest(&s);
+    return s;
   }
   // Snapshots published so far. A write enqueued when this read n is in the
   // snapshot of publication n + 2 at the latest (a scan may be between its
@@ -172,6 +189,24 @@ class Task : private EventSink {
   std::uint64_t published_count() const { return published_.load(std::memory_order_acquire); }
   // Takes the task's events (the consumer side of its event ring).
   bool pop_event(Event& e) { return events_.pop(e); }
+
+  // --- online change (program_change.hpp) -----------------------------------------
+  // From the moment the main thread sets a handover until this task's switch,
+  // every publication of this (old) task is also made, in the new task's
+  // layout, into the new task's channels: consumers that switch first read
+  // the right values (program_change.hpp). Set before the switch instant.
+  void set_handover(TaskHandover* h) noexcept { handover_.store(h, std::memory_order_release); }
+  TaskHandover* handover() const noexcept { return handover_.load(std::memory_order_acquire); }
+  // A publication made for this (new) task by its predecessor: the image's
+  // owned cells as the handover left them, with the predecessor's stamp. It
+  // counts as this task's publication: the predecessor applied this task's
+  // queued writes before it (TaskHandover::apply_successor_writes).
+  void publish_for_predecessor(const SnapshotStamp& s) noexcept;
+  // The scan count and time base an online change carries over.
+  std::uint64_t scan_count() const noexcept { return scan_count_; }
+  void continue_scan_count(std::uint64_t n) noexcept { scan_count_ = n; }
+  // Pops the task's queued writes (the switch moves an old task's into the new one).
+  bool pop_write(QueuedWrite& w) noexcept { return writes_.pop(w); }
 
   TaskStats stats;
 
@@ -192,6 +227,7 @@ class Task : private EventSink {
   bool overrun_series_ = false;
   std::atomic<bool> stopped_{false};
   std::atomic<std::uint64_t> published_{0};
+  std::atomic<TaskHandover*> handover_{nullptr};
 };
 
 }  // namespace syncplc

@@ -5,12 +5,24 @@
 
 namespace syncplc {
 
-VirtualClock::VirtualClock(Program& program) : program_(program), state_(program.tasks.size()) {
-  for (auto& t : program_.tasks) t->reset_timing();
+VirtualClock::VirtualClock(Program& program) : program_(&program) {
+  for (auto& t : program_->tasks) {
+    t->reset_timing();
+    TaskState s;
+    s.task = t.get();
+    state_.push_back(s);
+  }
 }
 
 std::int64_t VirtualClock::release_of(std::uint16_t task, std::uint64_t n) const {
-  return program_.tasks[task]->release_ns(static_cast<std::int64_t>(n));
+  return program_->tasks[task]->release_ns(static_cast<std::int64_t>(n));
+}
+
+std::uint64_t VirtualClock::scans(std::uint16_t task) const {
+  const Task* t = program_->tasks[task].get();
+  for (const auto& s : state_)
+    if (s.task == t) return s.scans;
+  return 0;
 }
 
 void VirtualClock::flush_observer() {
@@ -18,16 +30,95 @@ void VirtualClock::flush_observer() {
   observed_ = -1;
 }
 
+void VirtualClock::begin_change(ProgramChange& change) {
+  change_ = &change;
+  begin_mirroring(change);
+  // Tasks only the new program has start on their own grid at T.
+  for (std::size_t i = 0; i < change.to->tasks.size(); ++i) {
+    TaskHandover* h = change.for_new_task(i);
+    if (h->from) continue;
+    Task& t = *h->to;
+    t.reset_timing();
+    TaskState s;
+    s.task = &t;
+    const auto& c = t.config();
+    s.k = std::max<std::int64_t>(0, (change.switch_ns - c.phase_ns + c.period_ns - 1) / c.period_ns);
+    s.not_before = change.switch_ns;
+    s.prev_planned = t.release_ns(s.k) - c.period_ns;
+    h->perform();
+    state_.push_back(s);
+  }
+  // A task its watchdog stopped restarts with the new program at T.
+  for (auto& s : state_) {
+    if (!s.stopped || s.gone) continue;
+    TaskHandover* h = s.task->handover();
+    if (!h || h->to == nullptr) continue;
+    s.stopped = false;
+    s.not_before = std::max(s.not_before, change.switch_ns);
+  }
+  // A task that owns nothing to switch before T (all switched at once) still
+  // completes the change on the next run_until.
+}
+
+void VirtualClock::switch_task(TaskState& s) {
+  TaskHandover* h = s.task->handover();
+  if (!h->to) {
+    s.gone = true;
+    h->perform();
+    return;
+  }
+  const std::int64_t start = std::max(s.task->release_ns(s.k), s.not_before);
+  const bool restarted = s.task->stopped();
+  h->to->reset_timing();
+  h->perform();
+  s.task = h->to;
+  if (h->timing_changed || restarted) {
+    // The new grid (or the grid after a stop) from the switch on.
+    const auto& c = s.task->config();
+    s.k = std::max<std::int64_t>(0, (start - c.phase_ns + c.period_ns - 1) / c.period_ns);
+    if (restarted) s.prev_planned = s.task->release_ns(s.k) - c.period_ns;  // dt of one period, as in real time
+  }
+}
+
+void VirtualClock::finish_change() {
+  // Order the states as the new program orders its tasks (ties between equal
+  // releases and priorities go by that order from now on).
+  std::vector<TaskState> next;
+  for (const auto& t : change_->to->tasks)
+    for (const auto& s : state_)
+      if (s.task == t.get() && !s.gone) next.push_back(s);
+  state_ = std::move(next);
+  program_ = change_->to;
+  change_ = nullptr;
+}
+
 void VirtualClock::run_until(std::int64_t t, bool inclusive) {
   constexpr std::int64_t kNever = std::numeric_limits<std::int64_t>::max();
   for (;;) {
+    if (change_) {
+      // Switch every task whose next release is at or after T (and whose
+      // last old publication is out), as each real-time thread does.
+      bool all = true;
+      for (auto& s : state_) {
+        if (s.gone) continue;
+        TaskHandover* h = s.task->handover();
+        if (h && h->from == s.task && s.publish_at < 0 &&
+            std::max(s.task->release_ns(s.k), s.not_before) >= change_->switch_ns &&
+            std::max(s.task->release_ns(s.k), s.not_before) <= (inclusive ? t : t - 1))
+          switch_task(s);
+        h = s.task->handover();
+        if (!s.gone && h && h->from == s.task) all = false;
+      }
+      if (all) finish_change();
+    }
     // Pick the next event: (time, publish before start, higher priority, lower index).
     int best = -1;
     bool best_publish = false;
     std::int64_t best_time = kNever;
     for (std::size_t i = 0; i < state_.size(); ++i) {
       const auto& s = state_[i];
-      const auto& task = *program_.tasks[i];
+      if (s.gone) continue;
+      const auto& task = *s.task;
       if (s.publish_at >= 0) {
         if (s.publish_at < best_time || (s.publish_at == best_time && !best_publish)) {
           best = static_cast<int>(i), best_publish = true, best_time = s.publish_at;
@@ -38,14 +129,14 @@ void VirtualClock::run_until(std::int64_t t, bool inclusive) {
       std::int64_t start = std::max(task.release_ns(s.k), s.not_before);
       bool better = start < best_time ||
                     (start == best_time && !best_publish &&
-                     task.config().priority > program_.tasks[static_cast<std::size_t>(best)]->config().priority);
+                     task.config().priority > state_[static_cast<std::size_t>(best)].task->config().priority);
       if (better) best = static_cast<int>(i), best_publish = false, best_time = start;
     }
     if (best < 0 || best_time == kNever) break;
     if (inclusive ? best_time > t : best_time >= t) break;
 
     auto& s = state_[static_cast<std::size_t>(best)];
-    auto& task = *program_.tasks[static_cast<std::size_t>(best)];
+    auto& task = *s.task;
     if (observed_ >= 0 && best_time != observed_) flush_observer();
     now_ = best_time;
     if (best_publish) {

@@ -4,8 +4,13 @@
 // release the higher priority runs first (then the task declared first).
 // A scan takes the virtual execution time its blocks consume
 // (ScanContext::consumed_ns, 0 by default); its snapshot is published when
-// it ends, before any scan that starts at that instant. Nothing depends on
-// the wall clock, so a run is bit-for-bit reproducible.
+// it ends. What other tasks read of it does not depend on when it ends, only
+// on its logical instant (snapshot_channel.hpp), which is why a run here
+// gives, scan by scan, the values the real-time scheduler gives. Nothing
+// depends on the wall clock, so a run is bit-for-bit reproducible.
+//
+// Online change (program_change.hpp) works here exactly as in real time:
+// each task switches at its first release at or after the switch instant.
 #pragma once
 
 #include <cstdint>
@@ -13,6 +18,7 @@
 #include <vector>
 
 #include "runtime/core/program.hpp"
+#include "runtime/core/program_change.hpp"
 
 namespace syncplc {
 
@@ -28,24 +34,39 @@ class VirtualClock {
   void on_time_point(std::function<void(std::int64_t t)> f) { observer_ = std::move(f); }
   // Planned release of scan number n of a task (ignores overruns).
   std::int64_t release_of(std::uint16_t task, std::uint64_t n) const;
-  std::uint64_t scans(std::uint16_t task) const { return state_[task].scans; }
+  // Scans of the current program's task (an online change carries the count over).
+  std::uint64_t scans(std::uint16_t task) const;
+  Program& program() const { return *program_; }
+
+  // Online change: from now on every old task mirrors its publications; each
+  // task switches at its first release at or after change.switch_ns (set it
+  // with switch_instant, or later). The change is complete once every task
+  // has switched (change_complete()); program() is then change.to.
+  void begin_change(ProgramChange& change);
+  bool change_complete() const { return change_ == nullptr; }
 
  private:
   struct TaskState {
+    Task* task = nullptr;
     std::int64_t k = 0;              // grid index of the next planned release
     std::int64_t not_before = 0;     // the next scan cannot start before the previous ended
     std::int64_t prev_planned = 0;
     std::int64_t publish_at = -1;    // pending publication time, -1 none
     std::uint64_t scans = 0;
     bool stopped = false;
+    bool gone = false;               // removed by an online change
   };
   void flush_observer();
+  // At a task's first release >= T: switches it (true) or ends it (removed).
+  void switch_task(TaskState& s);
+  void finish_change();
 
-  Program& program_;
+  Program* program_;
   std::vector<TaskState> state_;
   std::int64_t now_ = 0;
   std::int64_t observed_ = -1;       // time point with scans not yet reported
   std::function<void(std::int64_t)> observer_;
+  ProgramChange* change_ = nullptr;
 };
 
 }  // namespace syncplc

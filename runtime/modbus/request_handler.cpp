@@ -54,13 +54,13 @@ bool all_writable(const std::vector<const ModbusPoint*>& points) {
   return std::all_of(points.begin(), points.end(), [](const ModbusPoint* p) { return p->writable; });
 }
 
+}  // namespace
+
 std::int64_t deferral_limit_ns(const Program& p, const std::vector<PendingReply::Wait>& waits) {
   std::int64_t period = 0;
   for (const auto& w : waits) period = std::max(period, p.tasks[w.task]->config().period_ns);
   return 2'000'000'000 + 3 * period;  // two scans normally; a stopped task gets 04 after this
 }
-
-}  // namespace
 
 RequestHandler::RequestHandler(const ModbusConfig& config, Counters& counters) : config_(config), counters_(counters) {
   // The context only frames and sends replies: its address is never connected to.

@@ -59,6 +59,10 @@ struct PendingReply {
   std::vector<Wait> waits;
 };
 
+// How long a write and read may wait for its tasks' publications before it
+// is answered with exception 04 (a stopped task): two seconds and three periods.
+std::int64_t deferral_limit_ns(const Program& p, const std::vector<PendingReply::Wait>& waits);
+
 class RequestHandler {
  public:
   RequestHandler(const ModbusConfig& config, Counters& counters);

@@ -220,29 +220,44 @@ void Server::hold_and_take_new_program() {
   hold_requested_.store(false, std::memory_order_release);
   if (!next_program_) return;  // stopping
   const std::int64_t now = now_ns();
+  Program* old = program_;
   program_ = next_program_;
   handler_->set_program(*program_);
   if (config_.cpus.empty()) keep_off_task_cpus();  // the new program may pin its tasks elsewhere
-  // Write-and-reads that waited for the old program's scans are answered from
-  // the new program (which starts with the old one's values, their writes
-  // included: syncplc run flushes the old queues before it carries the tags
-  // over); what their clients sent behind them is served at once.
+  // Write-and-reads that wait for the old program's scans now wait for the
+  // same tasks of the new one: from the online change on, the old tasks apply
+  // the new program's queues too and their publications count as the new
+  // tasks' (program_change.hpp), so two more publications of the new task
+  // hold every write queued before. A task the new program lacks cannot
+  // publish it: that request is answered from the new program at once.
   std::vector<std::size_t> waiting;
   waiting.swap(deferred_);
   for (std::size_t slot : waiting) {
     Connection& c = *slots_[slot];
     if (c.fd < 0) continue;
+    bool rearmed = true;
+    for (auto& w : c.pending.waits) {
+      const int t = program_->find_task(old->tasks[w.task]->config().name);
+      if (t < 0) { rearmed = false; break; }
+      w.task = static_cast<std::uint16_t>(t);
+      w.published = program_->tasks[w.task]->published_count() + 2;
+    }
+    if (rearmed) {
+      // The change itself may take up to three periods of the slowest task.
+      std::int64_t longest = 0;
+      for (const auto& t : program_->tasks) longest = std::max(longest, t->config().period_ns);
+      c.pending.deadline_ns = std::max(c.pending.deadline_ns, now + 3 * longest + deferral_limit_ns(*program_, c.pending.waits));
+      deferred_.push_back(slot);
+      continue;
+    }
     if (handler_->answer_now(c.fd, c.pending) != RequestHandler::Outcome::Sent) {
       close_connection(slot, counters_.closed_unsendable);
       continue;
     }
     c.paused = false;
     watch(c.fd, slot + 1, EPOLLIN | EPOLLRDHUP, false);
+    serve_frames(slot, now);
   }
-  for (std::size_t slot : waiting)
-    if (slots_[slot]->fd >= 0 && !slots_[slot]->paused) serve_frames(slot, now);
-  waiting.clear();
-  if (deferred_.empty()) deferred_.swap(waiting);  // keep the reserved capacity
   next_program_ = nullptr;
   swap_cv_.notify_all();
 }

@@ -1524,7 +1524,7 @@ std::unique_ptr<Program> Loader::build() {
   }
 
   // --- snapshot channels: [0] external, then one per consuming task -------------
-  for (std::size_t t = 0; t < nt; ++t) prog->tasks[t]->channels.push_back(std::make_unique<TripleBuffer>());
+  for (std::size_t t = 0; t < nt; ++t) prog->tasks[t]->channels.push_back(std::make_unique<SnapshotChannel>(false));
   for (std::size_t t = 0; t < nt; ++t) {
     std::map<std::uint16_t, Inbound> by_producer;
     for (const auto& [tag, cell] : foreign[t]) {
@@ -1535,7 +1535,7 @@ std::unique_ptr<Program> Loader::build() {
     }
     for (auto& [producer, ib] : by_producer) {
       auto& ptask = *prog->tasks[producer];
-      ptask.channels.push_back(std::make_unique<TripleBuffer>());
+      ptask.channels.push_back(std::make_unique<SnapshotChannel>());
       ib.channel = ptask.channels.back().get();
       prog->tasks[t]->inbound.push_back(std::move(ib));
     }
@@ -1560,6 +1560,9 @@ std::unique_ptr<Program> Loader::build() {
         for (std::uint32_t k = 0; k < tg.length; ++k) task.safe_values.emplace_back(c + k, tg.safe[k]);
     }
     dd.driver->bind(cells);
+    b.cells = cells;
+    b.settings = dd.type + "|" + std::to_string(task.config().period_ns) + "|" + std::to_string(mix_seed(seed_, dd.name)) +
+                 "|" + canonical_text(*dd.node, "bind");
     task.drivers.push_back(dd.driver.get());
     b.driver = std::move(dd.driver);
     prog->drivers.push_back(std::move(b));

@@ -1,25 +1,30 @@
 #include "runtime/project/online_change.hpp"
 
+#include <fmt/format.h>
+
 namespace syncplc {
 
-std::size_t carry_over_tags(const Program& from, Program& to) {
-  std::size_t n = 0;
-  std::vector<bool> touched(to.tasks.size(), false);
-  for (const auto& t : to.tags) {
-    const Tag* old = from.find_tag(t.name);
-    if (!old || old->type != t.type || old->length != t.length) continue;
-    std::vector<Cell> v(t.length);
-    from.read_tag(*old, v.data());
-    auto& img = to.tasks[t.owner]->image;
-    std::copy(v.begin(), v.end(), img.begin() + t.cell);
-    touched[t.owner] = true;
-    ++n;
-  }
-  // Refill the snapshots so consumers latch the carried values on their first scan.
-  for (std::size_t i = 0; i < to.tasks.size(); ++i)
-    if (touched[i])
-      for (auto& ch : to.tasks[i]->channels) ch->fill(to.tasks[i]->image.data());
-  return n;
+std::string change_summary(const ProgramChange& c) {
+  std::size_t fates[5] = {0, 0, 0, 0, 0};
+  for (const auto& t : c.tasks) ++fates[static_cast<int>(t.fate)];
+  std::string tasks;
+  for (TaskFate f : {TaskFate::Kept, TaskFate::Retimed, TaskFate::Added, TaskFate::Removed, TaskFate::Restarted})
+    if (fates[static_cast<int>(f)] || f == TaskFate::Kept)
+      tasks += (tasks.empty() ? "" : ", ") + fmt::format("{} {}", fates[static_cast<int>(f)], task_fate_name(f));
+  return fmt::format("instances: {} kept, {} retuned, {} new, {} removed; tasks: {}; {} tag value{} carried over",
+                     c.count(InstanceFate::Kept), c.count(InstanceFate::Retuned), c.count(InstanceFate::New),
+                     c.count(InstanceFate::Removed), tasks, c.tags_carried, c.tags_carried == 1 ? "" : "s");
+}
+
+std::vector<std::string> change_report(const ProgramChange& c) {
+  std::vector<std::string> out;
+  for (const auto& t : c.tasks)
+    out.push_back(fmt::format("task {}: {}{}", t.name, task_fate_name(t.fate), t.detail.empty() ? "" : " (" + t.detail + ")"));
+  for (const auto& i : c.instances)
+    out.push_back(fmt::format("  {} ({}, task {}): {}{}", i.name, i.type, i.task, instance_fate_name(i.fate),
+                              i.detail.empty() ? "" : " (" + i.detail + ")"));
+  for (const auto& d : c.drivers) out.push_back(fmt::format("driver {}: {}", d.name, d.detail));
+  return out;
 }
 
 }  // namespace syncplc

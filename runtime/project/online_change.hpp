@@ -1,21 +1,20 @@
-// Replacing a running program by a newly loaded one (`syncplc run` reloads its
-// project file on SIGHUP). The new program is loaded and checked completely
-// before anything stops; a project that fails to load changes nothing. The
-// swap happens at scan boundaries: every task finishes its current scan, the
-// old drivers close, the new ones open, and the tasks start on a new epoch.
-// Tag values survive the swap (a warm start for tags, as an online change in
-// CODESYS keeps variables); block instances start fresh.
+// What an online change did, in words: per task (kept, re-timed, added,
+// removed, restarted), per block instance (kept, retuned, new, removed) and
+// per driver (kept open, restarted, new, removed). The change itself is
+// runtime/core/program_change.hpp; `syncplc run` and `syncplc reload` print
+// this, and it goes into the event list.
 #pragma once
 
-#include <cstddef>
+#include <string>
+#include <vector>
 
-#include "runtime/core/program.hpp"
+#include "runtime/core/program_change.hpp"
 
 namespace syncplc {
 
-// Copies the current (published) value of every tag of `from` that exists in
-// `to` with the same name, type and size into `to`'s image and snapshots.
-// Call before `to` starts running. Returns how many tags were carried over.
-std::size_t carry_over_tags(const Program& from, Program& to);
+// One line: "reloaded: 12 kept, 1 retuned, 2 new, 0 removed; tasks: 2 kept, 1 added".
+std::string change_summary(const ProgramChange& c);
+// Every task, instance and driver with its fate, one per line, tasks first.
+std::vector<std::string> change_report(const ProgramChange& c);
 
 }  // namespace syncplc

@@ -298,9 +298,13 @@ connections:
   ASSERT_LOADS(r);
   Program& p = *r.program;
   EXPECT_EQ(instance(p, "mv").datatype, IecType::INT);  // inferred across the task boundary
-  // CU is TRUE all along: CTU counts once (edge memory starts FALSE).
+  // CU is TRUE all along: CTU counts once (edge memory starts FALSE) in
+  // fast's first scan, visible to slow from 1 ms on: slow's scan at 10 ms.
   VirtualClock clock(p);
   clock.run_until(0, true);
+  const Tag* copy0 = p.find_tag("copy");
+  EXPECT_EQ(p.live_cell({copy0->owner, copy0->cell, IecType::INT, 1})->get<std::int16_t>(), 0) << "not visible at 0";
+  clock.run_until(10'000'000, true);
   const Tag* copy = p.find_tag("copy");
   EXPECT_EQ(p.live_cell({copy->owner, copy->cell, IecType::INT, 1})->get<std::int16_t>(), 1);
 }

@@ -6,6 +6,7 @@
 #include <modbus/modbus.h>
 #include <netinet/in.h>
 #include <sched.h>
+#include <poll.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -21,7 +22,7 @@
 
 #include "runtime/core/realtime.hpp"
 #include "runtime/modbus/server.hpp"
-#include "runtime/project/online_change.hpp"
+#include "runtime/core/program_change.hpp"
 #include "tests/realtime/quiet_options.hpp"
 #include "tests/support/project_fixture.hpp"
 
@@ -341,6 +342,11 @@ int connect_raw(int port) {
 }
 
 // One reply (MBAP header and PDU), or empty on timeout or close.
+bool readable_within(int s, std::chrono::milliseconds limit) {
+  pollfd p{s, POLLIN, 0};
+  return poll(&p, 1, static_cast<int>(limit.count())) > 0;
+}
+
 std::vector<std::uint8_t> recv_reply(int s) {
   std::vector<std::uint8_t> out(7);
   std::size_t got = 0;
@@ -415,12 +421,22 @@ TEST_F(ModbusServerWaiting, AtAProgramChangeAWaitingWriteAndReadIsAnsweredAndWha
   both.insert(both.end(), kRead, kRead + sizeof kRead);
   ASSERT_EQ(send(s, both.data(), both.size(), 0), static_cast<ssize_t>(both.size()));
   ASSERT_TRUE(within(2s, [&] { return server->counters().summary().requests == 1; })) << "FC 23 read, FC 3 behind it";
-  // As syncplc run does at an online change: hold, stop the old tasks, apply
-  // their queues, carry the tags over, serve the new program.
+  // As syncplc run does at an online change: hold, plan, let the old tasks
+  // mirror into the new program, serve the new program. The waiting write
+  // and read now waits for two publications of the new task, which the old
+  // task makes (it applies the queue and mirrors).
   server->hold();
-  program->tasks[0]->flush_queued_writes();
-  carry_over_tags(*program, *next);
+  auto change = plan_change(*program, *next);  // carries the tags over
+  change->switch_ns = 1'000'000'000'000;
+  begin_mirroring(*change);
   server->replace_program(*next);
+  EXPECT_FALSE(readable_within(s, 300ms)) << "answered before its write was published";
+  for (int k = 0; k < 2; ++k) {
+    ScanContext ctx;
+    ctx.now_ns = 10'000'000'000LL * (k + 1);
+    program->tasks[0]->scan(ctx);
+    program->tasks[0]->publish();
+  }
   EXPECT_EQ(recv_reply(s), (std::vector<std::uint8_t>{0, 1, 0, 0, 0, 7, 1, 0x17, 4, 0, 5, 0, 9}))
       << "the write and read, from the new program: b = 9 carried over";
   EXPECT_EQ(recv_reply(s), (std::vector<std::uint8_t>{0, 2, 0, 0, 0, 7, 1, 0x03, 4, 0, 5, 0, 9}))

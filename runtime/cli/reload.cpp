@@ -1,0 +1,112 @@
+#include "runtime/cli/reload.hpp"
+
+#include <fmt/format.h>
+#include <time.h>
+
+#include <algorithm>
+#include <ostream>
+
+#include "runtime/cli/serve_modbus.hpp"
+#include "runtime/core/program_change.hpp"
+#include "runtime/project/online_change.hpp"
+#include "runtime/project/report.hpp"
+
+namespace syncplc::cli {
+namespace {
+
+void sleep_ms(int ms) {
+  timespec ts{0, ms * 1'000'000L};
+  nanosleep(&ts, nullptr);
+}
+
+}  // namespace
+
+Reloader::~Reloader() {
+  // A program a stuck thread may still run in is left to the operating
+  // system (the process is ending): never destroyed under that thread.
+  (void)pending_.release();
+  (void)pending_old_.release();
+}
+
+void Reloader::poll(RealtimeRunner& runner, std::ostream& events) {
+  if (!pending_ || !runner.change_complete()) return;
+  runner.finish_change();
+  print_events(events, *pending_old_);
+  for (std::size_t a : pending_->old_drivers) pending_old_->drivers[a].driver->close();
+  pending_.reset();
+  pending_old_.reset();
+}
+
+ReloadResult Reloader::reload(std::unique_ptr<Program>& program, RealtimeRunner& runner,
+                              std::unique_ptr<modbus::Server>& server, std::ostream& events) {
+  ReloadResult r;
+  poll(runner, events);
+  if (pending_) {
+    r.summary = "reload refused: the previous change still waits for a task that has not reached its switch";
+    return r;
+  }
+  auto next = load_project(project_, options_);
+  if (!next.ok()) {
+    for (const auto& d : next.diagnostics.sorted()) r.lines.push_back(d.text());
+    r.summary = fmt::format("reload of {} rejected ({} error{}); the running program continues unchanged", project_,
+                            r.lines.size(), r.lines.size() == 1 ? "" : "s");
+    return r;
+  }
+  Program& old = *program;
+  auto change = plan_change(old, *next.program);
+
+  // The new program's own drivers open before anything switches: one that
+  // fails leaves everything as it was.
+  for (std::size_t i = 0; i < change->new_drivers.size(); ++i) {
+    auto& d = *next.program->drivers[change->new_drivers[i]].driver;
+    std::string err;
+    if (!d.open(&err)) {
+      for (std::size_t j = 0; j < i; ++j) next.program->drivers[change->new_drivers[j]].driver->close();
+      r.lines.push_back("driver " + d.name() + ": " + err);
+      r.summary = "reload of " + project_ + " rejected (a driver did not open); the running program continues unchanged";
+      return r;
+    }
+  }
+
+  // Modbus: no request is taken between hold and replace. From the change
+  // on, the old tasks apply the new program's queues and mirror their
+  // publications into it, so the server serves the new program at once:
+  // reads see the running values, writes take effect at the next scan, and
+  // a write and read that waited is answered once its write is published.
+  const ModbusConfig next_cfg = server_config(*next.program, modbus_port_);
+  const bool keep_server = server && same_server(server->config(), next_cfg);
+  if (keep_server) server->hold();
+  change->switch_ns = switch_instant(*change, runner.now_ns());
+  runner.begin_change(*change);
+  if (keep_server) {
+    server->replace_program(*next.program);
+  } else if (server || next_cfg.enabled) {
+    server.reset();  // changed settings: a new server (its clients reconnect)
+    server = start_modbus(*next.program, modbus_port_);
+  }
+  const std::int64_t give_up = change->switch_ns + 1'000'000'000;  // a task this late is stuck in a scan
+  while (!runner.change_complete() && runner.now_ns() < give_up) sleep_ms(1);
+
+  r.accepted = true;
+  r.lines = change_report(*change);
+  r.summary = "reloaded " + project_ + ": " + change_summary(*change);
+  if (!runner.change_complete()) {
+    std::string stuck;
+    for (const auto& h : change->handovers)
+      if (!h->done.load() && h->from) stuck += (stuck.empty() ? "" : ", ") + h->from->config().name;
+    r.summary += "; task " + stuck + " has not reached the switch yet (a scan that does not end?): the change completes when it does";
+    // Its thread is still inside the old program: that stays until it switches.
+    pending_ = std::move(change);
+    pending_old_ = std::move(program);
+    program = std::move(next.program);
+    return r;
+  }
+  runner.finish_change();
+  print_events(events, old);
+  for (std::size_t a : change->old_drivers) old.drivers[a].driver->close();
+  change.reset();
+  program = std::move(next.program);  // the old program (and the fresh blocks swapped into it) goes
+  return r;
+}
+
+}  // namespace syncplc::cli

@@ -1,0 +1,50 @@
+// Online change in `syncplc run`: the project file loaded again, checked,
+// and switched in while every task goes on (runtime/core/program_change.hpp).
+// Asked for by `syncplc reload` (control socket) or SIGHUP (a service).
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "runtime/core/program_change.hpp"
+#include "runtime/core/realtime.hpp"
+#include "runtime/modbus/server.hpp"
+#include "runtime/project/loader.hpp"
+
+namespace syncplc::cli {
+
+struct ReloadResult {
+  bool accepted = false;
+  std::string summary;             // one line
+  std::vector<std::string> lines;  // the errors (rejected) or the change report (accepted)
+};
+
+class Reloader {
+ public:
+  Reloader(std::string project, LoadOptions options, std::optional<int> modbus_port)
+      : project_(std::move(project)), options_(std::move(options)), modbus_port_(modbus_port) {}
+  ~Reloader();
+
+  // Loads the file again and, when it is good, switches the running program
+  // to it. A project that fails to load, or whose new drivers do not open,
+  // changes nothing. Old events are printed to `events` before the old
+  // program goes.
+  ReloadResult reload(std::unique_ptr<Program>& program, RealtimeRunner& runner,
+                      std::unique_ptr<modbus::Server>& server, std::ostream& events);
+  // Completes a change that waited for a late task, once it has switched.
+  void poll(RealtimeRunner& runner, std::ostream& events);
+  bool change_pending() const { return pending_ != nullptr; }
+
+ private:
+  std::string project_;
+  LoadOptions options_;
+  std::optional<int> modbus_port_;
+  // A change one task has not reached yet (a scan that does not end): the
+  // old program stays until it does (poll), never destroyed under its thread.
+  std::unique_ptr<ProgramChange> pending_;
+  std::unique_ptr<Program> pending_old_;
+};
+
+}  // namespace syncplc::cli

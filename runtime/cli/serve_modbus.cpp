@@ -1,0 +1,52 @@
+#include "runtime/cli/serve_modbus.hpp"
+
+#include <iostream>
+#include <set>
+#include <string>
+#include <tuple>
+
+namespace syncplc::cli {
+
+bool same_server(const ModbusConfig& a, const ModbusConfig& b) {
+  auto key = [](const ModbusConfig& c) {
+    std::string nets;
+    for (const auto& n : c.allowed_clients) nets += std::to_string(n.address) + "/" + std::to_string(n.prefix) + ",";
+    return std::make_tuple(c.enabled, c.port, c.bind, c.unit_id, c.max_clients, c.idle_timeout_ns, c.word_order, nets,
+                           c.read_only, c.cpus);
+  };
+  return key(a) == key(b);
+}
+
+ModbusConfig server_config(const Program& p, std::optional<int> port_override) {
+  ModbusConfig cfg = p.modbus;
+  if (port_override) {
+    cfg.enabled = true;
+    cfg.port = *port_override;
+  }
+  return cfg;
+}
+
+std::unique_ptr<modbus::Server> start_modbus(Program& p, std::optional<int> port_override) {
+  ModbusConfig cfg = server_config(p, port_override);
+  if (!cfg.enabled) return nullptr;
+  auto server = std::make_unique<modbus::Server>(p, cfg);
+  std::string err;
+  if (!server->start(&err)) {
+    std::cerr << "syncplc: modbus: " << err << "\n";
+    return nullptr;
+  }
+  std::cerr << "syncplc: modbus: listening on " << server->endpoint() << " (unit " << cfg.unit_id << ", "
+            << server->handler_map_size() << " values mapped)\n";
+  if (server->off_task_cpus()) {
+    std::set<int> pinned;
+    for (const auto& t : p.tasks)
+      if (t->config().cpu >= 0) pinned.insert(t->config().cpu);
+    std::string cpus;
+    for (int c : pinned) cpus += (cpus.empty() ? "" : ", ") + std::to_string(c);
+    std::cerr << "syncplc: modbus: the server thread keeps off CPU " << cpus << " (pinned tasks)\n";
+  }
+  if (!server->warning().empty()) std::cerr << "syncplc: modbus: warning: " << server->warning() << "\n";
+  return server;
+}
+
+}  // namespace syncplc::cli

@@ -1,0 +1,21 @@
+// Starting the Modbus TCP server of `syncplc run`, and telling whether a
+// changed project can keep the running server (online change).
+#pragma once
+
+#include <memory>
+#include <optional>
+
+#include "runtime/core/program.hpp"
+#include "runtime/modbus/server.hpp"
+
+namespace syncplc::cli {
+
+// The settings a running server cannot change without a restart.
+bool same_server(const ModbusConfig& a, const ModbusConfig& b);
+// The program's `modbus:` settings with `--modbus-port` applied.
+ModbusConfig server_config(const Program& p, std::optional<int> port_override);
+// Starts the server when the settings enable it; prints where it listens.
+// nullptr when it is off or could not start (the reason is printed).
+std::unique_ptr<modbus::Server> start_modbus(Program& p, std::optional<int> port_override);
+
+}  // namespace syncplc::cli
