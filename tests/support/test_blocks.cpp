@@ -59,6 +59,22 @@ class ArrayGain final : public Block {
   double gain_;
 };
 
+// SUM := SUM + K * IN each scan (state for online-change tests); K tunable,
+// MODE structural.
+class Accumulate final : public Block {
+ public:
+  explicit Accumulate(BlockSetup& s) : k_(s.param<double>("K")) {}
+  void execute(ScanContext&) noexcept override {
+    sum_ += k_ * in<double>(0);
+    out<double>(1, sum_);
+  }
+  void retune_from(const Block& fresh) noexcept override { k_ = static_cast<const Accumulate&>(fresh).k_; }
+
+ private:
+  double k_;
+  double sum_ = 0;
+};
+
 PinDecl in_pin(const char* n) { return PinDecl{n, PinDir::In, TypeClass::Exact, IecType::LREAL, "", false, "", "", ""}; }
 PinDecl out_pin(const char* n) { return PinDecl{n, PinDir::Out, TypeClass::Exact, IecType::LREAL, "", false, "", "", ""}; }
 
@@ -95,6 +111,11 @@ const BlockRegistry& test_blocks() {
     r.add(BlockTypeInfo{"ARRAY_GAIN", "test", "OUT[i] := GAIN*IN[i]; SUM := sum of IN", "",
                         {ain, aout, out_pin("SUM"), flags}, {n, gain}, std::nullopt, false,
                         [](BlockSetup& s) { return std::make_unique<ArrayGain>(s); }});
+    ParamDecl k{"K", IecType::LREAL, "1", std::nullopt, std::nullopt, "", "gain (tunable)"};
+    k.tunable = true;
+    ParamDecl mode{"MODE", IecType::INT, "0", std::nullopt, std::nullopt, "", "structure"};
+    r.add(BlockTypeInfo{"ACC", "test", "SUM := SUM + K*IN", "", {in_pin("IN"), out_pin("SUM")}, {k, mode}, std::nullopt,
+                        false, [](BlockSetup& s) { return std::make_unique<Accumulate>(s); }});
     return r;
   }();
   return reg;

@@ -34,6 +34,7 @@ std::function<void(ScanContext&)>& hook();
 //   ARRAY_GAIN (IN ARRAY[1..N] OF LREAL -> OUT ARRAY[1..N], SUM, FLAGS ARRAY[1..N] OF BOOL;
 //          params N (INT, default 3), GAIN (LREAL, default 2)): OUT[i] := GAIN*IN[i], SUM := sum IN,
 //          FLAGS[i] := IN[i] > 0 — the array-pin test block
+//   ACC    (IN LREAL -> SUM LREAL; params K tunable, MODE structural): SUM += K*IN — state for online change
 const BlockRegistry& test_blocks();
 
 // Writes `text` to a temporary file and returns its path.
