@@ -3,7 +3,9 @@
 #include <time.h>
 #include <unistd.h>
 
+#include <cstdio>
 #include <deque>
+#include <fstream>
 #include <iostream>
 #include <set>
 #include <sstream>
@@ -11,6 +13,7 @@
 #include "runtime/cli/commands.hpp"
 #include "runtime/core/realtime.hpp"
 #include "runtime/modbus/server.hpp"
+#include "runtime/cli/instance_file.hpp"
 #include "runtime/cli/reload.hpp"
 #include "runtime/cli/serve_modbus.hpp"
 #include "runtime/project/report.hpp"
@@ -51,8 +54,23 @@ void draw_status(std::ostream& os, Program& p, double elapsed, const std::deque<
 
 }  // namespace
 
+namespace {
+
+// The outcome of a reload, for `syncplc reload` (written whole, then renamed).
+void write_reload_result(const std::string& pid_file, const ReloadResult& r) {
+  const std::string path = reload_result_file(pid_file), tmp = path + ".tmp";
+  {
+    std::ofstream f(tmp, std::ios::trunc);
+    f << (r.accepted ? "accepted: " : "rejected: ") << r.summary << "\n";
+    for (const auto& line : r.lines) f << line << "\n";
+  }
+  std::rename(tmp.c_str(), path.c_str());
+}
+
+}  // namespace
+
 int cmd_run(const std::string& project, const std::string& duration, const std::vector<std::string>& sets,
-            bool no_status, int cpu_latency_us, std::optional<int> modbus_port) {
+            bool no_status, int cpu_latency_us, std::optional<int> modbus_port, const std::string& pid_file_option) {
   RealtimeRunner::Options runner_options;
   runner_options.cpu_latency_us = cpu_latency_us;
   std::optional<std::int64_t> limit;
@@ -77,6 +95,7 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
   sigaddset(&sigs, SIGINT);
   sigaddset(&sigs, SIGTERM);
   sigaddset(&sigs, SIGHUP);
+  sigaddset(&sigs, SIGUSR1);
   pthread_sigmask(SIG_BLOCK, &sigs, nullptr);
   signal(SIGPIPE, SIG_IGN);  // a Modbus client that goes away must not end the PLC
 
@@ -91,6 +110,16 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
     program->close_drivers();
     return kExitInvalid;
   }
+  // `syncplc reload` finds this instance through its pid file.
+  const std::string pid_file = pid_file_option.empty() ? default_pid_file(project) : pid_file_option;
+  if (!write_instance_file(pid_file, project, &err)) std::cerr << "syncplc: warning: " << err << " (`syncplc reload` cannot find this instance)\n";
+  struct RemovePidFile {
+    std::string path;
+    ~RemovePidFile() {
+      std::remove(path.c_str());
+      std::remove(reload_result_file(path).c_str());
+    }
+  } remove_pid_file{pid_file};
   auto runner = std::make_unique<RealtimeRunner>(*program, runner_options);
   runner->start();
   Reloader reloader(project, o, modbus_port);
@@ -104,13 +133,18 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
     timespec wait{0, 250'000'000};
     int sig = sigtimedwait(&sigs, nullptr, &wait);
     if (sig == SIGINT || sig == SIGTERM) { stop_signal = sig; break; }
+    // SIGHUP reloads a service (no live screen); for an interactive run it
+    // means the terminal went away: stop cleanly rather than run on detached
+    // holding the Modbus port. `syncplc reload` (SIGUSR1) reloads either.
+    if (sig == SIGHUP && live) { stop_signal = sig; break; }
     Program& p = *program;
-    if (sig == SIGHUP) {
+    if (sig == SIGHUP || sig == SIGUSR1) {
       // Online change: load and check the file first; only a good project replaces the running one.
       ReloadResult rr = reloader.reload(program, *runner, modbus_server, std::cerr);
       for (const auto& line : rr.lines) std::cerr << line << "\n";
       std::cerr << "syncplc: " << rr.summary << "\n";
       if (live) recent.push_back(rr.summary);
+      write_reload_result(pid_file, rr);
       continue;
     }
     reloader.poll(*runner, std::cerr);
@@ -159,7 +193,9 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
   runner->join();
   program->close_drivers();
   print_events(std::cerr, *program);
-  if (stop_signal) std::cout << "\nStopped by " << (stop_signal == SIGINT ? "SIGINT" : "SIGTERM") << "\n";
+  if (stop_signal)
+    std::cout << "\nStopped by "
+              << (stop_signal == SIGINT ? "SIGINT" : stop_signal == SIGTERM ? "SIGTERM" : "SIGHUP (the terminal hung up)") << "\n";
   print_statistics(std::cout, *program, false);
   if (modbus_server) {
     std::cout << "\nModbus TCP on " << modbus_server->endpoint() << "\n";

@@ -23,7 +23,8 @@ int cmd_blocks(const std::string& name, bool markdown);
 int cmd_sim(const std::string& project, const std::string& duration, std::optional<std::uint64_t> seed,
             const std::string& trace, const std::vector<std::string>& sets, bool quiet, const std::string& metrics_path);
 int cmd_run(const std::string& project, const std::string& duration, const std::vector<std::string>& sets,
-            bool no_status, int cpu_latency_us, std::optional<int> modbus_port);
+            bool no_status, int cpu_latency_us, std::optional<int> modbus_port, const std::string& pid_file);
+int cmd_reload(const std::string& project, const std::string& pid_file);
 int cmd_test(const std::string& project, const std::string& tests, const std::string& junit);
 
 }  // namespace syncplc::cli

@@ -11,7 +11,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", "syncplc 0.1.0");
 
-  std::string project, duration, trace, tests, junit, block, metrics;
+  std::string project, duration, trace, tests, junit, block, metrics, pid_file;
   std::optional<std::uint64_t> seed;
   std::vector<std::string> sets;
   bool markdown = false, quiet = false, no_status = false;
@@ -45,6 +45,13 @@ int main(int argc, char** argv) {
   run->add_option("--modbus-port", modbus_port,
                   "serve Modbus TCP on this port (0: any free port), even without a modbus: section")
       ->check(CLI::Range(0, 65535));
+  run->add_option("--pid-file", pid_file, "where `syncplc reload` finds this instance (default: one per project file in "
+                                          "$XDG_RUNTIME_DIR/syncplc or /tmp/syncplc-UID)");
+
+  auto* reload = app.add_subcommand("reload", "online change: the running `syncplc run` of PROJECT loads its file again "
+                                              "and switches to it without a stop; prints what changed");
+  reload->add_option("PROJECT", project, "the project file the instance runs (default: the only one running)");
+  reload->add_option("--pid-file", pid_file, "the instance's pid file (as given to run --pid-file)");
 
   auto* test = app.add_subcommand("test", "run scan-cycle tests against a project in virtual time");
   test->add_option("PROJECT", project, "project file (YAML)")->required();
@@ -61,7 +68,8 @@ int main(int argc, char** argv) {
     if (*check) return cmd_check(project);
     if (*blocks) return cmd_blocks(block, markdown);
     if (*sim) return cmd_sim(project, duration, seed, trace, sets, quiet, metrics);
-    if (*run) return cmd_run(project, duration, sets, no_status, cpu_latency_us, modbus_port);
+    if (*run) return cmd_run(project, duration, sets, no_status, cpu_latency_us, modbus_port, pid_file);
+    if (*reload) return cmd_reload(project, pid_file);
     if (*test) return cmd_test(project, tests, junit);
   } catch (const std::exception& e) {
     std::cerr << "syncplc: " << e.what() << "\n";

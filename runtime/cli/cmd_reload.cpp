@@ -1,0 +1,67 @@
+// `syncplc reload [PROJECT] [--pid-file F]`: asks the running `syncplc run`
+// of PROJECT to load its project file again (online change), waits for the
+// outcome and prints it. Exit 0: accepted; 1: rejected (the running program
+// goes on unchanged); 2: no such instance.
+#include <signal.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <thread>
+
+#include "runtime/cli/commands.hpp"
+#include "runtime/cli/instance_file.hpp"
+
+namespace syncplc::cli {
+
+int cmd_reload(const std::string& project, const std::string& pid_file) {
+  std::string path = pid_file;
+  if (path.empty() && !project.empty()) path = default_pid_file(project);
+  if (path.empty()) {
+    // The only instance running, if there is exactly one.
+    std::error_code ec;
+    int found = 0;
+    for (const auto& e : std::filesystem::directory_iterator(runtime_dir(), ec))
+      if (e.path().extension() == ".pid" && read_instance_file(e.path().string(), nullptr)) {
+        path = e.path().string();
+        ++found;
+      }
+    if (found != 1) {
+      std::cerr << "syncplc: reload: " << (found ? "several instances run: name the project file"
+                                                 : "no running `syncplc run` found in " + runtime_dir())
+                << "\n";
+      return kExitInvalid;
+    }
+  }
+  std::string err;
+  auto inst = read_instance_file(path, &err);
+  if (!inst) {
+    std::cerr << "syncplc: reload: " << err << "\n";
+    return kExitInvalid;
+  }
+  const std::string result = reload_result_file(path);
+  std::error_code ec;
+  std::filesystem::remove(result, ec);  // `run` writes it anew (write and rename) when the reload is done
+  if (kill(inst->pid, SIGUSR1) != 0) {
+    std::cerr << "syncplc: reload: cannot signal process " << inst->pid << "\n";
+    return kExitInvalid;
+  }
+  // The change is done when every task has reached its switch: up to three
+  // periods of the slowest task.
+  for (int i = 0; i < 1200; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    std::ifstream f(result);
+    if (!f) continue;
+    std::stringstream text;
+    text << f.rdbuf();
+    std::string s = text.str();
+    std::cout << s;
+    return s.rfind("accepted", 0) == 0 ? kExitOk : kExitTestFailed;
+  }
+  std::cerr << "syncplc: reload: no answer from process " << inst->pid << " within 60 s\n";
+  return kExitInvalid;
+}
+
+}  // namespace syncplc::cli
