@@ -492,7 +492,8 @@ void register_transient_sync(BlockRegistry& r) {
       "looks like a one-scan ramp: give r_dot for references made of steps). A scan that follows skipped "
       "releases first runs the missed samples (up to 10000; filters, synchronizer and window, which count "
       "samples) with its inputs, r taken as a ramp backwards. Start and reset as NONLINEAR_FILTER "
-      "(non-finite x0/v0 keep the state). Invalid bounds or a non-finite reference on an axis set its error, "
+      "A NaN or infinite input on any axis is the finite-input rule's (see ENO): the block does not execute, "
+      "every output holds. Inconsistent bounds (v_min >= v_max, a_min >= 0 or a_max <= 0) on an axis set its error, "
       "exclude it from the synchronization (steps_to_go -1, so synchronized stays FALSE) and stop it with "
       "its last valid acceleration bounds; one block-fault event per scan at which axes start a series of "
       "invalid scans (value: their count).";
