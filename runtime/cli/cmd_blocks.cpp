@@ -1,6 +1,9 @@
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cctype>
 #include <iostream>
+#include <string_view>
 
 #include "fblocks/library.hpp"
 #include "runtime/cli/commands.hpp"
@@ -17,6 +20,57 @@ std::string range(const ParamDecl& p) {
   auto f = [](double d) { return fmt::format("{:g}", d); };
   if (!p.min && !p.max) return "";
   return (p.min ? f(*p.min) : "-inf") + " .. " + (p.max ? f(*p.max) : "inf");
+}
+
+// The first sentence of a block's documentation, for the list: up to the
+// first ". " that ends a sentence (not an abbreviation such as "Fig." or
+// "eq."), within the first paragraph.
+std::string summary(const std::string& doc) {
+  static constexpr std::string_view kAbbrev[] = {"Fig", "Figs", "eq", "eqs", "e.g", "i.e", "cf", "ref", "vs", "Sec"};
+  const std::string para = doc.substr(0, doc.find("\n\n"));
+  for (std::size_t p = para.find(". "); p != std::string::npos; p = para.find(". ", p + 1)) {
+    std::size_t w = p;
+    while (w > 0 && (std::isalpha(static_cast<unsigned char>(para[w - 1])) || para[w - 1] == '.')) --w;
+    const std::string_view word(para.data() + w, p - w);
+    if (std::find(std::begin(kAbbrev), std::end(kAbbrev), word) == std::end(kAbbrev)) return para.substr(0, p + 1);
+  }
+  return para;
+}
+
+std::string upper(std::string_view s) {
+  std::string u(s);
+  for (auto& c : u) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return u;
+}
+
+// Levenshtein distance, case-insensitive.
+std::size_t distance(std::string_view a, std::string_view b) {
+  const std::string x = upper(a), y = upper(b);
+  std::vector<std::size_t> d(y.size() + 1);
+  for (std::size_t j = 0; j <= y.size(); ++j) d[j] = j;
+  for (std::size_t i = 1; i <= x.size(); ++i) {
+    std::size_t diag = d[0];
+    d[0] = i;
+    for (std::size_t j = 1; j <= y.size(); ++j) {
+      const std::size_t up = d[j];
+      d[j] = std::min({d[j] + 1, d[j - 1] + 1, diag + (x[i - 1] == y[j - 1] ? 0 : 1)});
+      diag = up;
+    }
+  }
+  return d[y.size()];
+}
+
+// The registered name closest to `name` (case-insensitive; at most a third of
+// its letters wrong), or "" when none is close.
+std::string closest_block_name(const BlockRegistry& reg, std::string_view name) {
+  std::string best;
+  std::size_t best_d = name.size() / 3 + 1;
+  for (const auto* t : reg.all())
+    if (const std::size_t d = distance(name, t->name); d < best_d) {
+      best = t->name;
+      best_d = d;
+    }
+  return best;
 }
 
 void describe(std::ostream& os, const BlockTypeInfo& t) {
@@ -86,7 +140,9 @@ int cmd_blocks(const std::string& name, bool md) {
   if (!name.empty()) {
     const auto* t = reg.find(name);
     if (!t) {
-      std::cerr << "syncplc: unknown block type '" << name << "' (see `syncplc blocks`)\n";
+      const std::string near = closest_block_name(reg, name);
+      std::cerr << "syncplc: unknown block type '" << name << "'"
+                << (near.empty() ? "" : "; did you mean '" + near + "'?") << " (see `syncplc blocks`)\n";
       return kExitInvalid;
     }
     describe(std::cout, *t);
@@ -98,8 +154,7 @@ int cmd_blocks(const std::string& name, bool md) {
       cat = t->category;
       std::cout << cat << "\n";
     }
-    std::string first = t->doc.substr(0, t->doc.find(". ") == std::string::npos ? t->doc.size() : t->doc.find(". ") + 1);
-    std::cout << fmt::format("  {:<18} {}\n", t->name, first);
+    std::cout << fmt::format("  {:<18} {}\n", t->name, summary(t->doc));
   }
   return kExitOk;
 }
