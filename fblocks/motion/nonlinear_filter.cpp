@@ -4,7 +4,6 @@
 // eqs. (1)-(22) — the filter of the paper's reference [21] — with the
 // transient-time prediction of its Table I. The controller C, which the paper
 // does not print, and the corrections of Table I are derived in
-// ../shared/design/motion-math.md ("Paper 004") and
 // docs/motion/nonlinear-filter.md; the math lives in nonlinear_filter_math.*.
 //
 // Per scan k (T = the task period, the filter's sampling time):
