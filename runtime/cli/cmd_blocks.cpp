@@ -73,6 +73,11 @@ std::string closest_block_name(const BlockRegistry& reg, std::string_view name) 
   return best;
 }
 
+// Tunable parameters say so, and name their tuning input.
+std::string tunable_note(const ParamDecl& p) {
+  return p.tunable ? " (tunable while running; tuning input " + p.name + kTuningSuffix + ")" : "";
+}
+
 void describe(std::ostream& os, const BlockTypeInfo& t) {
   os << t.name << " (" << t.category << ")\n  " << t.doc << "\n";
   if (!t.reference.empty()) os << "  Reference: " << t.reference << "\n";
@@ -89,7 +94,7 @@ void describe(std::ostream& os, const BlockTypeInfo& t) {
     for (const auto& p : t.params)
       os << fmt::format("    {:<12} {:<6} default {:<10} range {:<16} {:<8} {}\n", p.name, type_name(p.type),
                         p.default_value.empty() ? "(required)" : p.default_value, range(p).empty() ? "-" : range(p),
-                        p.unit.empty() ? "-" : p.unit, p.doc);
+                        p.unit.empty() ? "-" : p.unit, p.doc + tunable_note(p));
   }
 }
 
@@ -100,7 +105,10 @@ void markdown(std::ostream& os, const BlockRegistry& reg) {
         "`datatype:` in the instance. Pins marked *required* must be connected or given a constant in "
         "`inputs:`; other inputs start at the value shown (or the type's zero) when left unconnected. "
         "A pin typed `ARRAY[1..n]` has as many elements as the instance's parameter `n`; connect it whole to "
-        "an array tag of that length, or element by element (`inst.pin[i]`).\n\n";
+        "an array tag of that length, or element by element (`inst.pin[i]`). Every block has the output `ENO` "
+        "(FALSE while an input is NaN or infinite: the block then holds its outputs) and every tunable "
+        "parameter a tuning input `<param>_in`; see the user guide, \"Faults inside blocks\" and \"Tuning a "
+        "running block\".\n\n";
   std::string cat;
   for (const auto* t : reg.all()) {
     if (t->category != cat) {
@@ -123,7 +131,8 @@ void markdown(std::ostream& os, const BlockRegistry& reg) {
       os << "| parameter | type | default | range | unit | description |\n|---|---|---|---|---|---|\n";
       for (const auto& p : t->params)
         os << fmt::format("| {} | {} | {} | {} | {} | {} |\n", p.name, type_name(p.type),
-                          p.default_value.empty() ? "*(required)*" : p.default_value, range(p), p.unit, p.doc);
+                          p.default_value.empty() ? "*(required)*" : p.default_value, range(p), p.unit,
+                          p.doc + tunable_note(p));
       os << "\n";
     }
   }
