@@ -154,7 +154,7 @@ void register_arithmetic(BlockRegistry& r) {
                         "zero. Integer division by zero gives OUT := 0 and raises a block-fault event "
                         "\"DIV: division by zero\" (the task reports it once per series of faulting scans); the signed minimum divided by -1 "
                         "gives the minimum (wrap-around, no trap). Reals follow IEEE 754 (x/0 gives +-inf, "
-                        "0/0 NaN, no event).");
+                        "0/0 NaN, no event; a block that reads such a value holds its outputs with ENO FALSE).");
     binary_pins(t, C, "dividend", "divisor", "IN1 / IN2");
     t.create = make_generic<C, DivBlock>;
     r.add(std::move(t));
@@ -176,7 +176,7 @@ void register_arithmetic(BlockRegistry& r) {
     auto t = arith_info("ABS",
                         "Absolute value OUT := |IN| over ANY_NUM (default LREAL). Unsigned types are returned "
                         "unchanged; the signed minimum (e.g. INT -32768) has no positive counterpart and is "
-                        "returned unchanged (two's complement wrap-around). ABS(-0.0) = 0.0, ABS(NaN) = NaN.");
+                        "returned unchanged (two's complement wrap-around). ABS(-0.0) = 0.0. A NaN or infinite IN is the finite-input rule's (see ENO): OUT holds.");
     t.pins = {gen_in("IN", C, "operand", true), gen_out("OUT", C, "absolute value of IN")};
     t.create = make_generic<C, AbsBlock>;
     r.add(std::move(t));

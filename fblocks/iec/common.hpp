@@ -24,6 +24,7 @@ void register_selection(BlockRegistry& r);
 void register_logic(BlockRegistry& r);
 void register_unit_delay(BlockRegistry& r);
 void register_burn(BlockRegistry& r);
+void register_conversions(BlockRegistry& r);  // *_TO_**, *_TRUNC_** (conversion.cpp)
 
 inline constexpr const char* kRefFB = "IEC 61131-3 standard function block";
 inline constexpr const char* kRefFn = "IEC 61131-3 standard function";

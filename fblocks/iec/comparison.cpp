@@ -29,8 +29,8 @@ void add_compare(BlockRegistry& r, const char* name, const char* op, const char*
   t.category = "IEC comparison";
   t.doc = std::string("OUT := IN1 ") + op + " IN2 (" + what +
           ") over ANY (default LREAL); the output is BOOL. BOOL compares FALSE < TRUE; unsigned and "
-          "bit-string types compare as unsigned numbers; TIME compares durations. Reals follow IEEE 754: any "
-          "comparison with NaN is FALSE except NE, which is TRUE.";
+          "bit-string types compare as unsigned numbers; TIME compares durations. A NaN or "
+          "infinite input is the finite-input rule's (see ENO): the block does not execute and OUT holds.";
   t.reference = kRefFn;
   t.default_datatype = IecType::LREAL;
   t.pins = {gen_in("IN1", C, "left operand", true), gen_in("IN2", C, "right operand", true),

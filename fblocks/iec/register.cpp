@@ -16,6 +16,7 @@ void register_iec_blocks(BlockRegistry& registry) {
   iec::register_logic(registry);
   iec::register_unit_delay(registry);
   iec::register_burn(registry);
+  iec::register_conversions(registry);
 }
 
 }  // namespace syncplc

@@ -9,7 +9,7 @@ namespace {
 
 template <class V>
 V max_of(V a, V b) noexcept {
-  if constexpr (std::is_floating_point_v<V>) return std::fmax(a, b);  // NaN operands are ignored
+  if constexpr (std::is_floating_point_v<V>) return std::fmax(a, b);  // inputs are finite (finite_guard.hpp)
   else return b > a ? b : a;
 }
 template <class V>
@@ -79,7 +79,7 @@ void register_selection(BlockRegistry& r) {
     auto t = sel_info("MAX",
                       "Maximum OUT := MAX(IN1, IN2, ...) over ANY (default LREAL; BOOL: FALSE < TRUE). "
                       "Extensible: IN1 and IN2 are required, IN3..IN8 take part only when connected. For reals "
-                      "NaN inputs are ignored (IEEE maxNum) unless all inputs are NaN.");
+                      "A NaN or infinite input holds OUT (the finite-input rule, see ENO).");
     add_extensible_pins(t, C, "compared");
     t.pins.push_back(gen_out("OUT", C, "largest input"));
     t.create = make_generic<C, MaxBlock>;
@@ -89,7 +89,7 @@ void register_selection(BlockRegistry& r) {
     auto t = sel_info("MIN",
                       "Minimum OUT := MIN(IN1, IN2, ...) over ANY (default LREAL; BOOL: FALSE < TRUE). "
                       "Extensible: IN1 and IN2 are required, IN3..IN8 take part only when connected. For reals "
-                      "NaN inputs are ignored (IEEE minNum) unless all inputs are NaN.");
+                      "A NaN or infinite input holds OUT (the finite-input rule, see ENO).");
     add_extensible_pins(t, C, "compared");
     t.pins.push_back(gen_out("OUT", C, "smallest input"));
     t.create = make_generic<C, MinBlock>;
@@ -98,7 +98,7 @@ void register_selection(BlockRegistry& r) {
   {
     auto t = sel_info("LIMIT",
                       "Limiter OUT := MIN(MAX(IN, MN), MX) over ANY (default LREAL). If MN > MX the result is "
-                      "MX. For reals a NaN IN passes through unchanged and a NaN bound is ignored.");
+                      "MX. A NaN or infinite input holds OUT (the finite-input rule, see ENO).");
     t.pins = {gen_in("MN", C, "lower limit"), gen_in("IN", C, "value to limit", true),
               gen_in("MX", C, "upper limit"), gen_out("OUT", C, "IN limited to [MN, MX]")};
     t.create = make_generic<C, LimitBlock>;

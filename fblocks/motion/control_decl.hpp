@@ -29,6 +29,7 @@ inline PinDecl array_in(std::string name, IecType type, std::string unit, std::s
 }
 
 using motion::param;
+using motion::tunable;
 
 // Reads an LREAL parameter; reports a non-finite value or one outside the
 // declared range as a load error (returns the value anyway).

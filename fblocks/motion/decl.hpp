@@ -39,4 +39,12 @@ inline ParamDecl param(std::string name, IecType type, std::string def, std::opt
   return p;
 }
 
+// A tunable parameter (ParamDecl::tunable): it may change while the block
+// runs, through an online change (Block::retune_from) or its tuning input
+// <name>_in (Block::tune), bumplessly.
+inline ParamDecl tunable(ParamDecl p) {
+  p.tunable = true;
+  return p;
+}
+
 }  // namespace syncplc::motion

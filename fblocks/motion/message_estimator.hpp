@@ -21,7 +21,7 @@
 // is not a third derivative: "3rd order" names the series, not exactness).
 //
 // What the history holds after a loss (EstimatorHistory) decides stability;
-// see docs/motion/taylor-estimator.md and ../shared/design/motion-math.md:
+// see docs/motion/taylor-estimator.md ("What the history holds"):
 //  - Robust (default): the history holds received samples only. A loss is
 //    filled by a predictor run over the contiguous run of received samples
 //    that ends at the newest one (order ramped down to what that run holds);

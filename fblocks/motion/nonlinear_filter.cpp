@@ -4,7 +4,6 @@
 // eqs. (1)-(22) — the filter of the paper's reference [21] — with the
 // transient-time prediction of its Table I. The controller C, which the paper
 // does not print, and the corrections of Table I are derived in
-// ../shared/design/motion-math.md ("Paper 004") and
 // docs/motion/nonlinear-filter.md; the math lives in nonlinear_filter_math.*.
 //
 // Per scan k (T = the task period, the filter's sampling time):
@@ -193,8 +192,9 @@ void register_nonlinear_filter(BlockRegistry& r) {
       "the full acceleration bound first. A scan that follows skipped releases (an overrun) first advances the "
       "missed samples (up to 10000) with its inputs, r taken as a ramp backwards, so x stays on the time grid. "
       "Start: at x = r, x_dot = r_dot (start_at_r TRUE) or at (x0, v0); reset TRUE holds the filter at "
-      "(x0, v0) with x_ddot = 0. Invalid bounds (not finite, v_min >= v_max, a_min >= 0 or a_max <= 0) or a "
-      "non-finite r/r_dot raise one block-fault event per series of invalid scans, set error, tracking FALSE "
+      "(x0, v0) with x_ddot = 0. A NaN or infinite input is the finite-input rule's (see ENO): the filter "
+      "does not execute and its outputs hold. Inconsistent bounds (v_min >= v_max, a_min >= 0 or a_max <= 0) "
+      "raise one block-fault event per series of invalid scans, set error, tracking FALSE "
       "and steps_to_go -1, and stop the output with the last valid acceleration bounds (at once if there "
       "never were valid bounds), holding position once stopped.";
   t.reference =

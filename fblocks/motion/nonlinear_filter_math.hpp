@@ -6,8 +6,8 @@
 // Pure functions, double precision, noexcept, no allocation. Each function does
 // one job; the comments cite the paper's equations. The controller C is not
 // printed in the paper: the law here is the one derived in
-// ../shared/design/motion-math.md ("Paper 004") and in
-// docs/motion/nonlinear-filter.md, which also lists the corrections of Table I.
+// docs/motion/nonlinear-filter.md (section 2), which also lists the
+// corrections of Table I (section 3).
 //
 // Notation (paper): T sampling time; state x = [x, xdot] (eq. 1-2); reference
 // r = [r, rdot] given by steps and ramps; y = x - r (eq. 5);
@@ -183,7 +183,7 @@ bool in_boundary_layer(const ZState& z, const ZBounds& zb) noexcept;
 // In the final approach: inside the BL with an unclamped target
 // (z2- <= w* <= z2+), i.e. the curved part of the BL around the origin, where
 // the remaining transient is m samples whatever the velocity bounds are as
-// long as they do not cut the target (motion-math.md, Synchronizer step 2).
+// long as they do not cut the target (docs/motion/transient-sync.md, section 2, step 2).
 // True at the origin too.
 bool in_final_approach(const ZState& z, const ZBounds& zb) noexcept;
 

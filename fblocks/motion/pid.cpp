@@ -22,15 +22,35 @@ namespace {
 using ctl::in;
 using ctl::out;
 using ctl::param;
+using ctl::tunable;
 
 // ---- PD_CONTROLLER ----------------------------------------------------------
 
 enum : int { kPdXd = 0, kPdVd, kPdX, kPdV, kPdTau, kPdE, kPdEdot, kPdSat };
 
+// Parameter indices (declaration order in register_pid_controllers).
+enum : int { kPdKp = 0, kPdKd, kPdOutMin, kPdOutMax };
+
 class PdController final : public Block {
  public:
   PdController(double kp, double kd, double lo, double hi, bool use_v)
       : kp_(kp), kd_(kd), lo_(lo), hi_(hi), use_v_(use_v) {}
+
+  // Memoryless in its gains (the state is e(j-1) only): a new gain or limit
+  // acts from the next scan, nothing to rescale.
+  void retune_from(const Block& fresh) noexcept override {
+    const auto& f = static_cast<const PdController&>(fresh);
+    kp_ = f.kp_, kd_ = f.kd_, lo_ = f.lo_, hi_ = f.hi_;
+  }
+  bool tune(int param, double v) noexcept override {
+    switch (param) {
+      case kPdKp: kp_ = v; return true;
+      case kPdKd: kd_ = v; return true;
+      case kPdOutMin: if (!(v < hi_)) return false; lo_ = v; return true;
+      case kPdOutMax: if (!(lo_ < v)) return false; hi_ = v; return true;
+    }
+    return false;
+  }
 
   void execute(ScanContext& ctx) noexcept override {
     const double e = in<double>(kPdXd) - in<double>(kPdX);
@@ -80,15 +100,48 @@ enum : int {
 
 enum class AntiWindup : int { None = 0, Clamping = 1, BackCalculation = 2 };
 
+// Parameter indices (declaration order in register_pid_controllers).
+enum : int { kPKp = 0, kPTi, kPTd, kPTf, kPTt, kPAntiWindup, kPDOnError, kPOutMin, kPOutMax };
+
 struct PidConfig {
   double kp = 1, ti = 0, td = 0, tf = 0, tt = 0, lo = -1, hi = 1;
+  double tt_param = 0;  // Tt as given (0: derived from Ti and Td, see effective_tt)
   AntiWindup aw = AntiWindup::Clamping;
   bool d_on_error = false;
 };
 
+// Tt = 0 means sqrt(Ti Td) if Td > 0, else Ti (Astrom & Hagglund 3.5).
+inline double effective_tt(const PidConfig& c) {
+  return c.tt_param > 0 ? c.tt_param : (c.td > 0 ? std::sqrt(c.ti * c.td) : c.ti);
+}
+
 class Pid final : public Block {
  public:
   explicit Pid(const PidConfig& c) : c_(c) {}
+
+  // Bumpless parameter change (Astrom & Hagglund, Advanced PID Control, 3.5
+  // "Bumpless parameter changes"): the integral part is stored as the
+  // integral of Kp/Ti e (integral_, in output units) and the filtered
+  // derivative as its output D (d_), so a new Kp, Ti, Td or Tf leaves both as
+  // they are and y does not jump; only the P part follows Kp e, which is 0 in
+  // steady state. Limits act from the next scan.
+  void retune_from(const Block& fresh) noexcept override { apply(static_cast<const Pid&>(fresh).c_); }
+  bool tune(int param, double v) noexcept override {
+    PidConfig n = c_;
+    switch (param) {
+      case kPKp: n.kp = v; break;
+      case kPTi: n.ti = v; break;
+      case kPTd: n.td = v; break;
+      case kPTf: n.tf = v; break;
+      case kPTt: n.tt_param = v; break;
+      case kPOutMin: n.lo = v; break;
+      case kPOutMax: n.hi = v; break;
+      default: return false;
+    }
+    if (!(n.lo < n.hi)) return false;
+    apply(n);
+    return true;
+  }
 
   void execute(ScanContext& ctx) noexcept override {
     const double h = ctx.dt_ns > 0 ? static_cast<double>(ctx.dt_ns) * 1e-9 : 0.0;
@@ -143,6 +196,13 @@ class Pid final : public Block {
   }
 
  private:
+  // The tunable values of `n`; the structure (anti_windup, d_on_error) stays.
+  void apply(const PidConfig& n) noexcept {
+    c_.kp = n.kp, c_.ti = n.ti, c_.td = n.td, c_.tf = n.tf, c_.tt_param = n.tt_param;
+    c_.lo = n.lo, c_.hi = n.hi;
+    c_.tt = effective_tt(c_);
+  }
+
   PidConfig c_;
   bool first_ = true;
   double integral_ = 0;  // integral part (or, with Ti = 0, a bias set by manual tracking)
@@ -157,7 +217,7 @@ std::unique_ptr<Block> make_pid(BlockSetup& s) {
   c.ti = ctl::real_param(s, "Ti", &ok);
   c.td = ctl::real_param(s, "Td", &ok);
   c.tf = ctl::real_param(s, "Tf", &ok);
-  c.tt = ctl::real_param(s, "Tt", &ok);
+  c.tt_param = ctl::real_param(s, "Tt", &ok);
   c.lo = ctl::real_param(s, "out_min", &ok);
   c.hi = ctl::real_param(s, "out_max", &ok);
   c.aw = static_cast<AntiWindup>(ctl::int_param(s, "anti_windup", &ok));
@@ -167,7 +227,7 @@ std::unique_ptr<Block> make_pid(BlockSetup& s) {
     ok = false;
   }
   if (!ok) return nullptr;
-  if (c.tt == 0) c.tt = c.td > 0 ? std::sqrt(c.ti * c.td) : c.ti;
+  c.tt = effective_tt(c);
   return std::make_unique<Pid>(c);
 }
 
@@ -183,7 +243,9 @@ void register_pid_controllers(BlockRegistry& r) {
         "connected, else the backward difference (e(j) - e(j-1))/T_s (0 on the first scan), "
         "tau = LIMIT(out_min, K_P e + K_D e_dot, out_max); saturated is TRUE when the limit cut tau. Same pins, "
         "gain conventions and SI units as SYNC_CONTROLLER, so swapping the two changes only the controller. "
-        "Defaults are the paper's section 5 gains in SI (K_D printed 0.6221 PWM.ms/rad = 0.0006221 PWM.s/rad).";
+        "Defaults are the paper's section 5 gains in SI (K_D printed 0.6221 PWM.ms/rad = 0.0006221 PWM.s/rad). "
+        "Gains and limits are tunable while running (online change or the <param>_in inputs); the law holds no "
+        "integral, so a new gain acts from the next scan.";
     t.reference = "Xu et al., ISA Transactions 2017 (paper 000), section 5: standard PD baseline";
     t.pins = {
         in("x_d", IecType::LREAL, "rad", "desired position", true),
@@ -196,10 +258,10 @@ void register_pid_controllers(BlockRegistry& r) {
         out("saturated", IecType::BOOL, "", "TRUE when the output limit cut tau"),
     };
     t.params = {
-        param("K_P", IecType::LREAL, "0.6221", 0.0, std::nullopt, "PWM/rad", "proportional gain"),
-        param("K_D", IecType::LREAL, "0.0006221", 0.0, std::nullopt, "PWM.s/rad", "derivative gain"),
-        param("out_min", IecType::LREAL, "-1", std::nullopt, std::nullopt, "PWM", "lower output limit"),
-        param("out_max", IecType::LREAL, "1", std::nullopt, std::nullopt, "PWM", "upper output limit"),
+        tunable(param("K_P", IecType::LREAL, "0.6221", 0.0, std::nullopt, "PWM/rad", "proportional gain")),
+        tunable(param("K_D", IecType::LREAL, "0.0006221", 0.0, std::nullopt, "PWM.s/rad", "derivative gain")),
+        tunable(param("out_min", IecType::LREAL, "-1", std::nullopt, std::nullopt, "PWM", "lower output limit")),
+        tunable(param("out_max", IecType::LREAL, "1", std::nullopt, std::nullopt, "PWM", "upper output limit")),
     };
     t.create = make_pd;
     r.add(std::move(t));
@@ -218,7 +280,10 @@ void register_pid_controllers(BlockRegistry& r) {
         "1 = clamping (conditional integration: no increment while v is beyond a limit and the increment points "
         "further out), 2 = back-calculation (I += Kp h/Ti error + h/Tt (y - v)). manual: y = "
         "LIMIT(out_min, manual_value, out_max) and I tracks y - P - D - ff, so the return to automatic is "
-        "bumpless. reset (priority over manual): I = D = 0, y = LIMIT(out_min, 0, out_max).";
+        "bumpless. reset (priority over manual): I = D = 0, y = LIMIT(out_min, 0, out_max). Gains, times and "
+        "limits are tunable while running (online change or the <param>_in inputs): I is kept as the "
+        "integral of Kp/Ti error and D as its filtered output, so a change does not bump y (in steady state "
+        "not at all; otherwise only P follows Kp error).";
     t.reference =
         "Astrom & Hagglund, Advanced PID Control (ISA 2006), sections 3.5-3.6 and 13.4; behaviour as CODESYS "
         "PID / TwinCAT FB_CTRL_PID";
@@ -234,20 +299,20 @@ void register_pid_controllers(BlockRegistry& r) {
         out("saturated", IecType::BOOL, "", "TRUE when the output limit cut y"),
     };
     t.params = {
-        param("Kp", IecType::LREAL, "1", std::nullopt, std::nullopt, "",
-              "proportional gain (negative for reverse action)"),
-        param("Ti", IecType::LREAL, "0", 0.0, std::nullopt, "s", "integral time; 0 = no integral action"),
-        param("Td", IecType::LREAL, "0", 0.0, std::nullopt, "s", "derivative time; 0 = no derivative action"),
-        param("Tf", IecType::LREAL, "0", 0.0, std::nullopt, "s",
-              "derivative filter time constant (typically Td/10); 0 = unfiltered"),
-        param("Tt", IecType::LREAL, "0", 0.0, std::nullopt, "s",
-              "back-calculation tracking time; 0 = sqrt(Ti Td) if Td > 0, else Ti"),
+        tunable(param("Kp", IecType::LREAL, "1", std::nullopt, std::nullopt, "",
+                      "proportional gain (negative for reverse action)")),
+        tunable(param("Ti", IecType::LREAL, "0", 0.0, std::nullopt, "s", "integral time; 0 = no integral action")),
+        tunable(param("Td", IecType::LREAL, "0", 0.0, std::nullopt, "s", "derivative time; 0 = no derivative action")),
+        tunable(param("Tf", IecType::LREAL, "0", 0.0, std::nullopt, "s",
+                      "derivative filter time constant (typically Td/10); 0 = unfiltered")),
+        tunable(param("Tt", IecType::LREAL, "0", 0.0, std::nullopt, "s",
+                      "back-calculation tracking time; 0 = sqrt(Ti Td) if Td > 0, else Ti")),
         param("anti_windup", IecType::INT, "1", 0.0, 2.0, "",
               "0 = none, 1 = clamping (conditional integration), 2 = back-calculation"),
         param("d_on_error", IecType::BOOL, "FALSE", std::nullopt, std::nullopt, "",
               "FALSE: derivative of -actual (no kick on setpoint steps); TRUE: derivative of the error"),
-        param("out_min", IecType::LREAL, "-100", std::nullopt, std::nullopt, "", "lower output limit"),
-        param("out_max", IecType::LREAL, "100", std::nullopt, std::nullopt, "", "upper output limit"),
+        tunable(param("out_min", IecType::LREAL, "-100", std::nullopt, std::nullopt, "", "lower output limit")),
+        tunable(param("out_max", IecType::LREAL, "100", std::nullopt, std::nullopt, "", "upper output limit")),
     };
     t.create = make_pid;
     r.add(std::move(t));

@@ -72,14 +72,27 @@ class CosineTrajectory final : public Block {
     if (cycles_ < 0 || delay_ < 0) s.error(s.type().name + ": cycles and delay must not be negative");
   }
 
+  // omega is tunable: the phase is phi = phi0 + w (tau - tau0), rebased at
+  // each change to the phase of the last scan, so x stays continuous (the
+  // next scan moves one normal step, at the new frequency).
+  void retune_from(const Block& fresh) noexcept override { set_omega(static_cast<const CosineTrajectory&>(fresh).w_); }
+  bool tune(int param, double v) noexcept override {
+    if (param != kPOmega || !(v > 0)) return false;
+    set_omega(v);
+    return true;
+  }
+
   void execute(ScanContext& ctx) noexcept override {
     double x = offset_, v = 0, a = 0;
     bool done = false;
-    if (auto t = clock_.step(in<bool>(kEnable), ctx.now_ns)) {
+    const auto t = clock_.step(in<bool>(kEnable), ctx.now_ns);
+    if (!t) phi0_ = tau0_ = last_tau_ = 0;  // disabled: the next run starts at phase 0
+    if (t) {
       const double tau = *t - delay_;
+      last_tau_ = tau;
       if (tau >= 0) {  // the motion starts at tau = 0 (a = A w^2 from there)
         const double end = cycles_ > 0 ? 2 * kPi * cycles_ : 0;  // phase at the end, 0 = endless
-        const double phi = w_ * tau;
+        const double phi = phi0_ + w_ * (tau - tau0_);
         if (cycles_ > 0 && phi >= end) {
           x = offset_ + amp_ * (1 - std::cos(end));  // holds still at the end point
           done = true;
@@ -97,7 +110,18 @@ class CosineTrajectory final : public Block {
   }
 
  private:
+  enum : int { kPOmega = 1 };  // parameter index of omega
+
+  void set_omega(double w) noexcept {
+    const double tau = std::fmax(last_tau_, 0.0);  // the phase does not run before tau = 0
+    phi0_ += w_ * (tau - tau0_);
+    tau0_ = tau;
+    w_ = w;
+  }
+
   double amp_, w_, cycles_, delay_, offset_;
+  double phi0_ = 0, tau0_ = 0;  // phase base: phi = phi0 + w (tau - tau0)
+  double last_tau_ = 0;         // tau of the last scan
   RunClock clock_;
 };
 
@@ -112,7 +136,8 @@ BlockTypeInfo cosine_info() {
       "Peak speed A w at w tau = pi/2; the paper's 753.98 rad/min is A = 4 pi rad with w = 1 rad/s "
       "(4 pi rad/s). The acceleration steps from 0 to A w^2 at the start and from A w^2 cos(2 pi cycles) to 0 "
       "at the end (the cosine profile has no acceleration ramp). Any position unit: x in the unit of A, "
-      "v in it per second, a per second squared.";
+      "v in it per second, a per second squared. omega is tunable while running: the phase w tau is "
+      "accumulated, so a new omega changes the speed without a jump of x.";
   t.reference = "Decentralized multi-axis synchronous control (paper 000), section 5 and Fig. 4";
   t.pins = {
       enable_pin(),
@@ -124,8 +149,9 @@ BlockTypeInfo cosine_info() {
   t.params = {
       param("amplitude", IecType::LREAL, "", std::nullopt, std::nullopt, "",
             "A: half the stroke (x runs from offset to offset + 2A); paper 000: 4 pi rad"),
-      param("omega", IecType::LREAL, "", 1e-9, std::nullopt, "rad/s",
-            "angular frequency w = 2 pi / period; paper 000: 1 rad/s"),
+      tunable(param("omega", IecType::LREAL, "", 1e-9, std::nullopt, "rad/s",
+                    "angular frequency w = 2 pi / period; paper 000: 1 rad/s; tunable: a change keeps the "
+                    "phase, so x stays continuous")),
       param("cycles", IecType::LREAL, "1", 0, std::nullopt, "", "number of periods, fractions allowed; 0 = endless"),
       param("delay", IecType::LREAL, "0", 0, std::nullopt, "s", "rest at offset this long after enable rises"),
       param("offset", IecType::LREAL, "0", std::nullopt, std::nullopt, "", "start position"),

@@ -40,6 +40,7 @@ namespace {
 using ctl::in;
 using ctl::out;
 using ctl::param;
+using ctl::tunable;
 
 enum : int {
   kXd = 0, kVd, kAd, kX, kV, kRx, kValid,            // inputs
@@ -56,6 +57,14 @@ struct SyncConfig {
   bool use_v = false;
 };
 
+// Indices of the tunable parameters (declaration order in register_sync_controller).
+enum : int { kPKP = 3, kPKD = 4, kPKH = 5, kPKC = 6, kPKN = 9, kPDeltaH, kPDeltaC, kPPhi, kPOutMin, kPOutMax };
+
+// Whether the gains are usable together (the factory's checks).
+bool gains_valid(const SyncGains& g) {
+  return g.out_min < g.out_max && (g.robust != RobustTerm::Sat || g.phi > 0);
+}
+
 class SyncController final : public Block {
  public:
   explicit SyncController(const SyncConfig& c) : c_(c) {
@@ -68,6 +77,32 @@ class SyncController final : public Block {
       pre_[static_cast<std::size_t>(i)].q = mat.Q(k0, i);
       pre_[static_cast<std::size_t>(i)].t = mat.T(k0, i);
     }
+  }
+
+  // Eq. (16) is memoryless in its gains (the state is the error history and
+  // the estimators), so a new gain acts from the next scan; alpha and m shape
+  // the coupling matrices and are structure (a change starts the instance fresh).
+  void retune_from(const Block& fresh) noexcept override {
+    apply(static_cast<const SyncController&>(fresh).c_.g);
+  }
+  bool tune(int param, double v) noexcept override {
+    SyncGains g = c_.g;
+    switch (param) {
+      case kPKP: g.K_P = v; break;
+      case kPKD: g.K_D = v; break;
+      case kPKH: g.K_H = v; break;
+      case kPKC: g.K_C = v; break;
+      case kPKN: g.K_N = v; break;
+      case kPDeltaH: g.Delta_H = v; break;
+      case kPDeltaC: g.Delta_C = v; break;
+      case kPPhi: g.phi = v; break;
+      case kPOutMin: g.out_min = v; break;
+      case kPOutMax: g.out_max = v; break;
+      default: return false;
+    }
+    if (!gains_valid(g)) return false;
+    apply(g);
+    return true;
   }
 
   void execute(ScanContext& ctx) noexcept override {
@@ -129,6 +164,13 @@ class SyncController final : public Block {
     bool prev_received = false;
     bool have_prev = false;
   };
+
+  // The tunable gains of `g` (robust and m are structure and stay).
+  void apply(const SyncGains& g) noexcept {
+    SyncGains& c = c_.g;
+    c.K_P = g.K_P, c.K_D = g.K_D, c.K_H = g.K_H, c.K_C = g.K_C, c.K_N = g.K_N;
+    c.Delta_H = g.Delta_H, c.Delta_C = g.Delta_C, c.phi = g.phi, c.out_min = g.out_min, c.out_max = g.out_max;
+  }
 
   SyncConfig c_;
   double p_kk_ = 1;
@@ -198,7 +240,10 @@ void register_sync_controller(BlockRegistry& r) {
       "tau = LIMIT(out_min, K_H a_d + K_C v_d + K_P E + K_D E_dot + m e_dot + R, out_max) with the robust term "
       "R = K_N sign(E_dot) (robust 0, the paper), (Delta_H |a_d| + Delta_C |v_d|) sign(E_dot) (robust 1, "
       "eq. 9 corrected as eq. 23 uses it) or K_N sat(E_dot/phi) (robust 2, boundary layer, default: no chatter). "
-      "Units SI; the defaults are the paper's section 5 gains converted to SI (K_D and m were printed per ms).";
+      "Units SI; the defaults are the paper's section 5 gains converted to SI (K_D and m were printed per ms). "
+      "The gains of eq. (16) and the limits are tunable while running (online change or the <param>_in inputs): "
+      "eq. (16) holds no integral, so a new gain acts from the next scan; alpha and m shape the coupling "
+      "matrices and are structure.";
   t.reference =
       "Xu, Sheng, Xiong, Zhu: Development of a decentralized multi-axis synchronous control approach for "
       "real-time networks, ISA Transactions 2017 (paper 000), eqs. (3)-(16), (23), Theorem 1; eq. (15) after "
@@ -226,24 +271,24 @@ void register_sync_controller(BlockRegistry& r) {
       param("axis", IecType::DINT, "", 1.0, kMaxSyncAxes, "", "this axis, k (1-based)"),
       param("n", IecType::DINT, "", 1.0, kMaxSyncAxes, "", "number of synchronized axes (length of e_rx, e_valid)"),
       param("alpha", IecType::LREAL, "1.3", 0.0, std::nullopt, "", "coupling gain kappa (alpha = kappa I)"),
-      param("K_P", IecType::LREAL, "0.6221", 0.0, std::nullopt, "PWM/rad", "proportional gain"),
-      param("K_D", IecType::LREAL, "0.0006221", 0.0, std::nullopt, "PWM.s/rad",
-            "derivative gain on E_dot (paper: 0.6221 PWM.ms/rad)"),
-      param("K_H", IecType::LREAL, "0.001544", 0.0, std::nullopt, "PWM.s^2/rad",
-            "acceleration feed-forward (paper's value, printed with ms^2, is SI: tau_1/k_1)"),
-      param("K_C", IecType::LREAL, "0.02807", 0.0, std::nullopt, "PWM.s/rad",
-            "velocity feed-forward (paper's value, printed with ms, is SI: 1/k_1)"),
+      tunable(param("K_P", IecType::LREAL, "0.6221", 0.0, std::nullopt, "PWM/rad", "proportional gain")),
+      tunable(param("K_D", IecType::LREAL, "0.0006221", 0.0, std::nullopt, "PWM.s/rad",
+            "derivative gain on E_dot (paper: 0.6221 PWM.ms/rad)")),
+      tunable(param("K_H", IecType::LREAL, "0.001544", 0.0, std::nullopt, "PWM.s^2/rad",
+            "acceleration feed-forward (paper's value, printed with ms^2, is SI: tau_1/k_1)")),
+      tunable(param("K_C", IecType::LREAL, "0.02807", 0.0, std::nullopt, "PWM.s/rad",
+            "velocity feed-forward (paper's value, printed with ms, is SI: 1/k_1)")),
       param("m", IecType::LREAL, "0.2586268", 0.0, std::nullopt, "PWM.s/rad",
             "own-error damping m (K_e = m(I + alpha T'), eq. 10; paper: 258.6268 PWM.ms/rad)"),
       param("robust", IecType::INT, "2", 0.0, 2.0, "",
             "robust term: 0 = K_N sign(E_dot) (paper), 1 = eq. (9) K_N(t) sign(E_dot), 2 = K_N sat(E_dot/phi)"),
-      param("K_N", IecType::LREAL, "10", 0.0, std::nullopt, "PWM", "robust gain (robust 0 and 2)"),
-      param("Delta_H", IecType::LREAL, "0", 0.0, std::nullopt, "PWM.s^2/rad",
-            "eq. (9) bound on the model error: Delta_H >= norm(K_H - H) (robust 1)"),
-      param("Delta_C", IecType::LREAL, "0", 0.0, std::nullopt, "PWM.s/rad", "eq. (9) bound on the model error: Delta_C >= norm(K_C - C) (robust 1)"),
-      param("phi", IecType::LREAL, "100", 0.0, std::nullopt, "rad/s", "boundary-layer width on E_dot (robust 2)"),
-      param("out_min", IecType::LREAL, "-1", std::nullopt, std::nullopt, "PWM", "lower output limit"),
-      param("out_max", IecType::LREAL, "1", std::nullopt, std::nullopt, "PWM", "upper output limit"),
+      tunable(param("K_N", IecType::LREAL, "10", 0.0, std::nullopt, "PWM", "robust gain (robust 0 and 2)")),
+      tunable(param("Delta_H", IecType::LREAL, "0", 0.0, std::nullopt, "PWM.s^2/rad",
+            "eq. (9) bound on the model error: Delta_H >= norm(K_H - H) (robust 1)")),
+      tunable(param("Delta_C", IecType::LREAL, "0", 0.0, std::nullopt, "PWM.s/rad", "eq. (9) bound on the model error: Delta_C >= norm(K_C - C) (robust 1)")),
+      tunable(param("phi", IecType::LREAL, "100", 0.0, std::nullopt, "rad/s", "boundary-layer width on E_dot (robust 2)")),
+      tunable(param("out_min", IecType::LREAL, "-1", std::nullopt, std::nullopt, "PWM", "lower output limit")),
+      tunable(param("out_max", IecType::LREAL, "1", std::nullopt, std::nullopt, "PWM", "upper output limit")),
       param("compensation", IecType::BOOL, "TRUE", std::nullopt, std::nullopt, "",
             "predict the preceding errors one scan ahead (eq. 15); FALSE: use e_i(j-1) as is"),
       param("rx_delay", IecType::INT, "1", 0.0, 1.0, "",

@@ -2,8 +2,8 @@
 // the Taylor motion-message estimator of paper 003 eqs. (3)-(5) (Fig. 3) and
 // paper 000 eq. (15). The arithmetic lives in MessageEstimator
 // (message_estimator.hpp), which other motion blocks reuse; see
-// docs/motion/taylor-estimator.md and ../shared/design/motion-math.md
-// ("Paper 003") for the forms, the stability analysis and the loss limits.
+// docs/motion/taylor-estimator.md for the forms, the stability analysis and
+// the loss limits.
 #include <memory>
 #include <string>
 #include <utility>

@@ -3,8 +3,8 @@
 // same scan, and the energy index E of their transients. Paper 004
 // (C. Guarino Lo Bianco, "An efficient algorithm for the real-time generation
 // of synchronous reference signals"), Section III, eqs. (23)-(34), with the
-// corrections and the "unified" rule of ../shared/design/motion-math.md
-// ("Synchronizer (Section III), every scan"); see docs/motion/transient-sync.md.
+// corrections and the "unified" rule derived in docs/motion/transient-sync.md
+// (sections 1 and 2, "Every scan").
 //
 // The filters are those of NONLINEAR_FILTER (nonlinear_filter_math.hpp: the
 // controller C and the Table I transient-time prediction); the bound scaling is
@@ -14,7 +14,7 @@
 //      t_M = the largest finite n_i.
 //   2. nominal bounds if: rule off, tracking, cannot track, n_i = t_M (the
 //      slowest), or in the final approach of the reduced bound it ran on at
-//      scan k-1 (motion-math.md judges the final approach with the bounds
+//      scan k-1 (a simpler reading judges the final approach with the bounds
 //      applied at the previous scan; after nominal bounds that would also
 //      exempt a small transient that starts in the curved layer, which then
 //      arrives early, so only reduced bounds count);
@@ -492,15 +492,16 @@ void register_transient_sync(BlockRegistry& r) {
       "looks like a one-scan ramp: give r_dot for references made of steps). A scan that follows skipped "
       "releases first runs the missed samples (up to 10000; filters, synchronizer and window, which count "
       "samples) with its inputs, r taken as a ramp backwards. Start and reset as NONLINEAR_FILTER "
-      "(non-finite x0/v0 keep the state). Invalid bounds or a non-finite reference on an axis set its error, "
+      "A NaN or infinite input on any axis is the finite-input rule's (see ENO): the block does not execute, "
+      "every output holds. Inconsistent bounds (v_min >= v_max, a_min >= 0 or a_max <= 0) on an axis set its error, "
       "exclude it from the synchronization (steps_to_go -1, so synchronized stays FALSE) and stop it with "
       "its last valid acceleration bounds; one block-fault event per scan at which axes start a series of "
       "invalid scans (value: their count).";
   t.reference =
       "C. Guarino Lo Bianco, \"An efficient algorithm for the real-time generation of synchronous reference "
       "signals\" (paper 004), Section III, eqs. (23)-(34), Figs. 6-8, Tables II-IV; corrections (eq. 31, "
-      "roots of eqs. 33-34, the unified rule, the look-ahead guard) in ../shared/design/motion-math.md "
-      "and docs/motion/transient-sync.md";
+      "roots of eqs. 33-34, the unified rule, the look-ahead guard) in "
+      "docs/motion/transient-sync.md";
   t.pins = {
       sync_pin("r", In, IecType::LREAL, "m", "reference positions (steps and ramps)", A, true),
       sync_pin("r_dot", In, IecType::LREAL, "m/s",

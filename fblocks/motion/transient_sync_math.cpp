@@ -1,5 +1,5 @@
 // Bound scaling of paper 004 Section III, eqs. (23)-(34); see the header and
-// ../shared/design/motion-math.md, "Synchronizer (Section III), every scan".
+// docs/motion/transient-sync.md, sections 1 and 2 ("Every scan").
 #include "fblocks/motion/transient_sync_math.hpp"
 
 #include <cmath>

@@ -1,6 +1,6 @@
 // Velocity-bound scaling of the n-axis synchronizer, paper 004 Section III
-// (eqs. 23-34), with the corrections of ../shared/design/motion-math.md
-// ("Synchronizer (Section III), every scan"). Pure functions, no state, no
+// (eqs. 23-34), with the corrections derived in docs/motion/transient-sync.md
+// (sections 1 and 2, "Every scan"). Pure functions, no state, no
 // allocation; the block TRANSIENT_SYNC (transient_sync.cpp) calls them every
 // scan for every filter that is neither tracking, nor the slowest, nor in its
 // final approach.

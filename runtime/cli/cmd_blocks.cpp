@@ -1,6 +1,9 @@
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cctype>
 #include <iostream>
+#include <string_view>
 
 #include "fblocks/library.hpp"
 #include "runtime/cli/commands.hpp"
@@ -19,6 +22,62 @@ std::string range(const ParamDecl& p) {
   return (p.min ? f(*p.min) : "-inf") + " .. " + (p.max ? f(*p.max) : "inf");
 }
 
+// The first sentence of a block's documentation, for the list: up to the
+// first ". " that ends a sentence (not an abbreviation such as "Fig." or
+// "eq."), within the first paragraph.
+std::string summary(const std::string& doc) {
+  static constexpr std::string_view kAbbrev[] = {"Fig", "Figs", "eq", "eqs", "e.g", "i.e", "cf", "ref", "vs", "Sec"};
+  const std::string para = doc.substr(0, doc.find("\n\n"));
+  for (std::size_t p = para.find(". "); p != std::string::npos; p = para.find(". ", p + 1)) {
+    std::size_t w = p;
+    while (w > 0 && (std::isalpha(static_cast<unsigned char>(para[w - 1])) || para[w - 1] == '.')) --w;
+    const std::string_view word(para.data() + w, p - w);
+    if (std::find(std::begin(kAbbrev), std::end(kAbbrev), word) == std::end(kAbbrev)) return para.substr(0, p + 1);
+  }
+  return para;
+}
+
+std::string upper(std::string_view s) {
+  std::string u(s);
+  for (auto& c : u) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return u;
+}
+
+// Levenshtein distance, case-insensitive.
+std::size_t distance(std::string_view a, std::string_view b) {
+  const std::string x = upper(a), y = upper(b);
+  std::vector<std::size_t> d(y.size() + 1);
+  for (std::size_t j = 0; j <= y.size(); ++j) d[j] = j;
+  for (std::size_t i = 1; i <= x.size(); ++i) {
+    std::size_t diag = d[0];
+    d[0] = i;
+    for (std::size_t j = 1; j <= y.size(); ++j) {
+      const std::size_t up = d[j];
+      d[j] = std::min({d[j] + 1, d[j - 1] + 1, diag + (x[i - 1] == y[j - 1] ? 0 : 1)});
+      diag = up;
+    }
+  }
+  return d[y.size()];
+}
+
+// The registered name closest to `name` (case-insensitive; at most a third of
+// its letters wrong), or "" when none is close.
+std::string closest_block_name(const BlockRegistry& reg, std::string_view name) {
+  std::string best;
+  std::size_t best_d = name.size() / 3 + 1;
+  for (const auto* t : reg.all())
+    if (const std::size_t d = distance(name, t->name); d < best_d) {
+      best = t->name;
+      best_d = d;
+    }
+  return best;
+}
+
+// Tunable parameters say so, and name their tuning input.
+std::string tunable_note(const ParamDecl& p) {
+  return p.tunable ? " (tunable while running; tuning input " + p.name + kTuningSuffix + ")" : "";
+}
+
 void describe(std::ostream& os, const BlockTypeInfo& t) {
   os << t.name << " (" << t.category << ")\n  " << t.doc << "\n";
   if (!t.reference.empty()) os << "  Reference: " << t.reference << "\n";
@@ -35,7 +94,7 @@ void describe(std::ostream& os, const BlockTypeInfo& t) {
     for (const auto& p : t.params)
       os << fmt::format("    {:<12} {:<6} default {:<10} range {:<16} {:<8} {}\n", p.name, type_name(p.type),
                         p.default_value.empty() ? "(required)" : p.default_value, range(p).empty() ? "-" : range(p),
-                        p.unit.empty() ? "-" : p.unit, p.doc);
+                        p.unit.empty() ? "-" : p.unit, p.doc + tunable_note(p));
   }
 }
 
@@ -46,7 +105,10 @@ void markdown(std::ostream& os, const BlockRegistry& reg) {
         "`datatype:` in the instance. Pins marked *required* must be connected or given a constant in "
         "`inputs:`; other inputs start at the value shown (or the type's zero) when left unconnected. "
         "A pin typed `ARRAY[1..n]` has as many elements as the instance's parameter `n`; connect it whole to "
-        "an array tag of that length, or element by element (`inst.pin[i]`).\n\n";
+        "an array tag of that length, or element by element (`inst.pin[i]`). Every block has the output `ENO` "
+        "(FALSE while an input is NaN or infinite: the block then holds its outputs) and every tunable "
+        "parameter a tuning input `<param>_in`; see the user guide, \"Faults inside blocks\" and \"Tuning a "
+        "running block\".\n\n";
   std::string cat;
   for (const auto* t : reg.all()) {
     if (t->category != cat) {
@@ -69,7 +131,8 @@ void markdown(std::ostream& os, const BlockRegistry& reg) {
       os << "| parameter | type | default | range | unit | description |\n|---|---|---|---|---|---|\n";
       for (const auto& p : t->params)
         os << fmt::format("| {} | {} | {} | {} | {} | {} |\n", p.name, type_name(p.type),
-                          p.default_value.empty() ? "*(required)*" : p.default_value, range(p), p.unit, p.doc);
+                          p.default_value.empty() ? "*(required)*" : p.default_value, range(p), p.unit,
+                          p.doc + tunable_note(p));
       os << "\n";
     }
   }
@@ -86,7 +149,9 @@ int cmd_blocks(const std::string& name, bool md) {
   if (!name.empty()) {
     const auto* t = reg.find(name);
     if (!t) {
-      std::cerr << "syncplc: unknown block type '" << name << "' (see `syncplc blocks`)\n";
+      const std::string near = closest_block_name(reg, name);
+      std::cerr << "syncplc: unknown block type '" << name << "'"
+                << (near.empty() ? "" : "; did you mean '" + near + "'?") << " (see `syncplc blocks`)\n";
       return kExitInvalid;
     }
     describe(std::cout, *t);
@@ -98,8 +163,7 @@ int cmd_blocks(const std::string& name, bool md) {
       cat = t->category;
       std::cout << cat << "\n";
     }
-    std::string first = t->doc.substr(0, t->doc.find(". ") == std::string::npos ? t->doc.size() : t->doc.find(". ") + 1);
-    std::cout << fmt::format("  {:<18} {}\n", t->name, first);
+    std::cout << fmt::format("  {:<18} {}\n", t->name, summary(t->doc));
   }
   return kExitOk;
 }

@@ -1,6 +1,7 @@
 #include "runtime/core/block.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <stdexcept>
 
 namespace syncplc {
@@ -35,10 +36,79 @@ std::string_view event_kind_name(EventKind k) {
   return "?";
 }
 
+namespace {
+
+// The pins every type gets: a tuning input per tunable parameter, then ENO.
+void add_implicit_pins(BlockTypeInfo& info) {
+  for (const auto& p : info.pins)
+    if (p.name == kEnoPin || !p.tunes.empty())
+      throw std::logic_error("block type " + info.name + " declares " + p.name + ", which the registry adds");
+  for (const auto& prm : info.params) {
+    if (!prm.tunable) continue;
+    if (prm.type != IecType::LREAL && prm.type != IecType::REAL && !is_integer(prm.type))
+      throw std::logic_error("block type " + info.name + ": tunable parameter " + prm.name + " must be a number");
+    PinDecl t;
+    t.name = prm.name + kTuningSuffix;
+    t.dir = PinDir::In;
+    t.type = prm.type;
+    t.unit = prm.unit;
+    t.tunes = prm.name;
+    t.doc = "tuning input of " + prm.name + ": when connected, read every scan; a changed value within the "
+            "parameter's range takes effect bumplessly, an invalid one keeps the last valid value and sets ENO "
+            "FALSE. Unconnected: the parameter applies";
+    info.pins.push_back(std::move(t));
+  }
+  PinDecl eno;
+  eno.name = kEnoPin;
+  eno.dir = PinDir::Out;
+  eno.type = IecType::BOOL;
+  eno.doc = "FALSE while an input is NaN or infinite (the block then does not execute and its outputs hold "
+            "their last valid values) or a tuning input is invalid; TRUE otherwise";
+  info.pins.push_back(std::move(eno));
+}
+
+// What finite_guard.hpp checks for the instance `setup` describes.
+BlockGuard make_guard(const BlockSetup& s) {
+  const BlockTypeInfo& t = s.type();
+  BlockGuard g;
+  g.unit_delay = t.unit_delay;
+  for (std::size_t i = 0; i < t.pins.size(); ++i) {
+    const PinDecl& p = t.pins[i];
+    const int pin = static_cast<int>(i);
+    if (p.name == kEnoPin) g.eno = pin;
+    if (p.dir != PinDir::In) continue;
+    if (!p.tunes.empty()) {
+      if (!s.connected(pin)) continue;
+      const int k = t.param_index(p.tunes);
+      const ParamDecl& d = t.params[static_cast<std::size_t>(k)];
+      BlockGuard::Tuning tu;
+      tu.pin = pin;
+      tu.param = k;
+      tu.type = d.type;
+      tu.min = d.min.value_or(-std::numeric_limits<double>::infinity());
+      tu.max = d.max.value_or(std::numeric_limits<double>::infinity());
+      tu.seen = cell_as_double(d.type, s.param_cell(k));
+      g.tuning.push_back(tu);
+      continue;
+    }
+    const IecType type = p.cls == TypeClass::Exact ? p.type : s.datatype();
+    if (is_real(type)) g.reals.push_back({pin, s.pin_length(pin), type == IecType::REAL});
+  }
+  return g;
+}
+
+}  // namespace
+
 void BlockRegistry::add(BlockTypeInfo info) {
   if (info.name.empty()) throw std::logic_error("block type without a name");
   if (find(info.name)) throw std::logic_error("block type " + info.name + " registered twice");
   if (!info.create) throw std::logic_error("block type " + info.name + " has no factory");
+  add_implicit_pins(info);
+  info.create = [create = std::move(info.create)](BlockSetup& s) -> std::unique_ptr<Block> {
+    std::unique_ptr<Block> b = create(s);
+    if (b) b->guard() = make_guard(s);
+    return b;
+  };
   for (std::size_t i = 0; i < info.pins.size(); ++i)
     for (std::size_t j = i + 1; j < info.pins.size(); ++j)
       if (info.pins[i].name == info.pins[j].name)

@@ -38,9 +38,19 @@ struct PinDecl {
   // the instance (set at load). "" = a scalar pin. The pin's elements occupy
   // consecutive cells; a block reaches element i (0-based) with in<T>(pin, i).
   std::string length_param;
+  // The tuning input of this tunable parameter ("" = an ordinary pin). Added
+  // by BlockRegistry::add, named <param>_in (see BlockGuard).
+  std::string tunes;
 
   bool is_array() const { return !length_param.empty(); }
 };
+
+// The output every block type gets from BlockRegistry::add (IEC 61131-3 ENO):
+// FALSE while an input is NaN or infinite (the block then does not execute
+// and its outputs hold their last valid values) or a tuning input is invalid.
+inline constexpr const char* kEnoPin = "ENO";
+// Suffix of the tuning input BlockRegistry::add gives each tunable parameter.
+inline constexpr const char* kTuningSuffix = "_in";
 
 // Longest array pin a block may declare through its length parameter.
 inline constexpr std::uint32_t kMaxPinLength = 4096;
@@ -63,6 +73,30 @@ struct ParamDecl {
 struct ScanContext;
 class BlockSetup;
 
+// What the runtime checks around execute() for one instance (finite_guard.hpp):
+// built by the factory BlockRegistry::add wraps around every type's factory,
+// so no block type can miss it. Sized at load; the scan only reads and flags.
+struct BlockGuard {
+  struct Span {            // a REAL or LREAL input: pin, elements, REAL or not
+    std::int32_t pin = 0;
+    std::uint32_t n = 1;
+    bool single = false;   // REAL (float); else LREAL (double)
+  };
+  struct Tuning {          // a connected tuning input <param>_in
+    std::int32_t pin = 0;
+    std::int32_t param = 0;
+    IecType type = IecType::LREAL;
+    double min = 0, max = 0;  // the ParamDecl range (+-inf when open)
+    double seen = 0;          // the pin's value when last evaluated
+    bool ok = true;           // that value was valid and taken
+  };
+  std::vector<Span> reals;
+  std::vector<Tuning> tuning;
+  std::int32_t eno = -1;      // pin index of ENO
+  bool unit_delay = false;    // inputs checked at end_of_scan instead
+  bool held = false;          // unit delay: the last end_of_scan was skipped
+};
+
 class Block {
  public:
   virtual ~Block() = default;
@@ -79,6 +113,16 @@ class Block {
   // variable, bumplessly (the output must not jump because a gain changed).
   // Runs on the task's thread between two scans: no allocation, no I/O.
   virtual void retune_from(const Block& fresh) noexcept { (void)fresh; }
+  // A connected tuning input <param>_in changed to `value` (already finite and
+  // within the ParamDecl range): take it bumplessly, through the same code as
+  // retune_from, and return true; return false to refuse it (a value invalid
+  // with the other parameters, e.g. out_min >= out_max), keeping the last
+  // valid value. Called on the scan path: no allocation.
+  virtual bool tune(int param, double value) noexcept {
+    (void)param;
+    (void)value;
+    return false;
+  }
 
   template <class T>
   T in(int pin) const noexcept { return pins_[pin]->get<T>(); }
@@ -94,8 +138,12 @@ class Block {
   // Bound by the loader (or a test harness) before the first scan.
   void bind_pins(Cell* const* pins) noexcept { pins_ = pins; }
 
+  BlockGuard& guard() noexcept { return guard_; }
+  const BlockGuard& guard() const noexcept { return guard_; }
+
  private:
   Cell* const* pins_ = nullptr;
+  BlockGuard guard_;
 };
 
 using BlockFactory = std::function<std::unique_ptr<Block>(BlockSetup&)>;

@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 
+#include "runtime/core/finite_guard.hpp"
+
 namespace syncplc {
 namespace {
 
@@ -83,7 +85,10 @@ BlockHarness::BlockHarness(const BlockRegistry& registry, const std::string& typ
   cells_.resize(total);
   for (std::size_t i = 0; i < type_->pins.size(); ++i) {
     const auto& p = type_->pins[i];
-    connected.push_back(p.dir == PinDir::In && (!o.connected || o.connected->count(p.name) > 0));
+    // Tuning inputs count as connected only when named (else they would set
+    // their parameter to 0 on the first scan).
+    connected.push_back(p.dir == PinDir::In &&
+                        (o.connected ? o.connected->count(p.name) > 0 : p.tunes.empty()));
     IecType pt = p.cls == TypeClass::Exact ? p.type : dt;
     if (!p.init.empty()) {
       std::string err;
@@ -100,6 +105,12 @@ BlockHarness::BlockHarness(const BlockRegistry& registry, const std::string& typ
     return;
   }
   if (block_) block_->bind_pins(pin_ptrs_.data());
+}
+
+void BlockHarness::skip_scan() {
+  prev_ = now_;
+  now_ += period_;
+  ++scan_;
 }
 
 Cell& BlockHarness::cell(const std::string& pin) { return cell(pin, 0); }
@@ -125,8 +136,8 @@ void BlockHarness::scan() {
   ctx.virtual_time = true;
   ctx.block = 0;
   ctx.events = this;
-  block_->execute(ctx);
-  block_->end_of_scan();
+  execute_guarded(*block_, ctx);
+  end_of_scan_guarded(*block_, ctx);
   last_consumed_ = ctx.consumed_ns;
   prev_ = now_;
   now_ += period_;

@@ -43,8 +43,12 @@ class BlockHarness : private EventSink {
   Cell& cell(const std::string& pin, std::uint32_t i);
   std::uint32_t length(const std::string& pin) const;
 
-  // One scan at the current time, then time advances by one period.
+  // One scan at the current time, under the finite-input rule and with the
+  // tuning inputs (finite_guard.hpp), then time advances by one period.
   void scan();
+  // A scan of the task in which this block did not execute (time advances by
+  // one period; the next scan sees dt = one period, as in a task).
+  void skip_scan();
   // Runs `n` scans.
   void scans(int n) { for (int i = 0; i < n; ++i) scan(); }
   std::int64_t now_ns() const { return now_; }

@@ -4,6 +4,8 @@
 
 #include <cstring>
 
+#include "runtime/core/finite_guard.hpp"
+
 namespace syncplc {
 
 std::string_view watchdog_action_name(WatchdogAction a) {
@@ -127,12 +129,13 @@ void Task::scan(ScanContext& ctx) noexcept {
     auto& b = blocks[i];
     if (i >= unit_delays) run_copies(b.copy_in);
     ctx.block = static_cast<std::int32_t>(i);
-    b.block->execute(ctx);
+    execute_guarded(*b.block, ctx);                     // finite inputs, tuning, ENO (finite_guard.hpp)
     run_copies(b.copy_out);
   }
   for (std::size_t i = 0; i < unit_delays; ++i) {       // unit delays take this scan's input
     run_copies(blocks[i].copy_in);
-    blocks[i].block->end_of_scan();
+    ctx.block = static_cast<std::int32_t>(i);
+    end_of_scan_guarded(*blocks[i].block, ctx);
   }
   ctx.block = -1;
 

@@ -52,11 +52,20 @@ TEST(Compare, Reals) {
   check<float>(IecType::REAL, 3.0f, -3.0f, kGreater);
 }
 
-TEST(Compare, NanIsUnorderedExceptNe) {
-  const Expect unordered{false, false, false, true, false, false};
-  check<double>(IecType::LREAL, std::nan(""), 1.0, unordered);
-  check<double>(IecType::LREAL, std::nan(""), std::nan(""), unordered);
-  check<float>(IecType::REAL, 1.0f, std::nanf(""), unordered);
+// A NaN input: the block does not execute (finite_guard.hpp), OUT holds its
+// last value and ENO is FALSE.
+TEST(Compare, NanInputHoldsOutAndClearsEno) {
+  for (const char* name : {"GT", "GE", "EQ", "NE", "LE", "LT"}) {
+    BlockHarness h(registry(), name, opts(IecType::LREAL));
+    h.set<double>("IN1", 1.0);
+    h.set<double>("IN2", 2.0);
+    h.scan();
+    const bool before = h.get<bool>("OUT");
+    h.set<double>("IN1", std::nan(""));
+    h.scan();
+    EXPECT_EQ(h.get<bool>("OUT"), before) << name;
+    EXPECT_FALSE(h.get<bool>("ENO")) << name;
+  }
 }
 
 TEST(Compare, BoolAndTime) {

@@ -73,10 +73,11 @@ TEST(Limit, MnAboveMxGivesMx) {
   EXPECT_EQ(limit<std::int16_t>(IecType::INT, 10, 20, 5), 5);
 }
 
-TEST(Limit, NanHandling) {
-  EXPECT_TRUE(std::isnan(limit<double>(IecType::LREAL, 0.0, std::nan(""), 1.0)));
-  EXPECT_DOUBLE_EQ(limit<double>(IecType::LREAL, std::nan(""), 5.0, 1.0), 1.0);
-  EXPECT_DOUBLE_EQ(limit<double>(IecType::LREAL, 0.0, 0.5, std::nan("")), 0.5);
+// A NaN input or bound: the block does not execute, OUT keeps its last value.
+TEST(Limit, NanHoldsTheLastOutput) {
+  EXPECT_DOUBLE_EQ(limit<double>(IecType::LREAL, 0.0, std::nan(""), 1.0), 0.0);
+  EXPECT_DOUBLE_EQ(limit<double>(IecType::LREAL, std::nan(""), 5.0, 1.0), 0.0);
+  EXPECT_DOUBLE_EQ(limit<double>(IecType::LREAL, 0.0, 0.5, std::nan("")), 0.0);
 }
 
 TEST(Limit, Bool) {
@@ -138,7 +139,11 @@ TEST(MaxMin, RealsTimeAndNan) {
   mx.set<float>("IN2", std::nanf(""));
   mx.set<float>("IN3", -2.0f);
   mx.scan();
-  EXPECT_FLOAT_EQ(mx.get<float>("OUT"), 1.5f);  // NaN ignored
+  EXPECT_FLOAT_EQ(mx.get<float>("OUT"), 0.0f);  // NaN: not executed, OUT held
+  EXPECT_FALSE(mx.get<bool>("ENO"));
+  mx.set<float>("IN2", 0.5f);
+  mx.scan();
+  EXPECT_FLOAT_EQ(mx.get<float>("OUT"), 1.5f);
   BlockHarness mn(registry(), "MIN", opts(IecType::TIME, conn));
   mn.set<std::int64_t>("IN1", ms(3));
   mn.set<std::int64_t>("IN2", ms(1));

@@ -9,7 +9,9 @@
 // optimization). A mismatch means some output changed by at least one bit:
 // performance work on these blocks must keep them exactly as they are. If a
 // change of behaviour is intended, re-record the constants (the failure
-// message prints the new value) and say so in the commit.
+// message prints the new value) and say so in the commit. Re-recorded once
+// for the finite-input rule (runtime/core/finite_guard.hpp): a scan with a
+// NaN/inf input (these sequences inject some) no longer executes the block.
 //
 // The random numbers use std::mt19937_64 (fully specified by the standard)
 // and their own mapping to doubles, so the sequences do not depend on the
@@ -312,13 +314,13 @@ struct Expected {
 
 TEST(MotionOutputHash, TransientSyncHundredAxesBitForBit) {
   const Expected cases[] = {
-      {"unified 20 ms", {100, 0, 20'000'000, true, false, 11, 15000}, 0x7a8ec45dab0a982eull},
-      {"unified 20 ms exact ramps", {100, 0, 20'000'000, true, true, 12, 15000}, 0x45540a3bfbf214edull},
-      {"paper 20 ms", {100, 1, 20'000'000, true, true, 13, 10000}, 0xc5dc267c1340d49bull},
-      {"off 20 ms", {100, 2, 20'000'000, true, false, 14, 8000}, 0x47a104dfc9a57839ull},
-      {"unified 10 ms derived r_dot", {100, 0, 10'000'000, false, true, 15, 4000}, 0x172e61c3cf8b3eb6ull},
-      {"unified 1 ms", {100, 0, 1'000'000, true, true, 16, 3000}, 0x5f3c6588ddc22faaull},
-      {"unified n = 6", {6, 0, 20'000'000, true, true, 17, 20000}, 0xed30169ba3326068ull},
+      {"unified 20 ms", {100, 0, 20'000'000, true, false, 11, 15000}, 0x6b6b7c0d20d47aa6ull},
+      {"unified 20 ms exact ramps", {100, 0, 20'000'000, true, true, 12, 15000}, 0x1def1d2bd7e63300ull},
+      {"paper 20 ms", {100, 1, 20'000'000, true, true, 13, 10000}, 0x601b85a31bbc724cull},
+      {"off 20 ms", {100, 2, 20'000'000, true, false, 14, 8000}, 0x5013f6660534862bull},
+      {"unified 10 ms derived r_dot", {100, 0, 10'000'000, false, true, 15, 4000}, 0xfd04735188a7653aull},
+      {"unified 1 ms", {100, 0, 1'000'000, true, true, 16, 3000}, 0x60dcdf274eeffd09ull},
+      {"unified n = 6", {6, 0, 20'000'000, true, true, 17, 20000}, 0xbc03d42fa019a32full},
   };
   for (const auto& c : cases) {
     const std::uint64_t got = run_transient_sync(c.sc);
@@ -335,9 +337,9 @@ TEST(MotionOutputHash, NonlinearFilterBitForBit) {
     std::uint64_t hash;
   };
   const Case cases[] = {
-      {"20 ms", 21, 20'000'000, true, 0x878cd9719ba44705ull},
-      {"10 ms derived r_dot", 22, 10'000'000, false, 0x5c49f84626606045ull},
-      {"1 ms", 23, 1'000'000, true, 0x19e80a8220b8018aull},
+      {"20 ms", 21, 20'000'000, true, 0x6f5930e5eeb0b413ull},
+      {"10 ms derived r_dot", 22, 10'000'000, false, 0xeed9f4175a783c7dull},
+      {"1 ms", 23, 1'000'000, true, 0x32471b9ca8ff0134ull},
   };
   for (const auto& c : cases) {
     const std::uint64_t got = run_nonlinear_filter(c.seed, c.period, c.r_dot, 100000);

@@ -68,7 +68,8 @@ TEST(NonlinearFilterBlock, Declaration) {
                                                  {"v_max", "m/s"},  {"a_min", "m/s^2"}, {"a_max", "m/s^2"},
                                                  {"x0", "m"},       {"v0", "m/s"},    {"x", "m"},
                                                  {"x_dot", "m/s"},  {"x_ddot", "m/s^2"}, {"reset", ""},
-                                                 {"tracking", ""},  {"steps_to_go", ""}, {"error", ""}};
+                                                 {"tracking", ""},  {"steps_to_go", ""}, {"error", ""},
+                                                 {"ENO", ""}};
   EXPECT_EQ(t->pins.size(), units.size());
   for (const auto& p : t->pins) {
     SCOPED_TRACE(p.name);
@@ -294,20 +295,23 @@ TEST(NonlinearFilterBlock, InvalidBoundsFaultOnceAndStop) {
   f.h.scans(static_cast<int>(predicted));
   EXPECT_TRUE(f.tracking());
   EXPECT_NEAR(f.x(), 5.0, 1e-9);
-  // A second series raises a second fault; NaN r counts too.
+  // A NaN r is the finite-input rule's (finite_guard.hpp): the filter does
+  // not execute, its outputs hold and ENO is FALSE (one event per scan here;
+  // a task reports one per series).
   f.h.set<double>("r", std::numeric_limits<double>::quiet_NaN());
   f.h.scans(5);
-  EXPECT_TRUE(f.error());
-  EXPECT_EQ(f.faults(), 2);
+  EXPECT_FALSE(f.h.get<bool>("ENO"));
+  EXPECT_EQ(f.faults(), 6);
   EXPECT_NEAR(f.x(), 5.0, 1e-9);
-  // v_min >= v_max is invalid too.
+  // v_min >= v_max is invalid too: the filter's own fault.
   f.ref(5.0);
   f.h.scan();
   EXPECT_FALSE(f.error());
+  EXPECT_TRUE(f.h.get<bool>("ENO"));
   f.bounds({1, 1, -3, 5});
   f.h.scan();
   EXPECT_TRUE(f.error());
-  EXPECT_EQ(f.faults(), 3);
+  EXPECT_EQ(f.faults(), 7);
 }
 
 TEST(NonlinearFilterBlock, NeverValidBoundsHoldAtTheStart) {

@@ -1,6 +1,6 @@
 // Nonlinear filter math (paper 004, Section II): coordinates, eq. (9), eq. (11),
 // controller C, the final approach, mirror symmetry, predicates, and the
-// transient-time Table I as corrected in motion-math.md, computed here from
+// transient-time Table I as corrected in docs/motion/nonlinear-filter.md, computed here from
 // the paper's own formulas and compared with the simulation.
 #include <array>
 #include <cstdio>
@@ -249,10 +249,10 @@ TEST(NonlinearFilterMath, CruiseOnABoundWithinTheTolerance) {
   EXPECT_GT(flat, 500);
 }
 
-// ---- Table I as the paper and motion-math.md give it -------------------------
+// ---- Table I as the paper gives it, corrected (docs/motion/nonlinear-filter.md) ---
 
 // The left half of Table I computed from the paper's formulas with the
-// corrections listed in motion-math.md — eq. (11) as printed, (14), (16),
+// corrections listed in docs/motion/nonlinear-filter.md — eq. (11) as printed, (14), (16),
 // (18), (20) with the factor 1/2 restored in (19), ceil/floor per (21)/(22),
 // and the no-root case — independently of transient_info(). Returns the row
 // ('a'..'f') and the samples, or row 0 when the state is not one the table

@@ -32,7 +32,7 @@ TEST(TransientSyncBlock, DeclaresArrayPinsAndDocumentsTheEquations) {
     EXPECT_FALSE(p.doc.empty()) << p.name;
     const bool scalar = p.name == "reset" || p.name == "arrival" || p.name == "synchronized" || p.name == "scaled" ||
                         p.name == "energy" || p.name == "energy_last" || p.name == "windows" ||
-                        p.name == "window_scans" || p.name == "spread";
+                        p.name == "window_scans" || p.name == "spread" || p.name == "ENO";
     EXPECT_EQ(p.is_array(), !scalar) << p.name;
     if (p.is_array()) {
       EXPECT_EQ(p.length_param, "n") << p.name;
@@ -183,12 +183,17 @@ TEST(TransientSyncBlock, InvalidBoundsOnOneAxis) {
   }
   EXPECT_TRUE(synced);
   EXPECT_NEAR(in.x(1), 2.0, 1e-9);
-  // A non-finite reference is invalid too, and starts a new series.
+  // A non-finite reference is the finite-input rule's (finite_guard.hpp): the
+  // block does not execute, every output holds, ENO is FALSE.
+  const double x1 = in.x(1);
   in.harness().set<double>("r", 0, std::numeric_limits<double>::quiet_NaN());
   in.scan();
   in.scan();
-  EXPECT_TRUE(in.error(0));
-  EXPECT_EQ(in.harness().events().size(), 2u);
+  EXPECT_FALSE(in.error(0));
+  EXPECT_EQ(in.x(1), x1);
+  EXPECT_FALSE(in.harness().get<bool>("ENO"));
+  EXPECT_EQ(in.harness().events().size(), 3u);
+  EXPECT_STREQ(in.harness().events()[2].message, "input not finite");
 }
 
 TEST(TransientSyncBlock, ResetAndStart) {

@@ -307,8 +307,8 @@ connections:
   - t1.QQ -> go
   - go -> t1.XX
 )"),
-              ElementsAre("p.yaml:6:5: block t1 (TON) has no pin 'QQ' (IN, PT, Q, ET)",
-                          "p.yaml:7:11: block t1 (TON) has no pin 'XX' (IN, PT, Q, ET)"));
+              ElementsAre("p.yaml:6:5: block t1 (TON) has no pin 'QQ' (IN, PT, Q, ET, ENO)",
+                          "p.yaml:7:11: block t1 (TON) has no pin 'XX' (IN, PT, Q, ET, ENO)"));
 }
 
 TEST(LoadErrors, UnknownPinInInputs) {
@@ -858,7 +858,7 @@ traces:
 watch: [lamp, nosuch2, t.Q]
 )"),
               ElementsAre("p.yaml:6:5: trace: unknown tag or instance.pin 'nosuch'",
-                          "p.yaml:8:5: trace: block t (TON) has no pin 'XX' (IN, PT, Q, ET)",
+                          "p.yaml:8:5: trace: block t (TON) has no pin 'XX' (IN, PT, Q, ET, ENO)",
                           "p.yaml:9:5: trace: unknown block instance 'ghost'",
                           "p.yaml:10:5: trace: arr is an array; trace its elements (arr[i])",
                           "p.yaml:12:5: trace: index 2 is outside arr[0..1]",
@@ -988,7 +988,7 @@ traces: [x.Q, bad, t.ET, t.QQ]
                           "p.yaml:6:21: unknown block type 'NOPE' (see `syncplc blocks`)",
                           "p.yaml:9:49: t.PT: 'soon' is not a duration (missing number; write e.g. 1ms, 250us, 0.5s, T#1m30s)",
                           "p.yaml:14:5: feedback loop without a one-scan delay: a -> n -> a (break it with a UNIT_DELAY block)",
-                          "p.yaml:15:26: trace: block t (TON) has no pin 'QQ' (IN, PT, Q, ET)"));
+                          "p.yaml:15:26: trace: block t (TON) has no pin 'QQ' (IN, PT, Q, ET, ENO)"));
 }
 
 }  // namespace

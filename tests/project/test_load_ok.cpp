@@ -252,8 +252,8 @@ drivers:
   // channels: [0] for other threads, then one per consuming task.
   EXPECT_EQ(p.tasks[1]->channels.size(), 2u);
   EXPECT_EQ(p.tasks[0]->channels.size(), 1u);
-  // image: owned | foreign copies | pins
-  EXPECT_EQ(p.tasks[0]->image.size(), 3u + 2u + 2u * 2u);
+  // image: owned | foreign copies | pins (two blocks of two pins and ENO)
+  EXPECT_EQ(p.tasks[0]->image.size(), 3u + 2u + 2u * 3u);
 }
 
 TEST(LoadOk, ArrayTagsTakeLengthCells) {
