@@ -132,6 +132,7 @@ void RealtimeRunner::task_thread(std::size_t index) {
   constexpr std::int64_t kStopPoll = 100'000'000;  // a long period still notices a stop within 100 ms
   while (!stop_.load(std::memory_order_acquire)) {
     const std::int64_t planned = task.release_ns(k);
+    if (options_.duration_ns > 0 && planned >= options_.duration_ns) break;  // --duration, counted from the epoch
     const std::int64_t deadline = epoch_ + planned;
     bool stopping = false;
     for (;;) {
@@ -158,7 +159,7 @@ void RealtimeRunner::task_thread(std::size_t index) {
     prev_planned = planned;
     ++n;
     k = next.index;
-    if (next.stop) break;
+    if (next.stop || task.stopped()) break;  // task.stopped(): the supervisor gave up on a scan that did not end
   }
   alive_.fetch_sub(1, std::memory_order_acq_rel);
 }

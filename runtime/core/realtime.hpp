@@ -27,6 +27,9 @@ class RealtimeRunner {
     // Hold /dev/cpu_dma_latency at this many microseconds while running
     // (cpu_latency.hpp); -1 leaves the CPUs' idle states alone.
     int cpu_latency_us = 0;
+    // Run for this long from the epoch (the first release), then end by
+    // themselves: exactly the releases before it get a scan. 0: until stopped.
+    std::int64_t duration_ns = 0;
   };
   RealtimeRunner(Program& program, Options options);
   explicit RealtimeRunner(Program& program) : RealtimeRunner(program, Options{}) {}
