@@ -5,12 +5,11 @@
 
 #include <algorithm>
 #include <cstdlib>
-#include <deque>
 #include <iostream>
 #include <set>
-#include <sstream>
 
 #include "runtime/cli/commands.hpp"
+#include "runtime/cli/live_screen.hpp"
 #include "runtime/core/realtime.hpp"
 #include "runtime/core/supervisor.hpp"
 #include "runtime/modbus/server.hpp"
@@ -20,8 +19,6 @@
 namespace syncplc::cli {
 namespace {
 
-// The live screen reads statistics (atomics) and published snapshots only:
-// it never touches a task's image and never takes a lock a scan could wait on.
 // The settings a running server cannot change without a restart.
 bool same_server(const ModbusConfig& a, const ModbusConfig& b) {
   auto key = [](const ModbusConfig& c) {
@@ -58,35 +55,6 @@ std::unique_ptr<modbus::Server> start_modbus(Program& p, std::optional<int> port
   }
   if (!server->warning().empty()) std::cerr << "syncplc: modbus: warning: " << server->warning() << "\n";
   return server;
-}
-
-void draw_status(std::ostream& os, Program& p, double elapsed, const std::deque<std::string>& recent,
-                 const modbus::Server* server) {
-  std::ostringstream s;
-  s << "\x1b[H\x1b[2J";
-  s << fmt::format("syncplc run  {} {}  running {:.1f}s   (Ctrl-C stops; SIGHUP reloads the project file)\n\n", p.name, p.version, elapsed);
-  print_statistics(s, p, false);
-  if (server) {
-    s << "\nModbus TCP on " << server->endpoint() << "\n";
-    modbus::print_counters(s, server->counters().summary());
-  }
-  if (!p.watch.empty()) {
-    s << "\nWatched tags\n";
-    for (const auto& name : p.watch) {
-      const Tag* t = p.find_tag(name);
-      std::vector<Cell> v(t->length);
-      p.read_tag(*t, v.data());
-      std::string text;
-      for (std::uint32_t i = 0; i < t->length && i < 8; ++i) text += (i ? ", " : "") + format_value(t->type, v[i]);
-      if (t->length > 8) text += ", ...";
-      s << fmt::format("  {:<20} {:<30} {}\n", name, text, t->unit);
-    }
-  }
-  if (!recent.empty()) {
-    s << "\nEvents\n";
-    for (const auto& e : recent) s << "  " << e << "\n";
-  }
-  os << s.str() << std::flush;
 }
 
 // How long the main thread waits for a signal: a tenth of a second (the
@@ -161,8 +129,8 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
   runner->start();
   Supervisor supervisor(*program, *runner);
   const bool live = !no_status && isatty(STDOUT_FILENO);
+  LiveScreen screen(std::cout, live);  // the alternate screen, given back on every way out (live_screen.hpp)
   const std::int64_t t0 = runner->epoch_ns();  // the first release: --duration counts from here
-  std::deque<std::string> recent;
   bool warned = false;
   int stop_signal = 0;
   bool all_stopped = false;
@@ -175,8 +143,14 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
       // Online change: load and check the file first; only a good project replaces the running one.
       auto next = load_project(project, o);
       if (!next.ok()) {
-        for (const auto& d : next.diagnostics.sorted()) std::cerr << d.text() << "\n";
+        std::vector<std::string> errors;
+        for (const auto& d : next.diagnostics.sorted()) {
+          std::cerr << d.text() << "\n";
+          errors.push_back(d.text());
+        }
         std::cerr << "syncplc: reload failed; the running program continues unchanged\n";
+        screen.set_reload_result(false, fmt::format("{} error{} in {}", errors.size(), errors.size() == 1 ? "" : "s",
+                                                    project), errors);
       } else {
         // No request is taken from here until the server has the program to
         // serve: a write acknowledged before reaches the old queues, which are
@@ -208,6 +182,7 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
           }
           program = std::move(next.program);
           std::cerr << "syncplc: reloaded " << project << " (" << kept << " tag values carried over)\n";
+          screen.set_reload_result(true, fmt::format("{} ({} tag values carried over)", project, kept));
         }
         runner = std::make_unique<RealtimeRunner>(*program, runner_options);
         runner->start();
@@ -217,20 +192,19 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
       continue;
     }
     if (!warned) {
-      for (const auto& w : runner->warnings()) std::cerr << "syncplc: warning: " << w << "\n";
+      for (const auto& w : runner->warnings()) {
+        if (live) screen.add_event("warning: " + w);
+        else std::cerr << "syncplc: warning: " << w << "\n";
+      }
       warned = !runner->warnings().empty() || RealtimeRunner::monotonic_ns() - t0 > 1'000'000'000;
     }
     supervisor.check();  // a scan that does not end: safe outputs, task stopped (supervisor.hpp)
     for_each_event(p, supervisor, [&](const std::string& line) {
-      if (live) {
-        recent.push_back(line);
-        if (recent.size() > 6) recent.pop_front();
-      } else {
-        std::cerr << line << "\n";
-      }
+      if (live) screen.add_event(line);
+      else std::cerr << line << "\n";
     });
     double elapsed = static_cast<double>(std::max<std::int64_t>(0, RealtimeRunner::monotonic_ns() - t0)) * 1e-9;
-    if (live) draw_status(std::cout, p, elapsed, recent, modbus_server.get());
+    screen.draw(p, elapsed, modbus_server.get(), &supervisor);
     if (limit && RealtimeRunner::monotonic_ns() - t0 >= *limit) break;
     if (supervisor.all_stopped()) {  // by their watchdogs, or given up on by the supervisor
       std::cerr << "syncplc: every task has stopped\n";
@@ -239,6 +213,7 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
     }
     if (!runner->running()) break;  // the threads end by themselves after the --duration's last release
   }
+  screen.leave();  // the statistics go to the normal screen
   if (modbus_server) modbus_server->stop();
   // A thread stuck in a scan cannot be joined: its task's outputs are safe
   // (the supervisor), the others are stopped, and the process ends without it.
