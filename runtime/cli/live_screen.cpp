@@ -40,16 +40,43 @@ void leave_on_fatal_signal(int sig) {
   raise(sig);  // what the signal did before (a core dump, the sanitizer's report)
 }
 
+// Ctrl-Z: the shell's screen while stopped, the alternate one again on fg
+// (the next frame redraws it). Where the stop does not happen (an orphaned
+// process group ignores it) the screen is taken back at once.
+struct sigaction g_previous_tstp;
+
+void on_terminal_stop(int) {
+  if (g_on_alternate.load()) {
+    ssize_t n = write(STDOUT_FILENO, kLeave, sizeof kLeave - 1);
+    (void)n;
+  }
+  struct sigaction dfl {};
+  dfl.sa_handler = SIG_DFL;
+  sigemptyset(&dfl.sa_mask);
+  struct sigaction mine {};
+  sigaction(SIGTSTP, &dfl, &mine);
+  raise(SIGTSTP);  // stops here until SIGCONT
+  sigaction(SIGTSTP, &mine, nullptr);
+  if (g_on_alternate.load()) {
+    ssize_t n = write(STDOUT_FILENO, kEnter, sizeof kEnter - 1);
+    (void)n;
+  }
+}
+
 void install_fatal_handlers() {
   struct sigaction sa {};
   sa.sa_handler = leave_on_fatal_signal;
   sigemptyset(&sa.sa_mask);
   sa.sa_flags = SA_NODEFER;
   for (std::size_t i = 0; i < std::size(kFatal); ++i) sigaction(kFatal[i], &sa, &g_previous[i]);
+  sa.sa_flags = SA_RESTART | SA_NODEFER;  // NODEFER: the raise() inside stops the process at once
+  sa.sa_handler = on_terminal_stop;
+  sigaction(SIGTSTP, &sa, &g_previous_tstp);
 }
 
 void restore_fatal_handlers() {
   for (std::size_t i = 0; i < std::size(kFatal); ++i) sigaction(kFatal[i], &g_previous[i], nullptr);
+  sigaction(SIGTSTP, &g_previous_tstp, nullptr);
 }
 
 std::size_t terminal_width() {

@@ -4,7 +4,8 @@
 // that is a normal end), an error unwinding out of cmd_run (the destructor),
 // the exit that leaves a stuck scan thread behind (leave() before _Exit), and
 // a crash (SIGSEGV, SIGABRT, SIGBUS, SIGFPE, SIGILL, SIGQUIT: a handler writes
-// the escape sequence with write(2), then the signal does what it did before).
+// the escape sequence with write(2), then the signal does what it did before);
+// Ctrl-Z gives it back while the process is stopped and takes it again on fg.
 //
 // What it shows fits 80 columns: compact counts (1.2k, 3.4M), times with
 // three significant digits (12.3µs, 1.23ms), long names shortened in the

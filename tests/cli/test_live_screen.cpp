@@ -4,6 +4,7 @@
 // binary on a pseudo-terminal.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <poll.h>
 #include <pty.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -150,10 +151,15 @@ struct PtyRun {
       _exit(127);
     }
   }
-  // Reads until `text` has appeared (or the child closed the terminal).
+  // Reads until `text` has appeared (false: the child closed the terminal,
+  // or 10 s passed without it).
   bool read_until(const std::string& text) {
     char buf[4096];
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(10);
     while (out.find(text) == std::string::npos) {
+      pollfd p{fd, POLLIN, 0};
+      if (std::chrono::steady_clock::now() > until || poll(&p, 1, 100) < 0) return false;
+      if (!(p.revents & (POLLIN | POLLHUP))) continue;
       const ssize_t n = read(fd, buf, sizeof buf);
       if (n <= 0) return false;
       out.append(buf, static_cast<std::size_t>(n));
@@ -161,9 +167,14 @@ struct PtyRun {
     return true;
   }
   int finish() {
-    read_until("\x01never\x01");  // to the end
+    read_until("\x01never\x01");  // to the end (EOF)
     int status = 0;
-    waitpid(pid, &status, 0);
+    for (int i = 0; i < 500 && waitpid(pid, &status, WNOHANG) == 0; ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    if (kill(pid, 0) == 0) {  // the test failed: leave nothing running
+      kill(pid, SIGKILL);
+      waitpid(pid, &status, 0);
+    }
     close(fd);
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   }
@@ -193,6 +204,40 @@ blocks: [{name: b, type: BURN, inputs: {EXEC: 1h}}]
   const auto back = r.out.find("\x1b[?1049l");
   ASSERT_NE(back, std::string::npos) << r.out;
   EXPECT_GT(r.out.find("scan-hung", back), back) << "the screen's events kept on the normal screen\n" << r.out;
+}
+
+TEST(LiveScreenRun, CtrlZGivesTheShellItsScreenBackUntilTheRunContinues) {
+  // As a shell runs a job: the terminal's process in a process group of its
+  // own, whose parent (this test) is in the same session — so SIGTSTP stops it.
+  std::string path = testing::write_temp_file("screen_tstp.yaml", "tasks: [{name: t, period: 1ms}]\n");
+  int master = -1, slave = -1;
+  ASSERT_EQ(openpty(&master, &slave, nullptr, nullptr, nullptr), 0);
+  PtyRun r;
+  r.fd = master;
+  r.pid = fork();
+  ASSERT_GE(r.pid, 0);
+  if (r.pid == 0) {
+    setpgid(0, 0);
+    for (int f : {0, 1, 2}) dup2(slave, f);
+    execl(SYNCPLC_BINARY, SYNCPLC_BINARY, "run", path.c_str(), "--duration", "20s", static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  close(slave);
+  ASSERT_TRUE(r.read_until("Ctrl-C stops")) << r.out;
+  const std::size_t before = r.out.size();
+  kill(r.pid, SIGTSTP);
+  int status = 0;
+  ASSERT_EQ(waitpid(r.pid, &status, WUNTRACED), r.pid);
+  EXPECT_TRUE(WIFSTOPPED(status));
+  ASSERT_TRUE(r.read_until("\x1b[?1049l")) << "the shell's screen while stopped";
+  EXPECT_GT(r.out.find("\x1b[?1049l", before), before);
+  const std::size_t stopped = r.out.size();
+  kill(r.pid, SIGCONT);
+  ASSERT_TRUE(r.read_until("\x1b[?1049h\x1b[?25l\x1b[H")) << r.out;  // taken again, then a frame
+  EXPECT_GT(r.out.find("\x1b[?1049h", stopped), stopped);
+  kill(r.pid, SIGTERM);
+  EXPECT_EQ(r.finish(), 0) << r.out;
+  EXPECT_GT(r.out.rfind("\x1b[?1049l"), r.out.rfind("Ctrl-C stops")) << "given back at the end";
 }
 
 }  // namespace
