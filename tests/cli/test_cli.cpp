@@ -294,7 +294,7 @@ TEST(Cli, RunGivesUpOnAScanThatDoesNotEndAndExits4) {
   // ends without the thread, which is still burning (status 4).
   std::string path = write_temp_file("hang.yaml", R"(tasks:
   - {name: stuck, period: 10ms, watchdog: {time: 50ms, sensitivity: 2, action: stop}}
-blocks: [{name: b, type: BURN, inputs: {EXEC: 1500ms}}]
+blocks: [{name: b, type: BURN, inputs: {EXEC: 1h}}]
 )");
   auto r = run("run " + path + " --duration 5s --no-status");
   EXPECT_EQ(r.rc, 4) << r.err;
