@@ -139,6 +139,12 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
     int sig = sigtimedwait(&sigs, nullptr, &wait);
     if (sig == SIGINT || sig == SIGTERM) { stop_signal = sig; break; }
     Program& p = *program;
+    if (sig == SIGHUP && supervisor.any_hung()) {  // a stuck thread cannot be stopped: a reload would wait forever
+      std::cerr << "syncplc: reload refused: a task's scan did not end and its thread cannot be stopped; "
+                   "restart syncplc\n";
+      screen.set_reload_result(false, "refused: a task's scan did not end (restart syncplc)");
+      continue;
+    }
     if (sig == SIGHUP) {
       // Online change: load and check the file first; only a good project replaces the running one.
       auto next = load_project(project, o);
@@ -166,7 +172,7 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
           std::cerr << "syncplc: reload: " << err << "; restarting the previous program\n";
           if (!p.open_drivers(&err)) {
             std::cerr << "syncplc: " << err << "\n";
-            return kExitInvalid;
+            return kExitDriverFailed;
           }
           if (modbus_server) modbus_server->replace_program(p);  // the same program again
         } else {

@@ -359,6 +359,33 @@ drivers:
   EXPECT_NE(out.find("Statistics (real time)"), std::string::npos) << out;
 }
 
+TEST(Cli, AReloadIsRefusedWhileAScanThatDidNotEndHoldsItsThread) {
+  // Stopping the tasks for the reload would wait for the stuck thread forever.
+  std::string path = write_temp_file("hung_reload.yaml", R"(tasks:
+  - {name: stuck, period: 10ms, watchdog: {time: 20ms, action: stop}}
+  - {name: fine, period: 10ms}
+blocks: [{name: b, type: BURN, task: stuck, inputs: {EXEC: 1h}}]
+)");
+  const std::string o = path + ".out", e = path + ".err";
+  pid_t pid = spawn_run({path, "--no-status", "--duration", "20s"}, o, e);
+  ASSERT_GT(pid, 0);
+  auto wait_for = [&](const std::string& text) {
+    for (int i = 0; i < 100; ++i) {
+      if (slurp(e).find(text) != std::string::npos) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    return false;
+  };
+  EXPECT_TRUE(wait_for("stuck: scan did not end: task stopped by the supervisor")) << slurp(e);
+  kill(pid, SIGHUP);
+  EXPECT_TRUE(wait_for("syncplc: reload refused: a task's scan did not end")) << slurp(e);
+  kill(pid, SIGTERM);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 4) << slurp(e);
+}
+
 TEST(Cli, RunWhoseEveryTaskIsStoppedByItsWatchdogExits3) {
   std::string path = write_temp_file("watchdog_stop.yaml", R"(tasks:
   - {name: slow, period: 50ms, watchdog: {time: 5ms, action: stop}}
