@@ -3,15 +3,17 @@
 #include <time.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
-#include <deque>
+#include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <set>
-#include <sstream>
 
 #include "runtime/cli/commands.hpp"
+#include "runtime/cli/live_screen.hpp"
 #include "runtime/core/realtime.hpp"
+#include "runtime/core/supervisor.hpp"
 #include "runtime/modbus/server.hpp"
 #include "runtime/cli/instance_file.hpp"
 #include "runtime/cli/reload.hpp"
@@ -21,35 +23,29 @@
 namespace syncplc::cli {
 namespace {
 
-// The live screen reads statistics (atomics) and published snapshots only:
-// it never touches a task's image and never takes a lock a scan could wait on.
-void draw_status(std::ostream& os, Program& p, double elapsed, const std::deque<std::string>& recent,
-                 const modbus::Server* server) {
-  std::ostringstream s;
-  s << "\x1b[H\x1b[2J";
-  s << fmt::format("syncplc run  {} {}  running {:.1f}s   (Ctrl-C stops; SIGHUP reloads the project file)\n\n", p.name, p.version, elapsed);
-  print_statistics(s, p, false);
-  if (server) {
-    s << "\nModbus TCP on " << server->endpoint() << "\n";
-    modbus::print_counters(s, server->counters().summary());
-  }
-  if (!p.watch.empty()) {
-    s << "\nWatched tags\n";
-    for (const auto& name : p.watch) {
-      const Tag* t = p.find_tag(name);
-      std::vector<Cell> v(t->length);
-      p.read_tag(*t, v.data());
-      std::string text;
-      for (std::uint32_t i = 0; i < t->length && i < 8; ++i) text += (i ? ", " : "") + format_value(t->type, v[i]);
-      if (t->length > 8) text += ", ...";
-      s << fmt::format("  {:<20} {:<30} {}\n", name, text, t->unit);
-    }
-  }
-  if (!recent.empty()) {
-    s << "\nEvents\n";
-    for (const auto& e : recent) s << "  " << e << "\n";
-  }
-  os << s.str() << std::flush;
+// How long the main thread waits for a signal: a tenth of a second (the
+// supervisor's and the live screen's pace), or up to
+// the end of the --duration when that is nearer.
+timespec main_wait(std::int64_t epoch_ns, const std::optional<std::int64_t>& limit) {
+  std::int64_t ns = 100'000'000;
+  if (limit) ns = std::clamp<std::int64_t>(epoch_ns + *limit - RealtimeRunner::monotonic_ns(), 1'000'000, ns);
+  return timespec{0, static_cast<long>(ns)};
+}
+
+// The tasks' events and the supervisor's, one formatted line each.
+template <class F>
+void for_each_event(Program& p, Supervisor& supervisor, F&& f) {
+  Event e;
+  for (auto& t : p.tasks)
+    while (t->pop_event(e)) f(format_event(p, e));
+  while (supervisor.pop_event(e)) f(format_event(p, e));
+}
+
+// Why `run` ended (commands.hpp): a requested stop is 0.
+int run_exit_status(bool joined, bool all_stopped, bool any_hung) {
+  if (!joined || (all_stopped && any_hung)) return kExitHungScan;
+  if (all_stopped) return kExitWatchdogStopped;
+  return kExitOk;
 }
 
 }  // namespace
@@ -81,6 +77,7 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
       std::cerr << "syncplc: --duration: " << (limit ? "must be positive" : err) << "\n";
       return kExitInvalid;
     }
+    runner_options.duration_ns = *limit;  // counted from the first release, not from here
   }
   LoadOptions o;
   if (!parse_sets(sets, o)) return kExitInvalid;
@@ -102,7 +99,7 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
   std::string err;
   if (!program->open_drivers(&err)) {
     std::cerr << "syncplc: " << err << "\n";
-    return kExitInvalid;
+    return kExitDriverFailed;
   }
   // The server binds before any task runs: a port in use stops here, cleanly.
   auto modbus_server = start_modbus(*program, modbus_port);
@@ -123,14 +120,15 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
   auto runner = std::make_unique<RealtimeRunner>(*program, runner_options);
   runner->start();
   Reloader reloader(project, o, modbus_port);
+  Supervisor supervisor(*program, *runner);
   const bool live = !no_status && isatty(STDOUT_FILENO);
-  const std::int64_t t0 = RealtimeRunner::monotonic_ns();
-  std::deque<std::string> recent;
+  LiveScreen screen(std::cout, live);  // the alternate screen, given back on every way out (live_screen.hpp)
+  const std::int64_t t0 = runner->epoch_ns();  // the first release: --duration counts from here
   bool warned = false;
-  std::vector<bool> hung_reported(64, false);
   int stop_signal = 0;
+  bool all_stopped = false;
   for (;;) {
-    timespec wait{0, 250'000'000};
+    const timespec wait = main_wait(t0, limit);
     int sig = sigtimedwait(&sigs, nullptr, &wait);
     if (sig == SIGINT || sig == SIGTERM) { stop_signal = sig; break; }
     // SIGHUP reloads a service (no live screen); for an interactive run it
@@ -138,61 +136,63 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
     // holding the Modbus port. `syncplc reload` (SIGUSR1) reloads either.
     if (sig == SIGHUP && live) { stop_signal = sig; break; }
     Program& p = *program;
+    if ((sig == SIGHUP || sig == SIGUSR1) && supervisor.any_hung()) {
+      // A stuck thread never reaches its switch: the change could not complete.
+      ReloadResult rr;
+      rr.summary = "reload refused: a task's scan did not end and its thread cannot be stopped; restart syncplc";
+      std::cerr << "syncplc: " << rr.summary << "\n";
+      screen.set_reload_result(false, "refused: a task's scan did not end (restart syncplc)");
+      write_reload_result(pid_file, rr);
+      continue;
+    }
     if (sig == SIGHUP || sig == SIGUSR1) {
       // Online change: load and check the file first; only a good project replaces the running one.
       ReloadResult rr = reloader.reload(program, *runner, modbus_server, std::cerr);
       for (const auto& line : rr.lines) std::cerr << line << "\n";
       std::cerr << "syncplc: " << rr.summary << "\n";
-      if (live) recent.push_back(rr.summary);
+      if (rr.accepted) screen.set_reload_result(true, rr.summary);
+      else screen.set_reload_result(false, rr.summary, rr.lines);
       write_reload_result(pid_file, rr);
+      supervisor.attach(*program, *runner);
       continue;
     }
     reloader.poll(*runner, std::cerr);
     if (!warned) {
-      for (const auto& w : runner->warnings()) std::cerr << "syncplc: warning: " << w << "\n";
+      for (const auto& w : runner->warnings()) {
+        if (live) screen.add_event("warning: " + w);
+        else std::cerr << "syncplc: warning: " << w << "\n";
+      }
       warned = !runner->warnings().empty() || RealtimeRunner::monotonic_ns() - t0 > 1'000'000'000;
     }
-    // A scan that has run past watchdog time × sensitivity is reported here:
-    // its own watchdog only judges it when (if) it ends.
-    for (std::size_t i = 0; i < p.tasks.size(); ++i) {
-      const auto& c = p.tasks[i]->config();
-      if (!c.watchdog) continue;
-      std::int64_t running = runner->scan_running_ns(i);
-      bool hung = running > c.watchdog_ns * c.sensitivity;
-      if (hung && !hung_reported[i]) {
-        std::string line = fmt::format("task {}: scan running for {} (watchdog {} x {}) and not finished; "
-                                       "it cannot be interrupted: check the program", c.name, format_ns(running),
-                                       format_duration(c.watchdog_ns), c.sensitivity);
-        std::cerr << "syncplc: " << line << "\n";
-        if (live) recent.push_back(line);
-      }
-      hung_reported[i] = hung;
-    }
-    for (auto& t : p.tasks) {
-      Event e;
-      while (t->pop_event(e)) {
-        std::string line = format_event(p, e);
-        if (live) {
-          recent.push_back(line);
-          if (recent.size() > 6) recent.pop_front();
-        } else {
-          std::cerr << line << "\n";
-        }
-      }
-    }
-    double elapsed = static_cast<double>(RealtimeRunner::monotonic_ns() - t0) * 1e-9;
-    if (live) draw_status(std::cout, p, elapsed, recent, modbus_server.get());
+    supervisor.check();  // a scan that does not end: safe outputs, task stopped (supervisor.hpp)
+    for_each_event(p, supervisor, [&](const std::string& line) {
+      if (live) screen.add_event(line);
+      else std::cerr << line << "\n";
+    });
+    double elapsed = static_cast<double>(std::max<std::int64_t>(0, RealtimeRunner::monotonic_ns() - t0)) * 1e-9;
+    screen.draw(p, elapsed, modbus_server.get(), &supervisor);
     if (limit && RealtimeRunner::monotonic_ns() - t0 >= *limit) break;
-    if (!runner->running()) {
+    if (supervisor.all_stopped()) {  // by their watchdogs, or given up on by the supervisor
       std::cerr << "syncplc: every task has stopped\n";
+      all_stopped = true;
       break;
     }
+    if (!runner->threads_alive()) break;  // the threads end by themselves after the --duration's last release
   }
+  screen.leave();  // the statistics go to the normal screen
   if (modbus_server) modbus_server->stop();
-  runner->request_stop();
-  runner->join();
-  program->close_drivers();
-  print_events(std::cerr, *program);
+  // A thread stuck in a scan cannot be joined: its task's outputs are safe
+  // (the supervisor), the others are stopped, and the process ends without it.
+  const bool joined = supervisor.stop();
+  if (joined) {
+    runner->join();
+    program->close_drivers();
+  }
+  for_each_event(*program, supervisor, [](const std::string& line) { std::cerr << line << "\n"; });
+  const int status = run_exit_status(joined, all_stopped, supervisor.any_hung());
+  if (!joined)
+    std::cerr << "syncplc: a scan did not end; its task's outputs are in their safe state; exiting without its "
+                 "thread (status " << status << ")\n";
   if (stop_signal)
     std::cout << "\nStopped by "
               << (stop_signal == SIGINT ? "SIGINT" : stop_signal == SIGTERM ? "SIGTERM" : "SIGHUP (the terminal hung up)") << "\n";
@@ -201,7 +201,13 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
     std::cout << "\nModbus TCP on " << modbus_server->endpoint() << "\n";
     modbus::print_counters(std::cout, modbus_server->counters().summary());
   }
-  return kExitOk;
+  if (!joined) {
+    // Destructors would join the stuck thread (forever): end here.
+    std::cout.flush();
+    std::cerr.flush();
+    std::_Exit(status);
+  }
+  return status;
 }
 
 }  // namespace syncplc::cli

@@ -1,5 +1,6 @@
 // The subcommands of `syncplc`. Each returns the process exit status:
-// 0 success, 1 test failure, 2 invalid input or usage.
+// 0 success, 1 test failure, 2 invalid input or usage; `run` says why it
+// ended with the statuses below (docs/user-guide.md, "Exit statuses").
 #pragma once
 
 #include <optional>
@@ -13,6 +14,14 @@ namespace syncplc::cli {
 constexpr int kExitOk = 0;
 constexpr int kExitTestFailed = 1;
 constexpr int kExitInvalid = 2;
+// `syncplc run` ended by itself because every task was stopped by its
+// watchdog: a failure, so that a service manager restarts it.
+constexpr int kExitWatchdogStopped = 3;
+// A scan that did not end forced the end of `run`: its task's outputs were
+// put in their safe state and the process exited without its thread.
+constexpr int kExitHungScan = 4;
+// An I/O driver failed (it could not be opened).
+constexpr int kExitDriverFailed = 5;
 
 // Loads a project, printing every diagnostic to stderr on failure.
 LoadResult load_or_report(const std::string& path, const LoadOptions& options);

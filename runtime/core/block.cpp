@@ -32,6 +32,7 @@ std::string_view event_kind_name(EventKind k) {
     case EventKind::QueueOverflow: return "queue-overflow";
     case EventKind::DriverFault: return "driver-fault";
     case EventKind::Info: return "info";
+    case EventKind::ScanHung: return "scan-hung";
   }
   return "?";
 }

@@ -199,6 +199,7 @@ enum class EventKind : std::uint8_t {
   QueueOverflow,
   DriverFault,
   Info,
+  ScanHung,         // raised by the supervisor: a scan ran past its limit and has not ended
 };
 std::string_view event_kind_name(EventKind k);
 

@@ -19,6 +19,14 @@
 
 namespace syncplc {
 
+// One element of an output channel and the value it takes in the safe state
+// (the `safe:` value of the tag bound to the channel).
+struct SafeOutput {
+  int channel = 0;
+  std::uint32_t element = 0;
+  Cell value;
+};
+
 struct DriverChannel {
   std::string name;
   PinDir dir = PinDir::In;  // In: read by the PLC (sensor); Out: written by the PLC (actuator)
@@ -44,6 +52,16 @@ class IoDriver {
   virtual void write_outputs(const ScanContext& ctx) noexcept = 0;
   // After the last scan; joins the driver's threads.
   virtual void close() noexcept = 0;
+  // The supervisor's path to the outputs when the task's scan does not end
+  // (runtime/core/supervisor.hpp). Called from a non-real-time thread while
+  // the task's thread may be inside latch_inputs, write_outputs or a block,
+  // or stuck there for good. Drives the listed output elements to their
+  // values (the others keep the last value written) and holds the outputs:
+  // write_outputs changes nothing after it until the driver is opened again,
+  // so a scan that ends late cannot undo the safe state. It may wait for a
+  // write_outputs already under way (bounded, never for the scan itself) and
+  // never blocks the scan thread. False when the outputs could not be reached.
+  virtual bool write_safe_outputs(const SafeOutput* outputs, std::size_t n) noexcept = 0;
 
   // Tests and simulations: set an input channel from outside the scan (taken
   // at the next latch). Returns false when the driver does not support it.

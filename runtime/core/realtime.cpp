@@ -103,6 +103,12 @@ bool RealtimeRunner::running() const {
   return false;
 }
 
+bool RealtimeRunner::threads_alive() const {
+  for (const auto& w : workers_)
+    if (w.alive.load(std::memory_order_acquire)) return true;
+  return false;
+}
+
 std::vector<std::string> RealtimeRunner::warnings() const {
   std::lock_guard lock(warnings_mutex_);
   return warnings_;
@@ -197,6 +203,7 @@ void RealtimeRunner::task_thread(Worker& w, Start start) {
   bool stopped = false;  // by the watchdog: wait for an online change (or the end)
   while (!stop_.load(std::memory_order_acquire)) {
     std::int64_t planned = task->release_ns(k);
+    if (options_.duration_ns > 0 && planned >= options_.duration_ns) break;  // --duration, counted from the epoch
     // Online change: between two scans, at the first release at or after T.
     if (TaskHandover* h = task->handover(); h && h->from == task && (planned >= h->switch_ns || stopped)) {
       if (stopped) {
@@ -258,7 +265,8 @@ void RealtimeRunner::task_thread(Worker& w, Start start) {
     prev_planned = planned;
     ++n;
     k = next.index;
-    if (next.stop) stopped = true;
+    // task->stopped(): the supervisor gave up on a scan that did not end.
+    if (next.stop || task->stopped()) stopped = true;
   }
   w.alive.store(false, std::memory_order_release);
 }

@@ -34,6 +34,9 @@ class RealtimeRunner {
     // Hold /dev/cpu_dma_latency at this many microseconds while running
     // (cpu_latency.hpp); -1 leaves the CPUs' idle states alone.
     int cpu_latency_us = 0;
+    // Run for this long from the epoch (the first release), then end by
+    // themselves: exactly the releases before it get a scan. 0: until stopped.
+    std::int64_t duration_ns = 0;
   };
   RealtimeRunner(Program& program, Options options);
   explicit RealtimeRunner(Program& program) : RealtimeRunner(program, Options{}) {}
@@ -44,6 +47,9 @@ class RealtimeRunner {
   void join();
   // Some task is still scanning (not every one stopped by its watchdog).
   bool running() const;
+  // Some task thread has not returned yet (a stopped task's thread waits for
+  // an online change; a thread stuck in a scan never returns).
+  bool threads_alive() const;
   // Warnings collected at start (no SCHED_FIFO permission, mlockall failed...).
   std::vector<std::string> warnings() const;
   std::int64_t epoch_ns() const { return epoch_; }

@@ -149,6 +149,10 @@ class Task : private EventSink {
   // Resets timing state (not the image) before a run.
   void reset_timing();
   bool stopped() const { return stopped_.load(std::memory_order_acquire); }
+  // From the supervisor (supervisor.hpp), for a scan that does not end: the
+  // task counts as stopped (writes to it are refused) and the runner starts
+  // no further scan of it, should the scan ever end.
+  void stop_from_supervisor() { stopped_.store(true, std::memory_order_release); }
 
   // --- other threads -----------------------------------------------------------
   // Queues writes to be applied together at the start of the next scan; false

@@ -23,12 +23,26 @@ void MemoryDriver::latch_inputs(const ScanContext&) noexcept {
 }
 
 void MemoryDriver::write_outputs(const ScanContext&) noexcept {
+  writes_.fetch_add(1, std::memory_order_relaxed);
+  if (!safe_.begin_write()) return;  // held in the safe state
   for (std::size_t i = 0; i < channels_.size(); ++i) {
     if (channels_[i].dir != PinDir::Out || !bound_[i]) continue;
     for (std::uint32_t k = 0; k < channels_[i].length; ++k)
       store_[offset_[i] + k].store(bound_[i][k].raw, std::memory_order_release);
   }
-  writes_.fetch_add(1, std::memory_order_relaxed);
+  safe_.end_write();
+}
+
+bool MemoryDriver::write_safe_outputs(const SafeOutput* outputs, std::size_t n) noexcept {
+  const bool reached = safe_.engage();
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto ch = static_cast<std::size_t>(outputs[i].channel);
+    if (outputs[i].channel < 0 || ch >= channels_.size() || channels_[ch].dir != PinDir::Out ||
+        outputs[i].element >= channels_[ch].length)
+      continue;
+    store_[offset_[ch] + outputs[i].element].store(outputs[i].value.raw, std::memory_order_release);
+  }
+  return reached;
 }
 
 bool MemoryDriver::force_input(int channel, const Cell* values) {

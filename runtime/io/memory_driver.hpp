@@ -1,6 +1,7 @@
 // The memory driver: channels backed by plain memory. Inputs are set from
 // outside (tests, simulations, `syncplc test` steps) with force_input();
-// outputs keep the last value the PLC wrote. It counts latches and writes so
+// outputs keep the last value the PLC wrote (or the safe value the
+// supervisor wrote, held from then on). It counts latches and writes so
 // tests can check that the scan calls it exactly once each per scan.
 #pragma once
 
@@ -9,6 +10,7 @@
 #include <vector>
 
 #include "runtime/core/io_driver.hpp"
+#include "runtime/io/safe_output_latch.hpp"
 
 namespace syncplc {
 
@@ -18,10 +20,14 @@ class MemoryDriver final : public IoDriver {
 
   const std::vector<DriverChannel>& channels() const override { return channels_; }
   void bind(const std::vector<Cell*>& cells) override { bound_ = cells; }
-  bool open(std::string*) override { return true; }
+  bool open(std::string*) override {
+    safe_.reset();
+    return true;
+  }
   void latch_inputs(const ScanContext& ctx) noexcept override;
   void write_outputs(const ScanContext& ctx) noexcept override;
   void close() noexcept override {}
+  bool write_safe_outputs(const SafeOutput* outputs, std::size_t n) noexcept override;
   bool force_input(int channel, const Cell* values) override;
   bool read_output(int channel, Cell* values) const override;
 
@@ -36,6 +42,7 @@ class MemoryDriver final : public IoDriver {
   std::vector<Cell*> bound_;
   std::atomic<std::uint64_t> latches_{0};
   std::atomic<std::uint64_t> writes_{0};
+  SafeOutputLatch safe_;
 };
 
 DriverTypeInfo memory_driver_type();

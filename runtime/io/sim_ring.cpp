@@ -1,5 +1,6 @@
 #include "runtime/io/sim_ring.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -33,9 +34,35 @@ SimRingDriver::SimRingDriver(SimRingConfig cfg) : cfg_(std::move(cfg)), rng_(cfg
   received_.assign(n, 0);
   held_cmd_.assign(static_cast<std::size_t>(n) * w, 0.0);
   held_err_.assign(static_cast<std::size_t>(n) * n, 0.0);
+  safe_cmd_.assign(frame_cmd_.size(), 0.0);
+  safe_err_.assign(n, 0.0);
+}
+
+bool SimRingDriver::open(std::string*) {
+  safe_.reset();
+  safe_ready_.store(false, std::memory_order_release);
+  safe_sent_ = false;
+  return true;
+}
+
+bool SimRingDriver::write_safe_outputs(const SafeOutput* outputs, std::size_t n) noexcept {
+  if (safe_ready_.load(std::memory_order_acquire)) return true;  // already in the safe state
+  if (!safe_.engage()) return false;
+  // After engage() the scan thread no longer writes the frame: values without
+  // a safe value keep what the last frame carried. Sized at construction.
+  std::copy(frame_cmd_.begin(), frame_cmd_.end(), safe_cmd_.begin());
+  std::copy(frame_err_.begin(), frame_err_.end(), safe_err_.begin());
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& o = outputs[i];
+    if (o.channel == kMasterCmd && o.element < safe_cmd_.size()) safe_cmd_[o.element] = o.value.get<double>();
+    if (o.channel == kErrTx && o.element < safe_err_.size()) safe_err_[o.element] = o.value.get<double>();
+  }
+  safe_ready_.store(true, std::memory_order_release);
+  return true;
 }
 
 void SimRingDriver::write_outputs(const ScanContext&) noexcept {
+  if (!safe_.begin_write()) return;  // held in the safe state
   const std::uint32_t n = cfg_.nodes;
   for (std::size_t i = 0; i < frame_cmd_.size(); ++i)
     frame_cmd_[i] = bound_[kMasterCmd] ? bound_[kMasterCmd][i].get<double>() : 0.0;
@@ -60,10 +87,19 @@ void SimRingDriver::write_outputs(const ScanContext&) noexcept {
   lost_ += lost;
   late_ += late;
   frame_pending_ = true;
+  safe_.end_write();
 }
 
 void SimRingDriver::latch_inputs(const ScanContext&) noexcept {
   const std::uint32_t n = cfg_.nodes, w = cfg_.command_words;
+  if (!safe_sent_ && safe_ready_.load(std::memory_order_acquire)) {  // the safe frame reaches every node
+    std::copy(safe_cmd_.begin(), safe_cmd_.end(), frame_cmd_.begin());
+    std::copy(safe_err_.begin(), safe_err_.end(), frame_err_.begin());
+    for (std::uint32_t i = 0; i < n; ++i) received_[i] = 1;
+    ++sent_;
+    frame_pending_ = true;
+    safe_sent_ = true;
+  }
   for (std::uint32_t i = 0; i < n; ++i) {
     const bool fresh = frame_pending_ && received_[i];
     if (fresh) {

@@ -15,6 +15,11 @@
 // late with a probability; the receiver then gets valid = FALSE and the value
 // of the last frame it did receive. All draws come from the driver's seed.
 //
+// Safe outputs written by the supervisor (write_safe_outputs) make up one
+// last frame, the last one sent with the safe values in place, that every
+// node receives at the next latch; the program's frames stop until the
+// driver is opened again.
+//
 // Channels, n = nodes:
 //   master_cmd        out  ARRAY[1..n*w] OF LREAL  x_d(k+1) for every axis, w words an axis
 //                                                  (command_words: 1 = position; 3 = position,
@@ -34,6 +39,7 @@
 #include "runtime/core/io_driver.hpp"
 #include "runtime/io/bus_timing.hpp"
 #include "runtime/io/loss_model.hpp"
+#include "runtime/io/safe_output_latch.hpp"
 
 namespace syncplc {
 
@@ -53,10 +59,11 @@ class SimRingDriver final : public IoDriver {
 
   const std::vector<DriverChannel>& channels() const override { return channels_; }
   void bind(const std::vector<Cell*>& cells) override { bound_ = cells; }
-  bool open(std::string*) override { return true; }
+  bool open(std::string*) override;
   void latch_inputs(const ScanContext& ctx) noexcept override;
   void write_outputs(const ScanContext& ctx) noexcept override;
   void close() noexcept override {}
+  bool write_safe_outputs(const SafeOutput* outputs, std::size_t n) noexcept override;
   std::string summary() const override { return cfg_.bus_summary; }
   std::vector<std::pair<std::string, double>> counters() const override;
 
@@ -83,6 +90,11 @@ class SimRingDriver final : public IoDriver {
   std::vector<double> held_err_;               // node-major n x n: last errors received
   bool frame_pending_ = false;
   std::uint64_t sent_ = 0, lost_ = 0, late_ = 0;
+  // The safe frame: written by the supervisor, sent by the next latch.
+  SafeOutputLatch safe_;
+  std::vector<double> safe_cmd_, safe_err_;
+  std::atomic<bool> safe_ready_{false};
+  bool safe_sent_ = false;  // scan thread
 };
 
 DriverTypeInfo sim_ring_driver_type();

@@ -38,6 +38,7 @@ SimTableDriver::SimTableDriver(SimTableConfig cfg) : cfg_(std::move(cfg)), rng_(
   pending_.assign(n, 0.0);
   applied_.assign(n, 0.0);
   last_cmd_.assign(n, 0.0);
+  safe_cmd_.assign(n, 0.0);
   for (const auto& d : cfg_.disturbances) {
     edges_.push_back(d.from_ns);
     edges_.push_back(d.to_ns);
@@ -82,12 +83,27 @@ void SimTableDriver::advance_to(std::int64_t t) noexcept {
   }
 }
 
+bool SimTableDriver::open(std::string*) {
+  safe_.reset();
+  safe_ready_.store(false, std::memory_order_release);
+  safe_taken_ = false;
+  return true;
+}
+
 void SimTableDriver::latch_inputs(const ScanContext& ctx) noexcept {
   if (!started_) {
     t_ = ctx.now_ns;
     started_ = true;
   } else if (ctx.now_ns > t_) {
     advance_to(ctx.now_ns);
+  }
+  if (!safe_taken_ && safe_ready_.load(std::memory_order_acquire)) {  // the safe commands act from now on
+    for (std::size_t i = 0; i < active_.size(); ++i) {
+      const double u = std::isfinite(safe_cmd_[i]) ? safe_cmd_[i] : 0.0;
+      active_[i] = std::clamp(u, -cfg_.saturation, cfg_.saturation);
+    }
+    have_pending_ = false;
+    safe_taken_ = true;
   }
   const std::size_t n = plants_.size();
   for (std::size_t i = 0; i < n; ++i) {
@@ -99,7 +115,7 @@ void SimTableDriver::latch_inputs(const ScanContext& ctx) noexcept {
 
 void SimTableDriver::write_outputs(const ScanContext& ctx) noexcept {
   Cell* c = bound_[kCmd];
-  if (!c) return;
+  if (!c || !safe_.begin_write()) return;
   if (have_pending_) {  // two writes without a latch between them: the older one never acted
     active_.swap(pending_);
   }
@@ -114,11 +130,27 @@ void SimTableDriver::write_outputs(const ScanContext& ctx) noexcept {
   }
   switch_at_ = ctx.now_ns + cfg_.actuation_delay_ns;
   have_pending_ = true;
+  safe_.end_write();
+}
+
+bool SimTableDriver::write_safe_outputs(const SafeOutput* outputs, std::size_t n) noexcept {
+  if (safe_ready_.load(std::memory_order_acquire)) return true;  // already in the safe state
+  if (!safe_.engage()) return false;
+  // After engage() the scan thread no longer writes last_cmd_: the commands
+  // without a safe value keep their last value.
+  std::copy(last_cmd_.begin(), last_cmd_.end(), safe_cmd_.begin());  // sized at construction: no allocation
+  for (std::size_t i = 0; i < n; ++i)
+    if (outputs[i].channel == kCmd && outputs[i].element < safe_cmd_.size())
+      safe_cmd_[outputs[i].element] = outputs[i].value.get<double>();
+  safe_ready_.store(true, std::memory_order_release);
+  return true;
 }
 
 bool SimTableDriver::read_output(int channel, Cell* values) const {
   if (channel != kCmd) return false;
-  for (std::size_t i = 0; i < last_cmd_.size(); ++i) values[i].set<double>(last_cmd_[i]);
+  const bool safe = safe_ready_.load(std::memory_order_acquire);
+  const auto& cmd = safe ? safe_cmd_ : last_cmd_;
+  for (std::size_t i = 0; i < cmd.size(); ++i) values[i].set<double>(cmd[i]);
   return true;
 }
 

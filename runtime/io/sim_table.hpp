@@ -14,6 +14,8 @@
 // t_{k-1} to t_k and sampled. The commands written at the end of that scan
 // take effect at t_k + actuation_delay on every axis at once (paper 000
 // §4.1's deferred actuation), held constant until replaced (zero-order hold).
+// Safe commands written by the supervisor (write_safe_outputs) act from the
+// next latch on, without delay, and stay until the driver is opened again.
 #pragma once
 
 #include <cstdint>
@@ -22,6 +24,7 @@
 
 #include "runtime/core/io_driver.hpp"
 #include "runtime/io/axis_plant.hpp"
+#include "runtime/io/safe_output_latch.hpp"
 #include "runtime/core/sim_random.hpp"
 
 namespace syncplc {
@@ -50,10 +53,11 @@ class SimTableDriver final : public IoDriver {
 
   const std::vector<DriverChannel>& channels() const override { return channels_; }
   void bind(const std::vector<Cell*>& cells) override { bound_ = cells; }
-  bool open(std::string*) override { return true; }
+  bool open(std::string*) override;
   void latch_inputs(const ScanContext& ctx) noexcept override;
   void write_outputs(const ScanContext& ctx) noexcept override;
   void close() noexcept override {}
+  bool write_safe_outputs(const SafeOutput* outputs, std::size_t n) noexcept override;
   bool read_output(int channel, Cell* values) const override;
 
   // For tests and metrics: the true state, not the measurement.
@@ -80,6 +84,11 @@ class SimTableDriver final : public IoDriver {
   double quantum_ = 0;               // rad per count, 0 = ideal
   SimRandom rng_;
   std::uint64_t bad_commands_ = 0;
+  // The safe state: written by the supervisor, taken by the next latch.
+  SafeOutputLatch safe_;
+  std::vector<double> safe_cmd_;
+  std::atomic<bool> safe_ready_{false};
+  bool safe_taken_ = false;  // scan thread
 };
 
 DriverTypeInfo sim_table_driver_type();

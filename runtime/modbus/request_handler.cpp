@@ -155,10 +155,13 @@ bool RequestHandler::stage_registers(const std::vector<const ModbusPoint*>& poin
   return true;
 }
 
-bool RequestHandler::queue_staged(PendingReply* pending) {
+std::uint8_t RequestHandler::queue_staged(PendingReply* pending) {
   owners_.clear();
   for (const std::uint16_t o : staged_task_)
     if (std::find(owners_.begin(), owners_.end(), o) == owners_.end()) owners_.push_back(o);
+  // A stopped task never applies its queue: acknowledging the write would be a lie.
+  for (const std::uint16_t owner : owners_)
+    if (program_->tasks[owner]->stopped()) return kServerDeviceFailure;
   std::sort(owners_.begin(), owners_.end());  // Task::enqueue_all takes the tasks' locks in index order
   batch_.clear();
   batches_.clear();
@@ -174,13 +177,18 @@ bool RequestHandler::queue_staged(PendingReply* pending) {
     at += b.n;
   }
   // All or nothing: a request whose write spans two tasks is never half applied.
-  if (!Task::enqueue_all(batches_.data(), batches_.size())) return false;
+  if (!Task::enqueue_all(batches_.data(), batches_.size())) return kServerDeviceBusy;
   counters_.values_written.fetch_add(batch_.size(), std::memory_order_relaxed);
   // Read after queuing: publication n + 2 comes from a scan that started after this write was queued.
   if (pending)
     for (const std::uint16_t owner : owners_)
       pending->waits.push_back(PendingReply::Wait{owner, program_->tasks[owner]->published_count() + 2});
-  return true;
+  return 0;
+}
+
+bool RequestHandler::waits_on_stopped(const PendingReply& pending) const {
+  return std::any_of(pending.waits.begin(), pending.waits.end(),
+                     [this](const PendingReply::Wait& w) { return program_->tasks[w.task]->stopped(); });
 }
 
 RequestHandler::Outcome RequestHandler::handle(int fd, const std::uint8_t* frame, std::size_t length,
@@ -229,7 +237,7 @@ RequestHandler::Outcome RequestHandler::handle(int fd, const std::uint8_t* frame
       } else if (!stage_registers(writes_, data)) {
         return exception(fd, frame, kIllegalDataValue);
       }
-      if (!queue_staged(nullptr)) return exception(fd, frame, kServerDeviceBusy);
+      if (const std::uint8_t code = queue_staged(nullptr)) return exception(fd, frame, code);
       return reply(fd, frame, length);
     }
 
@@ -247,7 +255,7 @@ RequestHandler::Outcome RequestHandler::handle(int fd, const std::uint8_t* frame
         return exception(fd, frame, kIllegalDataAddress);
       if (bits) stage_bits(writes_, frame + kData);
       else if (!stage_registers(writes_, frame + kData)) return exception(fd, frame, kIllegalDataValue);
-      if (!queue_staged(nullptr)) return exception(fd, frame, kServerDeviceBusy);
+      if (const std::uint8_t code = queue_staged(nullptr)) return exception(fd, frame, code);
       return reply(fd, frame, length);
     }
 
@@ -263,7 +271,7 @@ RequestHandler::Outcome RequestHandler::handle(int fd, const std::uint8_t* frame
         return exception(fd, frame, kIllegalDataAddress);
       if (!stage_registers(writes_, frame + kWrData)) return exception(fd, frame, kIllegalDataValue);
       pending.waits.clear();
-      if (!queue_staged(&pending)) return exception(fd, frame, kServerDeviceBusy);
+      if (const std::uint8_t code = queue_staged(&pending)) return exception(fd, frame, code);
       pending.active = true;
       std::copy(frame, frame + length, pending.frame);
       pending.length = length;
@@ -278,6 +286,7 @@ RequestHandler::Outcome RequestHandler::handle(int fd, const std::uint8_t* frame
 
 bool RequestHandler::ready(const PendingReply& pending, std::int64_t now_ns) const {
   if (now_ns >= pending.deadline_ns) return true;
+  if (waits_on_stopped(pending)) return true;  // answered (04, unless it was published) without waiting out the deadline
   return std::all_of(pending.waits.begin(), pending.waits.end(), [this](const PendingReply::Wait& w) {
     return program_->tasks[w.task]->published_count() >= w.published;
   });
@@ -288,7 +297,8 @@ RequestHandler::Outcome RequestHandler::finish(int fd, PendingReply& pending, st
   const bool published = std::all_of(pending.waits.begin(), pending.waits.end(), [this](const PendingReply::Wait& w) {
     return program_->tasks[w.task]->published_count() >= w.published;
   });
-  if (!published && now_ns >= pending.deadline_ns) return exception(fd, pending.frame, kServerDeviceFailure);
+  if (!published && (now_ns >= pending.deadline_ns || waits_on_stopped(pending)))
+    return exception(fd, pending.frame, kServerDeviceFailure);
   return answer_now(fd, pending);
 }
 

@@ -16,7 +16,13 @@
 // task's snapshot lock, so a request never mixes two scans of one task.
 // Writes become QueuedWrites, one batch per owning task, all queued or
 // none, applied at the start of each task's next scan in arrival order; the
-// reply is sent after they are queued. A write and read (FC 23) is answered
+// reply is sent after they are queued. A write that cannot take effect is
+// not acknowledged: when any owning task has stopped (Task::stopped: its
+// watchdog stopped it, or the supervisor gave up on a scan that did not
+// end) the whole request is exception 04 and nothing of it is queued, for
+// any task — checked after the address and value checks, before the queues'
+// room (06). A write and read (FC 23) whose task stops while it waits gets 04
+// at once. A write and read (FC 23) is answered
 // once the write is in a published snapshot (Task::published_count), so its
 // read part shows it as the program left it.
 #pragma once
@@ -101,8 +107,11 @@ class RequestHandler {
   // big-endian words). False when a value is outside its tag's type (exception 03).
   bool stage_bits(const std::vector<const ModbusPoint*>& points, const std::uint8_t* bits);
   bool stage_registers(const std::vector<const ModbusPoint*>& points, const std::uint8_t* words);
-  // Queues the staged writes, one batch per owning task, all or none. False: a queue was full (exception 06).
-  bool queue_staged(PendingReply* waits);
+  // Queues the staged writes, one batch per owning task, all or none. 0, or
+  // the exception: 04 when an owning task has stopped, 06 when a queue was full.
+  std::uint8_t queue_staged(PendingReply* waits);
+  // A task that pending waits for has stopped: its write will never be published.
+  bool waits_on_stopped(const PendingReply& pending) const;
 
   const ModbusConfig& config_;
   Counters& counters_;

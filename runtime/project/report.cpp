@@ -78,6 +78,7 @@ std::string format_event(const Program& p, const Event& e) {
   std::string val;
   if (e.kind == EventKind::WatchdogTrip || e.kind == EventKind::ScanOverrun)
     val = " (scan took " + format_ns(static_cast<std::int64_t>(e.value * 1e9)) + ")";
+  if (e.kind == EventKind::ScanHung) val = " (running for " + format_ns(static_cast<std::int64_t>(e.value * 1e9)) + ")";
   return fmt::format("[{:.6f}s] {:<14} {}: {}{}", static_cast<double>(e.time_ns) * 1e-9, event_kind_name(e.kind), where,
                      e.message, val);
 }

@@ -12,6 +12,7 @@
 
 #include <chrono>
 #include <fstream>
+#include <regex>
 #include <sstream>
 #include <thread>
 
@@ -288,15 +289,128 @@ connections: [level -> m.IN, m.OUT -> out]
 
 namespace {
 
-TEST(Cli, RunReportsAScanThatDoesNotEnd) {
+TEST(Cli, RunGivesUpOnAScanThatDoesNotEndAndExits4) {
+  // The only task's scan runs past its watchdog's limit (100 ms) and on: the
+  // supervisor stops the task, every task has then stopped, and the process
+  // ends without the thread, which is still burning (status 4).
   std::string path = write_temp_file("hang.yaml", R"(tasks:
   - {name: stuck, period: 10ms, watchdog: {time: 50ms, sensitivity: 2, action: stop}}
-blocks: [{name: b, type: BURN, inputs: {EXEC: 1500ms}}]
+blocks: [{name: b, type: BURN, inputs: {EXEC: 1h}}]
 )");
+  auto r = run("run " + path + " --duration 5s --no-status");
+  EXPECT_EQ(r.rc, 4) << r.err;
+  EXPECT_NE(r.err.find("scan-hung      stuck: scan did not end: task stopped by the supervisor"), std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("syncplc: every task has stopped"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("exiting without its thread (status 4)"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("STOPPED"), std::string::npos) << r.out;
+}
+
+// Starts `syncplc run ARGS...` with stdout and stderr to files.
+pid_t spawn_run(const std::vector<std::string>& args, const std::string& out, const std::string& err) {
+  pid_t pid = fork();
+  if (pid == 0) {
+    FILE* f1 = std::freopen(out.c_str(), "w", stdout);
+    FILE* f2 = std::freopen(err.c_str(), "w", stderr);
+    (void)f1;
+    (void)f2;
+    std::vector<char*> argv{const_cast<char*>(SYNCPLC_BINARY), const_cast<char*>("run")};
+    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    execv(SYNCPLC_BINARY, argv.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+TEST(Cli, SigtermEndsARunWhoseScanNeverEndsWithinASecond) {
+  // A scan that never ends in one task, a healthy one beside it. SIGTERM:
+  // the stuck task's outputs are driven to their safe values and the process
+  // exits without joining its thread, within a second (stop grace 0.5 s).
+  std::string path = write_temp_file("never.yaml", R"(tasks:
+  - {name: stuck, period: 10ms, watchdog: {time: 5s, action: safe_stop}}
+  - {name: fine, period: 10ms}
+tags:
+  - {name: motor, type: BOOL, init: TRUE, safe: FALSE}
+blocks:
+  - {name: b, type: BURN, task: stuck, inputs: {EXEC: 1h}}
+  - {name: m, type: MOVE, datatype: BOOL, task: stuck}
+connections: [motor -> m.IN]
+drivers:
+  - {name: io, type: memory, task: stuck, channels: [{name: motor, dir: out, type: BOOL}], bind: {motor: motor}}
+)");
+  const std::string o = path + ".out", e = path + ".err";
+  pid_t pid = spawn_run({path, "--no-status"}, o, e);
+  ASSERT_GT(pid, 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(700));
+  ASSERT_EQ(waitpid(pid, nullptr, WNOHANG), 0) << "still running: the healthy task keeps it up\n" << slurp(e);
+  const auto t0 = std::chrono::steady_clock::now();
+  kill(pid, SIGTERM);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(1));
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 4);
+  const std::string out = slurp(o), err = slurp(e);
+  EXPECT_NE(err.find("scan-hung      stuck: scan still running at the stop: the process ends without it"),
+            std::string::npos) << err;
+  EXPECT_NE(err.find("safe-state     stuck: outputs driven to their safe values by the supervisor"), std::string::npos)
+      << err;
+  EXPECT_NE(out.find("Stopped by SIGTERM"), std::string::npos) << out;
+  EXPECT_NE(out.find("Statistics (real time)"), std::string::npos) << out;
+}
+
+TEST(Cli, AReloadIsRefusedWhileAScanThatDidNotEndHoldsItsThread) {
+  // Stopping the tasks for the reload would wait for the stuck thread forever.
+  std::string path = write_temp_file("hung_reload.yaml", R"(tasks:
+  - {name: stuck, period: 10ms, watchdog: {time: 20ms, action: stop}}
+  - {name: fine, period: 10ms}
+blocks: [{name: b, type: BURN, task: stuck, inputs: {EXEC: 1h}}]
+)");
+  const std::string o = path + ".out", e = path + ".err";
+  pid_t pid = spawn_run({path, "--no-status", "--duration", "20s"}, o, e);
+  ASSERT_GT(pid, 0);
+  auto wait_for = [&](const std::string& text) {
+    for (int i = 0; i < 100; ++i) {
+      if (slurp(e).find(text) != std::string::npos) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    return false;
+  };
+  EXPECT_TRUE(wait_for("stuck: scan did not end: task stopped by the supervisor")) << slurp(e);
+  kill(pid, SIGHUP);
+  EXPECT_TRUE(wait_for("syncplc: reload refused: a task's scan did not end")) << slurp(e);
+  kill(pid, SIGTERM);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 4) << slurp(e);
+}
+
+TEST(Cli, RunWhoseEveryTaskIsStoppedByItsWatchdogExits3) {
+  std::string path = write_temp_file("watchdog_stop.yaml", R"(tasks:
+  - {name: slow, period: 50ms, watchdog: {time: 5ms, action: stop}}
+blocks: [{name: b, type: BURN, inputs: {EXEC: 20ms}}]
+)");
+  auto r = run("run " + path + " --duration 10s --no-status");
+  EXPECT_EQ(r.rc, 3) << r.err;
+  EXPECT_NE(r.err.find("task stopped by its watchdog"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("syncplc: every task has stopped"), std::string::npos) << r.err;
+}
+
+TEST(Cli, RunOfOneSecondMakesAThousandScansOfAOneMillisecondTask) {
+  // --duration counts from the first release (after the start delay): exactly
+  // the releases 0, 1 ms, ..., 999 ms. A release that got no scan is counted
+  // as skipped.
+  std::string path = write_temp_file("thousand.yaml", "tasks: [{name: t, period: 1ms}]\n");
   auto r = run("run " + path + " --duration 1s --no-status");
-  EXPECT_EQ(r.rc, 0) << r.err;
-  EXPECT_NE(r.err.find("task stuck: scan running for"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("watchdog tripped"), std::string::npos) << r.err;  // judged when it finally ended
+  ASSERT_EQ(r.rc, 0) << r.err;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(r.out, m, std::regex(R"(\n  t +(\d+) +(\d+) +(\d+) )"))) << r.out;
+  const long scans = std::stol(m[1]), skipped = std::stol(m[3]);
+  EXPECT_LE(scans, 1000) << r.out;
+  EXPECT_GE(scans + skipped, 1000) << r.out;
+  EXPECT_LE(scans + skipped, 1002) << r.out;
 }
 
 }  // namespace

@@ -252,6 +252,50 @@ TEST_F(Handler, AWriteSpanningTwoTasksIsQueuedWholeOrNotAtAll) {
   EXPECT_EQ(tag_cell(*program, "big").get<double>(), 4.0);
 }
 
+TEST_F(Handler, EveryWriteToAStoppedTaskIsException04AndQueuesNothing) {
+  // main stops (as the supervisor stops a task whose scan does not end; a
+  // watchdog stop sets the same flag). The virtual clock goes on scanning it,
+  // so anything queued would show.
+  program->tasks[0]->stop_from_supervisor();
+  const std::uint64_t written = counters.values_written.load();
+  EXPECT_EQ(body(ask(frame(pdu(0x05, 0, 0xFF00)))), exception_of(0x05, 0x04));
+  EXPECT_EQ(body(ask(frame(pdu(0x06, 2, 100)))), exception_of(0x06, 0x04));
+  EXPECT_EQ(body(ask(frame(testing::write_coils(1, {false, true, false})))), exception_of(0x0F, 0x04));
+  EXPECT_EQ(body(ask(frame(testing::write_registers(2, {300})))), exception_of(0x10, 0x04));
+  EXPECT_EQ(body(ask(frame(testing::write_read(2, 1, 2, {400})))), exception_of(0x17, 0x04)) << "not deferred";
+  EXPECT_FALSE(pending.active);
+  // The address and value checks still come first (02, 03), and reads are served.
+  EXPECT_EQ(body(ask(frame(pdu(0x06, 3, 1)))), exception_of(0x06, 0x02)) << "sp_echo is read-only";
+  EXPECT_EQ(body(ask(frame(pdu(0x06, 100, 200)))), exception_of(0x06, 0x03)) << "200 is no SINT";
+  EXPECT_EQ(body(ask(frame(pdu(0x03, 2, 1)))), (Bytes{0x03, 2, 0, 7}));
+  scan_until(5'000'000);
+  EXPECT_FALSE(tag_cell(*program, "run").get<bool>());
+  EXPECT_EQ(tag_cell(*program, "sp").get<std::int16_t>(), 7);
+  EXPECT_TRUE(tag_cell(*program, "lamps[1]").get<bool>());
+  EXPECT_EQ(counters.values_written.load(), written);
+  EXPECT_EQ(counters.by_exception[4].load(), 5u);
+}
+
+TEST_F(Handler, AWriteSpanningARunningAndAStoppedTaskIsRefusedWhole) {
+  program->tasks[1]->stop_from_supervisor();  // slow
+  const Bytes both = frame(testing::write_registers(4100, {0x4008, 0, 0, 0, 0x4010, 0, 0, 0}));  // trim 3.0, big 4.0
+  EXPECT_EQ(body(ask(both)), exception_of(0x10, 0x04));
+  EXPECT_EQ(body(ask(frame(testing::write_registers(4100, {0x4008, 0, 0, 0})))), (Bytes{0x10, 0x10, 0x04, 0, 4}))
+      << "main's tag alone is written";
+  scan_until(5'000'000);
+  EXPECT_EQ(tag_cell(*program, "trim").get<double>(), 3.0);
+  EXPECT_EQ(counters.values_written.load(), 1u) << "main's part of the refused request was not queued";
+}
+
+TEST_F(Handler, AWriteAndReadWhoseTaskStopsWhileItWaitsIsAnswered04AtOnce) {
+  ask(frame(testing::write_read(2, 1, 2, {66})), RequestHandler::Outcome::Deferred);
+  EXPECT_FALSE(handler->ready(pending, now));
+  program->tasks[0]->stop_from_supervisor();
+  EXPECT_TRUE(handler->ready(pending, now)) << "long before the deadline";
+  EXPECT_EQ(handler->finish(fds[0], pending, now), RequestHandler::Outcome::Sent);
+  EXPECT_EQ(body(answer()), exception_of(0x17, 0x04));
+}
+
 TEST_F(Handler, WriteAndReadShowsWhatTheProgramMadeOfTheWrite) {
   // forced is readwrite, but a MOVE writes 42 into it every scan: the read part
   // of FC 23 shows the published 42, not the 7 the client sent.

@@ -29,6 +29,15 @@ class Hook final : public Block {
   }
 };
 
+class Hang final : public Block {
+ public:
+  void execute(ScanContext&) noexcept override {
+    while (hang_armed().load(std::memory_order_acquire) && !hang_release().load(std::memory_order_acquire)) {
+    }
+    out<double>(1, in<double>(0));
+  }
+};
+
 class Stamp final : public Block {
  public:
   void execute(ScanContext& ctx) noexcept override {
@@ -90,6 +99,16 @@ std::function<void(ScanContext&)>& hook() {
   return h;
 }
 
+std::atomic<bool>& hang_armed() {
+  static std::atomic<bool> a{false};
+  return a;
+}
+
+std::atomic<bool>& hang_release() {
+  static std::atomic<bool> r{false};
+  return r;
+}
+
 const BlockRegistry& test_blocks() {
   static const BlockRegistry reg = [] {
     BlockRegistry r;
@@ -99,6 +118,8 @@ const BlockRegistry& test_blocks() {
                         [](BlockSetup& s) { return std::make_unique<Record>(s.instance_name()); }});
     r.add(BlockTypeInfo{"HOOK", "test", "calls the test's hook", "", {in_pin("IN"), out_pin("OUT")}, {}, std::nullopt, false,
                         [](BlockSetup&) { return std::make_unique<Hook>(); }});
+    r.add(BlockTypeInfo{"HANG", "test", "a scan that does not end once armed", "", {in_pin("IN"), out_pin("OUT")}, {},
+                        std::nullopt, false, [](BlockSetup&) { return std::make_unique<Hang>(); }});
     r.add(BlockTypeInfo{"STAMP", "test", "four copies of the scan time in ms", "",
                         {out_pin("A"), out_pin("B"), out_pin("C"), out_pin("D")}, {}, std::nullopt, false,
                         [](BlockSetup&) { return std::make_unique<Stamp>(); }});

@@ -2,6 +2,7 @@
 // the scheduler does, or poke at things mid-scan.
 #pragma once
 
+#include <atomic>
 #include <functional>
 #include <string>
 #include <vector>
@@ -26,9 +27,16 @@ std::vector<ScanRecord>& records();
 // Called by HOOK blocks during their execute(); set by a test.
 std::function<void(ScanContext&)>& hook();
 
+// HANG blocks: once hang_armed() is set, the next scan that runs one does not
+// end until hang_release() is set (a block that loops forever, for the
+// supervisor's tests; the test releases it so that its thread can be joined).
+std::atomic<bool>& hang_armed();
+std::atomic<bool>& hang_release();
+
 // builtin blocks plus:
 //   RECORD (IN LREAL -> OUT LREAL): appends a ScanRecord, OUT := IN
 //   HOOK   (IN LREAL -> OUT LREAL): calls hook(), OUT := IN
+//   HANG   (IN LREAL -> OUT LREAL): OUT := IN; loops while hang_armed() and not hang_release()
 //   STAMP  (-> OUT LREAL[pins A,B,C,D]): writes ctx.now_ns in ms to four outputs,
 //          so a reader can check that four values published together stay together
 //   ARRAY_GAIN (IN ARRAY[1..N] OF LREAL -> OUT ARRAY[1..N], SUM, FLAGS ARRAY[1..N] OF BOOL;
