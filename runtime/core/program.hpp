@@ -20,6 +20,10 @@
 
 namespace syncplc {
 
+// Most tasks a project may declare (task numbers are 16-bit; per-task tables
+// such as the status display's are sized by it).
+inline constexpr std::size_t kMaxTasks = 64;
+
 enum class HmiAccess : std::uint8_t { None, Read, ReadWrite };
 std::string_view hmi_access_name(HmiAccess a);
 
