@@ -80,9 +80,18 @@ std::unique_ptr<Program> build_program(Declarations& p, const Wiring& w, const B
 
   // --- image layout: owned tags, foreign copies, pins -------------------------
   std::vector<std::uint32_t> next(nt, 0);
+  // Cells are numbered in 32 bits: a task's image may not outgrow them.
+  bool too_large = false;
+  auto grow = [&](std::size_t task, std::uint32_t cells) {
+    if (!__builtin_add_overflow(next[task], cells, &next[task])) return;
+    if (!too_large)
+      diags.error(p.tasks[task].loc, "task " + p.tasks[task].cfg.name + " has more than 2^32 cells of tags and pins");
+    too_large = true;
+    next[task] = 0;
+  };
   for (auto& td : p.tags) {
     td.tag.cell = next[td.tag.owner];
-    next[td.tag.owner] += td.tag.length;
+    grow(td.tag.owner, td.tag.length);
   }
   for (std::size_t t = 0; t < nt; ++t) prog->tasks[t]->owned_cells = next[t];
   std::vector<std::map<int, std::uint32_t>> foreign(nt);  // task -> tag -> local cell
@@ -93,7 +102,7 @@ std::unique_ptr<Program> build_program(Declarations& p, const Wiring& w, const B
     auto it = f.find(tag);
     if (it != f.end()) return it->second;
     std::uint32_t c = next[task];
-    next[task] += tg.length;
+    grow(task, tg.length);
     f[tag] = c;
     return c;
   };
@@ -109,9 +118,10 @@ std::unique_ptr<Program> build_program(Declarations& p, const Wiring& w, const B
     pin_cells[i].reserve(p.instances[i].type->pins.size());
     for (std::size_t q = 0; q < p.instances[i].type->pins.size(); ++q) {
       pin_cells[i].push_back(next[t]);
-      next[t] += p.instances[i].pin_length[q];
+      grow(t, p.instances[i].pin_length[q]);
     }
   }
+  if (too_large) return nullptr;
   for (std::size_t t = 0; t < nt; ++t) prog->tasks[t]->image.assign(next[t], Cell{});
 
   // --- initial values ----------------------------------------------------------

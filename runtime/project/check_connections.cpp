@@ -89,12 +89,10 @@ Wiring wire_connections(Declarations& p, Diagnostics& diags) {
   for (const auto& c : p.connections) {
     ConnectionDecl cd;
     cd.loc = c.loc;
-    std::size_t before = diags.size();
     bool src_ok = resolve_endpoint(c.src, c.src_loc, p, cd.src, diags);
-    bool src_silent = !src_ok && diags.size() == before;  // its source's declaration failed and was reported
     bool ok = resolve_endpoint(c.dst, c.dst_loc, p, cd.dst, diags) && src_ok;
-    if (src_silent && cd.dst.is_pin) {
-      // The input is wired, to something broken: no "must be connected" on top.
+    if (!src_ok && cd.dst.is_pin) {
+      // The input is wired, to something broken (reported): no "must be connected" on top.
       auto& di = p.instances[static_cast<std::size_t>(cd.dst.instance)];
       if (di.source[static_cast<std::size_t>(cd.dst.pin)] == -1) di.source[static_cast<std::size_t>(cd.dst.pin)] = kBrokenSource;
     }

@@ -10,6 +10,8 @@ namespace {
 
 constexpr std::int64_t kMinPeriod = 100'000;         // 100 us
 constexpr std::int64_t kMaxPeriod = 10'000'000'000;  // 10 s
+// The runtime multiplies it by the sensitivity (at most 1000): 1 h keeps that far from overflowing.
+constexpr std::int64_t kMaxWatchdog = 3'600'000'000'000;
 
 }  // namespace
 
@@ -85,6 +87,7 @@ void read_tasks(const ConfigNode& n, Declarations& p, Diagnostics& diags) {
             auto ns = parse_duration_ns(wv.scalar, &err);
             if (!ns) diags.error(wv.loc, "watchdog time: " + err);
             else if (*ns <= 0) diags.error(wv.loc, "watchdog time must be positive");
+            else if (*ns > kMaxWatchdog) diags.error(wv.loc, "watchdog time " + wv.scalar + " is longer than 1h");
             else td.cfg.watchdog_ns = *ns;
           } else if (wk == "sensitivity") {
             auto c = parse_value(IecType::DINT, wv.scalar, &err);

@@ -225,8 +225,16 @@ class TestsReader {
         ti = p_.find_task(task->scalar);
         if (ti < 0) { d_.error(task->loc, "unknown task '" + task->scalar + "'"); return; }
       }
-      auto k = static_cast<std::int64_t>(n->get<std::uint64_t>());
-      time = p_.tasks[static_cast<std::size_t>(ti)]->release_ns(k);
+      const auto& cfg = p_.tasks[static_cast<std::size_t>(ti)]->config();
+      // The release time phase + n * period must fit 64 bits of nanoseconds.
+      std::int64_t k = 0, offset = 0;
+      if (n->get<std::uint64_t>() > static_cast<std::uint64_t>(INT64_MAX) ||
+          __builtin_mul_overflow(static_cast<std::int64_t>(n->get<std::uint64_t>()), cfg.period_ns, &offset) ||
+          __builtin_add_overflow(offset, cfg.phase_ns, &time)) {
+        d_.error(cycle->loc, "cycle " + cycle->scalar + " of task " + cfg.name + " is later than TIME can count");
+        return;
+      }
+      k = static_cast<std::int64_t>(n->get<std::uint64_t>());
       when = "cycle " + std::to_string(k) + " of " + p_.tasks[static_cast<std::size_t>(ti)]->config().name;
     } else {
       d_.error(s.loc, "a step needs 'at: <time>' or 'cycle: <n>'");

@@ -331,8 +331,8 @@ connections:
   - n.OUT -> nowhere
   - io.b -> go
 )"),
-              ElementsAre("p.yaml:3:10: input n.IN must be connected or given a value in inputs:",
-                          "p.yaml:6:5: unknown block instance 'ghost'", "p.yaml:7:14: unknown tag or instance.pin 'nowhere'",
+              // n.IN is wired, to a source that is wrong: no "must be connected" on top.
+              ElementsAre("p.yaml:6:5: unknown block instance 'ghost'", "p.yaml:7:14: unknown tag or instance.pin 'nowhere'",
                           "p.yaml:8:5: 'io' is not a block instance (connect drivers with bind:)"));
 }
 
@@ -962,6 +962,70 @@ tasks: [{name: main, period: 5q}]
 
 namespace syncplc::loadertest {
 namespace {
+
+// --- integer arithmetic on user input is overflow-checked -------------------------
+
+TEST(LoadErrors, ArrayBoundsThatOverflowAreErrors) {
+  // hi - lo + 1 wrapped to 0 for the full 64-bit range: a 0-cell tag loaded.
+  EXPECT_THAT(errors(R"(
+tasks: [{name: main, period: 1ms}]
+tags:
+  - {name: a, type: "ARRAY[-9223372036854775808..9223372036854775807] OF INT"}
+  - {name: b, type: "ARRAY[0..99999999999999999999] OF INT"}
+  - {name: c, type: "ARRAY[9223372036854775807..-9223372036854775808] OF INT"}
+  - {name: d, type: "ARRAY[-9223372036854775808..-9223372036854775808] OF INT"}
+)"),
+              ElementsAre("p.yaml:3:21: array bounds of 'ARRAY[-9223372036854775808..9223372036854775807] OF INT' "
+                          "must give 1..65536 elements",
+                          "p.yaml:4:21: bad array bounds in 'ARRAY[0..99999999999999999999] OF INT' (whole numbers "
+                          "that fit 64 bits)",
+                          "p.yaml:5:21: array bounds of 'ARRAY[9223372036854775807..-9223372036854775808] OF INT' "
+                          "must give 1..65536 elements"));
+}
+
+TEST(LoadErrors, ArrayBoundsAtTheEndsOfTheRangeWork) {
+  auto r = load(R"(
+tasks: [{name: main, period: 1ms}]
+tags:
+  - {name: lo, type: "ARRAY[-9223372036854775808..-9223372036854775805] OF INT"}
+  - {name: hi, type: "ARRAY[9223372036854775806..9223372036854775807] OF INT"}
+)");
+  ASSERT_LOADS(r);
+  EXPECT_EQ(r.program->find_tag("lo")->length, 4u);
+  EXPECT_EQ(r.program->find_tag("hi")->length, 2u);
+  EXPECT_EQ(r.program->resolve("hi[9223372036854775807]")->cell, r.program->find_tag("hi")->cell + 1);
+}
+
+TEST(LoadErrors, IndicesThatOverflowAreOutsideTheArray) {
+  // index - lower overflowed for an index near -2^63 and a positive lower bound.
+  EXPECT_THAT(errors(R"(
+tasks: [{name: main, period: 1ms}]
+tags:
+  - {name: arr, type: "ARRAY[1..4] OF LREAL"}
+  - {name: top, type: "ARRAY[9223372036854775806..9223372036854775807] OF LREAL"}
+blocks:
+  - {name: m, type: MOVE}
+  - {name: n, type: MOVE}
+connections:
+  - arr[-9223372036854775808] -> m.IN
+  - top[-9223372036854775808] -> n.IN
+  - m.OUT -> arr[99999999999999999999]
+traces: ["arr[-9223372036854775807]"]
+)"),
+              ElementsAre("p.yaml:9:5: index -9223372036854775808 is outside arr[1..4]",
+                          "p.yaml:10:5: index -9223372036854775808 is outside top[9223372036854775806..9223372036854775807]",
+                          "p.yaml:11:14: bad array index in 'arr[99999999999999999999]'",
+                          "p.yaml:12:10: trace: index -9223372036854775807 is outside arr[1..4]"));
+}
+
+TEST(LoadErrors, WatchdogTimesThatWouldOverflowAreErrors) {
+  // The runtime multiplies the time by the sensitivity (up to 1000).
+  EXPECT_THAT(errors(R"(
+tasks:
+  - {name: main, period: 1ms, watchdog: {time: 100000d, sensitivity: 1000}}
+)"),
+              ElementsAre("p.yaml:2:48: watchdog time 100000d is longer than 1h"));
+}
 
 // One load reports the errors of every phase together, and a declaration that
 // failed causes no follow-on errors where it is used.

@@ -1,0 +1,65 @@
+// Errors in a scan-cycle tests file (`syncplc test PROJECT TESTS.yaml`) and
+// how a test's `set:` reaches the program. Each test writes a project and a
+// tests file and runs them as `syncplc test` does.
+#include "runtime/project/scan_test.hpp"
+#include "tests/project/loader_test_util.hpp"
+
+namespace syncplc::loadertest {
+namespace {
+
+using ::testing::ElementsAre;
+
+// A project with one 10 ms task: `lamp` is written by a NOT of `go`, `sp`
+// is written by nobody (an HMI setpoint).
+const char* const kProject = R"(
+tasks: [{name: main, period: 10ms}]
+tags:
+  - {name: go, type: BOOL}
+  - {name: lamp, type: BOOL}
+  - {name: sp, type: LREAL, unit: m}
+blocks:
+  - {name: n, type: NOT}
+connections:
+  - go -> n.IN
+  - n.OUT -> lamp
+)";
+
+struct Run {
+  ScanTestReport report;
+  std::string tests_path;
+  // The tests file's diagnostics, with the file name replaced by "t.yaml".
+  std::vector<std::string> errors() const {
+    std::vector<std::string> v;
+    for (const auto& d : report.diagnostics.sorted()) {
+      std::string t = d.text();
+      if (t.rfind(tests_path, 0) == 0) t = "t.yaml" + t.substr(tests_path.size());
+      v.push_back(t);
+    }
+    return v;
+  }
+};
+
+Run run_tests(const std::string& name, const char* tests, const char* project = kProject) {
+  Run r;
+  std::string p = temp_file("scan/" + name + ".yaml", yaml(project));
+  r.tests_path = temp_file("scan/" + name + "-tests.yaml", yaml(tests));
+  r.report = run_scan_tests(p, r.tests_path);
+  return r;
+}
+
+TEST(ScanTestFiles, ACycleLaterThanTimeCanCountIsAnError) {
+  // phase + n * period overflowed 64 bits of nanoseconds.
+  auto r = run_tests("cycle", R"(
+cases:
+  - name: far
+    steps:
+      - {cycle: 18446744073709551615, expect: {lamp: TRUE}}
+      - {cycle: 922337203685477580, expect: {lamp: TRUE}}
+      - {cycle: 9, expect: {lamp: TRUE}}
+)");
+  EXPECT_THAT(r.errors(), ElementsAre("t.yaml:4:17: cycle 18446744073709551615 of task main is later than TIME can count",
+                                      "t.yaml:5:17: cycle 922337203685477580 of task main is later than TIME can count"));
+}
+
+}  // namespace
+}  // namespace syncplc::loadertest
