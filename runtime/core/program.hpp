@@ -44,6 +44,7 @@ struct Tag {
   std::uint16_t owner = 0;  // the task that writes it and publishes it
   std::uint32_t cell = 0;   // first cell in the owner's image (inside its owned range)
   std::string writer;       // "block x.Q", "driver io.ch", "" (HMI / tests only)
+  bool written_every_scan = false;  // by its writer, every element: a write from outside would be overwritten
   SourceLoc loc;
 };
 

@@ -27,6 +27,12 @@ class LoaderBlockSetup final : public BlockSetup {
   std::int64_t task_period_ns() const override { return period_; }
   std::uint64_t seed() const override { return seed_; }
   void error(const std::string& message) override { d_.error(in_.loc, in_.name + " (" + in_.type->name + "): " + message); }
+  void unknown_param(std::string_view name) const override {
+    std::string names;
+    for (const auto& p : in_.type->params) names += (names.empty() ? "" : ", ") + p.name;
+    d_.error(in_.loc, in_.name + " (" + in_.type->name + "): its factory reads parameter '" + std::string(name) + "', which " +
+                          in_.type->name + " does not declare (" + (names.empty() ? "it has none" : names) + ")");
+  }
 
  private:
   const InstanceDecl& in_;

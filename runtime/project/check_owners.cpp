@@ -76,8 +76,10 @@ void find_owners(Declarations& p, const Wiring& w, Diagnostics& diags) {
     td.writer_task = task;
     td.writer = who;
     td.writer_loc = loc;
+    td.tag.written_every_scan = true;
   };
   std::map<std::pair<int, std::uint32_t>, bool> seen_element;
+  std::vector<std::uint32_t> elements_written(p.tags.size(), 0);
   for (const auto& c : w.connections) {
     if (!c.dst.is_pin) {
       auto& td = p.tags[static_cast<std::size_t>(c.dst.tag)];
@@ -86,6 +88,7 @@ void find_owners(Declarations& p, const Wiring& w, Diagnostics& diags) {
         auto key = std::make_pair(c.dst.tag, *c.dst.element);
         if (seen_element[key]) { diags.error(c.loc, "tag element " + c.dst.text + " has two writers"); continue; }
         seen_element[key] = true;
+        ++elements_written[static_cast<std::size_t>(c.dst.tag)];
         int task = p.instances[static_cast<std::size_t>(c.src.instance)].task;
         if (td.writer_task >= 0 && td.writer_task != task)
           diags.error(c.loc, "tag " + td.tag.name + " is written from two tasks (" + td.writer + " and block " + c.src.text + ")");
@@ -106,6 +109,8 @@ void find_owners(Declarations& p, const Wiring& w, Diagnostics& diags) {
       else p.tags[static_cast<std::size_t>(ti)].reader_tasks.push_back(dd.task);
     }
   }
+  for (std::size_t i = 0; i < p.tags.size(); ++i)
+    if (elements_written[i] == p.tags[i].tag.length) p.tags[i].tag.written_every_scan = true;
   for (auto& td : p.tags) {
     int explicit_task = td.task.empty() ? -1 : p.task_index(td.task);
     if (td.writer_task >= 0) {
@@ -136,6 +141,43 @@ void size_write_queues(Declarations& p, Diagnostics& diags) {
                                         std::to_string(most[i]) + " values to it at once");
     else
       td.cfg.write_queue = most[i];
+  }
+}
+
+namespace {
+
+// What to write instead of a tag that a block or a driver overwrites every
+// scan: for the HMI, a tag of its own; for --set, what the writer reads.
+std::string hmi_instead(const TagDecl& td) {
+  return "make it hmi: read, or give the HMI a tag of its own (hmi: readwrite, written by nobody) and combine the two in "
+         "the program, e.g. " + td.tag.name + " OR an HMI button into an OR block";
+}
+std::string set_instead(const TagDecl& td) {
+  if (td.writer.rfind("driver ", 0) == 0) {
+    const std::string channel = td.writer.substr(7), driver = channel.substr(0, channel.find('.'));
+    return "set the driver's settings (--set " + driver + ".key=value), or in a scan-cycle test its channel " + channel;
+  }
+  const std::string block = td.writer.substr(6, td.writer.find('.') - 6);  // "block n.OUT"
+  return "set what block " + block + " reads: its parameters (--set " + block + ".param=value) or the tags wired to its inputs";
+}
+
+}  // namespace
+
+// A value written from outside into a tag that a block or a driver writes
+// every scan is overwritten before anything reads it: an HMI write (hmi:
+// readwrite) and --set tag=value would silently do nothing.
+void check_writes(const Declarations& p, Diagnostics& diags) {
+  for (const auto& td : p.tags) {
+    if (!td.tag.written_every_scan) continue;
+    const std::string who = td.writer + " (" + td.writer_loc.text() + ")";
+    if (td.tag.hmi == HmiAccess::ReadWrite)
+      diags.error(td.hmi_loc, "tag " + td.tag.name + " is hmi: readwrite, but " + who +
+                                  " writes it every scan and wins: an HMI write would be overwritten in the same scan; " +
+                                  hmi_instead(td));
+    if (td.init_from_cli)
+      diags.error(SourceLoc{"command line", 0, 0}, "--set " + td.tag.name + ": " + who +
+                                                       " writes the tag every scan and wins: the value would be overwritten "
+                                                       "on the first scan; " + set_instead(td));
   }
 }
 

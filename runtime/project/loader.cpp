@@ -64,6 +64,7 @@ LoadResult load_tree(ConfigNode root, const std::string& path, const LoadOptions
   infer_types(p, w, diags);
   check_connections(p, w, diags);
   find_owners(p, w, diags);
+  check_writes(p, diags);
   size_write_queues(p, diags);
   check_values(p, diags);
   BlockOrder o = order_blocks(p, w, diags);

@@ -263,6 +263,19 @@ class TestsReader {
     if (!a.expect && t->kind == Target::DriverOut) { d_.error(v.loc, target + " is a driver output: it can only be expected"); return; }
     if (a.expect && t->kind == Target::DriverIn) { d_.error(v.loc, target + " is a driver input: set it, expect the tag it feeds"); return; }
     if (!a.expect && t->kind == Target::Metric) { d_.error(v.loc, target + " is a metric: it can only be expected"); return; }
+    if (!a.expect && t->kind == Target::Image) {
+      const Tag* tag = p_.find_tag(target.substr(0, target.find('[')));
+      if (tag && tag->written_every_scan) {
+        // The writer runs in every scan after the set: the value would never be seen.
+        const bool driver = tag->writer.rfind("driver ", 0) == 0;
+        const std::string what = driver ? tag->writer.substr(7) : tag->writer.substr(6);
+        d_.error(v.loc, target + " is written every scan by " + tag->writer + ", which wins: this set would be "
+                        "overwritten before anything reads it; " +
+                        (driver ? "set the driver's channel " + what + " instead"
+                                : "set what block " + what.substr(0, what.find('.')) + " reads instead"));
+        return;
+      }
+    }
     Assignment as;
     as.target = *t;
     as.loc = v.loc;

@@ -62,7 +62,7 @@ IecType endpoint_type(const Declarations& p, const Endpoint& e, std::uint32_t* l
 void check_addresses(const Declarations& p, Diagnostics& diags);
 void check_modbus_places(const Declarations& p, Diagnostics& diags);
 void find_owners(Declarations& p, const Wiring& w, Diagnostics& diags);
-void check_writes(const Declarations& p, const LoadOptions& opts, Diagnostics& diags);
+void check_writes(const Declarations& p, Diagnostics& diags);  // hmi: readwrite and --set on written tags
 void size_write_queues(Declarations& p, Diagnostics& diags);
 BlockOrder order_blocks(const Declarations& p, const Wiring& w, Diagnostics& diags);  // order_blocks.cpp
 

@@ -1027,6 +1027,114 @@ tasks:
               ElementsAre("p.yaml:2:48: watchdog time 100000d is longer than 1h"));
 }
 
+// --- writes from outside that the program would overwrite every scan -------------------
+
+TEST(LoadErrors, HmiReadwriteTagWrittenByABlockOrADriverEveryScan) {
+  // An HMI (Modbus) write would be overwritten by the writer in the same scan.
+  auto e = errors(R"(
+tasks: [{name: main, period: 1ms}]
+tags:
+  - {name: go, type: BOOL, hmi: readwrite}
+  - {name: lamp, type: BOOL, hmi: readwrite}
+  - {name: arr, type: "ARRAY[1..2] OF BOOL", hmi: readwrite}
+  - {name: half, type: "ARRAY[1..2] OF BOOL", hmi: readwrite}
+  - {name: sp, type: BOOL, hmi: readwrite}
+blocks:
+  - {name: n, type: NOT}
+  - {name: m, type: NOT, inputs: {IN: TRUE}}
+connections:
+  - sp -> n.IN
+  - n.OUT -> lamp
+  - n.OUT -> arr[1]
+  - m.OUT -> arr[2]
+  - m.OUT -> half[1]
+drivers:
+  - {name: io, type: memory, channels: [{name: b, dir: in, type: BOOL}], bind: {b: go}}
+)");
+  EXPECT_THAT(e, has_error("p.yaml:3:33", "tag go is hmi: readwrite, but driver io.b (p.yaml:18:84) writes it every scan "
+                                          "and wins: an HMI write would be overwritten in the same scan; make it hmi: read, "
+                                          "or give the HMI a tag of its own"));
+  EXPECT_THAT(e, has_error("p.yaml:4:35", "tag lamp is hmi: readwrite, but block n.OUT (p.yaml:13:5) writes it every scan"));
+  // Every element written by some block: written every scan too.
+  EXPECT_THAT(e, has_error("p.yaml:5:51", "tag arr is hmi: readwrite, but block n.OUT"));
+  // half[2] is written by nobody, sp is read by a block: an HMI may write them.
+  EXPECT_THAT(e, ::testing::SizeIs(3));
+}
+
+TEST(LoadErrors, SetOnATagWrittenEveryScan) {
+  LoadOptions o;
+  o.overrides = {{"lamp", "", "TRUE"}, {"go", "", "TRUE"}, {"sp", "", "2.5"}};
+  auto e = errors(R"(
+tasks: [{name: main, period: 1ms}]
+tags:
+  - {name: go, type: BOOL}
+  - {name: lamp, type: BOOL}
+  - {name: sp, type: LREAL}
+blocks:
+  - {name: n, type: NOT}
+  - {name: g, type: GAIN}
+connections:
+  - go -> n.IN
+  - n.OUT -> lamp
+  - sp -> g.IN
+drivers:
+  - {name: io, type: memory, channels: [{name: b, dir: in, type: BOOL}], bind: {b: go}}
+)",
+                  [&] { o.blocks = &param_blocks(); return o; }());
+  EXPECT_THAT(e, ElementsAre("command line:0:0: --set go: driver io.b (p.yaml:14:84) writes the tag every scan and wins: "
+                             "the value would be overwritten on the first scan; set the driver's settings (--set "
+                             "io.key=value), or in a scan-cycle test its channel io.b",
+                             "command line:0:0: --set lamp: block n.OUT (p.yaml:11:5) writes the tag every scan and wins: "
+                             "the value would be overwritten on the first scan; set what block n reads: its parameters "
+                             "(--set n.param=value) or the tags wired to its inputs"));
+}
+
+TEST(LoadErrors, SimRingLossTakesNoBind) {
+  // bind: (and late:) belong to the driver, not to its loss: section.
+  EXPECT_THAT(errors(R"(
+tasks: [{name: main, period: 1ms}]
+tags: [{name: sent, type: ULINT}]
+drivers:
+  - name: ring
+    type: sim_ring
+    loss: {model: bernoulli, p: 0.1, bind: {frames_sent: sent}, late: 0.1}
+    bus: {type: ethercat, bind: {}}
+)"),
+              ElementsAre("p.yaml:6:11: loss: see the errors above",
+                          "p.yaml:6:44: unknown key 'bind' in loss (model, p, p_good_bad, p_bad_good, loss_good, "
+                          "loss_bad, scope)",
+                          "p.yaml:6:71: unknown key 'late' in loss (model, p, p_good_bad, p_bad_good, loss_good, "
+                          "loss_bad, scope)",
+                          "p.yaml:7:10: bus: see the errors above",
+                          "p.yaml:7:33: unknown key 'bind' in bus (type, bandwidth, payload, overhead, hop_delay, "
+                          "gap_count, exec_time, alpha)"));
+}
+
+TEST(LoadErrors, MisspeltParameterInABlockFactory) {
+  // The factory reads "nmae"; the type declares "name": a load error, not an out-of-range read.
+  BlockRegistry reg;
+  BlockTypeInfo t;
+  t.name = "TYPO";
+  t.category = "test";
+  t.params = {ParamDecl{"name", IecType::LREAL, "1", {}, {}, "", "", false}};
+  struct Typo final : Block {
+    explicit Typo(BlockSetup& s) : v(s.param<double>("nmae")) {}
+    void execute(ScanContext&) noexcept override {}
+    double v;
+  };
+  t.create = [](BlockSetup& s) -> std::unique_ptr<Block> { return std::make_unique<Typo>(s); };
+  reg.add(std::move(t));
+  LoadOptions o;
+  o.blocks = &reg;
+  EXPECT_THAT(errors(R"(
+tasks: [{name: main, period: 1ms}]
+blocks:
+  - {name: t, type: TYPO}
+)",
+                     o),
+              ElementsAre("p.yaml:3:5: t (TYPO): its factory reads parameter 'nmae', which TYPO does not declare (name)"));
+}
+
 // One load reports the errors of every phase together, and a declaration that
 // failed causes no follow-on errors where it is used.
 TEST(LoadErrors, EveryPhaseReportsInOneLoadWithoutFollowOnErrors) {

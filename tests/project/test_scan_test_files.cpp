@@ -61,5 +61,18 @@ cases:
                                       "t.yaml:5:17: cycle 922337203685477580 of task main is later than TIME can count"));
 }
 
+TEST(ScanTestFiles, SetOnATagWrittenEveryScanIsAnError) {
+  // lamp is written by block n every scan: the set would never be seen.
+  auto r = run_tests("written", R"(
+cases:
+  - name: lamp
+    steps:
+      - {at: 0ms, set: {lamp: FALSE, sp: 2}}
+      - {at: 10ms, expect: {lamp: TRUE}}
+)");
+  EXPECT_THAT(r.errors(), ElementsAre("t.yaml:4:31: lamp is written every scan by block n.OUT, which wins: this set would "
+                                      "be overwritten before anything reads it; set what block n reads instead"));
+}
+
 }  // namespace
 }  // namespace syncplc::loadertest
