@@ -1,5 +1,6 @@
 // Reading the blocks: section: instances, their types, tasks, datatypes,
 // parameters and constant inputs as written (checked by check_params.cpp).
+#include "runtime/core/reference.hpp"
 #include "runtime/project/stages.hpp"
 
 namespace syncplc {
@@ -74,7 +75,7 @@ void read_blocks(const ConfigNode& n, const BlockRegistry& blocks, Declarations&
       else
         for (const auto& [k, v] : inputs->map) {
           int i = T.pin_index(k);
-          if (i < 0) diags.error(v.loc, T.name + " has no pin '" + k + "'");
+          if (i < 0) diags.error(v.loc, no_pin_message(in.name, T, k));
           else if (T.pins[static_cast<std::size_t>(i)].dir != PinDir::In) diags.error(v.loc, T.name + "." + k + " is an output: it takes no constant");
           else in.inputs.emplace_back(i, v);
         }

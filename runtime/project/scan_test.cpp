@@ -198,6 +198,28 @@ class TestsReader {
     return c;
   }
 
+  // `cycle: n` (of `task`, default the first): the planned release of its n-th scan.
+  void read_cycle(const ConfigNode& cycle, const ConfigNode* task, std::int64_t& time, std::string& when) {
+    std::string err;
+    auto n = parse_value(IecType::ULINT, cycle.scalar, &err);
+    if (!n) { d_.error(cycle.loc, "cycle: " + err); return; }
+    int ti = 0;
+    if (task) {
+      ti = p_.find_task(task->scalar);
+      if (ti < 0) { d_.error(task->loc, "unknown task '" + task->scalar + "'"); return; }
+    }
+    const auto& cfg = p_.tasks[static_cast<std::size_t>(ti)]->config();
+    // The release time phase + n * period must fit 64 bits of nanoseconds.
+    std::int64_t offset = 0;
+    if (n->get<std::uint64_t>() > static_cast<std::uint64_t>(INT64_MAX) ||
+        __builtin_mul_overflow(static_cast<std::int64_t>(n->get<std::uint64_t>()), cfg.period_ns, &offset) ||
+        __builtin_add_overflow(offset, cfg.phase_ns, &time)) {
+      d_.error(cycle.loc, "cycle " + cycle.scalar + " of task " + cfg.name + " is later than TIME can count");
+      return;
+    }
+    when = "cycle " + std::to_string(n->get<std::uint64_t>()) + " of " + cfg.name;
+  }
+
   void read_step(const ConfigNode& s, Case& c) {
     if (!s.is_map()) {
       d_.error(s.loc, "a step is a map {at or cycle, set, expect}");
@@ -209,36 +231,19 @@ class TestsReader {
         d_.error(v.loc, "unknown key '" + k + "' in a step (at, cycle, task, set, expect)");
     std::int64_t time = 0;
     std::string when;
-    if (at && cycle) { d_.error(s.loc, "a step has either 'at' or 'cycle'"); return; }
-    if (at) {
+    // An error in the step's time does not stop it: its set and expect are
+    // read all the same, so that their errors are reported in the same run.
+    if (at && cycle) d_.error(s.loc, "a step has either 'at' or 'cycle'");
+    else if (at) {
       std::string err;
       auto t = parse_duration_ns(at->scalar, &err);
-      if (!t || *t < 0) { d_.error(at->loc, "at: " + (t ? std::string("must not be negative") : err)); return; }
-      time = *t;
+      if (!t || *t < 0) d_.error(at->loc, "at: " + (t ? std::string("must not be negative") : err));
+      else time = *t;
       when = "at " + format_duration(time);
     } else if (cycle) {
-      std::string err;
-      auto n = parse_value(IecType::ULINT, cycle->scalar, &err);
-      if (!n) { d_.error(cycle->loc, "cycle: " + err); return; }
-      int ti = 0;
-      if (task) {
-        ti = p_.find_task(task->scalar);
-        if (ti < 0) { d_.error(task->loc, "unknown task '" + task->scalar + "'"); return; }
-      }
-      const auto& cfg = p_.tasks[static_cast<std::size_t>(ti)]->config();
-      // The release time phase + n * period must fit 64 bits of nanoseconds.
-      std::int64_t k = 0, offset = 0;
-      if (n->get<std::uint64_t>() > static_cast<std::uint64_t>(INT64_MAX) ||
-          __builtin_mul_overflow(static_cast<std::int64_t>(n->get<std::uint64_t>()), cfg.period_ns, &offset) ||
-          __builtin_add_overflow(offset, cfg.phase_ns, &time)) {
-        d_.error(cycle->loc, "cycle " + cycle->scalar + " of task " + cfg.name + " is later than TIME can count");
-        return;
-      }
-      k = static_cast<std::int64_t>(n->get<std::uint64_t>());
-      when = "cycle " + std::to_string(k) + " of " + p_.tasks[static_cast<std::size_t>(ti)]->config().name;
+      read_cycle(*cycle, task, time, when);
     } else {
       d_.error(s.loc, "a step needs 'at: <time>' or 'cycle: <n>'");
-      return;
     }
     if (task && !cycle) d_.error(task->loc, "'task' goes with 'cycle'");
     for (const char* key : {"set", "expect"}) {

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <sstream>
 
@@ -129,24 +130,58 @@ class TreeBuilder final : public YAML::EventHandler {
   std::map<YAML::anchor_t, ConfigNode> anchors_;
 };
 
-ConfigNode read_yaml_stream(std::istream& in, const std::string& name, Diagnostics& diags) {
+// What usually causes a syntax error on this line, for the two mistakes
+// yaml-cpp's own messages do not explain.
+std::string syntax_hint(const std::string& line) {
+  if (line.find('\t') != std::string::npos) return " (the line has a tab: YAML indents with spaces only)";
+  // A plain value cannot start with %: that is YAML's directive sign.
+  bool quoted = false;
+  char quote = 0, before = ' ';
+  for (char c : line) {
+    if (quoted) {
+      if (c == quote) quoted = false;
+    } else if (c == '"' || c == '\'') {
+      quoted = true;
+      quote = c;
+    } else if (c == '%' && (before == ' ' || before == ':' || before == '[' || before == '{' || before == ',')) {
+      return " (a value starting with % must be quoted, e.g. address: \"%IX0.0\")";
+    }
+    if (c != ' ') before = c;
+  }
+  return "";
+}
+
+// `line_of` gives the text of a 0-based line, for the hint.
+ConfigNode read_yaml_stream(std::istream& in, const std::string& name, Diagnostics& diags,
+                            const std::function<std::string(int)>& line_of) {
   TreeBuilder b(name, diags);
   b.root.loc = SourceLoc{name, 0, 0};
   try {
     YAML::Parser parser(in);
     parser.HandleNextDocument(b);  // the first document, as YAML::Load reads
   } catch (const YAML::Exception& e) {
-    diags.error(loc_of(e.mark, name), "YAML syntax error: " + e.msg);
+    diags.error(loc_of(e.mark, name), "YAML syntax error: " + e.msg + syntax_hint(line_of(e.mark.line)));
     return ConfigNode{};
   }
   return std::move(b.root);
+}
+
+// Line `n` (0-based) of a text; "" past its end.
+std::string nth_line(std::istream& in, int n) {
+  std::string line;
+  for (int i = 0; i <= n && std::getline(in, line); ++i)
+    if (i == n) return line;
+  return "";
 }
 
 }  // namespace
 
 ConfigNode read_yaml_string(const std::string& text, const std::string& name, Diagnostics& diags) {
   std::istringstream in(text);
-  return read_yaml_stream(in, name, diags);
+  return read_yaml_stream(in, name, diags, [&](int n) {
+    std::istringstream again(text);
+    return nth_line(again, n);
+  });
 }
 
 ConfigNode read_yaml_file(const std::string& path, Diagnostics& diags) {
@@ -155,7 +190,10 @@ ConfigNode read_yaml_file(const std::string& path, Diagnostics& diags) {
     diags.error(SourceLoc{path, 0, 0}, "cannot open file");
     return ConfigNode{};
   }
-  return read_yaml_stream(in, path, diags);
+  return read_yaml_stream(in, path, diags, [&](int n) {
+    std::ifstream again(path, std::ios::binary);
+    return nth_line(again, n);
+  });
 }
 
 }  // namespace syncplc

@@ -317,7 +317,9 @@ tasks: [{name: main, period: 1ms}]
 blocks:
   - {name: t1, type: TON, inputs: {IN: TRUE, XX: 1s, Q: TRUE}}
 )"),
-              ElementsAre("p.yaml:3:50: TON has no pin 'XX'", "p.yaml:3:57: TON.Q is an output: it takes no constant"));
+              // The valid pins are listed, as for the same mistake in a connection.
+              ElementsAre("p.yaml:3:50: block t1 (TON) has no pin 'XX' (IN, PT, Q, ET)",
+                          "p.yaml:3:57: TON.Q is an output: it takes no constant"));
 }
 
 TEST(LoadErrors, UnknownInstanceOrTagInAConnection) {
@@ -487,7 +489,7 @@ tags:
 )");
   EXPECT_THAT(e, ElementsAre("p.yaml:3:33: init of a: 'maybe' is not a BOOL (TRUE or FALSE)",
                              "p.yaml:4:32: init of b: '12abc' is not an integer",
-                             "p.yaml:5:33: init of c: '5 parsecs' is not a duration (missing unit after 5; "
+                             "p.yaml:5:33: init of c: '5 parsecs' is not a duration (no space may separate 5 from its unit: 5parsecs; "
                              "write e.g. 1ms, 250us, 0.5s, T#1m30s)",
                              "p.yaml:6:34: init of d: 'fast' is not a number",
                              "p.yaml:7:32: init of e: literal DINT#5 is DINT, expected INT",
@@ -926,8 +928,8 @@ bogus: 1
   EXPECT_EQ(r.program, nullptr);
   EXPECT_THAT(errors(r),
               ElementsAre("p.yaml:1:29: seed: value -3 is out of range for ULINT (unsigned)",
-                          "p.yaml:3:26: period: '1 ms x' is not a duration (missing unit after 1; write e.g. 1ms, "
-                          "250us, 0.5s, T#1m30s)",
+                          "p.yaml:3:26: period: '1 ms x' is not a duration (no space may separate 1 from its unit: 1ms; "
+                          "write e.g. 1ms, 250us, 0.5s, T#1m30s)",
                           "p.yaml:3:44: priority 120 is outside 1..99 (SCHED_FIFO; higher runs first)",
                           "p.yaml:4:39: phase must be shorter than the period",
                           "p.yaml:4:75: watchdog action must be log, stop or safe_stop, not 'reboot'",
@@ -936,7 +938,7 @@ bogus: 1
                           "p.yaml:8:45: init of c: unit 'kg' is not compatible with 'm/s'",
                           "p.yaml:9:12: duplicate name 'a' (first defined at p.yaml:6:12)",
                           "p.yaml:11:22: unknown block type 'TONX' (see `syncplc blocks`)",
-                          "p.yaml:12:52: TON has no pin 'XX'",
+                          "p.yaml:12:52: block t2 (TON) has no pin 'XX' (IN, PT, Q, ET)",
                           "p.yaml:15:5: a connection is written 'source.pin -> target.pin'",
                           "p.yaml:16:5: type mismatch: b is BOOL, t2.PT is TIME",
                           "p.yaml:17:5: blocks in different tasks exchange data through a tag: connect t2.Q -> a tag "
@@ -1133,6 +1135,47 @@ blocks:
 )",
                      o),
               ElementsAre("p.yaml:3:5: t (TYPO): its factory reads parameter 'nmae', which TYPO does not declare (name)"));
+}
+
+// --- messages that say what is wrong ---------------------------------------------------
+
+TEST(LoadErrors, SpaceInsideADurationIsNamed) {
+  EXPECT_THAT(errors(R"(
+tasks: [{name: main, period: 10 ms}]
+)"),
+              ElementsAre("p.yaml:1:30: period: '10 ms' is not a duration (no space may separate 10 from its unit: "
+                          "10ms; write e.g. 1ms, 250us, 0.5s, T#1m30s)"));
+}
+
+TEST(LoadErrors, YamlSyntaxErrorsHintAtTabsAndPercentSigns) {
+  EXPECT_THAT(errors("tasks:\n\t- {name: main, period: 1ms}\n"),
+              ElementsAre("p.yaml:2:2: YAML syntax error: illegal block entry (the line has a tab: YAML indents with "
+                          "spaces only)"));
+  EXPECT_THAT(errors(R"(
+tasks: [{name: main, period: 1ms}]
+tags:
+  - {name: a, type: BOOL, address: %IX0.0}
+)"),
+              ElementsAre("p.yaml:3:36: YAML syntax error: unknown token (a value starting with % must be quoted, "
+                          "e.g. address: \"%IX0.0\")"));
+  // Quoted, a % is no hint's business.
+  EXPECT_THAT(errors(R"(
+tasks: [{name: main, period: 1ms
+tags:
+  - {name: a, type: BOOL, address: "%IX0.0"}
+)"),
+              ElementsAre("p.yaml:3:3: YAML syntax error: illegal block entry"));
+}
+
+TEST(LoadErrors, UnitWithoutCaretSuggestsOne) {
+  EXPECT_THAT(errors(R"(
+tasks: [{name: main, period: 1ms}]
+tags:
+  - {name: a, type: LREAL, unit: m/s2}
+  - {name: b, type: LREAL, unit: m/s3x}
+)"),
+              ElementsAre("p.yaml:3:34: bad unit 'm/s2': unexpected text (powers are written with ^: 'm/s^2')",
+                          "p.yaml:4:34: bad unit 'm/s3x': unexpected text"));
 }
 
 // One load reports the errors of every phase together, and a declaration that

@@ -74,5 +74,21 @@ cases:
                                       "be overwritten before anything reads it; set what block n reads instead"));
 }
 
+TEST(ScanTestFiles, AnErrorInAStepsTimeHidesNoErrorOfItsSet) {
+  auto r = run_tests("at", R"(
+cases:
+  - name: both
+    steps:
+      - {at: 10 ms, set: {nothing: TRUE, sp: fast}}
+      - {set: {lamp2: TRUE}}
+)");
+  EXPECT_THAT(r.errors(),
+              ElementsAre("t.yaml:4:14: at: '10 ms' is not a duration (no space may separate 10 from its unit: 10ms; "
+                          "write e.g. 1ms, 250us, 0.5s, T#1m30s)",
+                          "t.yaml:4:36: unknown tag or instance.pin 'nothing'", "t.yaml:4:46: sp: 'fast' is not a number",
+                          "t.yaml:5:9: a step needs 'at: <time>' or 'cycle: <n>'",
+                          "t.yaml:5:23: unknown tag or instance.pin 'lamp2'"));
+}
+
 }  // namespace
 }  // namespace syncplc::loadertest
