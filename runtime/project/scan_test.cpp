@@ -351,6 +351,19 @@ bool values_equal(IecType t, Cell a, Cell b, std::optional<double> tol) {
   });
 }
 
+// A test's set goes the way an HMI or Modbus write goes: into the owning
+// task's write queue, applied at the start of its next scan (the scan
+// released at the step's time), so the tests exercise that path.
+bool queue_write(const Program& p, const Target& t, const std::vector<Cell>& values) {
+  const auto count = static_cast<std::uint32_t>(values.size());
+  if (const Tag* tag = p.find_tag(t.text.substr(0, t.text.find('['))); tag && t.text.find('.') == std::string::npos)
+    return p.write_tag(*tag, t.ref.cell - tag->cell, values.data(), count);
+  // An instance's input pin: its task's queue all the same.
+  std::vector<QueuedWrite> w(values.size());
+  for (std::size_t i = 0; i < values.size(); ++i) w[i] = QueuedWrite{t.ref.cell + static_cast<std::uint32_t>(i), values[i]};
+  return p.tasks[t.ref.task]->enqueue(w.data(), w.size());
+}
+
 ScanTestCaseResult run_case(const std::string& project, const LoadOptions& base, const Case& c) {
   ScanTestCaseResult r;
   r.name = c.name;
@@ -414,8 +427,12 @@ ScanTestCaseResult run_case(const std::string& project, const LoadOptions& base,
         continue;
       }
       if (!a->expect) {
-        if (t.kind == Target::DriverIn) p.drivers[static_cast<std::size_t>(t.driver)].driver->force_input(t.channel, as.values.data());
-        else std::copy(as.values.begin(), as.values.end(), p.live_cell(t.ref));
+        if (t.kind == Target::DriverIn) {
+          p.drivers[static_cast<std::size_t>(t.driver)].driver->force_input(t.channel, as.values.data());
+        } else if (!queue_write(p, t, as.values)) {
+          r.failures.push_back(fmt::format("{}: case '{}' {}: set {}: the write queue of task {} is full", as.loc.text(),
+                                           c.name, a->when, t.text, p.tasks[t.ref.task]->config().name));
+        }
         continue;
       }
       std::vector<Cell> actual(t.length);

@@ -90,5 +90,43 @@ cases:
                           "t.yaml:5:23: unknown tag or instance.pin 'lamp2'"));
 }
 
+TEST(ScanTestFiles, SetGoesThroughTheOwnersWriteQueue) {
+  // Like an HMI write: queued, applied at the owner's next scan start. A
+  // queue too small for the set shows that it took that path.
+  const char* project = R"(
+tasks: [{name: main, period: 10ms, write_queue: 16}]
+tags:
+  - {name: few, type: "ARRAY[1..4] OF INT"}
+  - {name: many, type: "ARRAY[1..20] OF INT"}
+  - {name: out, type: INT}
+blocks:
+  - {name: m, type: MOVE}
+connections:
+  - few[2] -> m.IN
+  - m.OUT -> out
+)";
+  auto ok = run_tests("queue-ok", R"(
+cases:
+  - name: queued
+    steps:
+      - {at: 20ms, set: {few: 7, "few[2]": 3}}
+      - {at: 20ms, expect: {few: [7, 3, 7, 7], out: 3}}
+)",
+                      project);
+  EXPECT_TRUE(ok.report.ok()) << ::testing::PrintToString(ok.errors())
+                              << ::testing::PrintToString(ok.report.cases.empty() ? std::vector<std::string>{}
+                                                                                   : ok.report.cases[0].failures);
+  auto full = run_tests("queue-full", R"(
+cases:
+  - name: too many
+    steps:
+      - {at: 20ms, set: {many: 1}}
+)",
+                        project);
+  ASSERT_EQ(full.report.cases.size(), 1u);
+  EXPECT_THAT(full.report.cases[0].failures,
+              ElementsAre(full.tests_path + ":4:32: case 'too many' at 20ms: set many: the write queue of task main is full"));
+}
+
 }  // namespace
 }  // namespace syncplc::loadertest
