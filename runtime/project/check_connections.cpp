@@ -3,9 +3,11 @@
 // inferred, types checked, required inputs found connected; trace, watch
 // and metrics references resolved the same way.
 #include <algorithm>
+#include <cmath>
 #include <deque>
 
 #include "runtime/core/reference.hpp"
+#include "runtime/core/units.hpp"
 #include "runtime/project/stages.hpp"
 
 namespace syncplc {
@@ -16,6 +18,27 @@ bool endpoint_type_known(const Declarations& p, const Endpoint& e) {
   const auto& in = p.instances[static_cast<std::size_t>(e.instance)];
   const auto& pd = in.type->pins[static_cast<std::size_t>(e.pin)];
   return pd.cls == TypeClass::Exact || in.datatype.has_value();
+}
+
+const std::string& endpoint_unit(const Declarations& p, const Endpoint& e) {
+  if (!e.is_pin) return p.tags[static_cast<std::size_t>(e.tag)].tag.unit;
+  return p.instances[static_cast<std::size_t>(e.instance)].type->pins[static_cast<std::size_t>(e.pin)].unit;
+}
+
+// A connection copies the value as it is: both ends must mean the same unit
+// (m and rad differ in dimension; mm and m in scale, and would be off by
+// 1000). An end without a unit takes any, as a constant without one does.
+void check_units(const Declarations& p, const ConnectionDecl& c, Diagnostics& diags) {
+  const std::string& us = endpoint_unit(p, c.src);
+  const std::string& ud = endpoint_unit(p, c.dst);
+  if (us.empty() || ud.empty() || us == ud) return;
+  auto a = parse_unit(us, nullptr), b = parse_unit(ud, nullptr);
+  if (!a || !b) return;  // a bad unit is reported where it is declared
+  if (a->same_dimension(*b) && std::fabs(a->scale - b->scale) <= 1e-12 * std::fabs(b->scale)) return;
+  diags.error(c.loc, "unit mismatch: " + c.src.text + " is in " + us + ", " + c.dst.text + " in " + ud +
+                         (a->same_dimension(*b) ? " (a connection copies the value: scale it with a MUL block, or give "
+                                                  "both ends one unit)"
+                                                : " (another dimension)"));
 }
 
 }  // namespace
@@ -224,6 +247,7 @@ void check_connections(const Declarations& p, const Wiring& w, Diagnostics& diag
       if (pd.cls != TypeClass::Exact && !in_class(ts, pd.cls))
         diags.error(c.loc, c.dst.text + " takes " + std::string(class_name(pd.cls)) + ", not " + std::string(type_name(ts)));
     }
+    check_units(p, c, diags);
   }
   // Required inputs.
   for (const auto& in : p.instances)

@@ -1178,6 +1178,73 @@ tags:
                           "p.yaml:4:34: bad unit 'm/s3x': unexpected text"));
 }
 
+TEST(LoadErrors, UnitsAreCheckedAcrossConnections) {
+  // GAIN's OUT and IN are LREAL; its K is in m/s. Tags carry units.
+  LoadOptions o;
+  o.blocks = &param_blocks();
+  auto e = errors(R"(
+tasks: [{name: main, period: 1ms}]
+tags:
+  - {name: dist, type: LREAL, unit: m}
+  - {name: angle, type: LREAL, unit: rad}
+  - {name: small, type: LREAL, unit: mm}
+  - {name: same, type: LREAL, unit: m}
+  - {name: free, type: LREAL}
+blocks:
+  - {name: g1, type: GAIN}
+  - {name: g2, type: GAIN}
+  - {name: g3, type: GAIN}
+connections:
+  - dist -> g1.IN
+  - g1.OUT -> angle
+  - free -> g2.IN
+  - g2.OUT -> small
+  - same -> g3.IN
+  - g3.OUT -> dist
+)",
+                  o);
+  // GAIN's pins carry no unit: any tag connects to them.
+  EXPECT_THAT(e, ::testing::IsEmpty());
+  auto e2 = errors(R"(
+tasks: [{name: main, period: 1ms}]
+tags:
+  - {name: dist, type: LREAL, unit: m}
+  - {name: angle, type: LREAL, unit: rad}
+  - {name: small, type: LREAL, unit: mm}
+  - {name: ok, type: LREAL, unit: m}
+blocks:
+  - {name: c1, type: SYNC_CONTROLLER}
+  - {name: c2, type: SYNC_CONTROLLER}
+  - {name: c3, type: SYNC_CONTROLLER}
+connections:
+  - dist -> c1.x
+  - small -> c2.x
+  - angle -> c3.x
+)");
+  EXPECT_THAT(e2, has_error("p.yaml:12:5", "unit mismatch: dist is in m, c1.x in rad (another dimension)"));
+  EXPECT_THAT(e2, has_error("p.yaml:13:5", "unit mismatch: small is in mm, c2.x in rad (another dimension)"));
+  EXPECT_THAT(e2, ::testing::Not(::testing::Contains(::testing::StartsWith("p.yaml:14:5"))));
+}
+
+TEST(LoadErrors, UnitsOfTheSameDimensionButAnotherScaleAreAMismatch) {
+  // A connection copies the value: mm into m would be off by 1000.
+  auto e = errors(R"(
+tasks: [{name: main, period: 1ms}]
+tags:
+  - {name: deg, type: LREAL, unit: deg}
+  - {name: rad, type: LREAL, unit: rad}
+blocks:
+  - {name: c, type: SYNC_CONTROLLER}
+  - {name: d, type: SYNC_CONTROLLER}
+connections:
+  - deg -> c.x
+  - rad -> d.x
+)");
+  EXPECT_THAT(e, has_error("p.yaml:9:5", "unit mismatch: deg is in deg, c.x in rad (a connection copies the value: "
+                                         "scale it with a MUL block, or give both ends one unit)"));
+  EXPECT_THAT(e, ::testing::Not(::testing::Contains(::testing::StartsWith("p.yaml:10:5"))));
+}
+
 // One load reports the errors of every phase together, and a declaration that
 // failed causes no follow-on errors where it is used.
 TEST(LoadErrors, EveryPhaseReportsInOneLoadWithoutFollowOnErrors) {
