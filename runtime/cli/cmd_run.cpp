@@ -134,7 +134,7 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
   const std::int64_t t0 = RealtimeRunner::monotonic_ns();
   std::deque<std::string> recent;
   bool warned = false;
-  std::vector<bool> hung_reported(64, false);
+  std::vector<bool> hung_reported(kMaxTasks, false);
   int stop_signal = 0;
   for (;;) {
     timespec wait{0, 250'000'000};
