@@ -168,16 +168,19 @@ std::string set_instead(const TagDecl& td) {
 // readwrite) and --set tag=value would silently do nothing.
 void check_writes(const Declarations& p, Diagnostics& diags) {
   for (const auto& td : p.tags) {
-    if (!td.tag.written_every_scan) continue;
+    if (td.writer.empty()) continue;  // nobody writes it: the HMI and --set may
+    // An array some of whose elements a block writes loses those elements of the write.
+    const std::string what = td.tag.written_every_scan ? "it" : "elements of it";
     const std::string who = td.writer + " (" + td.writer_loc.text() + ")";
     if (td.tag.hmi == HmiAccess::ReadWrite)
-      diags.error(td.hmi_loc, "tag " + td.tag.name + " is hmi: readwrite, but " + who +
-                                  " writes it every scan and wins: an HMI write would be overwritten in the same scan; " +
+      diags.error(td.hmi_loc, "tag " + td.tag.name + " is hmi: readwrite, but " + who + " writes " + what +
+                                  " every scan and wins: an HMI write would be overwritten in the same scan; " +
                                   hmi_instead(td));
     if (td.init_from_cli)
-      diags.error(SourceLoc{"command line", 0, 0}, "--set " + td.tag.name + ": " + who +
-                                                       " writes the tag every scan and wins: the value would be overwritten "
-                                                       "on the first scan; " + set_instead(td));
+      diags.error(SourceLoc{"command line", 0, 0}, "--set " + td.tag.name + ": " + who + " writes " +
+                                                       (td.tag.written_every_scan ? "the tag" : "elements of the tag") +
+                                                       " every scan and wins: the value would be overwritten on the first "
+                                                       "scan; " + set_instead(td));
   }
 }
 

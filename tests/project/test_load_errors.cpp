@@ -1058,9 +1058,12 @@ drivers:
                                           "or give the HMI a tag of its own"));
   EXPECT_THAT(e, has_error("p.yaml:4:35", "tag lamp is hmi: readwrite, but block n.OUT (p.yaml:13:5) writes it every scan"));
   // Every element written by some block: written every scan too.
-  EXPECT_THAT(e, has_error("p.yaml:5:51", "tag arr is hmi: readwrite, but block n.OUT"));
-  // half[2] is written by nobody, sp is read by a block: an HMI may write them.
-  EXPECT_THAT(e, ::testing::SizeIs(3));
+  EXPECT_THAT(e, has_error("p.yaml:5:51", "tag arr is hmi: readwrite, but block n.OUT (p.yaml:14:5) writes it every scan"));
+  // One element written: a write of the whole array would lose it.
+  EXPECT_THAT(e, has_error("p.yaml:6:52", "tag half is hmi: readwrite, but block m.OUT (p.yaml:16:5) writes elements of "
+                                          "it every scan"));
+  // sp is read by a block and written by nobody: an HMI may write it.
+  EXPECT_THAT(e, ::testing::SizeIs(4));
 }
 
 TEST(LoadErrors, SetOnATagWrittenEveryScan) {
