@@ -184,10 +184,18 @@ class BlockSetup {
   virtual std::uint64_t seed() const = 0;                  // project seed mixed with instance name
   virtual void error(const std::string& message) = 0;
 
+  // A factory's parameter by name. A name the type does not declare (a
+  // misspelt one) is reported through unknown_param, a load error, and reads T{}.
   template <class T>
   T param(std::string_view name) const {
-    return param_cell(type().param_index(name)).template get<T>();
+    const int i = type().param_index(name);
+    if (i < 0) {
+      unknown_param(name);
+      return T{};
+    }
+    return param_cell(i).template get<T>();
   }
+  virtual void unknown_param(std::string_view name) const = 0;
 };
 
 enum class EventKind : std::uint8_t {

@@ -27,6 +27,9 @@ class HarnessSetup final : public BlockSetup {
   std::int64_t task_period_ns() const override { return period_; }
   std::uint64_t seed() const override { return seed_; }
   void error(const std::string& message) override { errors_.push_back(message); }
+  void unknown_param(std::string_view name) const override {
+    errors_.push_back("the factory reads parameter '" + std::string(name) + "', which " + t_.name + " does not declare");
+  }
 
  private:
   const BlockTypeInfo& t_;

@@ -259,7 +259,14 @@ std::optional<std::int64_t> parse_duration_ns(std::string_view text, std::string
     else if (unit == "ms") { f = 1e6L; rank = 2; }
     else if (unit == "us") { f = 1e3L; rank = 1; }
     else if (unit == "ns") { f = 1; rank = 0; }
-    else if (unit.empty()) return bad("missing unit after " + numtxt);
+    else if (unit.empty()) {
+      // "10 ms": the unit is there, after a space a duration may not have.
+      std::size_t u = k;
+      while (u < s.size() && std::isspace(static_cast<unsigned char>(s[u]))) ++u;
+      if (u > k && u < s.size() && std::isalpha(static_cast<unsigned char>(s[u])))
+        return bad("no space may separate " + numtxt + " from its unit: " + numtxt + s.substr(u, s.find_first_of(" \t", u) - u));
+      return bad("missing unit after " + numtxt);
+    }
     else return bad("unknown unit '" + unit + "'");
     if (rank >= last_rank) return bad("units must go from largest to smallest");
     last_rank = rank;

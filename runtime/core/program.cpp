@@ -1,6 +1,6 @@
 #include "runtime/core/program.hpp"
 
-#include <charconv>
+#include "runtime/core/reference.hpp"
 
 namespace syncplc {
 
@@ -31,51 +31,43 @@ int Program::find_driver(const std::string& n) const {
   return -1;
 }
 
-std::optional<CellRef> Program::resolve(const std::string& ref, std::string* error) const {
+std::optional<CellRef> Program::resolve(const std::string& text, std::string* error) const {
   auto fail = [&](const std::string& why) -> std::optional<CellRef> {
     if (error) *error = why;
     return std::nullopt;
   };
-  std::string base = ref;
-  std::optional<std::int64_t> element;
-  if (auto lb = ref.find('['); lb != std::string::npos) {
-    if (ref.back() != ']') return fail("bad element reference '" + ref + "'");
-    std::string num = ref.substr(lb + 1, ref.size() - lb - 2);
-    std::int64_t e = 0;
-    auto [p, ec] = std::from_chars(num.data(), num.data() + num.size(), e);
-    if (ec != std::errc() || p != num.data() + num.size()) return fail("bad array index in '" + ref + "'");
-    element = e;
-    base = ref.substr(0, lb);
-  }
+  std::string why;
+  auto ref = parse_reference(text, &why);
+  if (!ref) return fail(why);
   CellRef r;
-  if (auto dot = base.find('.'); dot != std::string::npos) {
-    std::string inst = base.substr(0, dot), pin = base.substr(dot + 1);
-    auto it = instances.find(inst);
-    if (it == instances.end()) return fail("no block instance '" + inst + "'");
+  std::int64_t lower = 0;
+  if (ref->dotted()) {
+    auto it = instances.find(ref->owner);
+    if (it == instances.end()) return fail(unknown_instance_message(ref->owner));
     const auto& bi = tasks[it->second.first]->blocks[it->second.second];
-    int p = bi.type->pin_index(pin);
-    if (p < 0) return fail("block " + inst + " (" + bi.type->name + ") has no pin '" + pin + "'");
+    int p = bi.type->pin_index(ref->member);
+    if (p < 0) return fail(no_pin_message(ref->owner, *bi.type, ref->member));
     const auto& decl = bi.type->pins[static_cast<std::size_t>(p)];
     r.task = it->second.first;
     r.cell = bi.pin_cell[static_cast<std::size_t>(p)];
     r.type = decl.cls == TypeClass::Exact ? decl.type : bi.datatype;
     r.length = p < static_cast<int>(bi.pin_length.size()) ? bi.pin_length[static_cast<std::size_t>(p)] : 1;
-    if (element) {
-      if (!decl.is_array()) return fail("pin " + base + " is not an array");
-      *element -= 1;  // array pins are ARRAY[1..n]
-    }
+    if (ref->index && !decl.is_array()) return fail("pin " + ref->base + " is not an array");
+    lower = 1;  // array pins are ARRAY[1..n]
   } else {
-    const Tag* t = find_tag(base);
-    if (!t) return fail("no tag '" + base + "'");
+    const Tag* t = find_tag(ref->base);
+    if (!t) return fail(unknown_tag_message(ref->base));
     r.task = t->owner;
     r.cell = t->cell;
     r.type = t->type;
     r.length = t->length;
-    if (element) *element -= t->array_lower;
+    if (ref->index && !t->is_array) return fail("tag " + ref->base + " is not an array");
+    lower = t->array_lower;
   }
-  if (element) {
-    if (*element < 0 || *element >= r.length) return fail("index out of range in '" + ref + "'");
-    r.cell += static_cast<std::uint32_t>(*element);
+  if (ref->index) {
+    auto e = element_of(*ref, lower, r.length, &why);
+    if (!e) return fail(why);
+    r.cell += *e;
     r.length = 1;
   }
   return r;

@@ -20,6 +20,10 @@
 
 namespace syncplc {
 
+// Most tasks a project may declare (task numbers are 16-bit; per-task tables
+// such as the status display's are sized by it).
+inline constexpr std::size_t kMaxTasks = 64;
+
 enum class HmiAccess : std::uint8_t { None, Read, ReadWrite };
 std::string_view hmi_access_name(HmiAccess a);
 
@@ -40,6 +44,7 @@ struct Tag {
   std::uint16_t owner = 0;  // the task that writes it and publishes it
   std::uint32_t cell = 0;   // first cell in the owner's image (inside its owned range)
   std::string writer;       // "block x.Q", "driver io.ch", "" (HMI / tests only)
+  bool written_every_scan = false;  // by its writer, every element: a write from outside would be overwritten
   SourceLoc loc;
 };
 

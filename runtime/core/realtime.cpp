@@ -10,6 +10,8 @@
 #include <cstring>
 #include <mutex>
 
+#include "runtime/core/monotonic_clock.hpp"
+
 namespace syncplc {
 namespace {
 
@@ -29,11 +31,7 @@ void prefault_stack() {
 
 }  // namespace
 
-std::int64_t RealtimeRunner::monotonic_ns() {
-  timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
+std::int64_t RealtimeRunner::monotonic_ns() { return syncplc::monotonic_ns(); }
 
 RealtimeRunner::RealtimeRunner(Program& program, Options options) : program_(&program), options_(options) {}
 

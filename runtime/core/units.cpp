@@ -121,7 +121,17 @@ std::optional<Unit> parse_unit(std::string_view text, std::string* error) {
   p.skip();
   if (p.i >= text.size()) return Unit{};
   if (!p.expr(u) || (p.skip(), p.i != text.size())) {
-    if (error) *error = "bad unit '" + std::string(text) + "': " + (p.err.empty() ? "unexpected text" : p.err);
+    if (error) {
+      *error = "bad unit '" + std::string(text) + "': " + (p.err.empty() ? "unexpected text" : p.err);
+      // A power written without ^ (m/s2): suggest the spelling that parses.
+      std::string fixed;
+      for (std::size_t k = 0; k < text.size(); ++k) {
+        if (k > 0 && std::isdigit(static_cast<unsigned char>(text[k])) && std::isalpha(static_cast<unsigned char>(text[k - 1])))
+          fixed += '^';
+        fixed += text[k];
+      }
+      if (fixed != text && parse_unit(fixed, nullptr)) *error += " (powers are written with ^: '" + fixed + "')";
+    }
     return std::nullopt;
   }
   return u;

@@ -19,13 +19,23 @@ std::string fmt_num(double d) {
 
 DriverConfig::DriverConfig(const ConfigNode& cfg, DriverSetup& setup, std::string driver_type,
                            std::vector<std::string> keys)
-    : cfg_(cfg), setup_(setup), type_(std::move(driver_type)) {
+    : DriverConfig(cfg, setup, std::move(driver_type), keys, false) {}
+
+DriverConfig DriverConfig::section(const ConfigNode& cfg, DriverSetup& setup, std::string section,
+                                   std::vector<std::string> keys) {
+  return DriverConfig(cfg, setup, std::move(section), keys, true);
+}
+
+DriverConfig::DriverConfig(const ConfigNode& cfg, DriverSetup& setup, std::string name,
+                           const std::vector<std::string>& keys, bool section)
+    : cfg_(cfg), setup_(setup), type_(std::move(name)) {
   for (const auto& [k, v] : cfg.map) {
-    if (k == "name" || k == "type" || k == "task" || k == "bind") continue;
+    if (!section && (k == "name" || k == "type" || k == "task" || k == "bind")) continue;
     if (std::find(keys.begin(), keys.end(), k) != keys.end()) continue;
     std::string list;
     for (const auto& x : keys) list += (list.empty() ? "" : ", ") + x;
-    error(v.loc, "unknown key '" + k + "' for a " + type_ + " driver (" + list + ", bind)");
+    if (section) error(v.loc, "unknown key '" + k + "' in " + type_ + " (" + list + ")");
+    else error(v.loc, "unknown key '" + k + "' for a " + type_ + " driver (" + list + ", bind)");
   }
 }
 

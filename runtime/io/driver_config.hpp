@@ -18,6 +18,9 @@ class DriverConfig {
  public:
   // `keys`: the keys this driver type accepts besides name, type, task, bind.
   DriverConfig(const ConfigNode& cfg, DriverSetup& setup, std::string driver_type, std::vector<std::string> keys);
+  // A map inside a driver's entry (a sim_ring's loss: or bus:): only `keys`;
+  // name, type, task and bind belong to the driver itself.
+  static DriverConfig section(const ConfigNode& cfg, DriverSetup& setup, std::string section, std::vector<std::string> keys);
 
   bool ok() const { return ok_; }
   bool has(const std::string& key) const { return cfg_.find(key) != nullptr; }
@@ -42,6 +45,8 @@ class DriverConfig {
   const std::string& type() const { return type_; }
 
  private:
+  DriverConfig(const ConfigNode& cfg, DriverSetup& setup, std::string name, const std::vector<std::string>& keys,
+               bool section);
   const ConfigNode& cfg_;
   DriverSetup& setup_;
   std::string type_;

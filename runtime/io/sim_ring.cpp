@@ -163,7 +163,7 @@ DriverTypeInfo sim_ring_driver_type() {
       if (!l->is_map()) {
         c.error(l->loc, "loss: expected a map {model, p, scope, ...}");
       } else {
-        DriverConfig lc(*l, setup, "loss", {"model", "p", "p_good_bad", "p_bad_good", "loss_good", "loss_bad", "scope"});
+        auto lc = DriverConfig::section(*l, setup, "loss", {"model", "p", "p_good_bad", "p_bad_good", "loss_good", "loss_bad", "scope"});
         std::string model = lc.choice("model", {"none", "bernoulli", "gilbert_elliott"}, "bernoulli");
         auto& L = cfg.loss;
         if (model == "bernoulli") {
@@ -193,7 +193,7 @@ DriverTypeInfo sim_ring_driver_type() {
     const ConfigNode& bn = busn ? *busn : empty;
     if (busn && !busn->is_map()) c.error(busn->loc, "bus: expected a map {type, bandwidth, payload, ...}");
     else {
-      DriverConfig bc(bn, setup, "bus",
+      auto bc = DriverConfig::section(bn, setup, "bus",
                       {"type", "bandwidth", "payload", "overhead", "hop_delay", "gap_count", "exec_time", "alpha"});
       type = bc.choice("type", {"ethercat", "ieee1394"}, "ethercat");
       double bus_us = 0, limit_us = 0;

@@ -18,6 +18,8 @@
 #include <algorithm>
 #include <cstring>
 
+#include "runtime/core/monotonic_clock.hpp"
+
 namespace syncplc::modbus {
 namespace {
 
@@ -26,12 +28,6 @@ constexpr std::uint64_t kWakeKey = ~std::uint64_t{0};
 // Per connection: room for many pipelined requests, so one recv() serves a burst.
 constexpr std::size_t kBufferSize = 4096;
 constexpr std::int64_t kIdleCheckNs = 100'000'000;
-
-std::int64_t now_ns() {
-  timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return std::int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
-}
 
 // Enough descriptors for every client: Debian's soft limit is 1024. Returns
 // a warning when the hard limit leaves fewer (accept() then fails with
@@ -219,7 +215,7 @@ void Server::hold_and_take_new_program() {
   held_ = false;
   hold_requested_.store(false, std::memory_order_release);
   if (!next_program_) return;  // stopping
-  const std::int64_t now = now_ns();
+  const std::int64_t now = monotonic_ns();
   Program* old = program_;
   program_ = next_program_;
   handler_->set_program(*program_);
@@ -275,7 +271,7 @@ void Server::loop() {
     // 1 ms while an FC 23 waits for its scan; otherwise wake for idle checks only.
     const int timeout_ms = deferred_.empty() ? static_cast<int>(kIdleCheckNs / 1'000'000) : 1;
     const int n = epoll_wait(epoll_fd_, events, 64, timeout_ms);
-    const std::int64_t now = now_ns();
+    const std::int64_t now = monotonic_ns();
     if (hold_requested_.load(std::memory_order_acquire)) {
       hold_and_take_new_program();
       continue;  // the events of this round may be of connections closed meanwhile: wait again

@@ -198,6 +198,28 @@ class TestsReader {
     return c;
   }
 
+  // `cycle: n` (of `task`, default the first): the planned release of its n-th scan.
+  void read_cycle(const ConfigNode& cycle, const ConfigNode* task, std::int64_t& time, std::string& when) {
+    std::string err;
+    auto n = parse_value(IecType::ULINT, cycle.scalar, &err);
+    if (!n) { d_.error(cycle.loc, "cycle: " + err); return; }
+    int ti = 0;
+    if (task) {
+      ti = p_.find_task(task->scalar);
+      if (ti < 0) { d_.error(task->loc, "unknown task '" + task->scalar + "'"); return; }
+    }
+    const auto& cfg = p_.tasks[static_cast<std::size_t>(ti)]->config();
+    // The release time phase + n * period must fit 64 bits of nanoseconds.
+    std::int64_t offset = 0;
+    if (n->get<std::uint64_t>() > static_cast<std::uint64_t>(INT64_MAX) ||
+        __builtin_mul_overflow(static_cast<std::int64_t>(n->get<std::uint64_t>()), cfg.period_ns, &offset) ||
+        __builtin_add_overflow(offset, cfg.phase_ns, &time)) {
+      d_.error(cycle.loc, "cycle " + cycle.scalar + " of task " + cfg.name + " is later than TIME can count");
+      return;
+    }
+    when = "cycle " + std::to_string(n->get<std::uint64_t>()) + " of " + cfg.name;
+  }
+
   void read_step(const ConfigNode& s, Case& c) {
     if (!s.is_map()) {
       d_.error(s.loc, "a step is a map {at or cycle, set, expect}");
@@ -209,28 +231,19 @@ class TestsReader {
         d_.error(v.loc, "unknown key '" + k + "' in a step (at, cycle, task, set, expect)");
     std::int64_t time = 0;
     std::string when;
-    if (at && cycle) { d_.error(s.loc, "a step has either 'at' or 'cycle'"); return; }
-    if (at) {
+    // An error in the step's time does not stop it: its set and expect are
+    // read all the same, so that their errors are reported in the same run.
+    if (at && cycle) d_.error(s.loc, "a step has either 'at' or 'cycle'");
+    else if (at) {
       std::string err;
       auto t = parse_duration_ns(at->scalar, &err);
-      if (!t || *t < 0) { d_.error(at->loc, "at: " + (t ? std::string("must not be negative") : err)); return; }
-      time = *t;
+      if (!t || *t < 0) d_.error(at->loc, "at: " + (t ? std::string("must not be negative") : err));
+      else time = *t;
       when = "at " + format_duration(time);
     } else if (cycle) {
-      std::string err;
-      auto n = parse_value(IecType::ULINT, cycle->scalar, &err);
-      if (!n) { d_.error(cycle->loc, "cycle: " + err); return; }
-      int ti = 0;
-      if (task) {
-        ti = p_.find_task(task->scalar);
-        if (ti < 0) { d_.error(task->loc, "unknown task '" + task->scalar + "'"); return; }
-      }
-      auto k = static_cast<std::int64_t>(n->get<std::uint64_t>());
-      time = p_.tasks[static_cast<std::size_t>(ti)]->release_ns(k);
-      when = "cycle " + std::to_string(k) + " of " + p_.tasks[static_cast<std::size_t>(ti)]->config().name;
+      read_cycle(*cycle, task, time, when);
     } else {
       d_.error(s.loc, "a step needs 'at: <time>' or 'cycle: <n>'");
-      return;
     }
     if (task && !cycle) d_.error(task->loc, "'task' goes with 'cycle'");
     for (const char* key : {"set", "expect"}) {
@@ -255,6 +268,19 @@ class TestsReader {
     if (!a.expect && t->kind == Target::DriverOut) { d_.error(v.loc, target + " is a driver output: it can only be expected"); return; }
     if (a.expect && t->kind == Target::DriverIn) { d_.error(v.loc, target + " is a driver input: set it, expect the tag it feeds"); return; }
     if (!a.expect && t->kind == Target::Metric) { d_.error(v.loc, target + " is a metric: it can only be expected"); return; }
+    if (!a.expect && t->kind == Target::Image) {
+      const Tag* tag = p_.find_tag(target.substr(0, target.find('[')));
+      if (tag && tag->written_every_scan) {
+        // The writer runs in every scan after the set: the value would never be seen.
+        const bool driver = tag->writer.rfind("driver ", 0) == 0;
+        const std::string what = driver ? tag->writer.substr(7) : tag->writer.substr(6);
+        d_.error(v.loc, target + " is written every scan by " + tag->writer + ", which wins: this set would be "
+                        "overwritten before anything reads it; " +
+                        (driver ? "set the driver's channel " + what + " instead"
+                                : "set what block " + what.substr(0, what.find('.')) + " reads instead"));
+        return;
+      }
+    }
     Assignment as;
     as.target = *t;
     as.loc = v.loc;
@@ -325,6 +351,19 @@ bool values_equal(IecType t, Cell a, Cell b, std::optional<double> tol) {
   });
 }
 
+// A test's set goes the way an HMI or Modbus write goes: into the owning
+// task's write queue, applied at the start of its next scan (the scan
+// released at the step's time), so the tests exercise that path.
+bool queue_write(const Program& p, const Target& t, const std::vector<Cell>& values) {
+  const auto count = static_cast<std::uint32_t>(values.size());
+  if (const Tag* tag = p.find_tag(t.text.substr(0, t.text.find('['))); tag && t.text.find('.') == std::string::npos)
+    return p.write_tag(*tag, t.ref.cell - tag->cell, values.data(), count);
+  // An instance's input pin: its task's queue all the same.
+  std::vector<QueuedWrite> w(values.size());
+  for (std::size_t i = 0; i < values.size(); ++i) w[i] = QueuedWrite{t.ref.cell + static_cast<std::uint32_t>(i), values[i]};
+  return p.tasks[t.ref.task]->enqueue(w.data(), w.size());
+}
+
 ScanTestCaseResult run_case(const std::string& project, const LoadOptions& base, const Case& c) {
   ScanTestCaseResult r;
   r.name = c.name;
@@ -388,8 +427,12 @@ ScanTestCaseResult run_case(const std::string& project, const LoadOptions& base,
         continue;
       }
       if (!a->expect) {
-        if (t.kind == Target::DriverIn) p.drivers[static_cast<std::size_t>(t.driver)].driver->force_input(t.channel, as.values.data());
-        else std::copy(as.values.begin(), as.values.end(), p.live_cell(t.ref));
+        if (t.kind == Target::DriverIn) {
+          p.drivers[static_cast<std::size_t>(t.driver)].driver->force_input(t.channel, as.values.data());
+        } else if (!queue_write(p, t, as.values)) {
+          r.failures.push_back(fmt::format("{}: case '{}' {}: set {}: the write queue of task {} is full", as.loc.text(),
+                                           c.name, a->when, t.text, p.tasks[t.ref.task]->config().name));
+        }
         continue;
       }
       std::vector<Cell> actual(t.length);

@@ -163,7 +163,7 @@ TEST(Cli, UserScanCycleTestsPassAndFail) {
 )");
   auto inv = run("test " + kDemo + " " + broken);
   EXPECT_EQ(inv.rc, 2);
-  EXPECT_NE(inv.err.find(broken + ":4:40: no tag 'no_such_tag'"), std::string::npos) << inv.err;
+  EXPECT_NE(inv.err.find(broken + ":4:40: unknown tag or instance.pin 'no_such_tag'"), std::string::npos) << inv.err;
 }
 
 TEST(Cli, BlocksListsDescribesAndGeneratesTheReference) {

@@ -72,8 +72,10 @@ TEST(Durations, Errors) {
   EXPECT_THAT(err(""), HasSubstr("(empty;"));
   EXPECT_THAT(err("T#"), HasSubstr("(empty;"));
   EXPECT_THAT(err("1.2.3s"), HasSubstr("bad number '1.2.3'"));
-  EXPECT_THAT(err("1 ms x"), HasSubstr("missing unit after 1"));
-  EXPECT_THAT(err("10 ms"), HasSubstr("missing unit after 10"));  // no spaces inside a duration
+  // No spaces inside a duration, and the message says that is the problem.
+  EXPECT_EQ(err("10 ms"), "'10 ms' is not a duration (no space may separate 10 from its unit: 10ms; write e.g. 1ms, "
+                          "250us, 0.5s, T#1m30s)");
+  EXPECT_THAT(err("1 ms x"), HasSubstr("no space may separate 1 from its unit: 1ms"));
   EXPECT_THAT(err("1sec"), HasSubstr("unknown unit 'sec'"));
   EXPECT_THAT(err("106752d"), HasSubstr("too long"));
 }

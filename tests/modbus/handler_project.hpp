@@ -1,8 +1,9 @@
 // The project the Modbus request handler is tested and fuzzed against: two
 // tasks, so requests can span owners; every table and width; read-only and
 // readwrite tags; explicit places for the 8-bit types; echo blocks that copy
-// written tags to read-only ones; a readwrite tag the program overwrites
-// every scan (forced); trim (main) beside big (slow) in holding registers
+// written tags to read-only ones; a tag the program writes every scan
+// (forced: read-only to clients, since a readwrite tag a block writes is a load
+// error); trim (main) beside big (slow) in holding registers
 // 4100..4107, so one write can span both tasks. Only IEC blocks, so the fuzzer (which has
 // no test blocks) loads it too.
 #pragma once
@@ -29,7 +30,7 @@ tags:
   - {name: big, type: LREAL, address: "%ML2", hmi: readwrite, init: 1.5, task: slow}
   - {name: when, type: TIME, address: "%ML3", hmi: readwrite, task: slow}
   - {name: trim, type: LREAL, hmi: readwrite, task: main, modbus: {table: holding_register, address: 4100}}
-  - {name: forced, type: INT, address: "%QW4", hmi: readwrite}
+  - {name: forced, type: INT, address: "%QW4", hmi: read}
 blocks:
   - {name: e1, type: MOVE, datatype: INT, task: main}
   - {name: e2, type: MOVE, datatype: REAL, task: main}

@@ -297,14 +297,15 @@ TEST_F(Handler, AWriteAndReadWhoseTaskStopsWhileItWaitsIsAnswered04AtOnce) {
 }
 
 TEST_F(Handler, WriteAndReadShowsWhatTheProgramMadeOfTheWrite) {
-  // forced is readwrite, but a MOVE writes 42 into it every scan: the read part
-  // of FC 23 shows the published 42, not the 7 the client sent.
-  ask(frame(testing::write_read(4, 1, 4, {7})), RequestHandler::Outcome::Deferred);
+  // The read part of FC 23 is the program's published image after the scan
+  // that applied the write: sp_echo, which a MOVE copies from sp in that
+  // scan, shows the 5 the client wrote to sp, and forced the program's 42.
+  ask(frame(testing::write_read(3, 2, 2, {5})), RequestHandler::Outcome::Deferred);
   std::int64_t t = now;
   while (!handler->ready(pending, t)) scan_until(t += 1'000'000);
   EXPECT_EQ(handler->finish(fds[0], pending, t), RequestHandler::Outcome::Sent);
-  EXPECT_EQ(body(answer()), (Bytes{0x17, 2, 0, 42}));
-  EXPECT_EQ(body(ask(frame(pdu(0x03, 4, 1)))), (Bytes{0x03, 2, 0, 42})) << "as FC 3 shows it";
+  EXPECT_EQ(body(answer()), (Bytes{0x17, 4, 0, 5, 0, 42}));
+  EXPECT_EQ(body(ask(frame(pdu(0x03, 3, 2)))), (Bytes{0x03, 4, 0, 5, 0, 42})) << "as FC 3 shows it";
   // Where the program leaves the written value alone, the reply shows it (sp and its echo).
   ask(frame(testing::write_read(2, 2, 2, {9})), RequestHandler::Outcome::Deferred);
   while (!handler->ready(pending, t)) scan_until(t += 1'000'000);

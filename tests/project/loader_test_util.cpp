@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include "runtime/core/pin_decl.hpp"
+
 namespace syncplc::loadertest {
 namespace {
 
@@ -26,14 +28,6 @@ class Pass final : public Block {
   void execute(ScanContext&) noexcept override { out<double>(1, in<double>(0)); }
 };
 
-PinDecl pin(const char* name, PinDir dir, bool required) {
-  PinDecl p;
-  p.name = name;
-  p.dir = dir;
-  p.type = IecType::LREAL;
-  p.required = required;
-  return p;
-}
 
 }  // namespace
 
@@ -45,7 +39,7 @@ const BlockRegistry& param_blocks() {
     g.name = "GAIN";
     g.category = "test";
     g.doc = "OUT := IN * K";
-    g.pins = {pin("IN", PinDir::In, true), pin("OUT", PinDir::Out, false)};
+    g.pins = {input("IN", IecType::LREAL).required(), output("OUT", IecType::LREAL)};
     ParamDecl k;
     k.name = "K";
     k.type = IecType::LREAL;
@@ -64,7 +58,7 @@ const BlockRegistry& param_blocks() {
     nd.name = "NEED";
     nd.category = "test";
     nd.doc = "OUT := IN; needs P";
-    nd.pins = {pin("IN", PinDir::In, false), pin("OUT", PinDir::Out, false)};
+    nd.pins = {input("IN", IecType::LREAL), output("OUT", IecType::LREAL)};
     ParamDecl p;
     p.name = "P";
     p.type = IecType::INT;

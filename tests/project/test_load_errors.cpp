@@ -317,7 +317,9 @@ tasks: [{name: main, period: 1ms}]
 blocks:
   - {name: t1, type: TON, inputs: {IN: TRUE, XX: 1s, Q: TRUE}}
 )"),
-              ElementsAre("p.yaml:3:50: TON has no pin 'XX'", "p.yaml:3:57: TON.Q is an output: it takes no constant"));
+              // The valid pins are listed, as for the same mistake in a connection.
+              ElementsAre("p.yaml:3:50: block t1 (TON) has no pin 'XX' (IN, PT, Q, ET, ENO)",
+                          "p.yaml:3:57: TON.Q is an output: it takes no constant"));
 }
 
 TEST(LoadErrors, UnknownInstanceOrTagInAConnection) {
@@ -331,8 +333,8 @@ connections:
   - n.OUT -> nowhere
   - io.b -> go
 )"),
-              ElementsAre("p.yaml:3:10: input n.IN must be connected or given a value in inputs:",
-                          "p.yaml:6:5: unknown block instance 'ghost'", "p.yaml:7:14: unknown tag or instance.pin 'nowhere'",
+              // n.IN is wired, to a source that is wrong: no "must be connected" on top.
+              ElementsAre("p.yaml:6:5: unknown block instance 'ghost'", "p.yaml:7:14: unknown tag or instance.pin 'nowhere'",
                           "p.yaml:8:5: 'io' is not a block instance (connect drivers with bind:)"));
 }
 
@@ -487,7 +489,7 @@ tags:
 )");
   EXPECT_THAT(e, ElementsAre("p.yaml:3:33: init of a: 'maybe' is not a BOOL (TRUE or FALSE)",
                              "p.yaml:4:32: init of b: '12abc' is not an integer",
-                             "p.yaml:5:33: init of c: '5 parsecs' is not a duration (missing unit after 5; "
+                             "p.yaml:5:33: init of c: '5 parsecs' is not a duration (no space may separate 5 from its unit: 5parsecs; "
                              "write e.g. 1ms, 250us, 0.5s, T#1m30s)",
                              "p.yaml:6:34: init of d: 'fast' is not a number",
                              "p.yaml:7:32: init of e: literal DINT#5 is DINT, expected INT",
@@ -926,8 +928,8 @@ bogus: 1
   EXPECT_EQ(r.program, nullptr);
   EXPECT_THAT(errors(r),
               ElementsAre("p.yaml:1:29: seed: value -3 is out of range for ULINT (unsigned)",
-                          "p.yaml:3:26: period: '1 ms x' is not a duration (missing unit after 1; write e.g. 1ms, "
-                          "250us, 0.5s, T#1m30s)",
+                          "p.yaml:3:26: period: '1 ms x' is not a duration (no space may separate 1 from its unit: 1ms; "
+                          "write e.g. 1ms, 250us, 0.5s, T#1m30s)",
                           "p.yaml:3:44: priority 120 is outside 1..99 (SCHED_FIFO; higher runs first)",
                           "p.yaml:4:39: phase must be shorter than the period",
                           "p.yaml:4:75: watchdog action must be log, stop or safe_stop, not 'reboot'",
@@ -936,7 +938,7 @@ bogus: 1
                           "p.yaml:8:45: init of c: unit 'kg' is not compatible with 'm/s'",
                           "p.yaml:9:12: duplicate name 'a' (first defined at p.yaml:6:12)",
                           "p.yaml:11:22: unknown block type 'TONX' (see `syncplc blocks`)",
-                          "p.yaml:12:52: TON has no pin 'XX'",
+                          "p.yaml:12:52: block t2 (TON) has no pin 'XX' (IN, PT, Q, ET, ENO)",
                           "p.yaml:15:5: a connection is written 'source.pin -> target.pin'",
                           "p.yaml:16:5: type mismatch: b is BOOL, t2.PT is TIME",
                           "p.yaml:17:5: blocks in different tasks exchange data through a tag: connect t2.Q -> a tag "
@@ -962,6 +964,289 @@ tasks: [{name: main, period: 5q}]
 
 namespace syncplc::loadertest {
 namespace {
+
+// --- integer arithmetic on user input is overflow-checked -------------------------
+
+TEST(LoadErrors, ArrayBoundsThatOverflowAreErrors) {
+  // hi - lo + 1 wrapped to 0 for the full 64-bit range: a 0-cell tag loaded.
+  EXPECT_THAT(errors(R"(
+tasks: [{name: main, period: 1ms}]
+tags:
+  - {name: a, type: "ARRAY[-9223372036854775808..9223372036854775807] OF INT"}
+  - {name: b, type: "ARRAY[0..99999999999999999999] OF INT"}
+  - {name: c, type: "ARRAY[9223372036854775807..-9223372036854775808] OF INT"}
+  - {name: d, type: "ARRAY[-9223372036854775808..-9223372036854775808] OF INT"}
+)"),
+              ElementsAre("p.yaml:3:21: array bounds of 'ARRAY[-9223372036854775808..9223372036854775807] OF INT' "
+                          "must give 1..65536 elements",
+                          "p.yaml:4:21: bad array bounds in 'ARRAY[0..99999999999999999999] OF INT' (whole numbers "
+                          "that fit 64 bits)",
+                          "p.yaml:5:21: array bounds of 'ARRAY[9223372036854775807..-9223372036854775808] OF INT' "
+                          "must give 1..65536 elements"));
+}
+
+TEST(LoadErrors, ArrayBoundsAtTheEndsOfTheRangeWork) {
+  auto r = load(R"(
+tasks: [{name: main, period: 1ms}]
+tags:
+  - {name: lo, type: "ARRAY[-9223372036854775808..-9223372036854775805] OF INT"}
+  - {name: hi, type: "ARRAY[9223372036854775806..9223372036854775807] OF INT"}
+)");
+  ASSERT_LOADS(r);
+  EXPECT_EQ(r.program->find_tag("lo")->length, 4u);
+  EXPECT_EQ(r.program->find_tag("hi")->length, 2u);
+  EXPECT_EQ(r.program->resolve("hi[9223372036854775807]")->cell, r.program->find_tag("hi")->cell + 1);
+}
+
+TEST(LoadErrors, IndicesThatOverflowAreOutsideTheArray) {
+  // index - lower overflowed for an index near -2^63 and a positive lower bound.
+  EXPECT_THAT(errors(R"(
+tasks: [{name: main, period: 1ms}]
+tags:
+  - {name: arr, type: "ARRAY[1..4] OF LREAL"}
+  - {name: top, type: "ARRAY[9223372036854775806..9223372036854775807] OF LREAL"}
+blocks:
+  - {name: m, type: MOVE}
+  - {name: n, type: MOVE}
+connections:
+  - arr[-9223372036854775808] -> m.IN
+  - top[-9223372036854775808] -> n.IN
+  - m.OUT -> arr[99999999999999999999]
+traces: ["arr[-9223372036854775807]"]
+)"),
+              ElementsAre("p.yaml:9:5: index -9223372036854775808 is outside arr[1..4]",
+                          "p.yaml:10:5: index -9223372036854775808 is outside top[9223372036854775806..9223372036854775807]",
+                          "p.yaml:11:14: bad array index in 'arr[99999999999999999999]'",
+                          "p.yaml:12:10: trace: index -9223372036854775807 is outside arr[1..4]"));
+}
+
+TEST(LoadErrors, WatchdogTimesThatWouldOverflowAreErrors) {
+  // The runtime multiplies the time by the sensitivity (up to 1000).
+  EXPECT_THAT(errors(R"(
+tasks:
+  - {name: main, period: 1ms, watchdog: {time: 100000d, sensitivity: 1000}}
+)"),
+              ElementsAre("p.yaml:2:48: watchdog time 100000d is longer than 1h"));
+}
+
+// --- writes from outside that the program would overwrite every scan -------------------
+
+TEST(LoadErrors, HmiReadwriteTagWrittenByABlockOrADriverEveryScan) {
+  // An HMI (Modbus) write would be overwritten by the writer in the same scan.
+  auto e = errors(R"(
+tasks: [{name: main, period: 1ms}]
+tags:
+  - {name: go, type: BOOL, hmi: readwrite}
+  - {name: lamp, type: BOOL, hmi: readwrite}
+  - {name: arr, type: "ARRAY[1..2] OF BOOL", hmi: readwrite}
+  - {name: half, type: "ARRAY[1..2] OF BOOL", hmi: readwrite}
+  - {name: sp, type: BOOL, hmi: readwrite}
+blocks:
+  - {name: n, type: NOT}
+  - {name: m, type: NOT, inputs: {IN: TRUE}}
+connections:
+  - sp -> n.IN
+  - n.OUT -> lamp
+  - n.OUT -> arr[1]
+  - m.OUT -> arr[2]
+  - m.OUT -> half[1]
+drivers:
+  - {name: io, type: memory, channels: [{name: b, dir: in, type: BOOL}], bind: {b: go}}
+)");
+  EXPECT_THAT(e, has_error("p.yaml:3:33", "tag go is hmi: readwrite, but driver io.b (p.yaml:18:84) writes it every scan "
+                                          "and wins: an HMI write would be overwritten in the same scan; make it hmi: read, "
+                                          "or give the HMI a tag of its own"));
+  EXPECT_THAT(e, has_error("p.yaml:4:35", "tag lamp is hmi: readwrite, but block n.OUT (p.yaml:13:5) writes it every scan"));
+  // Every element written by some block: written every scan too.
+  EXPECT_THAT(e, has_error("p.yaml:5:51", "tag arr is hmi: readwrite, but block n.OUT (p.yaml:14:5) writes it every scan"));
+  // One element written: a write of the whole array would lose it.
+  EXPECT_THAT(e, has_error("p.yaml:6:52", "tag half is hmi: readwrite, but block m.OUT (p.yaml:16:5) writes elements of "
+                                          "it every scan"));
+  // sp is read by a block and written by nobody: an HMI may write it.
+  EXPECT_THAT(e, ::testing::SizeIs(4));
+}
+
+TEST(LoadErrors, SetOnATagWrittenEveryScan) {
+  LoadOptions o;
+  o.overrides = {{"lamp", "", "TRUE"}, {"go", "", "TRUE"}, {"sp", "", "2.5"}};
+  auto e = errors(R"(
+tasks: [{name: main, period: 1ms}]
+tags:
+  - {name: go, type: BOOL}
+  - {name: lamp, type: BOOL}
+  - {name: sp, type: LREAL}
+blocks:
+  - {name: n, type: NOT}
+  - {name: g, type: GAIN}
+connections:
+  - go -> n.IN
+  - n.OUT -> lamp
+  - sp -> g.IN
+drivers:
+  - {name: io, type: memory, channels: [{name: b, dir: in, type: BOOL}], bind: {b: go}}
+)",
+                  [&] { o.blocks = &param_blocks(); return o; }());
+  EXPECT_THAT(e, ElementsAre("command line:0:0: --set go: driver io.b (p.yaml:14:84) writes the tag every scan and wins: "
+                             "the value would be overwritten on the first scan; set the driver's settings (--set "
+                             "io.key=value), or in a scan-cycle test its channel io.b",
+                             "command line:0:0: --set lamp: block n.OUT (p.yaml:11:5) writes the tag every scan and wins: "
+                             "the value would be overwritten on the first scan; set what block n reads: its parameters "
+                             "(--set n.param=value) or the tags wired to its inputs"));
+}
+
+TEST(LoadErrors, SimRingLossTakesNoBind) {
+  // bind: (and late:) belong to the driver, not to its loss: section.
+  EXPECT_THAT(errors(R"(
+tasks: [{name: main, period: 1ms}]
+tags: [{name: sent, type: ULINT}]
+drivers:
+  - name: ring
+    type: sim_ring
+    loss: {model: bernoulli, p: 0.1, bind: {frames_sent: sent}, late: 0.1}
+    bus: {type: ethercat, bind: {}}
+)"),
+              ElementsAre("p.yaml:6:11: loss: see the errors above",
+                          "p.yaml:6:44: unknown key 'bind' in loss (model, p, p_good_bad, p_bad_good, loss_good, "
+                          "loss_bad, scope)",
+                          "p.yaml:6:71: unknown key 'late' in loss (model, p, p_good_bad, p_bad_good, loss_good, "
+                          "loss_bad, scope)",
+                          "p.yaml:7:10: bus: see the errors above",
+                          "p.yaml:7:33: unknown key 'bind' in bus (type, bandwidth, payload, overhead, hop_delay, "
+                          "gap_count, exec_time, alpha)"));
+}
+
+TEST(LoadErrors, MisspeltParameterInABlockFactory) {
+  // The factory reads "nmae"; the type declares "name": a load error, not an out-of-range read.
+  BlockRegistry reg;
+  BlockTypeInfo t;
+  t.name = "TYPO";
+  t.category = "test";
+  t.params = {ParamDecl{"name", IecType::LREAL, "1", {}, {}, "", "", false}};
+  struct Typo final : Block {
+    explicit Typo(BlockSetup& s) : v(s.param<double>("nmae")) {}
+    void execute(ScanContext&) noexcept override {}
+    double v;
+  };
+  t.create = [](BlockSetup& s) -> std::unique_ptr<Block> { return std::make_unique<Typo>(s); };
+  reg.add(std::move(t));
+  LoadOptions o;
+  o.blocks = &reg;
+  EXPECT_THAT(errors(R"(
+tasks: [{name: main, period: 1ms}]
+blocks:
+  - {name: t, type: TYPO}
+)",
+                     o),
+              ElementsAre("p.yaml:3:5: t (TYPO): its factory reads parameter 'nmae', which TYPO does not declare (name)"));
+}
+
+// --- messages that say what is wrong ---------------------------------------------------
+
+TEST(LoadErrors, SpaceInsideADurationIsNamed) {
+  EXPECT_THAT(errors(R"(
+tasks: [{name: main, period: 10 ms}]
+)"),
+              ElementsAre("p.yaml:1:30: period: '10 ms' is not a duration (no space may separate 10 from its unit: "
+                          "10ms; write e.g. 1ms, 250us, 0.5s, T#1m30s)"));
+}
+
+TEST(LoadErrors, YamlSyntaxErrorsHintAtTabsAndPercentSigns) {
+  EXPECT_THAT(errors("tasks:\n\t- {name: main, period: 1ms}\n"),
+              ElementsAre("p.yaml:2:2: YAML syntax error: illegal block entry (the line has a tab: YAML indents with "
+                          "spaces only)"));
+  EXPECT_THAT(errors(R"(
+tasks: [{name: main, period: 1ms}]
+tags:
+  - {name: a, type: BOOL, address: %IX0.0}
+)"),
+              ElementsAre("p.yaml:3:36: YAML syntax error: unknown token (a value starting with % must be quoted, "
+                          "e.g. address: \"%IX0.0\")"));
+  // Quoted, a % is no hint's business.
+  EXPECT_THAT(errors(R"(
+tasks: [{name: main, period: 1ms
+tags:
+  - {name: a, type: BOOL, address: "%IX0.0"}
+)"),
+              ElementsAre("p.yaml:3:3: YAML syntax error: illegal block entry"));
+}
+
+TEST(LoadErrors, UnitWithoutCaretSuggestsOne) {
+  EXPECT_THAT(errors(R"(
+tasks: [{name: main, period: 1ms}]
+tags:
+  - {name: a, type: LREAL, unit: m/s2}
+  - {name: b, type: LREAL, unit: m/s3x}
+)"),
+              ElementsAre("p.yaml:3:34: bad unit 'm/s2': unexpected text (powers are written with ^: 'm/s^2')",
+                          "p.yaml:4:34: bad unit 'm/s3x': unexpected text"));
+}
+
+TEST(LoadErrors, UnitsAreCheckedAcrossConnections) {
+  // GAIN's OUT and IN are LREAL; its K is in m/s. Tags carry units.
+  LoadOptions o;
+  o.blocks = &param_blocks();
+  auto e = errors(R"(
+tasks: [{name: main, period: 1ms}]
+tags:
+  - {name: dist, type: LREAL, unit: m}
+  - {name: angle, type: LREAL, unit: rad}
+  - {name: small, type: LREAL, unit: mm}
+  - {name: same, type: LREAL, unit: m}
+  - {name: free, type: LREAL}
+blocks:
+  - {name: g1, type: GAIN}
+  - {name: g2, type: GAIN}
+  - {name: g3, type: GAIN}
+connections:
+  - dist -> g1.IN
+  - g1.OUT -> angle
+  - free -> g2.IN
+  - g2.OUT -> small
+  - same -> g3.IN
+  - g3.OUT -> dist
+)",
+                  o);
+  // GAIN's pins carry no unit: any tag connects to them.
+  EXPECT_THAT(e, ::testing::IsEmpty());
+  auto e2 = errors(R"(
+tasks: [{name: main, period: 1ms}]
+tags:
+  - {name: dist, type: LREAL, unit: m}
+  - {name: angle, type: LREAL, unit: rad}
+  - {name: small, type: LREAL, unit: mm}
+  - {name: ok, type: LREAL, unit: m}
+blocks:
+  - {name: c1, type: SYNC_CONTROLLER}
+  - {name: c2, type: SYNC_CONTROLLER}
+  - {name: c3, type: SYNC_CONTROLLER}
+connections:
+  - dist -> c1.x
+  - small -> c2.x
+  - angle -> c3.x
+)");
+  EXPECT_THAT(e2, has_error("p.yaml:12:5", "unit mismatch: dist is in m, c1.x in rad (another dimension)"));
+  EXPECT_THAT(e2, has_error("p.yaml:13:5", "unit mismatch: small is in mm, c2.x in rad (another dimension)"));
+  EXPECT_THAT(e2, ::testing::Not(::testing::Contains(::testing::StartsWith("p.yaml:14:5"))));
+}
+
+TEST(LoadErrors, UnitsOfTheSameDimensionButAnotherScaleAreAMismatch) {
+  // A connection copies the value: mm into m would be off by 1000.
+  auto e = errors(R"(
+tasks: [{name: main, period: 1ms}]
+tags:
+  - {name: deg, type: LREAL, unit: deg}
+  - {name: rad, type: LREAL, unit: rad}
+blocks:
+  - {name: c, type: SYNC_CONTROLLER}
+  - {name: d, type: SYNC_CONTROLLER}
+connections:
+  - deg -> c.x
+  - rad -> d.x
+)");
+  EXPECT_THAT(e, has_error("p.yaml:9:5", "unit mismatch: deg is in deg, c.x in rad (a connection copies the value: "
+                                         "scale it with a MUL block, or give both ends one unit)"));
+  EXPECT_THAT(e, ::testing::Not(::testing::Contains(::testing::StartsWith("p.yaml:10:5"))));
+}
 
 // One load reports the errors of every phase together, and a declaration that
 // failed causes no follow-on errors where it is used.

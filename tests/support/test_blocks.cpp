@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include "runtime/core/pin_decl.hpp"
+
 namespace syncplc::testing {
 namespace {
 
@@ -84,8 +86,8 @@ class Accumulate final : public Block {
   double sum_ = 0;
 };
 
-PinDecl in_pin(const char* n) { return PinDecl{n, PinDir::In, TypeClass::Exact, IecType::LREAL, "", false, "", "", ""}; }
-PinDecl out_pin(const char* n) { return PinDecl{n, PinDir::Out, TypeClass::Exact, IecType::LREAL, "", false, "", "", ""}; }
+PinDecl in_pin(const char* n) { return input(n, IecType::LREAL); }
+PinDecl out_pin(const char* n) { return output(n, IecType::LREAL); }
 
 }  // namespace
 

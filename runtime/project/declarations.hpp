@@ -1,0 +1,165 @@
+// What a project file declares, as plain data: the output of reading
+// (read_*.cpp), annotated by the checks (check_*.cpp), turned into a Program
+// by build_program.cpp. Indices, not pointers, link the declarations.
+//
+// Stages of a load (loader.cpp):
+//   1. read:  YAML tree -> Declarations (every section, each name once)
+//   2. check: Declarations -> resolved connections, types, owners, values,
+//             execution order (Wiring, BlockOrder), all errors of all checks
+//   3. build: Declarations + Wiring + BlockOrder -> Program
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <set>
+#include <string>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "runtime/core/block.hpp"
+#include "runtime/core/io_driver.hpp"
+#include "runtime/core/modbus_config.hpp"
+#include "runtime/core/program.hpp"
+
+namespace syncplc {
+
+inline constexpr int kBrokenSource = -2;  // an input wired to a declaration that failed
+
+struct TaskDecl {
+  TaskConfig cfg;
+  SourceLoc loc;
+  std::optional<SourceLoc> write_queue_loc;  // set by the project (else the default, which may grow)
+};
+
+struct TagDecl {
+  Tag tag;
+  std::string task;  // explicit owner, "" if none
+  SourceLoc task_loc;
+  SourceLoc address_loc;      // where its address: is written (overlaps are reported there)
+  SourceLoc modbus_loc;       // the tag's modbus: key, where its overlaps are reported
+  SourceLoc hmi_loc;          // its hmi: key
+  bool modbus_failed = false;  // its modbus: key was wrong (reported): it takes no place at all
+  bool init_from_cli = false;  // --set tag=value gave its initial value
+  // Found by the checks:
+  int writer_task = -1;
+  std::string writer;  // "block x.Q", "driver io.ch"
+  SourceLoc writer_loc;
+  std::vector<int> reader_tasks;
+};
+
+struct InstanceDecl {
+  std::string name;
+  const BlockTypeInfo* type = nullptr;
+  int task = -1;
+  std::optional<IecType> datatype;
+  bool datatype_fixed = false;
+  SourceLoc loc;
+  // As written, by ParamDecl or pin index; few per instance, so kept sparse
+  // (copies of the file's nodes: the tree is gone before the build).
+  std::vector<std::pair<int, ConfigNode>> params;
+  std::vector<std::pair<int, std::string>> param_override;  // --set instance.param=value
+  std::vector<std::pair<int, ConfigNode>> inputs;           // constant inputs
+  const ConfigNode* param(std::size_t i) const { return find(params, i); }
+  const ConfigNode* input(std::size_t pin) const { return find(inputs, pin); }
+  const std::string* override_of(std::size_t i) const {
+    for (const auto& [k, v] : param_override)
+      if (static_cast<std::size_t>(k) == i) return &v;
+    return nullptr;
+  }
+  // Filled by the checks:
+  std::vector<int> source;                // connection index feeding each input pin, -1 none, kBrokenSource
+  std::vector<std::uint32_t> pin_length;  // elements per pin (1 for a scalar), set from parameters
+  std::vector<std::vector<int>> element_source;  // array input pins: connection feeding each element, -1 none
+  bool params_ok = true;                  // parameters parsed (so array pin lengths are known)
+  std::vector<std::vector<Cell>> pin_values;  // constants and pin inits by pin index
+  std::vector<Cell> param_cells;                // by ParamDecl index
+  bool values_ok = true;
+
+ private:
+  static const ConfigNode* find(const std::vector<std::pair<int, ConfigNode>>& v, std::size_t i) {
+    for (const auto& [k, n] : v)
+      if (static_cast<std::size_t>(k) == i) return &n;
+    return nullptr;
+  }
+};
+
+struct Endpoint {
+  bool is_pin = false;
+  int instance = -1;
+  int pin = -1;
+  int tag = -1;
+  std::optional<std::uint32_t> element;  // 0-based
+  SourceLoc loc;
+  std::string text;
+};
+
+// A connection as written: "a.OUT -> b.IN" or {from, to}.
+struct ConnectionText {
+  std::string src, dst;
+  SourceLoc src_loc, dst_loc, loc;
+};
+
+struct ConnectionDecl {
+  Endpoint src, dst;
+  SourceLoc loc;
+};
+
+struct DriverDecl {
+  std::string name;
+  std::string type;
+  int task = -1;
+  std::unique_ptr<IoDriver> driver;
+  std::vector<int> channel_tag;  // per channel, -1 unbound
+  std::vector<SourceLoc> channel_loc;
+  SourceLoc loc;
+  std::string settings;  // DriverBinding::settings: type, period, seed, entry without bind
+};
+
+using RefList = std::vector<std::pair<std::string, SourceLoc>>;
+
+struct Declarations {
+  std::string file;
+  std::string name = "unnamed", version = "0";
+  std::uint64_t seed = 1;
+  std::vector<TaskDecl> tasks;
+  std::vector<TagDecl> tags;
+  std::vector<InstanceDecl> instances;
+  std::vector<DriverDecl> drivers;
+  std::vector<ConnectionText> connections;
+  RefList traces, watch;
+  RefList axis_errors;  // metrics: axis_errors
+  std::int64_t metrics_from_ns = 0;
+  ModbusConfig modbus;  // the modbus: section
+  // Tag initial values given on the command line (--set tag=value), checked with the owners.
+  std::vector<std::pair<int, std::string>> cli_tag_values;
+
+  // One namespace for tags, instances and drivers; hashed (a project of
+  // 100,000 blocks resolves 200,000 references).
+  std::unordered_map<std::string, SourceLoc> names;
+  std::unordered_map<std::string, int> task_by_name, tag_by_name, instance_by_name;
+  std::set<std::string> failed_names;  // declarations already reported: no follow-on errors
+
+  int task_index(const std::string& n) const { return find(task_by_name, n); }
+  int tag_index(const std::string& n) const { return find(tag_by_name, n); }
+  int instance_index(const std::string& n) const { return find(instance_by_name, n); }
+
+ private:
+  static int find(const std::unordered_map<std::string, int>& m, const std::string& n) {
+    auto it = m.find(n);
+    return it == m.end() ? -1 : it->second;
+  }
+};
+
+// Found by the checks, used by the build.
+struct Wiring {
+  std::vector<ConnectionDecl> connections;
+};
+
+struct BlockOrder {
+  std::vector<std::vector<int>> order;  // per task: instance indices, unit delays first
+  std::vector<std::size_t> delays;      // per task: how many unit delays lead the order
+};
+
+}  // namespace syncplc

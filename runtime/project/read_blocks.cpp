@@ -1,0 +1,91 @@
+// Reading the blocks: section: instances, their types, tasks, datatypes,
+// parameters and constant inputs as written (checked by check_params.cpp).
+#include "runtime/core/reference.hpp"
+#include "runtime/project/stages.hpp"
+
+namespace syncplc {
+
+void read_blocks(const ConfigNode& n, const BlockRegistry& blocks, Declarations& p, Diagnostics& diags) {
+  if (!n.is_list()) { diags.error(n.loc, "blocks: expected a list"); return; }
+  p.instances.reserve(p.instances.size() + n.items.size());
+  for (const auto& b : n.items) {
+    if (!b.is_map()) { diags.error(b.loc, "a block instance is a map {name, type, task, ...}"); continue; }
+    InstanceDecl in;
+    in.loc = b.loc;
+    bool ok = true;
+    const ConfigNode *params = nullptr, *inputs = nullptr, *dtype = nullptr, *task = nullptr;
+    for (const auto& [k, v] : b.map) {
+      if (k == "name") {
+        in.name = v.scalar;
+        if (!is_identifier(v.scalar)) { diags.error(v.loc, "instance name '" + v.scalar + "' is not an identifier"); ok = false; }
+        else if (p.names.count(v.scalar)) { diags.error(v.loc, "duplicate name '" + v.scalar + "' (first defined at " + p.names[v.scalar].text() + ")"); ok = false; }
+        else p.names[v.scalar] = v.loc;
+      } else if (k == "type") {
+        in.type = blocks.find(v.scalar);
+        if (!in.type) { diags.error(v.loc, "unknown block type '" + v.scalar + "' (see `syncplc blocks`)"); ok = false; }
+      } else if (k == "task") task = &v;
+      else if (k == "params") params = &v;
+      else if (k == "inputs") inputs = &v;
+      else if (k == "datatype") dtype = &v;
+      else if (k == "description") {}
+      else diags.error(v.loc, "unknown key '" + k + "' in a block instance (name, type, task, datatype, params, inputs, description)");
+    }
+    if (in.name.empty()) { diags.error(b.loc, "block instance without a name"); ok = false; }
+    if (!b.find("type")) { diags.error(b.loc, "block instance " + in.name + " has no type"); ok = false; }
+    if (!task) { if (p.tasks.size() == 1) in.task = 0; else { diags.error(b.loc, "block instance " + in.name + " has no task"); ok = false; } }
+    else if ((in.task = p.task_index(task->scalar)) < 0) { diags.error(task->loc, "unknown task '" + task->scalar + "'"); ok = false; }
+    if (!ok || !in.type) {
+      if (!in.name.empty()) p.failed_names.insert(in.name);
+      continue;
+    }
+    const auto& T = *in.type;
+    if (dtype) {
+      auto t = parse_type_name(dtype->scalar);
+      if (!T.is_generic()) diags.error(dtype->loc, T.name + " is not generic: it takes no datatype");
+      else if (!t) diags.error(dtype->loc, "unknown IEC type '" + dtype->scalar + "'");
+      else {
+        bool fits = true;
+        for (const auto& p : T.pins)
+          if (p.cls != TypeClass::Exact && !in_class(*t, p.cls)) {
+            diags.error(dtype->loc, T.name + " pin " + p.name + " is " + std::string(class_name(p.cls)) + ": " +
+                                     dtype->scalar + " does not belong to it");
+            fits = false;
+            break;
+          }
+        if (fits) { in.datatype = *t; in.datatype_fixed = true; }
+      }
+    }
+    in.source.assign(T.pins.size(), -1);
+    in.pin_length.assign(T.pins.size(), 1);
+    in.element_source.assign(T.pins.size(), {});
+    if (params) {
+      if (!params->is_map()) diags.error(params->loc, "params: expected a map of parameter: value");
+      else
+        for (const auto& [k, v] : params->map) {
+          int i = T.param_index(k);
+          if (i < 0) {
+            std::string names;
+            for (const auto& q : T.params) names += (names.empty() ? "" : ", ") + q.name;
+            diags.error(v.loc, T.name + " has no parameter '" + k + "'" + (names.empty() ? " (it has none)" : " (" + names + ")"));
+          } else in.params.emplace_back(i, v);
+        }
+    }
+    if (inputs) {
+      if (!inputs->is_map()) diags.error(inputs->loc, "inputs: expected a map of pin: constant value");
+      else
+        for (const auto& [k, v] : inputs->map) {
+          int i = T.pin_index(k);
+          if (i < 0) diags.error(v.loc, no_pin_message(in.name, T, k));
+          else if (T.pins[static_cast<std::size_t>(i)].dir != PinDir::In) diags.error(v.loc, T.name + "." + k + " is an output: it takes no constant");
+          else in.inputs.emplace_back(i, v);
+        }
+    }
+    for (std::size_t i = 0; i < T.params.size(); ++i)
+      if (T.params[i].default_value.empty() && !in.param(i))
+        diags.error(b.loc, "block instance " + in.name + " needs parameter " + T.params[i].name);
+    p.instance_by_name.emplace(in.name, static_cast<int>(p.instances.size()));
+    p.instances.push_back(std::move(in));
+  }
+}
+
+}  // namespace syncplc
