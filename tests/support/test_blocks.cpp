@@ -139,6 +139,11 @@ const BlockRegistry& test_blocks() {
     ParamDecl mode{"MODE", IecType::INT, "0", std::nullopt, std::nullopt, "", "structure"};
     r.add(BlockTypeInfo{"ACC", "test", "SUM := SUM + K*IN", "", {in_pin("IN"), out_pin("SUM")}, {k, mode}, std::nullopt,
                         false, [](BlockSetup& s) { return std::make_unique<Accumulate>(s); }});
+    ParamDecl cap{"N", IecType::DINT, "100000", 1, 10000000, "", "samples kept"};
+    r.add(BlockTypeInfo{"LOG", "test", "keeps (now, IN) of its first N scans", "", {in_pin("IN"), out_pin("OUT")}, {cap},
+                        std::nullopt, false, [](BlockSetup& s) {
+                          return std::make_unique<LogBlock>(static_cast<std::size_t>(s.param<std::int32_t>("N")));
+                        }});
     return r;
   }();
   return reg;

@@ -43,7 +43,29 @@ std::atomic<bool>& hang_release();
 //          params N (INT, default 3), GAIN (LREAL, default 2)): OUT[i] := GAIN*IN[i], SUM := sum IN,
 //          FLAGS[i] := IN[i] > 0 — the array-pin test block
 //   ACC    (IN LREAL -> SUM LREAL; params K tunable, MODE structural): SUM += K*IN — state for online change
+//   LOG    (IN LREAL -> OUT LREAL; param N, default 100000): keeps (release time, IN) of
+//          its first N scans in memory sized at load — a trace a real-time thread can write
 const BlockRegistry& test_blocks();
+
+// The LOG block: what it kept (read once its task has stopped).
+class LogBlock final : public Block {
+ public:
+  struct Sample {
+    std::int64_t now_ns;
+    double in;
+  };
+  explicit LogBlock(std::size_t capacity) : samples_(capacity) {}
+  void execute(ScanContext& ctx) noexcept override {
+    const double v = in<double>(0);
+    if (n_ < samples_.size()) samples_[n_++] = Sample{ctx.now_ns, v};
+    out<double>(1, v);
+  }
+  std::vector<Sample> samples() const { return {samples_.begin(), samples_.begin() + static_cast<std::ptrdiff_t>(n_)}; }
+
+ private:
+  std::vector<Sample> samples_;
+  std::size_t n_ = 0;
+};
 
 // Writes `text` to a temporary file and returns its path.
 std::string write_temp_file(const std::string& name, const std::string& text);
