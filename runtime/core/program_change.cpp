@@ -92,13 +92,6 @@ void TaskHandover::perform() noexcept {
 
 namespace {
 
-bool same_cells(const std::vector<Cell>& a, const std::vector<Cell>& b) {
-  if (a.size() != b.size()) return false;
-  for (std::size_t i = 0; i < a.size(); ++i)
-    if (a[i].raw != b[i].raw) return false;
-  return true;
-}
-
 // Decides what becomes of a new instance that has an old namesake in the
 // matched task: kept, retuned (tunable parameters differ) or new (structure).
 InstanceChange compare_instance(const BlockInstance& o, const BlockInstance& n, const std::string& task) {
