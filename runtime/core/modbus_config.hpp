@@ -51,6 +51,9 @@ struct ModbusConfig {
   // interrupts, off the CPUs of the real-time tasks keeps its work out of their
   // start jitter (docs/benchmarks.md, section 5).
   std::vector<int> cpus;
+  // First input register of the task status block (docs/modbus.md, "Task
+  // status"): eight registers per task, in task order. nullopt: not served.
+  std::optional<std::uint32_t> task_status = 9000;
 };
 
 // The settings on one line, as `syncplc check` prints them:

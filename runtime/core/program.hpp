@@ -5,6 +5,7 @@
 // through the owning task's queue: they never touch a task's image.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -88,6 +89,11 @@ class Program {
   // for the motion metrics of `syncplc sim --metrics` (paper 000 eqs. 26-27).
   std::vector<TraceColumn> axis_errors;
   std::int64_t metrics_from_ns = 0;  // samples before this time are not counted
+
+  // The real-time scheduler's epoch (monotonic ns of logical time 0), set when
+  // it starts or switches to this program; -1 when no scheduler runs it in
+  // real time. Readers use it to tell the age of a published value.
+  std::atomic<std::int64_t> epoch_ns{-1};
 
   const Tag* find_tag(const std::string& name) const;
   int find_task(const std::string& name) const;

@@ -69,6 +69,7 @@ void RealtimeRunner::start() {
   stop_.store(false);
   for (auto& t : program_->tasks) t->reset_timing();
   epoch_ = monotonic_ns() + options_.start_delay_ns;
+  program_->epoch_ns.store(epoch_, std::memory_order_release);
   by_task_.clear();
   for (auto& t : program_->tasks) {
     Worker& w = workers_.emplace_back();
@@ -114,6 +115,7 @@ std::vector<std::string> RealtimeRunner::warnings() const {
 
 void RealtimeRunner::begin_change(ProgramChange& change) {
   change_ = &change;
+  change.to->epoch_ns.store(epoch_, std::memory_order_release);  // one time axis for both programs
   // Added tasks: a thread each, asleep until its first release at or after T.
   std::vector<std::pair<Worker*, Start>> added;
   for (std::size_t i = 0; i < change.to->tasks.size(); ++i) {

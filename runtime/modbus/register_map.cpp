@@ -188,7 +188,38 @@ std::string modbus_span_text(const ModbusSpan& s) {
 }
 
 ModbusMap ModbusMap::build(const Program& p, std::vector<std::string>* notes, std::vector<ModbusOverlap>* overlaps) {
-  return build(p.tags, notes, overlaps);
+  ModbusMap m = build(p.tags, notes, overlaps);
+  if (!p.modbus.task_status || p.tasks.empty()) return m;
+  const std::uint32_t base = *p.modbus.task_status;
+  const std::uint32_t end = base + kTaskStatusRegisters * static_cast<std::uint32_t>(p.tasks.size());
+  auto& v = m.tables_[static_cast<int>(ModbusTable::InputRegisters)];
+  for (const auto& pt : v)
+    if (pt.address < end && pt.address + pt.width > base) {
+      if (notes)
+        notes->push_back("task status not served: input registers " + std::to_string(base) + ".." + std::to_string(end - 1) +
+                         " overlap tag " + p.tags[pt.tag].name + " (move it with modbus: {task_status: N})");
+      return m;
+    }
+  using S = ModbusPoint::Status;
+  for (std::uint16_t t = 0; t < p.tasks.size(); ++t) {
+    const std::uint32_t a = base + kTaskStatusRegisters * t;
+    auto point = [&](std::uint32_t off, std::uint32_t width, IecType type, S status) {
+      ModbusPoint pt;
+      pt.table = ModbusTable::InputRegisters;
+      pt.address = a + off;
+      pt.width = width;
+      pt.owner = t;
+      pt.type = type;
+      pt.status = status;
+      v.push_back(pt);
+    };
+    point(0, 1, IecType::UINT, S::State);
+    point(1, 1, IecType::UINT, S::AgeMs);
+    point(2, 4, IecType::ULINT, S::Scans);
+    point(6, 2, IecType::UDINT, S::PeriodUs);
+  }
+  std::sort(v.begin(), v.end(), [](const ModbusPoint& x, const ModbusPoint& y) { return x.address < y.address; });
+  return m;
 }
 
 ModbusMap ModbusMap::build(const std::vector<Tag>& tags, std::vector<std::string>* notes,
@@ -273,9 +304,16 @@ void print_modbus_map(std::ostream& os, const Program& p, const ModbusMap& m, Wo
   for (int t = 0; t < 4; ++t) {
     const auto& v = m.points(static_cast<ModbusTable>(t));
     for (std::size_t i = 0; i < v.size();) {
+      if (v[i].status != ModbusPoint::Status::None) {  // the task status block: one line a task
+        if (v[i].status == ModbusPoint::Status::State)
+          os << "  input registers " << v[i].address << ".." << v[i].address + kTaskStatusRegisters - 1 << "  status of task "
+             << p.tasks[v[i].owner]->config().name << " (state, age ms, scans, period us)  read only\n";
+        ++i;
+        continue;
+      }
       // One line per tag: its elements are consecutive.
       std::size_t j = i;
-      while (j + 1 < v.size() && v[j + 1].tag == v[i].tag) ++j;
+      while (j + 1 < v.size() && v[j + 1].tag == v[i].tag && v[j + 1].status == ModbusPoint::Status::None) ++j;
       const Tag& tag = p.tags[v[i].tag];
       const std::uint32_t last = v[j].address + v[j].width - 1;
       os << "  " << modbus_table_name(v[i].table) << (v[i].address == last ? " " : "s ") << v[i].address

@@ -41,7 +41,17 @@ struct ModbusPoint {
   std::uint16_t owner = 0;
   std::uint32_t cell = 0;
   IecType type = IecType::INT;
+  // A task status register (not a tag; `owner` is the task): what it shows.
+  enum class Status : std::uint8_t { None, State, AgeMs, Scans, PeriodUs } status = Status::None;
 };
+
+// The task status block: per task, from the first register + 8 × task index,
+// input registers: +0 state (0 no scan yet, 1 running, 2 stopped: its values
+// are stale, 3 late: no publication for three periods and a second, a scan
+// that does not end), +1 age of its newest values in ms (saturating at
+// 65535), +2..+5 its scans published (ULINT), +6..+7 its period in µs (UDINT).
+inline constexpr std::uint32_t kTaskStatusRegisters = 8;
+enum class TaskState : std::uint16_t { NotStarted = 0, Running = 1, Stopped = 2, Late = 3 };
 
 // Registers a value of type t takes (bits for BOOL count as one coil).
 std::uint32_t register_width(IecType t);

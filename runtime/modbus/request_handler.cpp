@@ -1,5 +1,7 @@
 #include "runtime/modbus/request_handler.hpp"
 
+#include "runtime/core/monotonic_clock.hpp"
+
 #include <modbus/modbus.h>
 #include <sys/socket.h>
 
@@ -116,16 +118,49 @@ void RequestHandler::load(ModbusTable t, const std::vector<const ModbusPoint*>& 
   std::uint8_t* bits = t == ModbusTable::Coils ? scratch_->tab_bits : scratch_->tab_input_bits;
   std::uint16_t* regs = t == ModbusTable::HoldingRegisters ? scratch_->tab_registers : scratch_->tab_input_registers;
   const bool bit_table = t == ModbusTable::Coils || t == ModbusTable::DiscreteInputs;
+  bool status = false;
   for (const std::uint16_t owner : owners_) {
     program_->tasks[owner]->with_published([&](const Cell* image) {
       for (const auto* pt : points) {
         if (pt->owner != owner) continue;
+        if (pt->status != ModbusPoint::Status::None) { status = true; continue; }
         const Cell c = image[pt->cell];
         if (bit_table) bits[pt->address] = (c.raw & 0xFF) ? 1 : 0;
         else if (pt->width == 1 && pt->type != IecType::SINT) regs[pt->address] = static_cast<std::uint16_t>(c.raw);
         else encode_registers(pt->type, c, config_.word_order, regs + pt->address);  // wide values, SINT's sign
       }
     });
+  }
+  if (status) load_task_status(points, regs);
+}
+
+void RequestHandler::load_task_status(const std::vector<const ModbusPoint*>& points, std::uint16_t* regs) {
+  const std::int64_t epoch = program_->epoch_ns.load(std::memory_order_acquire);
+  const std::int64_t now = epoch < 0 ? -1 : monotonic_ns() - epoch;  // on the tasks' time axis
+  for (const auto* pt : points) {
+    if (pt->status == ModbusPoint::Status::None) continue;
+    Task& task = *program_->tasks[pt->owner];
+    const SnapshotStamp s = task.published_stamp();
+    const std::int64_t period = task.config().period_ns;
+    // Age of the newest values: since the release of the scan that made them.
+    const std::int64_t age = s.scan == 0 || now < 0 ? 0 : std::max<std::int64_t>(0, now - s.release_ns);
+    Cell c;
+    switch (pt->status) {
+      case ModbusPoint::Status::State: {
+        TaskState st = TaskState::Running;
+        if (task.stopped()) st = TaskState::Stopped;
+        else if (s.scan == 0) st = TaskState::NotStarted;
+        else if (now >= 0 && age > 3 * period + 1'000'000'000) st = TaskState::Late;
+        c.set<std::uint16_t>(static_cast<std::uint16_t>(st));
+        break;
+      }
+      case ModbusPoint::Status::AgeMs: c.set<std::uint16_t>(static_cast<std::uint16_t>(std::min<std::int64_t>(age / 1'000'000, 65535))); break;
+      case ModbusPoint::Status::Scans: c.set<std::uint64_t>(s.scan); break;
+      case ModbusPoint::Status::PeriodUs: c.set<std::uint32_t>(static_cast<std::uint32_t>(std::min<std::int64_t>(period / 1000, 0xFFFFFFFF))); break;
+      case ModbusPoint::Status::None: break;
+    }
+    if (pt->width == 1) regs[pt->address] = static_cast<std::uint16_t>(c.raw);
+    else encode_registers(pt->type, c, config_.word_order, regs + pt->address);
   }
 }
 

@@ -103,6 +103,8 @@ class RequestHandler {
   Outcome reply(int fd, const std::uint8_t* frame, std::size_t length);
   // Fills the scratch mapping for [address, address+count) of table t from the snapshots.
   void load(ModbusTable t, const std::vector<const ModbusPoint*>& points);
+  // The task status registers among `points` (register_map.hpp, kTaskStatusRegisters).
+  void load_task_status(const std::vector<const ModbusPoint*>& points, std::uint16_t* regs);
   // Decodes and checks the values a write carries (bits: one per coil; registers:
   // big-endian words). False when a value is outside its tag's type (exception 03).
   bool stage_bits(const std::vector<const ModbusPoint*>& points, const std::uint8_t* bits);

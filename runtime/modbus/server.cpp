@@ -66,7 +66,9 @@ Server::~Server() { stop(); }
 
 std::size_t Server::handler_map_size() const {
   std::size_t n = 0;
-  for (int t = 0; t < 4; ++t) n += handler_->map().points(static_cast<ModbusTable>(t)).size();
+  for (int t = 0; t < 4; ++t)
+    for (const auto& pt : handler_->map().points(static_cast<ModbusTable>(t)))
+      if (pt.status == ModbusPoint::Status::None) ++n;  // tag values; the task status block is said apart
   return n;
 }
 

@@ -10,7 +10,7 @@ namespace syncplc {
 namespace {
 
 const char* const kSectionKeys =
-    "enabled, port, bind, unit_id, max_clients, idle_timeout, word_order, allowed_clients, read_only, cpus";
+    "enabled, port, bind, unit_id, max_clients, idle_timeout, word_order, allowed_clients, read_only, cpus, task_status";
 
 // A BOOL setting; false (and `out` unchanged) after reporting a bad value.
 bool read_flag(const ConfigNode& v, const std::string& what, bool& out, Diagnostics& d) {
@@ -152,6 +152,10 @@ void read_modbus_section(const ConfigNode& n, ModbusConfig& out, Diagnostics& d)
     else if (k == "allowed_clients") read_allowed_clients(v, out, d);
     else if (k == "read_only") read_flag(v, "modbus read_only", out.read_only, d);
     else if (k == "cpus") read_cpus(v, out, d);
+    else if (k == "task_status") {
+      if (v.is_scalar() && v.scalar == "none") out.task_status.reset();
+      else if (auto c = read_integer(v, "modbus task_status", 0, 65535 - 8 * 64, d)) out.task_status = static_cast<std::uint32_t>(*c);
+    }
     else d.error(v.loc, "unknown key '" + k + "' in modbus (" + kSectionKeys + ")");
   }
 }

@@ -11,6 +11,7 @@
 #include <cstring>
 #include <limits>
 
+#include "runtime/core/monotonic_clock.hpp"
 #include "runtime/core/virtual_clock.hpp"
 #include "runtime/modbus/request_handler.hpp"
 #include "tests/modbus/handler_project.hpp"
@@ -385,6 +386,45 @@ TEST(Frame, JudgesTheHeaderAsItArrives) {
   EXPECT_EQ(check_frame(too_long.data(), 6).reason, "length field 255 outside 2..254");
   Bytes too_short = {0, 1, 0, 0, 0, 1, 1};
   EXPECT_EQ(check_frame(too_short.data(), 7).status, FrameStatus::Bad);
+}
+
+}  // namespace
+}  // namespace syncplc
+
+namespace syncplc {
+namespace {
+
+using namespace syncplc::modbus;
+using testing::Bytes;
+using testing::frame;
+using testing::pdu;
+
+// Input registers 9000.. (the default task_status): eight per task, main then slow.
+TEST_F(Handler, TaskStatusRegistersTellStateAgeScansAndPeriod) {
+  // Virtual time here (no epoch): the age reads 0; the real-time side sets it.
+  scan_until(20'000'000);  // main: releases 0..20 ms = 21 scans; slow: 0, 10, 20 ms = 3
+  Bytes r = body(ask(frame(pdu(0x04, 9000, 16))));
+  ASSERT_EQ(r.size(), 2u + 32u);
+  auto reg = [&](int i) { return static_cast<std::uint16_t>((r[2 + 2 * i] << 8) | r[3 + 2 * i]); };
+  EXPECT_EQ(reg(0), 1) << "main running";
+  EXPECT_EQ(reg(0 + 5), 21) << "main's scans (ULINT, high word first: low word last)";
+  EXPECT_EQ(reg(0 + 7), 1000) << "main's period in us (UDINT, low word)";
+  EXPECT_EQ(reg(8), 1) << "slow running";
+  EXPECT_EQ(reg(8 + 5), 3);
+  EXPECT_EQ(reg(8 + 7), 10000);
+  // A stopped task: its values are stale, and its state says so.
+  program->tasks[1]->stop_from_supervisor();
+  r = body(ask(frame(pdu(0x04, 9008, 1))));
+  EXPECT_EQ(r, (Bytes{0x04, 2, 0, 2})) << "slow stopped";
+  // The age on the real-time axis: with the epoch 25 ms ago, slow's newest values (released at 20 ms) are 5 ms old.
+  program->epoch_ns.store(monotonic_ns() - 25'000'000);
+  r = body(ask(frame(pdu(0x04, 9009, 1))));
+  ASSERT_EQ(r.size(), 4u);
+  const int age = (r[2] << 8) | r[3];
+  EXPECT_GE(age, 5);
+  EXPECT_LE(age, 1000) << "5 ms and whatever this test took";
+  // The block cannot be cut (a ULINT is four registers) and is read-only.
+  EXPECT_EQ(body(ask(frame(pdu(0x04, 9003, 1)))), exception_of(0x04, 0x02));
 }
 
 }  // namespace
