@@ -149,7 +149,12 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
       // Online change: load and check the file first; only a good project replaces the running one.
       ReloadResult rr = reloader.reload(program, *runner, modbus_server, std::cerr);
       for (const auto& line : rr.lines) std::cerr << line << "\n";
-      std::cerr << "syncplc: " << rr.summary << "\n";
+      // An event like the tasks' (the time on the tasks' axis), kept on the
+      // live screen with the other events; the result stays apart until the next.
+      const std::string event = fmt::format("[{:.6f}s] {:<14} {}", static_cast<double>(runner->now_ns()) * 1e-9,
+                                            rr.accepted ? "reload" : "reload-failed", rr.summary);
+      if (live) screen.add_event(event);
+      else std::cerr << event << "\n";
       if (rr.accepted) screen.set_reload_result(true, rr.summary);
       else screen.set_reload_result(false, rr.summary, rr.lines);
       write_reload_result(pid_file, rr);
