@@ -22,6 +22,7 @@ for r in $(seq 1 "$rounds"); do
   secs=$(( $(date +%s) - start ))
   echo "round $r reloads ($reloads, $secs s): $(echo "$out" | grep '^servo:')"
   echo "round $r           $(echo "$out" | grep '^reads:')"
+  echo "round $r           $(echo "$out" | grep '^switches:')"
   plain=$(/usr/bin/python3 tests/reload/test_reloads.py "$bin" 0 "$secs")
   echo "round $r plain   (0, $secs s): $(echo "$plain" | grep '^servo:')"
 done

@@ -7,6 +7,7 @@
 #include <ostream>
 
 #include "runtime/cli/serve_modbus.hpp"
+#include "runtime/core/iec_type.hpp"
 #include "runtime/core/program_change.hpp"
 #include "runtime/project/online_change.hpp"
 #include "runtime/project/report.hpp"
@@ -89,6 +90,23 @@ ReloadResult Reloader::reload(std::unique_ptr<Program>& program, RealtimeRunner&
 
   r.accepted = true;
   r.lines = change_report(*change);
+  // What the switch cost: how late each task's first new scan started.
+  while (runner.change_complete() && runner.now_ns() < give_up) {
+    bool all = true;
+    for (const auto& h : change->handovers)
+      if (h->to && !h->to->stopped() && h->first_scan_late_ns.load(std::memory_order_relaxed) < 0) all = false;
+    if (all) break;
+    sleep_ms(1);
+  }
+  std::int64_t late = 0;
+  std::string late_task;
+  for (const auto& h : change->handovers) {
+    const std::int64_t l = h->first_scan_late_ns.load(std::memory_order_relaxed);
+    if (h->to && l > late) late = l, late_task = h->to->config().name;
+  }
+  r.lines.push_back(fmt::format("switch at {:.6f}s: the first scans of the new program started at most {}{} after their release",
+                                static_cast<double>(change->switch_ns) * 1e-9, format_ns(late),
+                                late_task.empty() ? "" : " (task " + late_task + ")"));
   r.summary = "reloaded " + project_ + ": " + change_summary(*change);
   if (!runner.change_complete()) {
     std::string stuck;

@@ -95,6 +95,9 @@ struct TaskHandover {
   bool timing_changed = false;           // period or phase changed: the new grid starts at T
   std::int64_t switch_ns = 0;            // T (copied from the change by begin_mirroring)
   std::atomic<bool> done{false};
+  // How late the new task's first scan started (actual start − planned
+  // release, ns; real time only, -1 until it ran): what the switch cost.
+  std::atomic<std::int64_t> first_scan_late_ns{-1};
 
   // The old task published: make the same publication for the new task.
   void mirror(const Cell* from_image, const SnapshotStamp& s) noexcept;

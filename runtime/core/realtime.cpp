@@ -201,6 +201,7 @@ void RealtimeRunner::task_thread(Worker& w, Start start) {
   std::uint64_t n = 0;
   constexpr std::int64_t kStopPoll = 100'000'000;  // a long period still notices a stop within 100 ms
   bool stopped = false;  // by the watchdog: wait for an online change (or the end)
+  TaskHandover* switched = start.perform;  // its first scan's lateness is recorded
   while (!stop_.load(std::memory_order_acquire)) {
     std::int64_t planned = task->release_ns(k);
     if (options_.duration_ns > 0 && planned >= options_.duration_ns) break;  // --duration, counted from the epoch
@@ -224,6 +225,7 @@ void RealtimeRunner::task_thread(Worker& w, Start start) {
       h->to->reset_timing();
       h->perform();
       task = h->to;
+      switched = h;
       w.task.store(task, std::memory_order_release);
       const auto& c = task->config();
       if (h->timing_changed || stopped) {
@@ -252,6 +254,10 @@ void RealtimeRunner::task_thread(Worker& w, Start start) {
     if (stopping) break;
     const std::int64_t begin = monotonic_ns() - epoch_;
     w.scan_started.store(begin, std::memory_order_relaxed);
+    if (switched) {
+      switched->first_scan_late_ns.store(begin - planned, std::memory_order_relaxed);
+      switched = nullptr;
+    }
     ScanContext ctx;
     ctx.now_ns = planned;
     ctx.dt_ns = planned - prev_planned;
