@@ -1,19 +1,12 @@
 // BURN: consumes a given amount of execution time per scan, to test
 // watchdogs, overrun detection and scan-time statistics.
-#include <time.h>
-
 #include "fblocks/iec/common.hpp"
+#include "runtime/core/monotonic_clock.hpp"
 
 namespace syncplc::iec {
 namespace {
 
 enum : int { kExec = 0, kDone = 1 };
-
-std::int64_t monotonic_ns() noexcept {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
 
 class Burn final : public Block {
  public:

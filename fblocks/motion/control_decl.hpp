@@ -36,6 +36,11 @@ using motion::tunable;
 inline double real_param(BlockSetup& s, const char* name, bool* ok) {
   const BlockTypeInfo& t = s.type();
   const int i = t.param_index(name);
+  if (i < 0) {  // a misspelt name in the factory: a load error, not an out-of-range read
+    s.unknown_param(name);
+    *ok = false;
+    return 0;
+  }
   const ParamDecl& d = t.params[static_cast<std::size_t>(i)];
   const double v = s.param_cell(i).get<double>();
   auto fail = [&](const std::string& why) {
@@ -52,6 +57,11 @@ inline double real_param(BlockSetup& s, const char* name, bool* ok) {
 inline long long int_param(BlockSetup& s, const char* name, bool* ok) {
   const BlockTypeInfo& t = s.type();
   const int i = t.param_index(name);
+  if (i < 0) {  // a misspelt name in the factory: a load error, not an out-of-range read
+    s.unknown_param(name);
+    *ok = false;
+    return 0;
+  }
   const ParamDecl& d = t.params[static_cast<std::size_t>(i)];
   const double v = cell_as_double(d.type, s.param_cell(i));
   if ((d.min && v < *d.min) || (d.max && v > *d.max)) {

@@ -8,6 +8,12 @@ namespace syncplc::motion {
 
 inline constexpr const char* kCategory = "Motion";
 
+// Most samples (or segments) one scan catches up after skipped releases (10 s
+// at 1 ms): a scan's execution time stays bounded, and beyond it the block's
+// output falls behind the time grid (NONLINEAR_FILTER, TRANSIENT_SYNC,
+// STEP_RAMP_SEQUENCE).
+inline constexpr int kMaxCatchUp = 10000;
+
 void register_taylor_estimator(BlockRegistry& r);      // taylor_estimator.cpp
 void register_reference_generators(BlockRegistry& r);  // reference_generators.cpp
 // NONLINEAR_FILTER (nonlinear_filter.cpp): paper 004, Section II.

@@ -23,10 +23,6 @@
 namespace syncplc::motion {
 namespace {
 
-// Most samples one scan catches up after skipped releases (10 s at 1 ms);
-// beyond, the output falls behind the time grid.
-constexpr double kMaxCatchUp = 10000;
-
 enum : int {
   kR = 0,
   kRDot,
@@ -86,7 +82,7 @@ class NonlinearFilter final : public Block {
       // with this scan's inputs, r taken as a ramp backwards, so that x stays
       // on the time grid and every sample keeps the bounds.
       const double n = std::round(dt / T);
-      const int missed = n > 1 ? static_cast<int>(std::fmin(n - 1, kMaxCatchUp)) : 0;
+      const int missed = n > 1 ? static_cast<int>(std::fmin(n - 1, double{kMaxCatchUp})) : 0;
       for (int j = missed; j >= 1; --j) {
         const Reference past{r - j * T * r_dot, r_dot};
         state_ = plant_step(state_, acceleration(past, b, valid, T), T);

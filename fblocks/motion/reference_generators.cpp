@@ -287,9 +287,6 @@ BlockTypeInfo circle_info() {
 
 class StepRampSequence final : public Block {
   enum : int { kEnable = 0, kT, kValue, kSlope, kR, kRDot, kChanged, kSegment };
-  // A scan after a long pause catches up at most this many random segments
-  // (bounded execute time); the rest follow on later scans.
-  static constexpr int kMaxCatchUp = 10000;
 
  public:
   explicit StepRampSequence(BlockSetup& s)

@@ -86,8 +86,6 @@ enum : int {
 };
 
 inline constexpr std::int64_t kMaxAxes = 1024;
-// Most samples one scan catches up after skipped releases (as NONLINEAR_FILTER).
-inline constexpr double kMaxCatchUp = 10000;
 
 class TransientSync final : public Block {
  public:
@@ -148,7 +146,7 @@ class TransientSync final : public Block {
       // this scan's inputs, r taken as a ramp backwards, so that x stays on the
       // time grid (as NONLINEAR_FILTER does).
       const double periods = std::round(dt / T);
-      const int missed = periods > 1 ? static_cast<int>(std::fmin(periods - 1, kMaxCatchUp)) : 0;
+      const int missed = periods > 1 ? static_cast<int>(std::fmin(periods - 1, double{kMaxCatchUp})) : 0;
       for (int j = missed; j >= 1; --j) sample(T, static_cast<double>(j), false, false);
     }
     if (hold)

@@ -388,17 +388,6 @@ TEST(Frame, JudgesTheHeaderAsItArrives) {
   EXPECT_EQ(check_frame(too_short.data(), 7).status, FrameStatus::Bad);
 }
 
-}  // namespace
-}  // namespace syncplc
-
-namespace syncplc {
-namespace {
-
-using namespace syncplc::modbus;
-using testing::Bytes;
-using testing::frame;
-using testing::pdu;
-
 // Input registers 9000.. (the default task_status): eight per task, main then slow.
 TEST_F(Handler, TaskStatusRegistersTellStateAgeScansAndPeriod) {
   // Virtual time here (no epoch): the age reads 0; the real-time side sets it.
