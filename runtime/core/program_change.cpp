@@ -87,7 +87,6 @@ void TaskHandover::perform() noexcept {
     to->stats.continue_from(from->stats);
     to->continue_scan_count(from->scan_count());
   }
-  done.store(true, std::memory_order_release);
 }
 
 namespace {

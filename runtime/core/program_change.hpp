@@ -107,6 +107,10 @@ struct TaskHandover {
   std::uint64_t apply_successor_writes(Cell* from_image) noexcept;
   // The switch, between the old task's last scan and the new task's first.
   void perform() noexcept;
+  // The scheduler is done with this handover (it never touches it again):
+  // after perform for virtual time and a removed task, after the new task's
+  // first scan started (first_scan_late_ns recorded) in real time.
+  void finish() noexcept { done.store(true, std::memory_order_release); }
 };
 
 struct ProgramChange {

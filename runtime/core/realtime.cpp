@@ -219,6 +219,7 @@ void RealtimeRunner::task_thread(Worker& w, Start start) {
       const std::int64_t at = stopped ? h->switch_ns : planned;
       if (!h->to) {
         h->perform();
+        h->finish();
         break;  // removed: its last scan was the one before T
       }
       const TaskConfig old_cfg = task->config();
@@ -255,7 +256,9 @@ void RealtimeRunner::task_thread(Worker& w, Start start) {
     const std::int64_t begin = monotonic_ns() - epoch_;
     w.scan_started.store(begin, std::memory_order_relaxed);
     if (switched) {
+      // The last use of the handover: the main thread may destroy it once finished.
       switched->first_scan_late_ns.store(begin - planned, std::memory_order_relaxed);
+      switched->finish();
       switched = nullptr;
     }
     ScanContext ctx;
@@ -274,6 +277,7 @@ void RealtimeRunner::task_thread(Worker& w, Start start) {
     // task->stopped(): the supervisor gave up on a scan that did not end.
     if (next.stop || task->stopped()) stopped = true;
   }
+  if (switched) switched->finish();  // stopped before the new task's first scan
   w.alive.store(false, std::memory_order_release);
 }
 

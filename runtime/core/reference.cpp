@@ -40,7 +40,7 @@ std::optional<std::uint32_t> element_of(const Reference& r, std::int64_t lower, 
     if (error) {
       // lower + length - 1 fits: a tag's bounds were checked at load.
       *error = "index " + (r.index ? std::to_string(*r.index) : std::string("?")) + " is outside " + r.base + "[" +
-               std::to_string(lower) + ".." + std::to_string(lower + static_cast<std::int64_t>(length) - 1) + "]";
+               std::to_string(lower) + ".." + std::to_string(lower + (static_cast<std::int64_t>(length) - 1)) + "]";
     }
     return std::nullopt;
   }

@@ -46,6 +46,7 @@ void VirtualClock::begin_change(ProgramChange& change) {
     s.not_before = change.switch_ns;
     s.prev_planned = t.release_ns(s.k) - c.period_ns;
     h->perform();
+    h->finish();
     state_.push_back(s);
   }
   // A task its watchdog stopped restarts with the new program at T.
@@ -65,12 +66,14 @@ void VirtualClock::switch_task(TaskState& s) {
   if (!h->to) {
     s.gone = true;
     h->perform();
+    h->finish();
     return;
   }
   const std::int64_t start = std::max(s.task->release_ns(s.k), s.not_before);
   const bool restarted = s.task->stopped();
   h->to->reset_timing();
   h->perform();
+  h->finish();
   s.task = h->to;
   if (h->timing_changed || restarted) {
     // The new grid (or the grid after a stop) from the switch on.
