@@ -23,10 +23,11 @@ void sleep_ms(int ms) {
 }  // namespace
 
 Reloader::~Reloader() {
-  // A program a stuck thread may still run in is left to the operating
-  // system (the process is ending): never destroyed under that thread.
-  (void)pending_.release();
-  (void)pending_old_.release();
+  // `run` destroys the reloader after every task thread has been joined (a
+  // thread stuck in a scan ends the process before this): nothing runs in a
+  // pending change's old program any more.
+  if (pending_ && pending_old_)
+    for (std::size_t a : pending_->old_drivers) pending_old_->drivers[a].driver->close();
 }
 
 void Reloader::poll(RealtimeRunner& runner, std::ostream& events) {
@@ -85,7 +86,11 @@ ReloadResult Reloader::reload(std::unique_ptr<Program>& program, RealtimeRunner&
     server.reset();  // changed settings: a new server (its clients reconnect)
     server = start_modbus(*next.program, modbus_port_);
   }
-  const std::int64_t give_up = change->switch_ns + 1'000'000'000;  // a task this late is stuck in a scan
+  // Each task switches at its first release at or after T, which is up to a
+  // period after it; a task later than that and a second is stuck in a scan.
+  std::int64_t longest = 0;
+  for (const auto& t : next.program->tasks) longest = std::max(longest, t->config().period_ns);
+  const std::int64_t give_up = change->switch_ns + longest + 1'000'000'000;
   while (!runner.change_complete() && runner.now_ns() < give_up) sleep_ms(1);
 
   r.accepted = true;
