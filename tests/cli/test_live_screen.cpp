@@ -207,6 +207,12 @@ blocks: [{name: b, type: BURN, inputs: {EXEC: 1h}}]
 }
 
 TEST(LiveScreenRun, CtrlZGivesTheShellItsScreenBackUntilTheRunContinues) {
+#if defined(__SANITIZE_THREAD__)
+  // ThreadSanitizer defers signals to its own points in the program: the
+  // SIGTSTP the run re-raises after giving the screen back never stops it
+  // there (the test would wait forever). The release and ASan builds run it.
+  GTEST_SKIP() << "job control under ThreadSanitizer";
+#endif
   // As a shell runs a job: the terminal's process in a process group of its
   // own, whose parent (this test) is in the same session — so SIGTSTP stops it.
   std::string path = testing::write_temp_file("screen_tstp.yaml", "tasks: [{name: t, period: 1ms}]\n");
