@@ -133,8 +133,9 @@ void RealtimeRunner::begin_change(ProgramChange& change) {
     added.emplace_back(&w, st);
   }
   begin_mirroring(change);  // the running threads see their handovers from here on
-  for (auto& [w, st] : added) {
-    Start s = st;
+  for (auto& a : added) {  // not a structured binding: clang 14 cannot capture one (the fuzzers build with clang)
+    Worker* w = a.first;
+    const Start s = a.second;
     w->thread = std::thread([this, w, s] { task_thread(*w, s); });
   }
 }
