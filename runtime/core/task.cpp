@@ -235,13 +235,6 @@ bool Task::enqueue_all(const WriteBatch* batches, std::size_t count) {
   return room;
 }
 
-void Task::flush_queued_writes() {
-  std::lock_guard lock(write_producers_);  // no writer is half-way through a batch
-  if (writes_.size_approx() == 0) return;
-  apply_writes();
-  publish();
-}
-
 void Task::read_published(std::uint32_t first, std::uint32_t n, Cell* out) {
   with_published([&](const Cell* src) {
     if (n) std::memcpy(static_cast<void*>(out), src + first, n * sizeof(Cell));

@@ -167,10 +167,6 @@ class Task : private EventSink {
     std::size_t n;
   };
   static bool enqueue_all(const WriteBatch* batches, std::size_t count);
-  // Once the task has stopped for good (online change): applies the writes
-  // still queued to the image and publishes it, so that a write its sender
-  // was told is queued is not lost with the old program. Never while it runs.
-  void flush_queued_writes();
   // Copies the latest published values of the owned cells [first, first+n).
   void read_published(std::uint32_t first, std::uint32_t n, Cell* out);
   // Calls f(const Cell* owned) with the latest published snapshot, held for

@@ -57,8 +57,6 @@ void VirtualClock::begin_change(ProgramChange& change) {
     s.stopped = false;
     s.not_before = std::max(s.not_before, change.switch_ns);
   }
-  // A task that owns nothing to switch before T (all switched at once) still
-  // completes the change on the next run_until.
 }
 
 void VirtualClock::switch_task(TaskState& s) {

@@ -61,12 +61,12 @@ class Server {
 
   // Online change, in two steps. hold(): returns once the server thread has
   // stopped taking requests (clients wait, their requests stay queued in the
-  // kernel), so that no write reaches the old program's queues after its
-  // tasks stopped. replace_program(): serves `program` from now on, held or
-  // not; returns once the thread has let go of the previous one. Write and
-  // reads (FC 23) still waiting for the previous program's scans are answered
-  // from the new program's snapshots: the caller has flushed the old tasks'
-  // queues (Task::flush_queued_writes) and carried the tags over by then.
+  // kernel). replace_program(): serves `program` from now on, held or not;
+  // returns once the thread has let go of the previous one. Write and reads
+  // (FC 23) still waiting for the previous program's scans then wait for two
+  // publications of the same task of the new program, which the old task
+  // makes until its switch (program_change.hpp: it applies the queues and
+  // mirrors its publications).
   void hold();
   void replace_program(Program& program);
 
