@@ -32,6 +32,7 @@ using namespace syncplc::modbus;
 
 struct World {
   std::unique_ptr<Program> program;
+  ModbusPlaces places;
   std::unique_ptr<VirtualClock> clock;
   std::int64_t now = 0;
   int fds[2];
@@ -46,6 +47,7 @@ struct World {
       std::abort();
     }
     program = std::move(r.program);
+    places = r.modbus.places;
     clock = std::make_unique<VirtualClock>(*program);
     if (socketpair(AF_UNIX, SOCK_STREAM, 0, fds) != 0) std::abort();
     fcntl(fds[0], F_SETFL, O_NONBLOCK);  // as the server's sockets
@@ -54,7 +56,7 @@ struct World {
       configs[i].word_order = (i & 1) ? WordOrder::LowFirst : WordOrder::HighFirst;
       configs[i].read_only = (i & 2) != 0;
       handlers[i] = std::make_unique<RequestHandler>(configs[i], counters);
-      handlers[i]->set_program(*program);
+      handlers[i]->set_program(*program, places);
     }
     advance();
   }

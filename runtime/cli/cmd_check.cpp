@@ -8,16 +8,16 @@ namespace syncplc::cli {
 namespace {
 
 // The server's settings, then the map in the server's word order.
-void print_modbus(const Program& p) {
+void print_modbus(const Program& p, const ModbusSettings& s) {
   std::cout << "\nModbus TCP server: ";
-  if (p.modbus.enabled) std::cout << modbus_settings_text(p.modbus) << "\n";
-  else std::cout << (p.modbus.declared ? "off (enabled: false)" : "off (no modbus: section)") << "\n";
+  if (s.server.enabled) std::cout << modbus_settings_text(s.server) << "\n";
+  else std::cout << (s.server.declared ? "off (enabled: false)" : "off (no modbus: section)") << "\n";
   std::vector<std::string> notes;
-  ModbusMap map = ModbusMap::build(p, &notes);
+  ModbusMap map = ModbusMap::build(p, s, &notes);
   bool mapped = false;
   for (int t = 0; t < 4; ++t) mapped |= !map.points(static_cast<ModbusTable>(t)).empty();
   if (!mapped && notes.empty()) return;
-  print_modbus_map(std::cout, p, map, p.modbus.word_order);
+  print_modbus_map(std::cout, p, map, s.server.word_order);
   for (const auto& n : notes) std::cout << "  not mapped: " << n << "\n";
 }
 
@@ -33,7 +33,7 @@ int cmd_check(const std::string& project) {
   print_execution_order(std::cout, p);
   std::cout << "\n";
   print_tag_map(std::cout, p);
-  print_modbus(p);
+  print_modbus(p, r.modbus);
   bool header = false;
   for (const auto& d : p.drivers) {
     std::string s = d.driver->summary();

@@ -102,8 +102,8 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
     return kExitDriverFailed;
   }
   // The server binds before any task runs: a port in use stops here, cleanly.
-  auto modbus_server = start_modbus(*program, modbus_port);
-  if (!modbus_server && (modbus_port || program->modbus.enabled)) {
+  auto modbus_server = start_modbus(*program, r.modbus, modbus_port);
+  if (!modbus_server && (modbus_port || r.modbus.server.enabled)) {
     program->close_drivers();
     return kExitInvalid;
   }

@@ -49,11 +49,11 @@ int cmd_sim(const std::string& project, const std::string& duration, std::option
       std::cerr << "syncplc: cannot write metrics file " << metrics_path << "\n";
       return kExitInvalid;
     }
-    if (p.axis_errors.empty())
+    if (r.metrics.axis_errors.empty())
       std::cerr << "syncplc: warning: the project names no metrics axis_errors: the metrics hold statistics only\n";
   }
   VirtualClock clock(p);
-  MotionMetrics metrics(p);
+  MotionMetrics metrics(r.metrics);
   clock.on_time_point([&](std::int64_t t) {
     if (out.is_open()) write_trace_row(out, p, t);
     if (metrics.enabled()) metrics.sample(p, t, clock.scans(metrics.task()));

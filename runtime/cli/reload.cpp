@@ -75,16 +75,16 @@ ReloadResult Reloader::reload(std::unique_ptr<Program>& program, RealtimeRunner&
   // publications into it, so the server serves the new program at once:
   // reads see the running values, writes take effect at the next scan, and
   // a write and read that waited is answered once its write is published.
-  const ModbusConfig next_cfg = server_config(*next.program, modbus_port_);
+  const ModbusConfig next_cfg = server_config(next.modbus.server, modbus_port_);
   const bool keep_server = server && same_server(server->config(), next_cfg);
   if (keep_server) server->hold();
   change->switch_ns = switch_instant(*change, runner.now_ns());
   runner.begin_change(*change);
   if (keep_server) {
-    server->replace_program(*next.program);
+    server->replace_program(*next.program, next.modbus.places);
   } else if (server || next_cfg.enabled) {
     server.reset();  // changed settings: a new server (its clients reconnect)
-    server = start_modbus(*next.program, modbus_port_);
+    server = start_modbus(*next.program, next.modbus, modbus_port_);
   }
   // Each task switches at its first release at or after T, which is up to a
   // period after it; a task later than that and a second is stuck in a scan.

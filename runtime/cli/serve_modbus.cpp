@@ -17,8 +17,8 @@ bool same_server(const ModbusConfig& a, const ModbusConfig& b) {
   return key(a) == key(b);
 }
 
-ModbusConfig server_config(const Program& p, std::optional<int> port_override) {
-  ModbusConfig cfg = p.modbus;
+ModbusConfig server_config(const ModbusConfig& project, std::optional<int> port_override) {
+  ModbusConfig cfg = project;
   if (port_override) {
     cfg.enabled = true;
     cfg.port = *port_override;
@@ -26,10 +26,10 @@ ModbusConfig server_config(const Program& p, std::optional<int> port_override) {
   return cfg;
 }
 
-std::unique_ptr<modbus::Server> start_modbus(Program& p, std::optional<int> port_override) {
-  ModbusConfig cfg = server_config(p, port_override);
+std::unique_ptr<modbus::Server> start_modbus(Program& p, const ModbusSettings& s, std::optional<int> port_override) {
+  ModbusConfig cfg = server_config(s.server, port_override);
   if (!cfg.enabled) return nullptr;
-  auto server = std::make_unique<modbus::Server>(p, cfg);
+  auto server = std::make_unique<modbus::Server>(p, ModbusSettings{cfg, s.places});
   std::string err;
   if (!server->start(&err)) {
     std::cerr << "syncplc: modbus: " << err << "\n";

@@ -12,10 +12,10 @@ namespace syncplc::cli {
 
 // The settings a running server cannot change without a restart.
 bool same_server(const ModbusConfig& a, const ModbusConfig& b);
-// The program's `modbus:` settings with `--modbus-port` applied.
-ModbusConfig server_config(const Program& p, std::optional<int> port_override);
-// Starts the server when the settings enable it; prints where it listens.
-// nullptr when it is off or could not start (the reason is printed).
-std::unique_ptr<modbus::Server> start_modbus(Program& p, std::optional<int> port_override);
+// The project's `modbus:` settings with `--modbus-port` applied.
+ModbusConfig server_config(const ModbusConfig& project, std::optional<int> port_override);
+// Starts the server of `p` when the settings enable it; prints where it
+// listens. nullptr when it is off or could not start (the reason is printed).
+std::unique_ptr<modbus::Server> start_modbus(Program& p, const ModbusSettings& s, std::optional<int> port_override);
 
 }  // namespace syncplc::cli

@@ -1,6 +1,8 @@
-// A loaded project, ready to run: tags, tasks with their resolved programs,
-// I/O drivers, traces. Built by the project loader (runtime/project); run by
-// a scheduler (virtual_clock.hpp, realtime.hpp). Other threads (Modbus, HMI,
+// A program ready to run: tags, tasks with their resolved blocks, I/O
+// drivers, traces. Built by the project loader (runtime/project); run by a
+// scheduler (virtual_clock.hpp, realtime.hpp). What else a project says (its
+// Modbus server and places, the paper-000 metrics) stays beside the program
+// in the loader's result: the core holds the image, tasks and channels. Other threads (Modbus, HMI,
 // status display) read tags through the published snapshots and write them
 // through the owning task's queue: they never touch a task's image.
 #pragma once
@@ -16,7 +18,6 @@
 #include "runtime/core/config_node.hpp"
 #include "runtime/core/direct_address.hpp"
 #include "runtime/core/io_driver.hpp"
-#include "runtime/core/modbus_config.hpp"
 #include "runtime/core/task.hpp"
 
 namespace syncplc {
@@ -37,7 +38,6 @@ struct Tag {
   std::optional<DirectAddress> address;
   bool retain = false;
   HmiAccess hmi = HmiAccess::None;
-  std::optional<ModbusPlace> modbus;  // explicit Modbus place; else the direct address's, if any
   std::string unit;
   std::string description;
   std::vector<Cell> init;   // length cells
@@ -84,11 +84,6 @@ class Program {
   std::vector<DriverBinding> drivers;
   std::vector<TraceColumn> traces;
   std::vector<std::string> watch;  // tags shown by the live status
-  ModbusConfig modbus;             // the `modbus:` section (server off when absent)
-  // metrics: in the project file: the axes' tracking errors, in axis order,
-  // for the motion metrics of `syncplc sim --metrics` (paper 000 eqs. 26-27).
-  std::vector<TraceColumn> axis_errors;
-  std::int64_t metrics_from_ns = 0;  // samples before this time are not counted
 
   // The real-time scheduler's epoch (monotonic ns of logical time 0), set when
   // it starts or switches to this program; -1 when no scheduler runs it in

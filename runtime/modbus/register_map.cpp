@@ -112,8 +112,8 @@ std::string element_name(const Tag& tag, std::uint32_t e) {
 
 // The points of a tag placed explicitly; empty (with a note) when the place
 // does not suit its type or runs past the table's end.
-std::vector<ModbusPoint> explicit_points(const Tag& tag, std::uint32_t ti, std::vector<std::string>* notes) {
-  const ModbusPlace& place = *tag.modbus;
+std::vector<ModbusPoint> explicit_points(const Tag& tag, const ModbusPlace& place, std::uint32_t ti,
+                                         std::vector<std::string>* notes) {
   if (bit_table(place.table) != (tag.type == IecType::BOOL)) {
     if (notes)
       notes->push_back(tag.name + ": a " + std::string(type_name(tag.type)) + " has no place among the " +
@@ -129,7 +129,7 @@ std::vector<ModbusPoint> explicit_points(const Tag& tag, std::uint32_t ti, std::
   std::vector<ModbusPoint> out;
   for (std::uint32_t e = 0; e < tag.length; ++e)
     out.push_back(ModbusPoint{ti, e, place.table, place.address + e * width, width, writable, tag.owner,
-                              tag.cell + e, tag.type});
+                              tag.cell + e, tag.type, ModbusPoint::Status::None, true});
   return out;
 }
 
@@ -187,10 +187,11 @@ std::string modbus_span_text(const ModbusSpan& s) {
   return name + "s " + std::to_string(s.first) + ".." + std::to_string(std::uint64_t{s.first} + s.count - 1);
 }
 
-ModbusMap ModbusMap::build(const Program& p, std::vector<std::string>* notes, std::vector<ModbusOverlap>* overlaps) {
-  ModbusMap m = build(p.tags, notes, overlaps);
-  if (!p.modbus.task_status || p.tasks.empty()) return m;
-  const std::uint32_t base = *p.modbus.task_status;
+ModbusMap ModbusMap::build(const Program& p, const ModbusSettings& s, std::vector<std::string>* notes,
+                           std::vector<ModbusOverlap>* overlaps) {
+  ModbusMap m = build(p.tags, s.places, notes, overlaps);
+  if (!s.server.task_status || p.tasks.empty()) return m;
+  const std::uint32_t base = *s.server.task_status;
   const std::uint32_t end = base + kTaskStatusRegisters * static_cast<std::uint32_t>(p.tasks.size());
   auto& v = m.tables_[static_cast<int>(ModbusTable::InputRegisters)];
   for (const auto& pt : v)
@@ -222,7 +223,7 @@ ModbusMap ModbusMap::build(const Program& p, std::vector<std::string>* notes, st
   return m;
 }
 
-ModbusMap ModbusMap::build(const std::vector<Tag>& tags, std::vector<std::string>* notes,
+ModbusMap ModbusMap::build(const std::vector<Tag>& tags, const ModbusPlaces& places, std::vector<std::string>* notes,
                            std::vector<ModbusOverlap>* overlaps) {
   ModbusMap m;
   std::array<TakenTable, 4> taken;
@@ -231,9 +232,10 @@ ModbusMap ModbusMap::build(const std::vector<Tag>& tags, std::vector<std::string
   for (const bool explicit_pass : {true, false}) {
     for (std::uint32_t ti = 0; ti < tags.size(); ++ti) {
       const Tag& tag = tags[ti];
-      if (tag.hmi == HmiAccess::None || tag.modbus.has_value() != explicit_pass) continue;
+      const ModbusPlace* place = explicit_place(places, ti);
+      if (tag.hmi == HmiAccess::None || (place != nullptr) != explicit_pass) continue;
       if (!explicit_pass && !tag.address) continue;
-      const auto points = explicit_pass ? explicit_points(tag, ti, notes) : convention_points(tag, ti, notes);
+      const auto points = explicit_pass ? explicit_points(tag, *place, ti, notes) : convention_points(tag, ti, notes);
       if (points.empty()) continue;
       const ModbusTable table = points.front().table;
       const std::uint32_t first = points.front().address;
@@ -319,7 +321,7 @@ void print_modbus_map(std::ostream& os, const Program& p, const ModbusMap& m, Wo
       os << "  " << modbus_table_name(v[i].table) << (v[i].address == last ? " " : "s ") << v[i].address
          << (v[i].address == last ? "" : ".." + std::to_string(last)) << "  " << tag.name << " "
          << type_name(tag.type) << (tag.length > 1 ? "[" + std::to_string(tag.length) + "]" : "")
-         << (tag.modbus ? " (explicit)" : " at " + tag.address->text()) << (v[i].writable ? "  read/write" : "  read only")
+         << (v[i].explicit_place ? " (explicit)" : " at " + tag.address->text()) << (v[i].writable ? "  read/write" : "  read only")
          << "\n";
       any = true;
       i = j + 1;

@@ -7,7 +7,7 @@
 //   %MWn    holding 1024+n        (n 0..1023)   %MDn    holding 2048+2n, two   (n 0..1023)
 //   %MLn    holding 4096+4n, four (n 0..1023)
 //
-// A tag's `modbus: {table, address}` (Tag::modbus) places it explicitly,
+// A tag's `modbus: {table, address}` (ModbusPlaces) places it explicitly,
 // anywhere in the four tables, and takes precedence over the convention.
 //
 // An array tag occupies consecutive addresses. 32- and 64-bit values span two
@@ -23,7 +23,7 @@
 #include <string>
 #include <vector>
 
-#include "runtime/core/modbus_config.hpp"
+#include "runtime/modbus/modbus_config.hpp"
 #include "runtime/core/program.hpp"
 
 namespace syncplc {
@@ -43,6 +43,7 @@ struct ModbusPoint {
   IecType type = IecType::INT;
   // A task status register (not a tag; `owner` is the task): what it shows.
   enum class Status : std::uint8_t { None, State, AgeMs, Scans, PeriodUs } status = Status::None;
+  bool explicit_place = false;  // placed by the tag's modbus: key, not by the convention
 };
 
 // The task status block: per task, from the first register + 8 × task index,
@@ -64,7 +65,7 @@ struct ModbusSpan {
   ModbusTable table = ModbusTable::HoldingRegisters;
   std::uint32_t first = 0;  // first coil/register
   std::uint32_t count = 0;  // coils/registers
-  bool explicit_place = false;  // from Tag::modbus, not from the convention
+  bool explicit_place = false;  // from the tag's modbus: key, not from the convention
 };
 // "holding registers 3000..3003", "coil 5".
 std::string modbus_span_text(const ModbusSpan& s);
@@ -81,15 +82,17 @@ struct ModbusOverlap {
 class ModbusMap {
  public:
   // Every tag with HMI access read or readwrite and a Modbus place: its
-  // explicit one (Tag::modbus), else the convention's for its direct address.
+  // explicit one (`places`, by tag index), else the convention's for its
+  // direct address; with the task status block at `server.task_status`.
   // A tag outside the convention's ranges, or an explicit place that does not
   // fit its table or type, is reported in `notes` (it stays reachable by its
   // name elsewhere, not by Modbus). A tag whose place overlaps one already
   // taken is left out and reported in `overlaps`, so the map stays free of
   // overlaps; the loader turns those into load errors.
-  static ModbusMap build(const Program& p, std::vector<std::string>* notes = nullptr,
+  static ModbusMap build(const Program& p, const ModbusSettings& s, std::vector<std::string>* notes = nullptr,
                          std::vector<ModbusOverlap>* overlaps = nullptr);
-  static ModbusMap build(const std::vector<Tag>& tags, std::vector<std::string>* notes = nullptr,
+  // The tags' points alone (no task status block).
+  static ModbusMap build(const std::vector<Tag>& tags, const ModbusPlaces& places, std::vector<std::string>* notes = nullptr,
                          std::vector<ModbusOverlap>* overlaps = nullptr);
 
   // The point that starts exactly at `address`, or that covers it.

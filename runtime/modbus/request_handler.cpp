@@ -86,9 +86,9 @@ RequestHandler::~RequestHandler() {
   }
 }
 
-void RequestHandler::set_program(Program& program) {
+void RequestHandler::set_program(Program& program, const ModbusPlaces& places) {
   program_ = &program;
-  map_ = ModbusMap::build(program);
+  map_ = ModbusMap::build(program, ModbusSettings{config_, places});
 }
 
 RequestHandler::Outcome RequestHandler::exception(int fd, const std::uint8_t* frame, std::uint8_t code) {

@@ -31,7 +31,7 @@
 #include <memory>
 #include <vector>
 
-#include "runtime/core/modbus_config.hpp"
+#include "runtime/modbus/modbus_config.hpp"
 #include "runtime/core/program.hpp"
 #include "runtime/modbus/counters.hpp"
 #include "runtime/modbus/frame.hpp"
@@ -76,9 +76,10 @@ class RequestHandler {
   RequestHandler(const RequestHandler&) = delete;
   RequestHandler& operator=(const RequestHandler&) = delete;
 
-  // The program whose tags are served (its map is built here). The program
-  // must outlive its use; set another one (after an online change) between requests.
-  void set_program(Program& program);
+  // The program whose tags are served, with the tags' explicit places (its
+  // map is built here). The program must outlive its use; set another one
+  // (after an online change) between requests.
+  void set_program(Program& program, const ModbusPlaces& places = {});
   const ModbusMap& map() const { return map_; }
 
   enum class Outcome : std::uint8_t {

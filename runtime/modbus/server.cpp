@@ -57,9 +57,9 @@ struct Server::Connection {
   std::uint8_t buf[kBufferSize];
 };
 
-Server::Server(Program& program, ModbusConfig config) : program_(&program), config_(std::move(config)) {
+Server::Server(Program& program, ModbusSettings settings) : program_(&program), config_(std::move(settings.server)) {
   handler_ = std::make_unique<RequestHandler>(config_, counters_);
-  handler_->set_program(program);
+  handler_->set_program(program, settings.places);
 }
 
 Server::~Server() { stop(); }
@@ -189,14 +189,15 @@ void Server::hold() {
   swap_cv_.wait(lk, [this] { return held_ || !running_ || stop_.load(); });
 }
 
-void Server::replace_program(Program& program) {
+void Server::replace_program(Program& program, ModbusPlaces places) {
   std::unique_lock lk(swap_mutex_);
   if (!running_) {
     program_ = &program;
-    handler_->set_program(program);
+    handler_->set_program(program, places);
     return;
   }
   next_program_ = &program;
+  next_places_ = std::move(places);
   if (!held_) {
     hold_requested_.store(true, std::memory_order_release);
     const std::uint64_t one = 1;
@@ -220,7 +221,7 @@ void Server::hold_and_take_new_program() {
   const std::int64_t now = monotonic_ns();
   Program* old = program_;
   program_ = next_program_;
-  handler_->set_program(*program_);
+  handler_->set_program(*program_, next_places_);
   if (config_.cpus.empty()) keep_off_task_cpus();  // the new program may pin its tasks elsewhere
   // Write-and-reads that wait for the old program's scans now wait for the
   // same tasks of the new one: from the online change on, the old tasks apply

@@ -28,7 +28,7 @@
 #include <thread>
 #include <vector>
 
-#include "runtime/core/modbus_config.hpp"
+#include "runtime/modbus/modbus_config.hpp"
 #include "runtime/core/program.hpp"
 #include "runtime/modbus/counters.hpp"
 #include "runtime/modbus/request_handler.hpp"
@@ -37,7 +37,7 @@ namespace syncplc::modbus {
 
 class Server {
  public:
-  Server(Program& program, ModbusConfig config);
+  Server(Program& program, ModbusSettings settings);
   ~Server();
   Server(const Server&) = delete;
   Server& operator=(const Server&) = delete;
@@ -68,7 +68,7 @@ class Server {
   // makes until its switch (program_change.hpp: it applies the queues and
   // mirrors its publications).
   void hold();
-  void replace_program(Program& program);
+  void replace_program(Program& program, ModbusPlaces places);
 
  private:
   struct Connection;
@@ -101,6 +101,7 @@ class Server {
   std::mutex swap_mutex_;
   std::condition_variable swap_cv_;
   Program* next_program_ = nullptr;           // under swap_mutex_
+  ModbusPlaces next_places_;                  // under swap_mutex_
   std::atomic<bool> hold_requested_{false};
   bool held_ = false;                           // under swap_mutex_: the thread is parked
   bool running_ = false;

@@ -259,27 +259,38 @@ std::unique_ptr<Program> build_program(Declarations& p, const Wiring& w, const B
     if (!prog->find_tag(ref)) diags.error(loc, "watch: unknown tag '" + ref + "'");
     else prog->watch.push_back(ref);
   }
+  return prog;  // built, though it may have errors (the loader discards it then, after build_metrics reported its own)
+}
+
+// metrics: {axis_errors} in axis order; an array tag gives one axis an element.
+MetricsSettings build_metrics(const Declarations& p, const Program& prog, Diagnostics& diags) {
+  MetricsSettings m;
+  m.from_ns = p.metrics_from_ns;
   for (const auto& [ref, loc] : p.axis_errors) {
     std::string err;
-    auto r = prog->resolve(ref, &err);
+    auto r = prog.resolve(ref, &err);
     if (!r) continue;  // reported by check_refs
     if (r->type != IecType::LREAL && r->type != IecType::REAL) {
       diags.error(loc, "metrics: " + ref + " is " + std::string(type_name(r->type)) + "; axis errors are REAL or LREAL");
       continue;
     }
-    const Tag* t = prog->find_tag(ref);
+    const Tag* t = prog.find_tag(ref);
     for (std::uint32_t k = 0; k < r->length; ++k) {
       CellRef one = *r;
       one.cell += k;
       one.length = 1;
       std::string label = r->length == 1 ? ref : ref + "[" + std::to_string((t ? t->array_lower : 1) + k) + "]";
-      prog->axis_errors.push_back({label, one});
+      m.axis_errors.push_back({label, one});
     }
   }
-  prog->metrics_from_ns = p.metrics_from_ns;
-  prog->modbus = p.modbus;
-  if (!diags.empty()) return nullptr;
-  return prog;
+  return m;
+}
+
+ModbusSettings build_modbus(const Declarations& p) {
+  ModbusSettings s;
+  s.server = p.modbus;
+  for (const auto& td : p.tags) s.places.push_back(td.modbus);  // Program::tags keeps the declarations' order
+  return s;
 }
 
 }  // namespace syncplc

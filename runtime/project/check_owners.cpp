@@ -24,6 +24,12 @@ std::vector<Tag> modbus_tags(const Declarations& p) {
   return tags;
 }
 
+ModbusPlaces modbus_places(const Declarations& p) {
+  ModbusPlaces places;
+  for (const auto& td : p.tags) places.push_back(td.modbus);
+  return places;
+}
+
 }  // namespace
 
 // Two tags may not share a bit of the I, Q or M area. Sorted by first bit and
@@ -63,7 +69,7 @@ void check_addresses(const Declarations& p, Diagnostics& diags) {
 void check_modbus_places(const Declarations& p, Diagnostics& diags) {
   std::vector<SourceLoc> place_loc;
   for (const auto& td : p.tags) place_loc.push_back(td.modbus_loc);
-  check_modbus_overlaps(modbus_tags(p), place_loc, diags);
+  check_modbus_overlaps(modbus_tags(p), modbus_places(p), place_loc, diags);
 }
 
 void find_owners(Declarations& p, const Wiring& w, Diagnostics& diags) {
@@ -131,7 +137,7 @@ void find_owners(Declarations& p, const Wiring& w, Diagnostics& diags) {
 
 void size_write_queues(Declarations& p, Diagnostics& diags) {
   if (p.modbus.read_only) return;
-  const auto most = largest_modbus_writes(modbus_tags(p), p.tasks.size());
+  const auto most = largest_modbus_writes(modbus_tags(p), modbus_places(p), p.tasks.size());
   for (std::size_t i = 0; i < p.tasks.size(); ++i) {
     TaskDecl& td = p.tasks[i];
     if (most[i] <= td.cfg.write_queue) continue;

@@ -20,7 +20,7 @@
 
 #include "runtime/core/block.hpp"
 #include "runtime/core/io_driver.hpp"
-#include "runtime/core/modbus_config.hpp"
+#include "runtime/modbus/modbus_config.hpp"
 #include "runtime/core/program.hpp"
 
 namespace syncplc {
@@ -38,6 +38,7 @@ struct TagDecl {
   std::string task;  // explicit owner, "" if none
   SourceLoc task_loc;
   SourceLoc address_loc;      // where its address: is written (overlaps are reported there)
+  std::optional<ModbusPlace> modbus;  // its explicit Modbus place (else its direct address's, if any)
   SourceLoc modbus_loc;       // the tag's modbus: key, where its overlaps are reported
   SourceLoc hmi_loc;          // its hmi: key
   bool modbus_failed = false;  // its modbus: key was wrong (reported): it takes no place at all

@@ -72,7 +72,11 @@ LoadResult load_tree(ConfigNode root, const std::string& path, const LoadOptions
 
   // Stage 3: the Program (its blocks' factories report errors too).
   std::unique_ptr<Program> prog = build_program(p, w, o, diags);
-  if (diags.empty()) r.program = std::move(prog);
+  if (prog) r.metrics = build_metrics(p, *prog, diags);
+  if (diags.empty()) {
+    r.program = std::move(prog);
+    r.modbus = build_modbus(p);
+  }
   r.diagnostics = std::move(diags);
   return r;
 }

@@ -13,7 +13,9 @@
 #include "runtime/core/block.hpp"
 #include "runtime/core/io_driver.hpp"
 #include "runtime/core/program.hpp"
+#include "runtime/modbus/modbus_config.hpp"
 #include "runtime/project/diagnostics.hpp"
+#include "runtime/project/metrics.hpp"
 
 namespace syncplc {
 
@@ -32,6 +34,9 @@ struct LoadOptions {
 
 struct LoadResult {
   std::unique_ptr<Program> program;  // null when diagnostics is not empty
+  // What the project says beside the program (empty when it did not load):
+  ModbusSettings modbus;    // the modbus: section and the tags' explicit places
+  MetricsSettings metrics;  // the metrics: section, resolved in the program
   Diagnostics diagnostics;
   bool ok() const { return program != nullptr; }
 };

@@ -5,8 +5,8 @@
 
 namespace syncplc {
 
-MotionMetrics::MotionMetrics(const Program& p) {
-  for (const auto& c : p.axis_errors) {
+MotionMetrics::MotionMetrics(const MetricsSettings& m) : from_ns_(m.from_ns) {
+  for (const auto& c : m.axis_errors) {
     errors_.push_back(c.ref);
     labels_.push_back(c.label);
   }
@@ -21,7 +21,7 @@ MotionMetrics::MotionMetrics(const Program& p) {
 void MotionMetrics::sample(const Program& p, std::int64_t t, std::uint64_t owner_scans) {
   if (errors_.empty() || owner_scans == last_scans_) return;
   last_scans_ = owner_scans;
-  if (t < p.metrics_from_ns) return;
+  if (t < from_ns_) return;
   const std::size_t n = errors_.size();
   for (std::size_t i = 0; i < n; ++i) {
     const auto& r = errors_[i];
@@ -62,7 +62,7 @@ std::string MotionMetrics::json(const Program& p, std::int64_t duration_ns, doub
   if (!errors_.empty()) {
     ordered_json m;
     m["samples"] = n_;
-    m["from_s"] = static_cast<double>(p.metrics_from_ns) * 1e-9;
+    m["from_s"] = static_cast<double>(from_ns_) * 1e-9;
     m["track_rsme"] = track_rsme();
     m["sync_rsme"] = sync_rsme();
     ordered_json axes = ordered_json::array();

@@ -17,9 +17,16 @@
 
 namespace syncplc {
 
+// The project's `metrics:` section, resolved: the axes' tracking errors in
+// axis order, and the logical time from which samples count.
+struct MetricsSettings {
+  std::vector<TraceColumn> axis_errors;
+  std::int64_t from_ns = 0;
+};
+
 class MotionMetrics {
  public:
-  explicit MotionMetrics(const Program& p);
+  explicit MotionMetrics(const MetricsSettings& m);
   // After the scans of time t: samples when the errors' task scanned since the last call.
   void sample(const Program& p, std::int64_t t, std::uint64_t owner_scans);
   bool enabled() const { return !errors_.empty(); }
@@ -39,6 +46,7 @@ class MotionMetrics {
   std::vector<CellRef> errors_;
   std::vector<std::string> labels_;
   std::uint16_t task_ = 0;
+  std::int64_t from_ns_ = 0;
   std::uint64_t last_scans_ = 0;
   std::uint64_t n_ = 0;
   double sum_track_ = 0, sum_sync_ = 0;

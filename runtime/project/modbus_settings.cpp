@@ -193,9 +193,10 @@ std::optional<ModbusPlace> read_modbus_place(const ConfigNode& n, const Tag& tag
   return place;
 }
 
-void check_modbus_overlaps(const std::vector<Tag>& tags, const std::vector<SourceLoc>& place_loc, Diagnostics& d) {
+void check_modbus_overlaps(const std::vector<Tag>& tags, const ModbusPlaces& places, const std::vector<SourceLoc>& place_loc,
+                           Diagnostics& d) {
   std::vector<ModbusOverlap> overlaps;
-  ModbusMap::build(tags, nullptr, &overlaps);
+  ModbusMap::build(tags, places, nullptr, &overlaps);
   for (const auto& o : overlaps) {
     // Two places by the convention overlap only where the tags' direct
     // addresses do, and that is reported at the address already.
@@ -212,9 +213,9 @@ void check_modbus_overlaps(const std::vector<Tag>& tags, const std::vector<Sourc
   }
 }
 
-std::vector<std::size_t> largest_modbus_writes(const std::vector<Tag>& tags, std::size_t tasks) {
+std::vector<std::size_t> largest_modbus_writes(const std::vector<Tag>& tags, const ModbusPlaces& places, std::size_t tasks) {
   constexpr std::size_t kMaxWriteCoils = 1968, kMaxWriteRegisters = 123;  // FC 15, FC 16 (Modbus V1.1b3 §6.11, §6.12)
-  const ModbusMap map = ModbusMap::build(tags);
+  const ModbusMap map = ModbusMap::build(tags, places);
   std::vector<std::size_t> coils(tasks, 0), registers(tasks, 0);
   for (const auto& pt : map.points(ModbusTable::Coils))
     if (pt.writable && pt.owner < tasks) ++coils[pt.owner];  // no owner when the tasks failed to load

@@ -173,8 +173,8 @@ void read_tags(const ConfigNode& n, Declarations& p, Diagnostics& diags) {
     if (ok && modbus) {
       // After the loop: the place is checked against the tag's type, length and hmi.
       td.modbus_loc = modbus->loc;
-      td.tag.modbus = read_modbus_place(*modbus, td.tag, diags);
-      td.modbus_failed = !td.tag.modbus;
+      td.modbus = read_modbus_place(*modbus, td.tag, diags);
+      td.modbus_failed = !td.modbus;
     }
     if (!td.task.empty() && p.task_index(td.task) < 0) diags.error(td.task_loc, "unknown task '" + td.task + "'");
     if (ok) {

@@ -53,12 +53,12 @@ struct Case {
 // metrics.track_rsme, metrics.sync_rsme, metrics.max_abs_error[i],
 // metrics.max_abs_sync_error[i]: the motion metrics (paper 000 eqs. 26-27)
 // over the project's metrics axis_errors, from the start of the case.
-std::optional<Target> resolve_metric(const Program& p, const std::string& text, std::string* err) {
+std::optional<Target> resolve_metric(std::size_t axes, const std::string& text, std::string* err) {
   Target t;
   t.text = text;
   t.kind = Target::Metric;
   t.type = IecType::LREAL;
-  if (p.axis_errors.empty()) {
+  if (axes == 0) {
     *err = text + ": the project names no metrics axis_errors";
     return std::nullopt;
   }
@@ -83,8 +83,8 @@ std::optional<Target> resolve_metric(const Program& p, const std::string& text, 
   if (per_axis) {
     char* end = nullptr;
     long a = std::strtol(index.c_str(), &end, 10);
-    if (*end || a < 1 || static_cast<std::size_t>(a) > p.axis_errors.size()) {
-      *err = "axis " + index + " is outside 1.." + std::to_string(p.axis_errors.size());
+    if (*end || a < 1 || static_cast<std::size_t>(a) > axes) {
+      *err = "axis " + index + " is outside 1.." + std::to_string(axes);
       return std::nullopt;
     }
     t.axis = static_cast<std::size_t>(a - 1);
@@ -92,8 +92,8 @@ std::optional<Target> resolve_metric(const Program& p, const std::string& text, 
   return t;
 }
 
-std::optional<Target> resolve_target(const Program& p, const std::string& text, std::string* err) {
-  if (text.rfind("metrics.", 0) == 0) return resolve_metric(p, text, err);
+std::optional<Target> resolve_target(const Program& p, std::size_t axes, const std::string& text, std::string* err) {
+  if (text.rfind("metrics.", 0) == 0) return resolve_metric(axes, text, err);
   Target t;
   t.text = text;
   std::string base = text.substr(0, text.find('['));
@@ -149,7 +149,7 @@ std::optional<Cell> parse_cell(IecType t, const std::string& unit, const std::st
 
 class TestsReader {
  public:
-  TestsReader(const Program& p, Diagnostics& d) : p_(p), d_(d) {}
+  TestsReader(const Program& p, const MetricsSettings& m, Diagnostics& d) : p_(p), axes_(m.axis_errors.size()), d_(d) {}
 
   std::vector<Case> read(const ConfigNode& root) {
     std::vector<Case> cases;
@@ -263,7 +263,7 @@ class TestsReader {
 
   void read_assignment(const std::string& target, const ConfigNode& v, Action& a) {
     std::string err;
-    auto t = resolve_target(p_, target, &err);
+    auto t = resolve_target(p_, axes_, target, &err);
     if (!t) { d_.error(v.loc, err); return; }
     if (!a.expect && t->kind == Target::DriverOut) { d_.error(v.loc, target + " is a driver output: it can only be expected"); return; }
     if (a.expect && t->kind == Target::DriverIn) { d_.error(v.loc, target + " is a driver input: set it, expect the tag it feeds"); return; }
@@ -338,6 +338,7 @@ class TestsReader {
   }
 
   const Program& p_;
+  std::size_t axes_;  // in the project's metrics: section
   Diagnostics& d_;
   std::size_t order_ = 0;
 };
@@ -388,7 +389,7 @@ ScanTestCaseResult run_case(const std::string& project, const LoadOptions& base,
     return x->order < y->order;
   });
   VirtualClock clock(p);
-  MotionMetrics metrics(p);
+  MotionMetrics metrics(loaded.metrics);
   if (metrics.enabled())
     clock.on_time_point([&](std::int64_t t) { metrics.sample(p, t, clock.scans(metrics.task())); });
   auto metric_value = [&](const Target& t) {
@@ -485,7 +486,7 @@ ScanTestReport run_scan_tests(const std::string& project_path, const std::string
   }
   ConfigNode root = read_yaml_file(tests_path, rep.diagnostics);
   if (!rep.diagnostics.empty()) return rep;
-  TestsReader reader(*loaded.program, rep.diagnostics);
+  TestsReader reader(*loaded.program, loaded.metrics, rep.diagnostics);
   auto cases = reader.read(root);
   if (!rep.diagnostics.empty()) return rep;
   for (const auto& c : cases) rep.cases.push_back(run_case(project_path, options, c));

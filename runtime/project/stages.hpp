@@ -67,6 +67,10 @@ void size_write_queues(Declarations& p, Diagnostics& diags);
 BlockOrder order_blocks(const Declarations& p, const Wiring& w, Diagnostics& diags);  // order_blocks.cpp
 
 // --- 3. build (build_program.cpp) ------------------------------------------------------
+// Null when it cannot be built at all; otherwise the program, which the loader keeps only if no error was reported.
 std::unique_ptr<Program> build_program(Declarations& p, const Wiring& w, const BlockOrder& o, Diagnostics& diags);
+// What the project says beside the program: the metrics' axis errors resolved in `prog`, the Modbus settings.
+MetricsSettings build_metrics(const Declarations& p, const Program& prog, Diagnostics& diags);
+ModbusSettings build_modbus(const Declarations& p);
 
 }  // namespace syncplc

@@ -29,10 +29,11 @@ tags:
 )";
 
 TEST(ModbusMap, FollowsTheOpenPlcConvention) {
-  auto p = load_test_project(kProject);
+  auto r = load_test_result(kProject);
+  auto& p = r.program;
   ASSERT_TRUE(p);
   std::vector<std::string> notes;
-  auto m = ModbusMap::build(*p, &notes);
+  auto m = ModbusMap::build(*p, r.modbus, &notes);
   auto tag_of = [&](const ModbusPoint* pt) { return pt ? p->tags[pt->tag].name : std::string("-"); };
   // %IX0.3 -> discrete input 3; %QX1.6 .. -> coils 14..23
   EXPECT_EQ(tag_of(m.at(ModbusTable::DiscreteInputs, 3)), "start");
@@ -60,9 +61,9 @@ TEST(ModbusMap, FollowsTheOpenPlcConvention) {
 }
 
 TEST(ModbusMap, RangesMustBeMappedAndMustNotCutAValue) {
-  auto p = load_test_project(kProject);
-  ASSERT_TRUE(p);
-  auto m = ModbusMap::build(*p);
+  auto loaded = load_test_result(kProject);
+  ASSERT_TRUE(loaded.program);
+  auto m = ModbusMap::build(*loaded.program, loaded.modbus);
   auto r = m.range(ModbusTable::HoldingRegisters, 2054, 4);  // pos and dint whole
   ASSERT_TRUE(r);
   EXPECT_EQ(r->size(), 2u);
@@ -88,9 +89,10 @@ tags:
 )";
 
 TEST(ModbusMap, ExplicitPlacesTakePrecedenceOverTheConvention) {
-  auto p = load_test_project(kExplicit);
+  auto r = load_test_result(kExplicit);
+  auto& p = r.program;
   ASSERT_TRUE(p);
-  auto m = ModbusMap::build(*p);
+  auto m = ModbusMap::build(*p, r.modbus);
   auto tag_of = [&](const ModbusPoint* pt) { return pt ? p->tags[pt->tag].name : std::string("-"); };
   EXPECT_EQ(tag_of(m.at(ModbusTable::HoldingRegisters, 3003)), "speed");
   EXPECT_EQ(m.at(ModbusTable::HoldingRegisters, 3003)->address, 3000u);
@@ -111,9 +113,10 @@ TEST(ModbusMap, ExplicitPlacesTakePrecedenceOverTheConvention) {
 }
 
 TEST(ModbusMap, ExplicitPlacesAreWritableOnlyInCoilsAndHoldingRegistersWithReadwrite) {
-  auto p = load_test_project(kExplicit);
+  auto r = load_test_result(kExplicit);
+  auto& p = r.program;
   ASSERT_TRUE(p);
-  auto m = ModbusMap::build(*p);
+  auto m = ModbusMap::build(*p, r.modbus);
   EXPECT_TRUE(m.at(ModbusTable::HoldingRegisters, 3000)->writable);
   EXPECT_TRUE(m.at(ModbusTable::Coils, 9000)->writable);
   EXPECT_FALSE(m.at(ModbusTable::InputRegisters, 7)->writable) << "input registers are read only";
@@ -122,27 +125,42 @@ TEST(ModbusMap, ExplicitPlacesAreWritableOnlyInCoilsAndHoldingRegistersWithReadw
 }
 
 // Programs built by hand: the map's own overlap rule, without the loader's checks.
-Tag modbus_tag(const std::string& name, IecType type, std::uint32_t length, std::optional<ModbusPlace> place,
-               const char* address = nullptr) {
+struct HandMadeTag {
+  Tag tag;
+  std::optional<ModbusPlace> place;
+};
+HandMadeTag modbus_tag(const std::string& name, IecType type, std::uint32_t length, std::optional<ModbusPlace> place,
+                       const char* address = nullptr) {
   Tag t;
   t.name = name;
   t.type = type;
   t.length = length;
   t.hmi = HmiAccess::ReadWrite;
-  t.modbus = place;
   if (address) t.address = *parse_direct_address(address, nullptr);
-  return t;
+  return {t, place};
+}
+struct HandMadeTags {
+  std::vector<Tag> tags;
+  ModbusPlaces places;
+};
+HandMadeTags hand_made(std::initializer_list<HandMadeTag> list) {
+  HandMadeTags h;
+  for (const auto& t : list) {
+    h.tags.push_back(t.tag);
+    h.places.push_back(t.place);
+  }
+  return h;
 }
 
 TEST(ModbusMap, OverlapsLeaveTheLaterTagOutAndAreReported) {
-  std::vector<Tag> tags = {
+  auto [tags, places] = hand_made({
       modbus_tag("a", IecType::LREAL, 1, ModbusPlace{ModbusTable::HoldingRegisters, 3000}),
       modbus_tag("b", IecType::DINT, 1, ModbusPlace{ModbusTable::HoldingRegisters, 3003}),   // into a's last register
       modbus_tag("c", IecType::INT, 2, ModbusPlace{ModbusTable::HoldingRegisters, 2998}),    // 2998..2999: just before a
       modbus_tag("d", IecType::INT, 1, ModbusPlace{ModbusTable::InputRegisters, 3000}),      // another table
-  };
+  });
   std::vector<ModbusOverlap> overlaps;
-  auto m = ModbusMap::build(tags, nullptr, &overlaps);
+  auto m = ModbusMap::build(tags, places, nullptr, &overlaps);
   ASSERT_EQ(overlaps.size(), 1u);
   EXPECT_EQ(overlaps[0].tag, 1u);
   EXPECT_EQ(overlaps[0].other, 0u);
@@ -159,12 +177,12 @@ TEST(ModbusMap, OverlapsLeaveTheLaterTagOutAndAreReported) {
 }
 
 TEST(ModbusMap, AnExplicitPlaceWinsOverAConventionPlaceDeclaredBeforeIt) {
-  std::vector<Tag> tags = {
+  auto [tags, places] = hand_made({
       modbus_tag("conv", IecType::INT, 1, std::nullopt, "%MW0"),                            // holding 1024
       modbus_tag("expl", IecType::DINT, 1, ModbusPlace{ModbusTable::HoldingRegisters, 1023}),  // 1023..1024
-  };
+  });
   std::vector<ModbusOverlap> overlaps;
-  auto m = ModbusMap::build(tags, nullptr, &overlaps);
+  auto m = ModbusMap::build(tags, places, nullptr, &overlaps);
   ASSERT_EQ(overlaps.size(), 1u);
   EXPECT_EQ(overlaps[0].tag, 0u) << "the convention's place is the one left out";
   EXPECT_EQ(overlaps[0].other, 1u);
@@ -174,14 +192,14 @@ TEST(ModbusMap, AnExplicitPlaceWinsOverAConventionPlaceDeclaredBeforeIt) {
 }
 
 TEST(ModbusMap, AnExplicitPlaceThatDoesNotFitIsANote) {
-  std::vector<Tag> tags = {
+  auto [tags, places] = hand_made({
       modbus_tag("bit", IecType::BOOL, 1, ModbusPlace{ModbusTable::HoldingRegisters, 0}),
       modbus_tag("long", IecType::LREAL, 1, ModbusPlace{ModbusTable::HoldingRegisters, 65533}),
       modbus_tag("hidden", IecType::INT, 1, ModbusPlace{ModbusTable::HoldingRegisters, 5}),
-  };
+  });
   tags[2].hmi = HmiAccess::None;
   std::vector<std::string> notes;
-  auto m = ModbusMap::build(tags, &notes);
+  auto m = ModbusMap::build(tags, places, &notes);
   EXPECT_THAT(notes, ::testing::ElementsAre("bit: a BOOL has no place among the holding registers",
                                             "long: its holding registers run past 65535"));
   EXPECT_TRUE(m.points(ModbusTable::HoldingRegisters).empty()) << "hmi none: not on Modbus";
@@ -241,20 +259,22 @@ TEST(ModbusEncoding, EveryTypeRoundTripsInBothOrders) {
 }
 
 TEST(ModbusMap, CheckPrintsTheMap) {
-  auto p = load_test_project(kProject);
+  auto r = load_test_result(kProject);
+  auto& p = r.program;
   ASSERT_TRUE(p);
   std::ostringstream os;
-  print_modbus_map(os, *p, ModbusMap::build(*p), WordOrder::HighFirst);
+  print_modbus_map(os, *p, ModbusMap::build(*p, r.modbus), WordOrder::HighFirst);
   EXPECT_THAT(os.str(), ::testing::HasSubstr("  coils 14..23  lamps BOOL[10] at %QX1.6  read/write\n"));
   EXPECT_THAT(os.str(), ::testing::HasSubstr("  holding registers 4112..4115  big LREAL at %ML4  read/write\n"));
   EXPECT_THAT(os.str(), ::testing::HasSubstr("  input register 5  level INT at %IW5  read only\n"));
 }
 
 TEST(ModbusMap, CheckMarksExplicitPlacesAndPrintsTheWordOrder) {
-  auto p = load_test_project(kExplicit);
+  auto r = load_test_result(kExplicit);
+  auto& p = r.program;
   ASSERT_TRUE(p);
   std::ostringstream os;
-  print_modbus_map(os, *p, ModbusMap::build(*p), WordOrder::LowFirst);
+  print_modbus_map(os, *p, ModbusMap::build(*p, r.modbus), WordOrder::LowFirst);
   EXPECT_THAT(os.str(), ::testing::HasSubstr("32/64-bit values low word first"));
   EXPECT_THAT(os.str(), ::testing::HasSubstr("  holding registers 3000..3003  speed LREAL (explicit)  read/write\n"));
   EXPECT_THAT(os.str(), ::testing::HasSubstr("  input register 7  moved INT (explicit)  read only\n"));

@@ -30,7 +30,9 @@ using testing::pdu;
 class Handler : public ::testing::Test {
  protected:
   void SetUp() override {
-    program = load_test_project(testing::kHandlerProject);
+    auto loaded = load_test_result(testing::kHandlerProject);
+    program = std::move(loaded.program);
+    places = loaded.modbus.places;
     ASSERT_TRUE(program);
     clock = std::make_unique<VirtualClock>(*program);
     ASSERT_EQ(socketpair(AF_UNIX, SOCK_STREAM, 0, fds), 0);
@@ -44,7 +46,7 @@ class Handler : public ::testing::Test {
   }
   void make_handler() {
     handler = std::make_unique<RequestHandler>(config, counters);
-    handler->set_program(*program);
+    handler->set_program(*program, places);
   }
   void scan_until(std::int64_t t) {
     clock->run_until(t, true);
@@ -75,6 +77,7 @@ class Handler : public ::testing::Test {
   ModbusConfig config;
   Counters counters;
   std::unique_ptr<Program> program;
+  ModbusPlaces places;  // the project's explicit places (small, octet, trim)
   std::unique_ptr<VirtualClock> clock;
   std::unique_ptr<RequestHandler> handler;
   PendingReply pending;

@@ -128,7 +128,7 @@ metrics: {axis_errors: e}
 )"));
   auto r = load_project(main);
   ASSERT_TRUE(r.ok()) << joined(r);
-  EXPECT_EQ(r.program->axis_errors.size(), 2u);
+  EXPECT_EQ(r.metrics.axis_errors.size(), 2u);
   std::string twice = temp_file("metrics/twice.yaml", yaml(R"(
 include: [sub.yaml]
 tasks: [{name: main, period: 1ms}]

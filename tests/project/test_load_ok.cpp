@@ -90,14 +90,17 @@ TEST(LoadOk, BottleLine) {
   EXPECT_EQ(p.watch.size(), 6u);
 
   // Modbus: the server's settings and the explicitly placed setpoints.
-  EXPECT_TRUE(p.modbus.enabled);
-  EXPECT_EQ(p.modbus.port, 5020);
-  EXPECT_EQ(p.modbus.bind, "127.0.0.1");
-  ASSERT_TRUE(speed->modbus);
-  EXPECT_EQ(speed->modbus->table, ModbusTable::HoldingRegisters);
-  EXPECT_EQ(speed->modbus->address, 3000u);
-  EXPECT_EQ(p.find_tag("auto_mode")->modbus->table, ModbusTable::Coils);
-  EXPECT_FALSE(p.find_tag("batch_size")->modbus) << "placed by its %MW2";
+  const ModbusSettings& m = r.modbus;
+  EXPECT_TRUE(m.server.enabled);
+  EXPECT_EQ(m.server.port, 5020);
+  EXPECT_EQ(m.server.bind, "127.0.0.1");
+  ASSERT_EQ(m.places.size(), p.tags.size()) << "one entry a tag";
+  auto place = [&](const std::string& tag) { return explicit_place(m.places, p.find_tag(tag) - p.tags.data()); };
+  ASSERT_TRUE(place("nominal_speed"));
+  EXPECT_EQ(place("nominal_speed")->table, ModbusTable::HoldingRegisters);
+  EXPECT_EQ(place("nominal_speed")->address, 3000u);
+  EXPECT_EQ(place("auto_mode")->table, ModbusTable::Coils);
+  EXPECT_FALSE(place("batch_size")) << "placed by its %MW2";
 }
 
 TEST(LoadOk, BottleLineAsTextGivesTheSameMessagesName) {

@@ -16,7 +16,7 @@ namespace {
 TEST(Metrics, TrackAndSyncRsmeFollowEquations26And27) {
   // Three axes whose errors ramp: e = (1, 2, 3) * k at scan k (k = 1..100),
   // made by a constant integrated through ADD + UNIT_DELAY per axis.
-  auto p = load_test_project(R"(
+  auto r = load_test_result(R"(
 tasks: [{name: servo, period: 1ms}, {name: slow, period: 7ms}]
 tags:
   - {name: e, type: "ARRAY[1..3] OF LREAL"}
@@ -40,11 +40,12 @@ connections:
   - a3.OUT -> e[3]
 metrics: {axis_errors: e, from: 0s}
 )");
+  auto& p = r.program;
   ASSERT_TRUE(p);
-  ASSERT_EQ(p->axis_errors.size(), 3u);
-  EXPECT_EQ(p->axis_errors[2].label, "e[3]");
+  ASSERT_EQ(r.metrics.axis_errors.size(), 3u);
+  EXPECT_EQ(r.metrics.axis_errors[2].label, "e[3]");
   VirtualClock clock(*p);
-  MotionMetrics m(*p);
+  MotionMetrics m(r.metrics);
   clock.on_time_point([&](std::int64_t t) { m.sample(*p, t, clock.scans(m.task())); });
   clock.run_until(100'000'000);  // scans 0..99 of servo, and the slow task's own time points
   ASSERT_EQ(m.samples(), 100u);
@@ -68,14 +69,15 @@ metrics: {axis_errors: e, from: 0s}
 }
 
 TEST(Metrics, WindowStartsAtFrom) {
-  auto p = load_test_project(R"(
+  auto r = load_test_result(R"(
 tasks: [{name: servo, period: 1ms}]
 tags: [{name: e1, type: LREAL, init: 2}, {name: e2, type: LREAL, init: 5}]
 metrics: {axis_errors: [e1, e2], from: 10ms}
 )");
+  auto& p = r.program;
   ASSERT_TRUE(p);
   VirtualClock clock(*p);
-  MotionMetrics m(*p);
+  MotionMetrics m(r.metrics);
   clock.on_time_point([&](std::int64_t t) { m.sample(*p, t, clock.scans(m.task())); });
   clock.run_until(50'000'000);
   EXPECT_EQ(m.samples(), 40u);

@@ -15,15 +15,15 @@ TEST(ModbusSection, AbsentSectionMeansNoServer) {
 tasks: [{name: main, period: 1ms}]
 )");
   ASSERT_LOADS(r);
-  EXPECT_FALSE(r.program->modbus.enabled);
-  EXPECT_FALSE(r.program->modbus.declared);
+  EXPECT_FALSE(r.modbus.server.enabled);
+  EXPECT_FALSE(r.modbus.server.declared);
 }
 
 TEST(ModbusSection, PresentSectionTurnsTheServerOnWithTheDefaults) {
   for (const char* text : {"tasks: [{name: main, period: 1ms}]\nmodbus: {}\n", "tasks: [{name: main, period: 1ms}]\nmodbus:\n"}) {
     auto r = load(text);
     ASSERT_LOADS(r);
-    const ModbusConfig& c = r.program->modbus;
+    const ModbusConfig& c = r.modbus.server;
     EXPECT_TRUE(c.enabled) << text;
     EXPECT_TRUE(c.declared);
     EXPECT_EQ(c.port, 5020);
@@ -52,7 +52,7 @@ modbus:
   read_only: true
 )");
   ASSERT_LOADS(r);
-  const ModbusConfig& c = r.program->modbus;
+  const ModbusConfig& c = r.modbus.server;
   EXPECT_FALSE(c.enabled);
   EXPECT_TRUE(c.declared);
   EXPECT_EQ(c.port, 0);
@@ -76,17 +76,17 @@ tasks: [{name: main, period: 1ms}]
 modbus: {port: 65535, unit_id: 1, max_clients: 1, idle_timeout: 0, word_order: high_first, enabled: yes}
 )");
   ASSERT_LOADS(r);
-  EXPECT_EQ(r.program->modbus.port, 65535);
-  EXPECT_EQ(r.program->modbus.unit_id, 1);
-  EXPECT_EQ(r.program->modbus.max_clients, 1);
-  EXPECT_EQ(r.program->modbus.idle_timeout_ns, 0) << "0 needs no unit: never";
-  EXPECT_TRUE(r.program->modbus.enabled);
+  EXPECT_EQ(r.modbus.server.port, 65535);
+  EXPECT_EQ(r.modbus.server.unit_id, 1);
+  EXPECT_EQ(r.modbus.server.max_clients, 1);
+  EXPECT_EQ(r.modbus.server.idle_timeout_ns, 0) << "0 needs no unit: never";
+  EXPECT_TRUE(r.modbus.server.enabled);
   auto s = load(R"(
 tasks: [{name: main, period: 1ms}]
 modbus: {idle_timeout: 0s}
 )");
   ASSERT_LOADS(s);
-  EXPECT_EQ(s.program->modbus.idle_timeout_ns, 0);
+  EXPECT_EQ(s.modbus.server.idle_timeout_ns, 0);
 }
 
 TEST(ModbusSection, EveryBadValueIsReportedAtItsPlace) {
@@ -123,10 +123,10 @@ modbus:
 TEST(ModbusSection, CpusAreOneNumberOrAList) {
   auto r = load("tasks: [{name: main, period: 1ms}]\nmodbus: {cpus: [0, 3]}\n");
   ASSERT_LOADS(r);
-  EXPECT_EQ(r.program->modbus.cpus, (std::vector<int>{0, 3}));
+  EXPECT_EQ(r.modbus.server.cpus, (std::vector<int>{0, 3}));
   auto one = load("tasks: [{name: main, period: 1ms}]\nmodbus: {cpus: 2}\n");
   ASSERT_LOADS(one);
-  EXPECT_EQ(one.program->modbus.cpus, (std::vector<int>{2}));
+  EXPECT_EQ(one.modbus.server.cpus, (std::vector<int>{2}));
   EXPECT_THAT(errors("tasks: [{name: main, period: 1ms}]\nmodbus: {cpus: []}\n"),
               ElementsAre("p.yaml:2:16: modbus cpus: expected a CPU number or a non-empty list of them, e.g. [0, 1]"));
 }
@@ -175,8 +175,8 @@ modbus: {port: 1502}
 )"));
   auto r = load_project(main);
   ASSERT_LOADS(r);
-  EXPECT_TRUE(r.program->modbus.enabled);
-  EXPECT_EQ(r.program->modbus.port, 1502);
+  EXPECT_TRUE(r.modbus.server.enabled);
+  EXPECT_EQ(r.modbus.server.port, 1502);
   std::string twice = temp_file("modbus/twice.yaml", yaml(R"(
 include: [sub.yaml]
 tasks: [{name: main, period: 1ms}]
@@ -200,15 +200,16 @@ tags:
   - {name: plain, type: INT, address: "%MW5", hmi: read}
 )");
   ASSERT_LOADS(r);
-  const Tag* speed = r.program->find_tag("speed");
-  ASSERT_TRUE(speed->modbus);
-  EXPECT_EQ(speed->modbus->table, ModbusTable::HoldingRegisters);
-  EXPECT_EQ(speed->modbus->address, 3000u);
-  EXPECT_FALSE(speed->address);
-  EXPECT_EQ(r.program->find_tag("level")->modbus->table, ModbusTable::InputRegisters);
-  EXPECT_EQ(r.program->find_tag("lamps")->modbus->address, 65520u) << "16 coils up to 65535";
-  EXPECT_EQ(r.program->find_tag("ready")->modbus->address, 16u);
-  EXPECT_FALSE(r.program->find_tag("plain")->modbus);
+  const Program& p = *r.program;
+  auto place = [&](const std::string& tag) { return explicit_place(r.modbus.places, p.find_tag(tag) - p.tags.data()); };
+  ASSERT_TRUE(place("speed"));
+  EXPECT_EQ(place("speed")->table, ModbusTable::HoldingRegisters);
+  EXPECT_EQ(place("speed")->address, 3000u);
+  EXPECT_FALSE(p.find_tag("speed")->address);
+  EXPECT_EQ(place("level")->table, ModbusTable::InputRegisters);
+  EXPECT_EQ(place("lamps")->address, 65520u) << "16 coils up to 65535";
+  EXPECT_EQ(place("ready")->address, 16u);
+  EXPECT_FALSE(place("plain"));
 }
 
 TEST(ModbusPlaces, TheTagNeedsHmiAccess) {

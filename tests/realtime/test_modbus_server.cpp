@@ -90,7 +90,7 @@ class ModbusServerThreads : public ::testing::Test {
     cfg.enabled = true;
     cfg.port = 0;
     cfg.max_clients = 70;
-    server = std::make_unique<modbus::Server>(*program, cfg);
+    server = std::make_unique<modbus::Server>(*program, ModbusSettings{cfg, {}});
     std::string err;
     ASSERT_TRUE(server->start(&err)) << err;
   }
@@ -215,7 +215,7 @@ TEST_F(ModbusServerThreads, TheProgramIsReplacedUnderLoad) {
     runner->join();
     auto next_runner = std::make_unique<RealtimeRunner>(*next, quiet_options());
     next_runner->start();
-    server->replace_program(*next);
+    server->replace_program(*next, {});
     runner = std::move(next_runner);
     program = std::move(next);  // the old program goes only after the server let go of it
   }
@@ -238,12 +238,12 @@ TEST(ModbusServerCpus, TheThreadKeepsToItsCpusOrTheServerDoesNotStart) {
   ModbusConfig cfg;
   cfg.port = 0;
   cfg.cpus = {0};
-  modbus::Server on_cpu0(*program, cfg);
+  modbus::Server on_cpu0(*program, ModbusSettings{cfg, {}});
   std::string err;
   EXPECT_TRUE(on_cpu0.start(&err)) << err;
   on_cpu0.stop();
   cfg.cpus = {1023};  // no such CPU here
-  modbus::Server nowhere(*program, cfg);
+  modbus::Server nowhere(*program, ModbusSettings{cfg, {}});
   EXPECT_FALSE(nowhere.start(&err));
   EXPECT_EQ(err, "cannot keep the server thread to CPU 1023: Invalid argument");
 }
@@ -296,19 +296,19 @@ TEST(ModbusServerCpus, WithoutCpusTheThreadKeepsOffPinnedTasksCpus) {
   cfg.port = 0;
   std::string err;
   {
-    modbus::Server server(*pinned, cfg);
+    modbus::Server server(*pinned, ModbusSettings{cfg, {}});
     ASSERT_TRUE(server.start(&err)) << err;
     EXPECT_TRUE(server.off_task_cpus());
     EXPECT_EQ(modbus_thread_cpus(), compact(others)) << "off CPU 0, where task fast runs";
-    server.replace_program(*free);  // an online change to a program that pins nothing
+    server.replace_program(*free, {});  // an online change to a program that pins nothing
     EXPECT_FALSE(server.off_task_cpus());
     EXPECT_EQ(modbus_thread_cpus(), compact(everything));
-    server.replace_program(*pinned);
+    server.replace_program(*pinned, {});
     EXPECT_EQ(modbus_thread_cpus(), compact(others));
   }
   {
     cfg.cpus = {0};  // set by hand: the setting wins, even on a pinned task's CPU
-    modbus::Server server(*pinned, cfg);
+    modbus::Server server(*pinned, ModbusSettings{cfg, {}});
     ASSERT_TRUE(server.start(&err)) << err;
     EXPECT_FALSE(server.off_task_cpus());
     EXPECT_EQ(modbus_thread_cpus(), "0");
@@ -385,7 +385,7 @@ class ModbusServerWaiting : public ::testing::Test {
     ASSERT_TRUE(program);
     ModbusConfig cfg;
     cfg.port = 0;
-    server = std::make_unique<modbus::Server>(*program, cfg);
+    server = std::make_unique<modbus::Server>(*program, ModbusSettings{cfg, {}});
     std::string err;
     ASSERT_TRUE(server->start(&err)) << err;
   }
@@ -429,7 +429,7 @@ TEST_F(ModbusServerWaiting, AtAProgramChangeAWaitingWriteAndReadIsAnsweredAndWha
   auto change = plan_change(*program, *next);  // carries the tags over
   change->switch_ns = 1'000'000'000'000;
   begin_mirroring(*change);
-  server->replace_program(*next);
+  server->replace_program(*next, {});
   EXPECT_FALSE(readable_within(s, 300ms)) << "answered before its write was published";
   for (int k = 0; k < 2; ++k) {
     ScanContext ctx;

@@ -1,4 +1,4 @@
-#include "runtime/core/modbus_config.hpp"
+#include "runtime/modbus/modbus_config.hpp"
 
 #include <arpa/inet.h>
 

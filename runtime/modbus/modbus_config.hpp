@@ -1,7 +1,7 @@
 // What a project says about its Modbus TCP server (the `modbus:` section and
-// a tag's `modbus:` key), kept in the core so that the loader can fill it and
-// the server (runtime/modbus) can read it without either depending on the
-// other. docs/modbus.md describes every field.
+// a tag's `modbus:` key): plain data, filled by the loader (runtime/project),
+// read by the server. The core's Program knows nothing of Modbus.
+// docs/modbus.md describes every field.
 #pragma once
 
 #include <cstdint>
@@ -65,6 +65,19 @@ std::string modbus_settings_text(const ModbusConfig& c);
 struct ModbusPlace {
   ModbusTable table = ModbusTable::HoldingRegisters;
   std::uint32_t address = 0;  // 0..65535: the first coil or register
+};
+
+// Each tag's explicit place, indexed like Program::tags (nullopt, or an index
+// past the end: the place its direct address gives, if any).
+using ModbusPlaces = std::vector<std::optional<ModbusPlace>>;
+inline const ModbusPlace* explicit_place(const ModbusPlaces& places, std::size_t tag) {
+  return tag < places.size() && places[tag] ? &*places[tag] : nullptr;
+}
+
+// Everything a project says about Modbus.
+struct ModbusSettings {
+  ModbusConfig server;
+  ModbusPlaces places;
 };
 
 }  // namespace syncplc
