@@ -36,7 +36,8 @@ struct Tag {
   bool is_array = false;
   std::int64_t array_lower = 0;  // ARRAY[lower..lower+length-1]
   std::optional<DirectAddress> address;
-  bool retain = false;
+  bool retain = false;      // RETAIN: survives a restart (warm start)
+  bool persistent = false;  // PERSISTENT: also survives loading a changed project; implies retain
   HmiAccess hmi = HmiAccess::None;
   std::string unit;
   std::string description;

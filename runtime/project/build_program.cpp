@@ -286,6 +286,16 @@ MetricsSettings build_metrics(const Declarations& p, const Program& prog, Diagno
   return m;
 }
 
+store::StoreSettings build_store(const Declarations& p) {
+  store::StoreSettings s = p.store;
+  for (std::uint32_t i = 0; i < p.tags.size(); ++i)
+    if (p.tags[i].trend) {
+      s.trends.push_back(*p.tags[i].trend);
+      s.trends.back().tag = i;  // Program::tags keeps the declarations' order
+    }
+  return s;
+}
+
 ModbusSettings build_modbus(const Declarations& p) {
   ModbusSettings s;
   s.server = p.modbus;

@@ -21,6 +21,7 @@
 #include "runtime/core/block.hpp"
 #include "runtime/core/io_driver.hpp"
 #include "runtime/modbus/modbus_config.hpp"
+#include "runtime/store/store_settings.hpp"
 #include "runtime/core/program.hpp"
 
 namespace syncplc {
@@ -39,6 +40,7 @@ struct TagDecl {
   SourceLoc task_loc;
   SourceLoc address_loc;      // where its address: is written (overlaps are reported there)
   std::optional<ModbusPlace> modbus;  // its explicit Modbus place (else its direct address's, if any)
+  std::optional<store::TrendSpec> trend;  // its trend: key (tag index set when the store settings are built)
   SourceLoc modbus_loc;       // the tag's modbus: key, where its overlaps are reported
   SourceLoc hmi_loc;          // its hmi: key
   bool modbus_failed = false;  // its modbus: key was wrong (reported): it takes no place at all
@@ -133,6 +135,7 @@ struct Declarations {
   RefList axis_errors;  // metrics: axis_errors
   std::int64_t metrics_from_ns = 0;
   ModbusConfig modbus;  // the modbus: section
+  store::StoreSettings store;  // the store: section (trends gathered from the tags at the build)
   // Tag initial values given on the command line (--set tag=value), checked with the owners.
   std::vector<std::pair<int, std::string>> cli_tag_values;
 

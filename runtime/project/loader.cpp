@@ -7,6 +7,7 @@
 #include "fblocks/library.hpp"
 #include "runtime/io/drivers.hpp"
 #include "runtime/project/modbus_settings.hpp"
+#include "runtime/project/store_section.hpp"
 #include "runtime/project/stages.hpp"
 #include "runtime/project/yaml_tree.hpp"
 
@@ -22,13 +23,14 @@ Declarations read_declarations(ConfigNode& root, const std::string& path, const 
   merge_includes(root, path, diags);
   for (const auto& [k, v] : root.map)
     if (!kTopKeys.count(k))
-      diags.error(v.loc, "unknown top-level key '" + k + "' (project, include, tasks, tags, blocks, connections, drivers, traces, watch, metrics, modbus)");
+      diags.error(v.loc, "unknown top-level key '" + k + "' (project, include, tasks, tags, blocks, connections, drivers, traces, watch, metrics, modbus, store)");
   if (auto* n = root.find("project")) read_project(*n, p, diags);
   if (opts.seed) p.seed = *opts.seed;
   if (auto* n = root.find("tasks")) read_tasks(*n, p, diags);
   if (p.tasks.empty()) diags.error(root.loc, "the project has no tasks");
   if (auto* n = root.find("tags")) read_tags(*n, p, diags);
   if (auto* n = root.find("modbus")) read_modbus_section(*n, p.modbus, diags);
+  if (auto* n = root.find("store")) read_store_section(*n, p.store, diags);
   if (auto* n = root.find("blocks")) read_blocks(*n, blocks, p, diags);
   std::set<std::string> driver_overrides;
   for (auto& [k, v] : root.map)
@@ -76,6 +78,7 @@ LoadResult load_tree(ConfigNode root, const std::string& path, const LoadOptions
   if (diags.empty()) {
     r.program = std::move(prog);
     r.modbus = build_modbus(p);
+    r.store = build_store(p);
   }
   r.diagnostics = std::move(diags);
   return r;

@@ -16,6 +16,7 @@
 #include "runtime/modbus/modbus_config.hpp"
 #include "runtime/project/diagnostics.hpp"
 #include "runtime/project/metrics.hpp"
+#include "runtime/store/store_settings.hpp"
 
 namespace syncplc {
 
@@ -37,6 +38,7 @@ struct LoadResult {
   // What the project says beside the program (empty when it did not load):
   ModbusSettings modbus;    // the modbus: section and the tags' explicit places
   MetricsSettings metrics;  // the metrics: section, resolved in the program
+  store::StoreSettings store;  // the store: section and the trended tags
   Diagnostics diagnostics;
   bool ok() const { return program != nullptr; }
 };

@@ -8,7 +8,7 @@
 namespace syncplc {
 
 const std::set<std::string> kTopKeys = {"project", "include", "tasks", "tags", "blocks", "connections",
-                                        "drivers", "traces", "watch", "metrics", "modbus"};
+                                        "drivers", "traces", "watch", "metrics", "modbus", "store"};
 
 namespace {
 
@@ -50,7 +50,7 @@ void merge_level(ConfigNode& root, const std::string& path, int depth, std::vect
       ConfigNode* target = nullptr;
       for (auto& [rk, rv] : root.map)
         if (rk == k) target = &rv;
-      if (k == "metrics" || k == "modbus") {
+      if (k == "metrics" || k == "modbus" || k == "store") {
         // A map section comes from one file only.
         if (target) diags.error(v.loc, "'" + k + "' is also set at " + target->loc.text() + ": a map section may come from one file only");
         else root.map.emplace_back(k, v);

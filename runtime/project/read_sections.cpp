@@ -3,6 +3,7 @@
 // watch and metrics. Blocks and drivers have files of their own.
 #include "runtime/core/units.hpp"
 #include "runtime/project/modbus_settings.hpp"
+#include "runtime/project/store_section.hpp"
 #include "runtime/project/stages.hpp"
 
 namespace syncplc {
@@ -122,7 +123,7 @@ void read_tags(const ConfigNode& n, Declarations& p, Diagnostics& diags) {
     TagDecl td;
     td.tag.loc = t.loc;
     bool ok = true, has_type = false;
-    const ConfigNode *addr = nullptr, *modbus = nullptr, *init = nullptr, *safe = nullptr;
+    const ConfigNode *addr = nullptr, *modbus = nullptr, *init = nullptr, *safe = nullptr, *trend = nullptr;
     for (const auto& [k, v] : t.map) {
       if (k == "name") {
         td.tag.name = v.scalar;
@@ -140,6 +141,12 @@ void read_tags(const ConfigNode& n, Declarations& p, Diagnostics& diags) {
         std::string err;
         auto c = parse_value(IecType::BOOL, v.scalar, &err);
         if (!c) diags.error(v.loc, "retain: " + err); else td.tag.retain = c->get<bool>();
+      } else if (k == "persistent") {
+        std::string err;
+        auto c = parse_value(IecType::BOOL, v.scalar, &err);
+        if (!c) diags.error(v.loc, "persistent: " + err); else td.tag.persistent = c->get<bool>();
+      } else if (k == "trend") {
+        trend = &v;
       } else if (k == "hmi") {
         td.hmi_loc = v.loc;
         if (v.scalar == "none") td.tag.hmi = HmiAccess::None;
@@ -155,7 +162,7 @@ void read_tags(const ConfigNode& n, Declarations& p, Diagnostics& diags) {
       else if (k == "safe") safe = &v;
       else if (k == "task") { td.task = v.scalar; td.task_loc = v.loc; }
       else if (k == "modbus") modbus = &v;
-      else diags.error(v.loc, "unknown key '" + k + "' in a tag (name, type, address, modbus, retain, hmi, unit, description, init, safe, task)");
+      else diags.error(v.loc, "unknown key '" + k + "' in a tag (name, type, address, modbus, retain, persistent, trend, hmi, unit, description, init, safe, task)");
     }
     if (td.tag.name.empty()) { diags.error(t.loc, "tag without a name"); ok = false; }
     if (!has_type) { diags.error(t.loc, "tag " + td.tag.name + " has no type"); ok = false; }
@@ -176,6 +183,8 @@ void read_tags(const ConfigNode& n, Declarations& p, Diagnostics& diags) {
       td.modbus = read_modbus_place(*modbus, td.tag, diags);
       td.modbus_failed = !td.modbus;
     }
+    if (td.tag.persistent) td.tag.retain = true;  // PERSISTENT implies RETAIN (CODESYS's VAR PERSISTENT RETAIN)
+    if (ok && trend) td.trend = read_trend(*trend, td.tag, diags);
     if (!td.task.empty() && p.task_index(td.task) < 0) diags.error(td.task_loc, "unknown task '" + td.task + "'");
     if (ok) {
       td.tag.init.assign(td.tag.length, Cell{});

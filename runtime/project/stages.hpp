@@ -72,5 +72,6 @@ std::unique_ptr<Program> build_program(Declarations& p, const Wiring& w, const B
 // What the project says beside the program: the metrics' axis errors resolved in `prog`, the Modbus settings.
 MetricsSettings build_metrics(const Declarations& p, const Program& prog, Diagnostics& diags);
 ModbusSettings build_modbus(const Declarations& p);
+store::StoreSettings build_store(const Declarations& p);
 
 }  // namespace syncplc
