@@ -1,35 +1,15 @@
-// Internal: declaration helpers of the controller blocks (SYNC_CONTROLLER,
-// PD_CONTROLLER, PID) and the checks their factories run on parameters.
-// The block harness does not range-check parameters; the loader does, but the
-// factories check again so a bad value is a load error from either path.
+// Internal: the checked parameter reads of the controller blocks
+// (SYNC_CONTROLLER, PD_CONTROLLER, PID). The block harness does not
+// range-check parameters; the loader does, but the factories check again so a
+// bad value is a load error from either path.
 #pragma once
 
 #include <cmath>
-#include <optional>
 #include <string>
-#include <utility>
 
-#include "fblocks/motion/decl.hpp"
 #include "runtime/core/block.hpp"
 
 namespace syncplc::motion::ctl {
-
-inline PinDecl in(std::string name, IecType type, std::string unit, std::string doc, bool required = false,
-                  std::string init = {}) {
-  return pin(std::move(name), PinDir::In, type, std::move(unit), std::move(doc), std::move(init), {}, required);
-}
-
-inline PinDecl out(std::string name, IecType type, std::string unit, std::string doc) {
-  return pin(std::move(name), PinDir::Out, type, std::move(unit), std::move(doc));
-}
-
-inline PinDecl array_in(std::string name, IecType type, std::string unit, std::string length_param, std::string doc,
-                        std::string init = {}) {
-  return pin(std::move(name), PinDir::In, type, std::move(unit), std::move(doc), std::move(init), std::move(length_param));
-}
-
-using motion::param;
-using motion::tunable;
 
 // Reads an LREAL parameter; reports a non-finite value or one outside the
 // declared range as a load error (returns the value anyway).
