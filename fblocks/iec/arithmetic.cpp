@@ -108,8 +108,8 @@ BlockTypeInfo arith_info(const char* name, std::string doc) {
 }
 
 void binary_pins(BlockTypeInfo& t, TypeClass c, std::string in1, std::string in2, std::string out) {
-  t.pins = {gen_in("IN1", c, std::move(in1), true), gen_in("IN2", c, std::move(in2), true),
-            gen_out("OUT", c, std::move(out))};
+  t.pins = {input("IN1", c).required().doc(std::move(in1)), input("IN2", c).required().doc(std::move(in2)),
+            output("OUT", c).doc(std::move(out))};
 }
 
 }  // namespace
@@ -122,7 +122,7 @@ void register_arithmetic(BlockRegistry& r) {
                         "Extensible: IN1 and IN2 are required, IN3..IN8 are added only when connected. "
                         "Integers and TIME wrap around in two's complement; reals follow IEEE 754.");
     add_extensible_pins(t, C, "added");
-    t.pins.push_back(gen_out("OUT", C, "sum"));
+    t.pins.push_back(output("OUT", C).doc("sum"));
     t.create = make_generic<C, AddBlock>;
     r.add(std::move(t));
   }
@@ -143,7 +143,7 @@ void register_arithmetic(BlockRegistry& r) {
                         "are required, IN3..IN8 are multiplied in only when connected. Integers wrap around "
                         "in two's complement (the low bits of the exact product); reals follow IEEE 754.");
     add_extensible_pins(t, C, "multiplied in");
-    t.pins.push_back(gen_out("OUT", C, "product"));
+    t.pins.push_back(output("OUT", C).doc("product"));
     t.create = make_generic<C, MulBlock>;
     r.add(std::move(t));
   }
@@ -177,7 +177,7 @@ void register_arithmetic(BlockRegistry& r) {
                         "Absolute value OUT := |IN| over ANY_NUM (default LREAL). Unsigned types are returned "
                         "unchanged; the signed minimum (e.g. INT -32768) has no positive counterpart and is "
                         "returned unchanged (two's complement wrap-around). ABS(-0.0) = 0.0. A NaN or infinite IN is the finite-input rule's (see ENO): OUT holds.");
-    t.pins = {gen_in("IN", C, "operand", true), gen_out("OUT", C, "absolute value of IN")};
+    t.pins = {input("IN", C).required().doc("operand"), output("OUT", C).doc("absolute value of IN")};
     t.create = make_generic<C, AbsBlock>;
     r.add(std::move(t));
   }

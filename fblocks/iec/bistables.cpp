@@ -39,9 +39,9 @@ void register_bistables(BlockRegistry& r) {
             "Q1 starts FALSE.";
     t.reference = kRefFB;
     t.pins = {
-        in_pin("S1", IecType::BOOL, "set (dominant)"),
-        in_pin("R", IecType::BOOL, "reset"),
-        out_pin("Q1", IecType::BOOL, "stored state"),
+        input("S1", IecType::BOOL).doc("set (dominant)"),
+        input("R", IecType::BOOL).doc("reset"),
+        output("Q1", IecType::BOOL).doc("stored state"),
     };
     t.create = make_plain<Sr>();
     r.add(std::move(t));
@@ -54,9 +54,9 @@ void register_bistables(BlockRegistry& r) {
             "Q1 starts FALSE.";
     t.reference = kRefFB;
     t.pins = {
-        in_pin("S", IecType::BOOL, "set"),
-        in_pin("R1", IecType::BOOL, "reset (dominant)"),
-        out_pin("Q1", IecType::BOOL, "stored state"),
+        input("S", IecType::BOOL).doc("set"),
+        input("R1", IecType::BOOL).doc("reset (dominant)"),
+        output("Q1", IecType::BOOL).doc("stored state"),
     };
     t.create = make_plain<Rs>();
     r.add(std::move(t));

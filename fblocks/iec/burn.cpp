@@ -40,8 +40,8 @@ void register_burn(BlockRegistry& r) {
           "sleep). EXEC <= 0 consumes nothing. DONE is set TRUE on every scan the block ran (it stays "
           "FALSE until the first execution).";
   t.reference = "syncplc diagnostic block (not an IEC 61131-3 standard block)";
-  t.pins = {in_pin("EXEC", IecType::TIME, "execution time to consume per scan (default 0)"),
-            out_pin("DONE", IecType::BOOL, "TRUE each scan the block has run")};
+  t.pins = {input("EXEC", IecType::TIME).doc("execution time to consume per scan (default 0)"),
+            output("DONE", IecType::BOOL).doc("TRUE each scan the block has run")};
   t.create = make_plain<Burn>();
   r.add(std::move(t));
 }

@@ -7,9 +7,9 @@
 #include <memory>
 #include <string>
 #include <type_traits>
-#include <utility>
 
 #include "runtime/core/block.hpp"
+#include "runtime/core/pin_decl.hpp"
 
 namespace syncplc::iec {
 
@@ -74,50 +74,6 @@ BlockFactory make_plain() {
   return [](BlockSetup&) -> std::unique_ptr<Block> { return std::make_unique<B>(); };
 }
 
-// ---- pin declarations -------------------------------------------------------
-
-inline PinDecl in_pin(std::string name, IecType type, std::string doc, bool required = false,
-                      std::string init = {}) {
-  PinDecl p;
-  p.name = std::move(name);
-  p.dir = PinDir::In;
-  p.cls = TypeClass::Exact;
-  p.type = type;
-  p.required = required;
-  p.doc = std::move(doc);
-  p.init = std::move(init);
-  return p;
-}
-
-inline PinDecl out_pin(std::string name, IecType type, std::string doc) {
-  PinDecl p;
-  p.name = std::move(name);
-  p.dir = PinDir::Out;
-  p.cls = TypeClass::Exact;
-  p.type = type;
-  p.doc = std::move(doc);
-  return p;
-}
-
-inline PinDecl gen_in(std::string name, TypeClass cls, std::string doc, bool required = false) {
-  PinDecl p;
-  p.name = std::move(name);
-  p.dir = PinDir::In;
-  p.cls = cls;
-  p.required = required;
-  p.doc = std::move(doc);
-  return p;
-}
-
-inline PinDecl gen_out(std::string name, TypeClass cls, std::string doc) {
-  PinDecl p;
-  p.name = std::move(name);
-  p.dir = PinDir::Out;
-  p.cls = cls;
-  p.doc = std::move(doc);
-  return p;
-}
-
 // Extensible functions (ADD, MUL, MAX, MIN, AND, OR, XOR) declare IN1..IN8 then
 // OUT. IN1 and IN2 are required; IN3..IN8 take part only when connected.
 inline constexpr int kMaxInputs = 8;
@@ -126,11 +82,10 @@ inline constexpr int kExtOut = kMaxInputs;  // pin index of OUT
 inline void add_extensible_pins(BlockTypeInfo& info, TypeClass cls, const std::string& what) {
   for (int i = 1; i <= kMaxInputs; ++i) {
     const bool req = i <= 2;
-    info.pins.push_back(gen_in("IN" + std::to_string(i), cls,
-                               req ? "operand " + std::to_string(i)
-                                   : "optional operand " + std::to_string(i) + "; " + what +
-                                         " only when connected",
-                               req));
+    info.pins.push_back(input("IN" + std::to_string(i), cls)
+                            .required(req)
+                            .doc(req ? "operand " + std::to_string(i)
+                                     : "optional operand " + std::to_string(i) + "; " + what + " only when connected"));
   }
 }
 

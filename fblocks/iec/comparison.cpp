@@ -33,8 +33,8 @@ void add_compare(BlockRegistry& r, const char* name, const char* op, const char*
           "infinite input is the finite-input rule's (see ENO): the block does not execute and OUT holds.";
   t.reference = kRefFn;
   t.default_datatype = IecType::LREAL;
-  t.pins = {gen_in("IN1", C, "left operand", true), gen_in("IN2", C, "right operand", true),
-            out_pin("OUT", IecType::BOOL, std::string("IN1 ") + op + " IN2")};
+  t.pins = {input("IN1", C).required().doc("left operand"), input("IN2", C).required().doc("right operand"),
+            output("OUT", IecType::BOOL).doc(std::string("IN1 ") + op + " IN2")};
   t.create = make_generic<C, CompareOf<Cmp>::template Block>;
   r.add(std::move(t));
 }

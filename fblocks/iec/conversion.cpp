@@ -187,7 +187,8 @@ BlockTypeInfo info(IecType s, IecType d, bool trunc) {
   t.doc = rule_text(s, d, trunc);
   t.reference = trunc ? "IEC 61131-3 standard function, 2.5.1.5.1 Table 22 note c (typed *_TRUNC_** of ed. 3)"
                       : "IEC 61131-3 standard function, 2.5.1.5.1 Table 22 (type conversion), notes a and b";
-  t.pins = {in_pin("IN", s, "value to convert", true), out_pin("OUT", d, "IN as " + std::string(type_name(d)))};
+  t.pins = {input("IN", s).required().doc("value to convert"),
+            output("OUT", d).doc("IN as " + std::string(type_name(d)))};
   return t;
 }
 

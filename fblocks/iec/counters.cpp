@@ -104,11 +104,11 @@ void register_counters(BlockRegistry& r) {
         "on the first scan counts) adds 1 to CV unless CV is at the maximum of the type (no wrap-around). "
         "R TRUE sets CV := 0 and blocks counting. Q := CV >= PV. CV starts at 0.");
     t.pins = {
-        in_pin("CU", IecType::BOOL, "count up on each rising edge"),
-        in_pin("R", IecType::BOOL, "reset CV to 0 (while TRUE, edges are not counted)"),
-        gen_in("PV", C, "preset value; Q when CV reaches it"),
-        out_pin("Q", IecType::BOOL, "CV >= PV"),
-        gen_out("CV", C, "current count"),
+        input("CU", IecType::BOOL).doc("count up on each rising edge"),
+        input("R", IecType::BOOL).doc("reset CV to 0 (while TRUE, edges are not counted)"),
+        input("PV", C).doc("preset value; Q when CV reaches it"),
+        output("Q", IecType::BOOL).doc("CV >= PV"),
+        output("CV", C).doc("current count"),
     };
     t.create = make_generic<C, Ctu>;
     r.add(std::move(t));
@@ -120,11 +120,11 @@ void register_counters(BlockRegistry& r) {
         "rising edge of CD (edge memory starts FALSE) subtracts 1 from CV unless CV is at the minimum of the "
         "type (no wrap-around; 0 for unsigned types). Q := CV <= 0. CV starts at 0.");
     t.pins = {
-        in_pin("CD", IecType::BOOL, "count down on each rising edge"),
-        in_pin("LD", IecType::BOOL, "load PV into CV (while TRUE, edges are not counted)"),
-        gen_in("PV", C, "value loaded by LD"),
-        out_pin("Q", IecType::BOOL, "CV <= 0"),
-        gen_out("CV", C, "current count"),
+        input("CD", IecType::BOOL).doc("count down on each rising edge"),
+        input("LD", IecType::BOOL).doc("load PV into CV (while TRUE, edges are not counted)"),
+        input("PV", C).doc("value loaded by LD"),
+        output("Q", IecType::BOOL).doc("CV <= 0"),
+        output("CV", C).doc("current count"),
     };
     t.create = make_generic<C, Ctd>;
     r.add(std::move(t));
@@ -138,14 +138,14 @@ void register_counters(BlockRegistry& r) {
         "start FALSE and are updated every scan, also while R or LD is TRUE. QU := CV >= PV; QD := CV <= 0. "
         "CV starts at 0.");
     t.pins = {
-        in_pin("CU", IecType::BOOL, "count up on each rising edge"),
-        in_pin("CD", IecType::BOOL, "count down on each rising edge"),
-        in_pin("R", IecType::BOOL, "reset CV to 0 (dominant over LD)"),
-        in_pin("LD", IecType::BOOL, "load PV into CV"),
-        gen_in("PV", C, "preset value: QU threshold and value loaded by LD"),
-        out_pin("QU", IecType::BOOL, "CV >= PV"),
-        out_pin("QD", IecType::BOOL, "CV <= 0"),
-        gen_out("CV", C, "current count"),
+        input("CU", IecType::BOOL).doc("count up on each rising edge"),
+        input("CD", IecType::BOOL).doc("count down on each rising edge"),
+        input("R", IecType::BOOL).doc("reset CV to 0 (dominant over LD)"),
+        input("LD", IecType::BOOL).doc("load PV into CV"),
+        input("PV", C).doc("preset value: QU threshold and value loaded by LD"),
+        output("QU", IecType::BOOL).doc("CV >= PV"),
+        output("QD", IecType::BOOL).doc("CV <= 0"),
+        output("CV", C).doc("current count"),
     };
     t.create = make_generic<C, Ctud>;
     r.add(std::move(t));

@@ -37,8 +37,8 @@ BlockTypeInfo edge_info(const char* name, std::string doc, std::string q_doc) {
   t.doc = std::move(doc);
   t.reference = kRefFB;
   t.pins = {
-      in_pin("CLK", IecType::BOOL, "signal whose edges are detected"),
-      out_pin("Q", IecType::BOOL, std::move(q_doc)),
+      input("CLK", IecType::BOOL).doc("signal whose edges are detected"),
+      output("Q", IecType::BOOL).doc(std::move(q_doc)),
   };
   return t;
 }

@@ -65,7 +65,7 @@ void register_logic(BlockRegistry& r) {
                         "BYTE, WORD, DWORD, LWORD. Extensible: IN1 and IN2 are required, IN3..IN8 take part "
                         "only when connected.");
     add_extensible_pins(t, C, "ANDed in");
-    t.pins.push_back(gen_out("OUT", C, "conjunction of the inputs"));
+    t.pins.push_back(output("OUT", C).doc("conjunction of the inputs"));
     t.create = make_generic<C, AndBlock>;
     r.add(std::move(t));
   }
@@ -75,7 +75,7 @@ void register_logic(BlockRegistry& r) {
                         "BYTE, WORD, DWORD, LWORD. Extensible: IN1 and IN2 are required, IN3..IN8 take part "
                         "only when connected.");
     add_extensible_pins(t, C, "ORed in");
-    t.pins.push_back(gen_out("OUT", C, "disjunction of the inputs"));
+    t.pins.push_back(output("OUT", C).doc("disjunction of the inputs"));
     t.create = make_generic<C, OrBlock>;
     r.add(std::move(t));
   }
@@ -86,7 +86,7 @@ void register_logic(BlockRegistry& r) {
                         "parity (TRUE when an odd number of inputs is TRUE), not \"exactly one\". Extensible: "
                         "IN1 and IN2 are required, IN3..IN8 take part only when connected.");
     add_extensible_pins(t, C, "XORed in");
-    t.pins.push_back(gen_out("OUT", C, "exclusive or (parity) of the inputs"));
+    t.pins.push_back(output("OUT", C).doc("exclusive or (parity) of the inputs"));
     t.create = make_generic<C, XorBlock>;
     r.add(std::move(t));
   }
@@ -94,7 +94,7 @@ void register_logic(BlockRegistry& r) {
     auto t = logic_info("NOT",
                         "OUT := NOT IN over ANY_BIT (default BOOL): logical negation for BOOL, bitwise "
                         "complement for BYTE, WORD, DWORD, LWORD.");
-    t.pins = {gen_in("IN", C, "operand", true), gen_out("OUT", C, "negation of IN")};
+    t.pins = {input("IN", C).required().doc("operand"), output("OUT", C).doc("negation of IN")};
     t.create = make_generic<C, NotBlock>;
     r.add(std::move(t));
   }

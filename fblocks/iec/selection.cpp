@@ -81,7 +81,7 @@ void register_selection(BlockRegistry& r) {
                       "Extensible: IN1 and IN2 are required, IN3..IN8 take part only when connected. For reals "
                       "A NaN or infinite input holds OUT (the finite-input rule, see ENO).");
     add_extensible_pins(t, C, "compared");
-    t.pins.push_back(gen_out("OUT", C, "largest input"));
+    t.pins.push_back(output("OUT", C).doc("largest input"));
     t.create = make_generic<C, MaxBlock>;
     r.add(std::move(t));
   }
@@ -91,7 +91,7 @@ void register_selection(BlockRegistry& r) {
                       "Extensible: IN1 and IN2 are required, IN3..IN8 take part only when connected. For reals "
                       "A NaN or infinite input holds OUT (the finite-input rule, see ENO).");
     add_extensible_pins(t, C, "compared");
-    t.pins.push_back(gen_out("OUT", C, "smallest input"));
+    t.pins.push_back(output("OUT", C).doc("smallest input"));
     t.create = make_generic<C, MinBlock>;
     r.add(std::move(t));
   }
@@ -99,22 +99,22 @@ void register_selection(BlockRegistry& r) {
     auto t = sel_info("LIMIT",
                       "Limiter OUT := MIN(MAX(IN, MN), MX) over ANY (default LREAL). If MN > MX the result is "
                       "MX. A NaN or infinite input holds OUT (the finite-input rule, see ENO).");
-    t.pins = {gen_in("MN", C, "lower limit"), gen_in("IN", C, "value to limit", true),
-              gen_in("MX", C, "upper limit"), gen_out("OUT", C, "IN limited to [MN, MX]")};
+    t.pins = {input("MN", C).doc("lower limit"), input("IN", C).required().doc("value to limit"),
+              input("MX", C).doc("upper limit"), output("OUT", C).doc("IN limited to [MN, MX]")};
     t.create = make_generic<C, LimitBlock>;
     r.add(std::move(t));
   }
   {
     auto t = sel_info("SEL", "Binary selection OUT := IN0 if G is FALSE, IN1 if G is TRUE, over ANY (default LREAL).");
-    t.pins = {in_pin("G", IecType::BOOL, "selector: FALSE picks IN0, TRUE picks IN1", true),
-              gen_in("IN0", C, "value when G is FALSE"), gen_in("IN1", C, "value when G is TRUE"),
-              gen_out("OUT", C, "selected input")};
+    t.pins = {input("G", IecType::BOOL).required().doc("selector: FALSE picks IN0, TRUE picks IN1"),
+              input("IN0", C).doc("value when G is FALSE"), input("IN1", C).doc("value when G is TRUE"),
+              output("OUT", C).doc("selected input")};
     t.create = make_plain<SelBlock>();
     r.add(std::move(t));
   }
   {
     auto t = sel_info("MOVE", "Assignment OUT := IN over ANY (default LREAL).");
-    t.pins = {gen_in("IN", C, "value to copy", true), gen_out("OUT", C, "copy of IN")};
+    t.pins = {input("IN", C).required().doc("value to copy"), output("OUT", C).doc("copy of IN")};
     t.create = make_plain<MoveBlock>();
     r.add(std::move(t));
   }

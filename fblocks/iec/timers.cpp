@@ -119,10 +119,10 @@ BlockTypeInfo timer_info(const char* name, std::string doc, std::string in_doc, 
   t.doc = std::move(doc);
   t.reference = kRefFB;
   t.pins = {
-      in_pin("IN", IecType::BOOL, std::move(in_doc)),
-      in_pin("PT", IecType::TIME, "preset time; a negative value acts as 0"),
-      out_pin("Q", IecType::BOOL, std::move(q_doc)),
-      out_pin("ET", IecType::TIME, std::move(et_doc)),
+      input("IN", IecType::BOOL).doc(std::move(in_doc)),
+      input("PT", IecType::TIME).doc("preset time; a negative value acts as 0"),
+      output("Q", IecType::BOOL).doc(std::move(q_doc)),
+      output("ET", IecType::TIME).doc(std::move(et_doc)),
   };
   return t;
 }

@@ -32,8 +32,8 @@ void register_unit_delay(BlockRegistry& r) {
   t.reference = "syncplc execution control block (z^-1 unit delay; not an IEC 61131-3 standard block)";
   t.default_datatype = IecType::LREAL;
   t.unit_delay = true;
-  t.pins = {gen_in("IN", C, "value sampled at the end of the scan", true),
-            gen_out("OUT", C, "IN of the previous scan; the type's zero on the first scan")};
+  t.pins = {input("IN", C).required().doc("value sampled at the end of the scan"),
+            output("OUT", C).doc("IN of the previous scan; the type's zero on the first scan")};
   t.create = make_plain<UnitDelay>();
   r.add(std::move(t));
 }

@@ -16,9 +16,9 @@
 // samples so that x stays the trajectory at the scan's planned release time.
 #include <cmath>
 
-#include "fblocks/motion/decl.hpp"
 #include "fblocks/motion/motion.hpp"
 #include "fblocks/motion/nonlinear_filter_math.hpp"
+#include "runtime/core/pin_decl.hpp"
 
 namespace syncplc::motion {
 namespace {
@@ -149,17 +149,9 @@ class NonlinearFilter final : public Block {
   bool init_fault_ = false;
 };
 
-// Declaration order of this file: (..., required, init).
-PinDecl filter_pin(std::string name, PinDir dir, IecType type, std::string unit, std::string doc,
-                   bool required = false, std::string init = {}) {
-  return pin(std::move(name), dir, type, std::move(unit), std::move(doc), std::move(init), {}, required);
-}
-
 }  // namespace
 
 void register_nonlinear_filter(BlockRegistry& r) {
-  constexpr auto In = PinDir::In;
-  constexpr auto Out = PinDir::Out;
   BlockTypeInfo t;
   t.name = "NONLINEAR_FILTER";
   t.category = kCategory;
@@ -199,31 +191,31 @@ void register_nonlinear_filter(BlockRegistry& r) {
       "(Guarino Lo Bianco and Wahl, ICRA 2011); controller and Table I corrections in "
       "docs/motion/nonlinear-filter.md";
   t.pins = {
-      filter_pin("r", In, IecType::LREAL, "m", "reference position (steps and ramps)", true),
-      filter_pin("r_dot", In, IecType::LREAL, "m/s",
-          "reference velocity; when not connected, derived as (r_k - r_(k-1))/T (0 on the first scan); "
-          "give 0 for steps only"),
-      filter_pin("v_min", In, IecType::LREAL, "m/s", "lower velocity bound (xdot-), below v_max", true),
-      filter_pin("v_max", In, IecType::LREAL, "m/s", "upper velocity bound (xdot+), above v_min", true),
-      filter_pin("a_min", In, IecType::LREAL, "m/s^2", "lower acceleration bound (U-), negative", true),
-      filter_pin("a_max", In, IecType::LREAL, "m/s^2", "upper acceleration bound (U+), positive", true),
-      filter_pin("reset", In, IecType::BOOL, "", "while TRUE the filter is held at x = x0, x_dot = v0 (x_ddot = 0)"),
-      filter_pin("x0", In, IecType::LREAL, "m", "start position for reset (and the first scan when start_at_r is FALSE)"),
-      filter_pin("v0", In, IecType::LREAL, "m/s", "start velocity for reset (and the first scan when start_at_r is FALSE)"),
-      filter_pin("x", Out, IecType::LREAL, "m", "filtered position at this scan"),
-      filter_pin("x_dot", Out, IecType::LREAL, "m/s", "filtered velocity at this scan"),
-      filter_pin("x_ddot", Out, IecType::LREAL, "m/s^2", "acceleration applied from this scan to the next"),
-      filter_pin("tracking", Out, IecType::BOOL, "", "TRUE when x and x_dot equal r and r_dot (within the tolerance)"),
-      filter_pin("steps_to_go", Out, IecType::LINT, "",
-          "scans until tracking with the present bounds and r as a ramp (0 when tracking, -1 never)"),
-      filter_pin("error", Out, IecType::BOOL, "", "TRUE while the bounds or the reference are invalid"),
+      input("r", IecType::LREAL).unit("m").required().doc("reference position (steps and ramps)"),
+      input("r_dot", IecType::LREAL).unit("m/s")
+          .doc("reference velocity; when not connected, derived as (r_k - r_(k-1))/T (0 on the first scan); give 0 for "
+               "steps only"),
+      input("v_min", IecType::LREAL).unit("m/s").required().doc("lower velocity bound (xdot-), below v_max"),
+      input("v_max", IecType::LREAL).unit("m/s").required().doc("upper velocity bound (xdot+), above v_min"),
+      input("a_min", IecType::LREAL).unit("m/s^2").required().doc("lower acceleration bound (U-), negative"),
+      input("a_max", IecType::LREAL).unit("m/s^2").required().doc("upper acceleration bound (U+), positive"),
+      input("reset", IecType::BOOL).doc("while TRUE the filter is held at x = x0, x_dot = v0 (x_ddot = 0)"),
+      input("x0", IecType::LREAL).unit("m")
+          .doc("start position for reset (and the first scan when start_at_r is FALSE)"),
+      input("v0", IecType::LREAL).unit("m/s")
+          .doc("start velocity for reset (and the first scan when start_at_r is FALSE)"),
+      output("x", IecType::LREAL).unit("m").doc("filtered position at this scan"),
+      output("x_dot", IecType::LREAL).unit("m/s").doc("filtered velocity at this scan"),
+      output("x_ddot", IecType::LREAL).unit("m/s^2").doc("acceleration applied from this scan to the next"),
+      output("tracking", IecType::BOOL).doc("TRUE when x and x_dot equal r and r_dot (within the tolerance)"),
+      output("steps_to_go", IecType::LINT)
+          .doc("scans until tracking with the present bounds and r as a ramp (0 when tracking, -1 never)"),
+      output("error", IecType::BOOL).doc("TRUE while the bounds or the reference are invalid"),
   };
-  ParamDecl start;
-  start.name = "start_at_r";
-  start.type = IecType::BOOL;
-  start.default_value = "TRUE";
-  start.doc = "TRUE: the first scan starts at x = r, x_dot = r_dot (tracking at once); FALSE: at (x0, v0)";
-  t.params = {start};
+  t.params = {
+      parameter("start_at_r", IecType::BOOL).init("TRUE")
+          .doc("TRUE: the first scan starts at x = r, x_dot = r_dot (tracking at once); FALSE: at (x0, v0)"),
+  };
   t.create = [](BlockSetup& s) -> std::unique_ptr<Block> { return std::make_unique<NonlinearFilter>(s); };
   r.add(std::move(t));
 }

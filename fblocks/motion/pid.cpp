@@ -12,17 +12,13 @@
 #include <cmath>
 #include <memory>
 
-#include "fblocks/motion/control_decl.hpp"
 #include "fblocks/motion/motion.hpp"
+#include "fblocks/motion/param_read.hpp"
 #include "fblocks/motion/sync_control_math.hpp"
+#include "runtime/core/pin_decl.hpp"
 
 namespace syncplc::motion {
 namespace {
-
-using ctl::in;
-using ctl::out;
-using ctl::param;
-using ctl::tunable;
 
 // ---- PD_CONTROLLER ----------------------------------------------------------
 
@@ -248,20 +244,21 @@ void register_pid_controllers(BlockRegistry& r) {
         "integral, so a new gain acts from the next scan.";
     t.reference = "Xu et al., ISA Transactions 2017 (paper 000), section 5: standard PD baseline";
     t.pins = {
-        in("x_d", IecType::LREAL, "rad", "desired position", true),
-        in("v_d", IecType::LREAL, "rad/s", "desired velocity (used with v)"),
-        in("x", IecType::LREAL, "rad", "measured position", true),
-        in("v", IecType::LREAL, "rad/s", "measured velocity; unconnected: e_dot is the backward difference of e"),
-        out("tau", IecType::LREAL, "PWM", "command, limited to out_min..out_max"),
-        out("e", IecType::LREAL, "rad", "position error x_d - x"),
-        out("e_dot", IecType::LREAL, "rad/s", "error rate used"),
-        out("saturated", IecType::BOOL, "", "TRUE when the output limit cut tau"),
+        input("x_d", IecType::LREAL).unit("rad").required().doc("desired position"),
+        input("v_d", IecType::LREAL).unit("rad/s").doc("desired velocity (used with v)"),
+        input("x", IecType::LREAL).unit("rad").required().doc("measured position"),
+        input("v", IecType::LREAL).unit("rad/s")
+            .doc("measured velocity; unconnected: e_dot is the backward difference of e"),
+        output("tau", IecType::LREAL).unit("PWM").doc("command, limited to out_min..out_max"),
+        output("e", IecType::LREAL).unit("rad").doc("position error x_d - x"),
+        output("e_dot", IecType::LREAL).unit("rad/s").doc("error rate used"),
+        output("saturated", IecType::BOOL).doc("TRUE when the output limit cut tau"),
     };
     t.params = {
-        tunable(param("K_P", IecType::LREAL, "0.6221", 0.0, std::nullopt, "PWM/rad", "proportional gain")),
-        tunable(param("K_D", IecType::LREAL, "0.0006221", 0.0, std::nullopt, "PWM.s/rad", "derivative gain")),
-        tunable(param("out_min", IecType::LREAL, "-1", std::nullopt, std::nullopt, "PWM", "lower output limit")),
-        tunable(param("out_max", IecType::LREAL, "1", std::nullopt, std::nullopt, "PWM", "upper output limit")),
+        parameter("K_P", IecType::LREAL).init("0.6221").min(0.0).unit("PWM/rad").tunable().doc("proportional gain"),
+        parameter("K_D", IecType::LREAL).init("0.0006221").min(0.0).unit("PWM.s/rad").tunable().doc("derivative gain"),
+        parameter("out_min", IecType::LREAL).init("-1").unit("PWM").tunable().doc("lower output limit"),
+        parameter("out_max", IecType::LREAL).init("1").unit("PWM").tunable().doc("upper output limit"),
     };
     t.create = make_pd;
     r.add(std::move(t));
@@ -288,31 +285,32 @@ void register_pid_controllers(BlockRegistry& r) {
         "Astrom & Hagglund, Advanced PID Control (ISA 2006), sections 3.5-3.6 and 13.4; behaviour as CODESYS "
         "PID / TwinCAT FB_CTRL_PID";
     t.pins = {
-        in("setpoint", IecType::LREAL, "", "setpoint", true),
-        in("actual", IecType::LREAL, "", "actual (measured) value", true),
-        in("ff", IecType::LREAL, "", "feed-forward, added to the controller output before the limit"),
-        in("manual", IecType::BOOL, "", "TRUE: manual mode, y = manual_value"),
-        in("manual_value", IecType::LREAL, "", "output in manual mode"),
-        in("reset", IecType::BOOL, "", "TRUE: clear the integral and derivative parts, y = 0 (limited)"),
-        out("y", IecType::LREAL, "", "controller output, limited to out_min..out_max"),
-        out("error", IecType::LREAL, "", "setpoint - actual"),
-        out("saturated", IecType::BOOL, "", "TRUE when the output limit cut y"),
+        input("setpoint", IecType::LREAL).required().doc("setpoint"),
+        input("actual", IecType::LREAL).required().doc("actual (measured) value"),
+        input("ff", IecType::LREAL).doc("feed-forward, added to the controller output before the limit"),
+        input("manual", IecType::BOOL).doc("TRUE: manual mode, y = manual_value"),
+        input("manual_value", IecType::LREAL).doc("output in manual mode"),
+        input("reset", IecType::BOOL).doc("TRUE: clear the integral and derivative parts, y = 0 (limited)"),
+        output("y", IecType::LREAL).doc("controller output, limited to out_min..out_max"),
+        output("error", IecType::LREAL).doc("setpoint - actual"),
+        output("saturated", IecType::BOOL).doc("TRUE when the output limit cut y"),
     };
     t.params = {
-        tunable(param("Kp", IecType::LREAL, "1", std::nullopt, std::nullopt, "",
-                      "proportional gain (negative for reverse action)")),
-        tunable(param("Ti", IecType::LREAL, "0", 0.0, std::nullopt, "s", "integral time; 0 = no integral action")),
-        tunable(param("Td", IecType::LREAL, "0", 0.0, std::nullopt, "s", "derivative time; 0 = no derivative action")),
-        tunable(param("Tf", IecType::LREAL, "0", 0.0, std::nullopt, "s",
-                      "derivative filter time constant (typically Td/10); 0 = unfiltered")),
-        tunable(param("Tt", IecType::LREAL, "0", 0.0, std::nullopt, "s",
-                      "back-calculation tracking time; 0 = sqrt(Ti Td) if Td > 0, else Ti")),
-        param("anti_windup", IecType::INT, "1", 0.0, 2.0, "",
-              "0 = none, 1 = clamping (conditional integration), 2 = back-calculation"),
-        param("d_on_error", IecType::BOOL, "FALSE", std::nullopt, std::nullopt, "",
-              "FALSE: derivative of -actual (no kick on setpoint steps); TRUE: derivative of the error"),
-        tunable(param("out_min", IecType::LREAL, "-100", std::nullopt, std::nullopt, "", "lower output limit")),
-        tunable(param("out_max", IecType::LREAL, "100", std::nullopt, std::nullopt, "", "upper output limit")),
+        parameter("Kp", IecType::LREAL).init("1").tunable().doc("proportional gain (negative for reverse action)"),
+        parameter("Ti", IecType::LREAL).init("0").min(0.0).unit("s").tunable()
+            .doc("integral time; 0 = no integral action"),
+        parameter("Td", IecType::LREAL).init("0").min(0.0).unit("s").tunable()
+            .doc("derivative time; 0 = no derivative action"),
+        parameter("Tf", IecType::LREAL).init("0").min(0.0).unit("s").tunable()
+            .doc("derivative filter time constant (typically Td/10); 0 = unfiltered"),
+        parameter("Tt", IecType::LREAL).init("0").min(0.0).unit("s").tunable()
+            .doc("back-calculation tracking time; 0 = sqrt(Ti Td) if Td > 0, else Ti"),
+        parameter("anti_windup", IecType::INT).init("1").min(0.0).max(2.0)
+            .doc("0 = none, 1 = clamping (conditional integration), 2 = back-calculation"),
+        parameter("d_on_error", IecType::BOOL).init("FALSE")
+            .doc("FALSE: derivative of -actual (no kick on setpoint steps); TRUE: derivative of the error"),
+        parameter("out_min", IecType::LREAL).init("-100").tunable().doc("lower output limit"),
+        parameter("out_max", IecType::LREAL).init("100").tunable().doc("upper output limit"),
     };
     t.create = make_pid;
     r.add(std::move(t));

@@ -19,8 +19,8 @@
 #include <string>
 #include <utility>
 
-#include "fblocks/motion/decl.hpp"
 #include "fblocks/motion/motion.hpp"
+#include "runtime/core/pin_decl.hpp"
 #include "runtime/core/sim_random.hpp"
 
 namespace syncplc::motion {
@@ -28,10 +28,11 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-PinDecl enable_pin() {
-  return pin("enable", PinDir::In, IecType::BOOL, "",
-             "TRUE runs the profile from t = 0 on the scan it becomes TRUE; FALSE stops and resets it to the start",
-             "TRUE");
+// The input every generator shares.
+Pin enable_input() {
+  return input("enable", IecType::BOOL).init("TRUE")
+             .doc("TRUE runs the profile from t = 0 on the scan it becomes TRUE; FALSE stops and resets it to the "
+                  "start");
 }
 
 // Time since the scan `enable` became TRUE; nullopt while disabled.
@@ -140,21 +141,21 @@ BlockTypeInfo cosine_info() {
       "accumulated, so a new omega changes the speed without a jump of x.";
   t.reference = "Decentralized multi-axis synchronous control (paper 000), section 5 and Fig. 4";
   t.pins = {
-      enable_pin(),
-      pin("x", PinDir::Out, IecType::LREAL, "", "position x_d (unit of amplitude)"),
-      pin("v", PinDir::Out, IecType::LREAL, "", "velocity dx_d/dt (unit of amplitude per second)"),
-      pin("a", PinDir::Out, IecType::LREAL, "", "acceleration (unit of amplitude per second squared)"),
-      pin("done", PinDir::Out, IecType::BOOL, "", "TRUE once the cycles are complete (never if cycles = 0)"),
+      enable_input(),
+      output("x", IecType::LREAL).doc("position x_d (unit of amplitude)"),
+      output("v", IecType::LREAL).doc("velocity dx_d/dt (unit of amplitude per second)"),
+      output("a", IecType::LREAL).doc("acceleration (unit of amplitude per second squared)"),
+      output("done", IecType::BOOL).doc("TRUE once the cycles are complete (never if cycles = 0)"),
   };
   t.params = {
-      param("amplitude", IecType::LREAL, "", std::nullopt, std::nullopt, "",
-            "A: half the stroke (x runs from offset to offset + 2A); paper 000: 4 pi rad"),
-      tunable(param("omega", IecType::LREAL, "", 1e-9, std::nullopt, "rad/s",
-                    "angular frequency w = 2 pi / period; paper 000: 1 rad/s; tunable: a change keeps the "
-                    "phase, so x stays continuous")),
-      param("cycles", IecType::LREAL, "1", 0, std::nullopt, "", "number of periods, fractions allowed; 0 = endless"),
-      param("delay", IecType::LREAL, "0", 0, std::nullopt, "s", "rest at offset this long after enable rises"),
-      param("offset", IecType::LREAL, "0", std::nullopt, std::nullopt, "", "start position"),
+      parameter("amplitude", IecType::LREAL)
+          .doc("A: half the stroke (x runs from offset to offset + 2A); paper 000: 4 pi rad"),
+      parameter("omega", IecType::LREAL).min(1e-9).unit("rad/s").tunable()
+          .doc("angular frequency w = 2 pi / period; paper 000: 1 rad/s; tunable: a change keeps the phase, so x stays "
+               "continuous"),
+      parameter("cycles", IecType::LREAL).init("1").min(0).doc("number of periods, fractions allowed; 0 = endless"),
+      parameter("delay", IecType::LREAL).init("0").min(0).unit("s").doc("rest at offset this long after enable rises"),
+      parameter("offset", IecType::LREAL).init("0").doc("start position"),
   };
   t.create = [](BlockSetup& s) -> std::unique_ptr<Block> { return std::make_unique<CosineTrajectory>(s); };
   return t;
@@ -256,28 +257,28 @@ BlockTypeInfo circle_info() {
       "adds (ramp_time 0.4 s at 4 ms).";
   t.reference = "IEEE 1394 distributed motion control (paper 002), section on the circle test, Figs. 9-10";
   t.pins = {
-      enable_pin(),
-      pin("x", PinDir::Out, IecType::LREAL, "m", "x position"),
-      pin("y", PinDir::Out, IecType::LREAL, "m", "y position"),
-      pin("vx", PinDir::Out, IecType::LREAL, "m/s", "x velocity"),
-      pin("vy", PinDir::Out, IecType::LREAL, "m/s", "y velocity"),
-      pin("ax", PinDir::Out, IecType::LREAL, "m/s^2", "x acceleration"),
-      pin("ay", PinDir::Out, IecType::LREAL, "m/s^2", "y acceleration"),
-      pin("s", PinDir::Out, IecType::LREAL, "m", "path length travelled"),
-      pin("done", PinDir::Out, IecType::BOOL, "", "TRUE once the turns are complete (never if turns = 0)"),
+      enable_input(),
+      output("x", IecType::LREAL).unit("m").doc("x position"),
+      output("y", IecType::LREAL).unit("m").doc("y position"),
+      output("vx", IecType::LREAL).unit("m/s").doc("x velocity"),
+      output("vy", IecType::LREAL).unit("m/s").doc("y velocity"),
+      output("ax", IecType::LREAL).unit("m/s^2").doc("x acceleration"),
+      output("ay", IecType::LREAL).unit("m/s^2").doc("y acceleration"),
+      output("s", IecType::LREAL).unit("m").doc("path length travelled"),
+      output("done", IecType::BOOL).doc("TRUE once the turns are complete (never if turns = 0)"),
   };
   t.params = {
-      param("radius", IecType::LREAL, "", 1e-9, std::nullopt, "m", "R; paper 002: 320 mm"),
-      param("feed", IecType::LREAL, "", 1e-12, std::nullopt, "m/s",
-            "path speed; paper 002: 2500 mm/min (Ts 4 ms) and 10000 mm/min (Ts 1 ms)"),
-      param("cx", IecType::LREAL, "0", std::nullopt, std::nullopt, "m", "centre x"),
-      param("cy", IecType::LREAL, "0", std::nullopt, std::nullopt, "m", "centre y"),
-      param("start_angle", IecType::LREAL, "0", std::nullopt, std::nullopt, "rad",
-            "angle of the start point seen from the centre"),
-      param("clockwise", IecType::BOOL, "FALSE", std::nullopt, std::nullopt, "", "FALSE: anticlockwise (paper 002)"),
-      param("turns", IecType::LREAL, "1", 0, std::nullopt, "", "number of turns, fractions allowed; 0 = endless"),
-      param("ramp_time", IecType::LREAL, "0", 0, std::nullopt, "s",
-            "raised-cosine start and stop duration (0: the feed from the first scan)"),
+      parameter("radius", IecType::LREAL).min(1e-9).unit("m").doc("R; paper 002: 320 mm"),
+      parameter("feed", IecType::LREAL).min(1e-12).unit("m/s")
+          .doc("path speed; paper 002: 2500 mm/min (Ts 4 ms) and 10000 mm/min (Ts 1 ms)"),
+      parameter("cx", IecType::LREAL).init("0").unit("m").doc("centre x"),
+      parameter("cy", IecType::LREAL).init("0").unit("m").doc("centre y"),
+      parameter("start_angle", IecType::LREAL).init("0").unit("rad")
+          .doc("angle of the start point seen from the centre"),
+      parameter("clockwise", IecType::BOOL).init("FALSE").doc("FALSE: anticlockwise (paper 002)"),
+      parameter("turns", IecType::LREAL).init("1").min(0).doc("number of turns, fractions allowed; 0 = endless"),
+      parameter("ramp_time", IecType::LREAL).init("0").min(0).unit("s")
+          .doc("raised-cosine start and stop duration (0: the feed from the first scan)"),
   };
   t.create = [](BlockSetup& s) -> std::unique_ptr<Block> { return std::make_unique<Circle>(s); };
   return t;
@@ -403,27 +404,29 @@ BlockTypeInfo step_ramp_info() {
       "before the first). While enable is FALSE, r rests at the first value with r_dot = 0.";
   t.reference = "Synchronous reference generation (paper 004), Figs. 1, 5 and 10";
   t.pins = {
-      enable_pin(),
-      pin("t", PinDir::In, IecType::LREAL, "s", "scripted: start time of each segment, non-decreasing", "",
-          "segments"),
-      pin("value", PinDir::In, IecType::LREAL, "", "scripted: r at the start of each segment", "", "segments"),
-      pin("slope", PinDir::In, IecType::LREAL, "", "scripted: r_dot during each segment, unit of r per second", "",
-          "segments"),
-      pin("r", PinDir::Out, IecType::LREAL, "", "reference"),
-      pin("r_dot", PinDir::Out, IecType::LREAL, "", "reference slope (unit of r per second)"),
-      pin("changed", PinDir::Out, IecType::BOOL, "", "TRUE for one scan when a new segment begins"),
-      pin("segment", PinDir::Out, IecType::DINT, "", "index of the active segment, -1 before the first"),
+      enable_input(),
+      input("t", IecType::LREAL).unit("s").array("segments")
+          .doc("scripted: start time of each segment, non-decreasing"),
+      input("value", IecType::LREAL).array("segments").doc("scripted: r at the start of each segment"),
+      input("slope", IecType::LREAL).array("segments").doc("scripted: r_dot during each segment, unit of r per second"),
+      output("r", IecType::LREAL).doc("reference"),
+      output("r_dot", IecType::LREAL).doc("reference slope (unit of r per second)"),
+      output("changed", IecType::BOOL).doc("TRUE for one scan when a new segment begins"),
+      output("segment", IecType::DINT).doc("index of the active segment, -1 before the first"),
   };
   t.params = {
-      param("mode", IecType::INT, "0", 0, 1, "", "0 random (seeded), 1 scripted (array inputs t, value, slope)"),
-      param("segments", IecType::DINT, "1", 1, 4096, "", "scripted: number of segments (length of t, value, slope)"),
-      param("min_hold", IecType::LREAL, "0.1", 1e-3, std::nullopt, "s", "random: shortest segment"),
-      param("max_hold", IecType::LREAL, "0.5", 1e-3, std::nullopt, "s",
-            "random: longest segment (paper 004: changes at least every half second)"),
-      param("r_min", IecType::LREAL, "-1", std::nullopt, std::nullopt, "", "random: lowest value of r"),
-      param("r_max", IecType::LREAL, "1", std::nullopt, std::nullopt, "", "random: highest value of r"),
-      param("slope_max", IecType::LREAL, "1", 0, std::nullopt, "", "random: largest |r_dot| (unit of r per second)"),
-      param("ramp_probability", IecType::LREAL, "0.5", 0, 1, "", "random: share of segments that are ramps"),
+      parameter("mode", IecType::INT).init("0").min(0).max(1)
+          .doc("0 random (seeded), 1 scripted (array inputs t, value, slope)"),
+      parameter("segments", IecType::DINT).init("1").min(1).max(4096)
+          .doc("scripted: number of segments (length of t, value, slope)"),
+      parameter("min_hold", IecType::LREAL).init("0.1").min(1e-3).unit("s").doc("random: shortest segment"),
+      parameter("max_hold", IecType::LREAL).init("0.5").min(1e-3).unit("s")
+          .doc("random: longest segment (paper 004: changes at least every half second)"),
+      parameter("r_min", IecType::LREAL).init("-1").doc("random: lowest value of r"),
+      parameter("r_max", IecType::LREAL).init("1").doc("random: highest value of r"),
+      parameter("slope_max", IecType::LREAL).init("1").min(0).doc("random: largest |r_dot| (unit of r per second)"),
+      parameter("ramp_probability", IecType::LREAL).init("0.5").min(0).max(1)
+          .doc("random: share of segments that are ramps"),
   };
   t.create = [](BlockSetup& s) -> std::unique_ptr<Block> { return std::make_unique<StepRampSequence>(s); };
   return t;

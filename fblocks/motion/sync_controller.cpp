@@ -29,18 +29,14 @@
 #include <memory>
 #include <vector>
 
-#include "fblocks/motion/control_decl.hpp"
 #include "fblocks/motion/message_estimator.hpp"
 #include "fblocks/motion/motion.hpp"
+#include "fblocks/motion/param_read.hpp"
 #include "fblocks/motion/sync_control_math.hpp"
+#include "runtime/core/pin_decl.hpp"
 
 namespace syncplc::motion {
 namespace {
-
-using ctl::in;
-using ctl::out;
-using ctl::param;
-using ctl::tunable;
 
 enum : int {
   kXd = 0, kVd, kAd, kX, kV, kRx, kValid,            // inputs
@@ -249,50 +245,55 @@ void register_sync_controller(BlockRegistry& r) {
       "real-time networks, ISA Transactions 2017 (paper 000), eqs. (3)-(16), (23), Theorem 1; eq. (15) after "
       "Hsieh & Hsu (paper 003 eq. 5)";
   t.pins = {
-      in("x_d", IecType::LREAL, "rad", "desired position", true),
-      in("v_d", IecType::LREAL, "rad/s", "desired velocity (feed-forward K_C, and e_dot with v)"),
-      in("a_d", IecType::LREAL, "rad/s^2", "desired acceleration (feed-forward K_H)"),
-      in("x", IecType::LREAL, "rad", "measured position", true),
-      in("v", IecType::LREAL, "rad/s", "measured velocity; unconnected: e_dot is the backward difference of e"),
-      ctl::array_in("e_rx", IecType::LREAL, "rad", "n",
-                    "errors of the other axes as received, one scan late: element i holds e_i(j-1); only "
-                    "elements 1..axis-1 are read"),
-      ctl::array_in("e_valid", IecType::BOOL, "", "n", "FALSE marks a lost e_rx element (estimated instead)",
-                    "TRUE"),
-      out("tau", IecType::LREAL, "PWM", "command (eq. 16), limited to out_min..out_max"),
-      out("e", IecType::LREAL, "rad", "own position error x_d - x (send this to the following axes)"),
-      out("e_dot", IecType::LREAL, "rad/s", "own error rate used"),
-      out("E", IecType::LREAL, "rad", "coupled error E_k (eq. 5)"),
-      out("eps", IecType::LREAL, "rad", "synchronization error eps_k = e_k - mean of the preceding errors (eq. 7)"),
-      out("saturated", IecType::BOOL, "", "TRUE when the output limit cut tau"),
-      out("estimated", IecType::UDINT, "", "preceding-axis samples filled by the estimator since start"),
+      input("x_d", IecType::LREAL).unit("rad").required().doc("desired position"),
+      input("v_d", IecType::LREAL).unit("rad/s").doc("desired velocity (feed-forward K_C, and e_dot with v)"),
+      input("a_d", IecType::LREAL).unit("rad/s^2").doc("desired acceleration (feed-forward K_H)"),
+      input("x", IecType::LREAL).unit("rad").required().doc("measured position"),
+      input("v", IecType::LREAL).unit("rad/s")
+          .doc("measured velocity; unconnected: e_dot is the backward difference of e"),
+      input("e_rx", IecType::LREAL).unit("rad").array("n")
+          .doc("errors of the other axes as received, one scan late: element i holds e_i(j-1); only elements 1..axis-1 "
+               "are read"),
+      input("e_valid", IecType::BOOL).array("n").init("TRUE")
+          .doc("FALSE marks a lost e_rx element (estimated instead)"),
+      output("tau", IecType::LREAL).unit("PWM").doc("command (eq. 16), limited to out_min..out_max"),
+      output("e", IecType::LREAL).unit("rad").doc("own position error x_d - x (send this to the following axes)"),
+      output("e_dot", IecType::LREAL).unit("rad/s").doc("own error rate used"),
+      output("E", IecType::LREAL).unit("rad").doc("coupled error E_k (eq. 5)"),
+      output("eps", IecType::LREAL).unit("rad")
+          .doc("synchronization error eps_k = e_k - mean of the preceding errors (eq. 7)"),
+      output("saturated", IecType::BOOL).doc("TRUE when the output limit cut tau"),
+      output("estimated", IecType::UDINT).doc("preceding-axis samples filled by the estimator since start"),
   };
   t.params = {
-      param("axis", IecType::DINT, "", 1.0, kMaxSyncAxes, "", "this axis, k (1-based)"),
-      param("n", IecType::DINT, "", 1.0, kMaxSyncAxes, "", "number of synchronized axes (length of e_rx, e_valid)"),
-      param("alpha", IecType::LREAL, "1.3", 0.0, std::nullopt, "", "coupling gain kappa (alpha = kappa I)"),
-      tunable(param("K_P", IecType::LREAL, "0.6221", 0.0, std::nullopt, "PWM/rad", "proportional gain")),
-      tunable(param("K_D", IecType::LREAL, "0.0006221", 0.0, std::nullopt, "PWM.s/rad",
-            "derivative gain on E_dot (paper: 0.6221 PWM.ms/rad)")),
-      tunable(param("K_H", IecType::LREAL, "0.001544", 0.0, std::nullopt, "PWM.s^2/rad",
-            "acceleration feed-forward (paper's value, printed with ms^2, is SI: tau_1/k_1)")),
-      tunable(param("K_C", IecType::LREAL, "0.02807", 0.0, std::nullopt, "PWM.s/rad",
-            "velocity feed-forward (paper's value, printed with ms, is SI: 1/k_1)")),
-      param("m", IecType::LREAL, "0.2586268", 0.0, std::nullopt, "PWM.s/rad",
-            "own-error damping m (K_e = m(I + alpha T'), eq. 10; paper: 258.6268 PWM.ms/rad)"),
-      param("robust", IecType::INT, "2", 0.0, 2.0, "",
-            "robust term: 0 = K_N sign(E_dot) (paper), 1 = eq. (9) K_N(t) sign(E_dot), 2 = K_N sat(E_dot/phi)"),
-      tunable(param("K_N", IecType::LREAL, "10", 0.0, std::nullopt, "PWM", "robust gain (robust 0 and 2)")),
-      tunable(param("Delta_H", IecType::LREAL, "0", 0.0, std::nullopt, "PWM.s^2/rad",
-            "eq. (9) bound on the model error: Delta_H >= norm(K_H - H) (robust 1)")),
-      tunable(param("Delta_C", IecType::LREAL, "0", 0.0, std::nullopt, "PWM.s/rad", "eq. (9) bound on the model error: Delta_C >= norm(K_C - C) (robust 1)")),
-      tunable(param("phi", IecType::LREAL, "100", 0.0, std::nullopt, "rad/s", "boundary-layer width on E_dot (robust 2)")),
-      tunable(param("out_min", IecType::LREAL, "-1", std::nullopt, std::nullopt, "PWM", "lower output limit")),
-      tunable(param("out_max", IecType::LREAL, "1", std::nullopt, std::nullopt, "PWM", "upper output limit")),
-      param("compensation", IecType::BOOL, "TRUE", std::nullopt, std::nullopt, "",
-            "predict the preceding errors one scan ahead (eq. 15); FALSE: use e_i(j-1) as is"),
-      param("rx_delay", IecType::INT, "1", 0.0, 1.0, "",
-            "scans by which e_rx lags: 1 = network (eq. 13), 0 = current values (no prediction)"),
+      parameter("axis", IecType::DINT).min(1.0).max(kMaxSyncAxes).doc("this axis, k (1-based)"),
+      parameter("n", IecType::DINT).min(1.0).max(kMaxSyncAxes)
+          .doc("number of synchronized axes (length of e_rx, e_valid)"),
+      parameter("alpha", IecType::LREAL).init("1.3").min(0.0).doc("coupling gain kappa (alpha = kappa I)"),
+      parameter("K_P", IecType::LREAL).init("0.6221").min(0.0).unit("PWM/rad").tunable().doc("proportional gain"),
+      parameter("K_D", IecType::LREAL).init("0.0006221").min(0.0).unit("PWM.s/rad").tunable()
+          .doc("derivative gain on E_dot (paper: 0.6221 PWM.ms/rad)"),
+      parameter("K_H", IecType::LREAL).init("0.001544").min(0.0).unit("PWM.s^2/rad").tunable()
+          .doc("acceleration feed-forward (paper's value, printed with ms^2, is SI: tau_1/k_1)"),
+      parameter("K_C", IecType::LREAL).init("0.02807").min(0.0).unit("PWM.s/rad").tunable()
+          .doc("velocity feed-forward (paper's value, printed with ms, is SI: 1/k_1)"),
+      parameter("m", IecType::LREAL).init("0.2586268").min(0.0).unit("PWM.s/rad")
+          .doc("own-error damping m (K_e = m(I + alpha T'), eq. 10; paper: 258.6268 PWM.ms/rad)"),
+      parameter("robust", IecType::INT).init("2").min(0.0).max(2.0)
+          .doc("robust term: 0 = K_N sign(E_dot) (paper), 1 = eq. (9) K_N(t) sign(E_dot), 2 = K_N sat(E_dot/phi)"),
+      parameter("K_N", IecType::LREAL).init("10").min(0.0).unit("PWM").tunable().doc("robust gain (robust 0 and 2)"),
+      parameter("Delta_H", IecType::LREAL).init("0").min(0.0).unit("PWM.s^2/rad").tunable()
+          .doc("eq. (9) bound on the model error: Delta_H >= norm(K_H - H) (robust 1)"),
+      parameter("Delta_C", IecType::LREAL).init("0").min(0.0).unit("PWM.s/rad").tunable()
+          .doc("eq. (9) bound on the model error: Delta_C >= norm(K_C - C) (robust 1)"),
+      parameter("phi", IecType::LREAL).init("100").min(0.0).unit("rad/s").tunable()
+          .doc("boundary-layer width on E_dot (robust 2)"),
+      parameter("out_min", IecType::LREAL).init("-1").unit("PWM").tunable().doc("lower output limit"),
+      parameter("out_max", IecType::LREAL).init("1").unit("PWM").tunable().doc("upper output limit"),
+      parameter("compensation", IecType::BOOL).init("TRUE")
+          .doc("predict the preceding errors one scan ahead (eq. 15); FALSE: use e_i(j-1) as is"),
+      parameter("rx_delay", IecType::INT).init("1").min(0.0).max(1.0)
+          .doc("scans by which e_rx lags: 1 = network (eq. 13), 0 = current values (no prediction)"),
   };
   t.create = make_sync;
   r.add(std::move(t));

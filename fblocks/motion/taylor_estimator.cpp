@@ -9,8 +9,8 @@
 #include <utility>
 
 #include "fblocks/motion/message_estimator.hpp"
-#include "fblocks/motion/decl.hpp"
 #include "fblocks/motion/motion.hpp"
+#include "runtime/core/pin_decl.hpp"
 
 namespace syncplc::motion {
 namespace {
@@ -61,24 +61,24 @@ void register_taylor_estimator(BlockRegistry& r) {
       "Hsieh, Hsu, Wang: The motion message estimator in networked control systems (paper 003), eqs. (3)-(5), "
       "Fig. 3; decentralized multi-axis synchronous control (paper 000), eq. (15)";
   t.pins = {
-      pin("in", PinDir::In, IecType::LREAL, "", "received sample (any unit; out, next are in the same unit)", "", "", true),
-      pin("valid", PinDir::In, IecType::BOOL, "", "TRUE: in is this scan's sample; FALSE: lost or late", "TRUE"),
-      pin("out", PinDir::Out, IecType::LREAL, "", "in when valid, else the estimate"),
-      pin("estimated", PinDir::Out, IecType::BOOL, "", "TRUE when out is an estimate"),
-      pin("consecutive", PinDir::Out, IecType::UDINT, "", "estimates in a row, 0 after a valid sample"),
-      pin("next", PinDir::Out, IecType::LREAL, "",
-          "one-step prediction of the next sample from the current history (the estimate out would take if the "
-          "next sample were lost)"),
+      input("in", IecType::LREAL).required().doc("received sample (any unit; out, next are in the same unit)"),
+      input("valid", IecType::BOOL).init("TRUE").doc("TRUE: in is this scan's sample; FALSE: lost or late"),
+      output("out", IecType::LREAL).doc("in when valid, else the estimate"),
+      output("estimated", IecType::BOOL).doc("TRUE when out is an estimate"),
+      output("consecutive", IecType::UDINT).doc("estimates in a row, 0 after a valid sample"),
+      output("next", IecType::LREAL)
+          .doc("one-step prediction of the next sample from the current history (the estimate out would take if the "
+               "next sample were lost)"),
   };
   t.params = {
-      param("order", IecType::INT, "3", 0, 3, "",
-            "predictor order: 0 hold, 1 [2, -1], 2 [5/2, -2, 1/2], 3 [21/8, -19/8, 7/8, -1/8] (paper 003 eq. 5)"),
-      param("history", IecType::INT, "0", 0, 2, "",
-            "what the history holds after a loss: 0 robust (received samples only, frozen-velocity ramp across "
-            "gaps; bounded), 1 recursive (estimates fed back, paper 003 Fig. 3; unstable above ~12 % loss), "
-            "2 zero (lost samples as 0, zero-padded start; catastrophic, for comparison)"),
-      param("max_extrapolation", IecType::UDINT, "20", 0, 1'000'000, "",
-            "consecutive estimates that extrapolate; later ones hold the last estimate (0 = hold at once)"),
+      parameter("order", IecType::INT).init("3").min(0).max(3)
+          .doc("predictor order: 0 hold, 1 [2, -1], 2 [5/2, -2, 1/2], 3 [21/8, -19/8, 7/8, -1/8] (paper 003 eq. 5)"),
+      parameter("history", IecType::INT).init("0").min(0).max(2)
+          .doc("what the history holds after a loss: 0 robust (received samples only, frozen-velocity ramp across "
+               "gaps; bounded), 1 recursive (estimates fed back, paper 003 Fig. 3; unstable above ~12 % loss), 2 zero "
+               "(lost samples as 0, zero-padded start; catastrophic, for comparison)"),
+      parameter("max_extrapolation", IecType::UDINT).init("20").min(0).max(1'000'000)
+          .doc("consecutive estimates that extrapolate; later ones hold the last estimate (0 = hold at once)"),
   };
   t.create = [](BlockSetup& s) -> std::unique_ptr<Block> {
     const auto order = s.param<std::int16_t>("order"), history = s.param<std::int16_t>("history");

@@ -40,15 +40,14 @@
 #include <cstring>
 #include <limits>
 #include <memory>
-#include <optional>
 #include <string>
 #include <type_traits>
 #include <vector>
 
-#include "fblocks/motion/decl.hpp"
 #include "fblocks/motion/motion.hpp"
 #include "fblocks/motion/nonlinear_filter_math.hpp"
 #include "fblocks/motion/transient_sync_math.hpp"
+#include "runtime/core/pin_decl.hpp"
 
 namespace syncplc::motion {
 namespace {
@@ -430,25 +429,9 @@ class TransientSync final : public Block {
   std::int64_t windows_ = 0, window_scans_ = 0, window_scans_last_ = 0, spread_ = 0;
 };
 
-// Declaration order of this file: (..., array, required, init); array pins take n.
-PinDecl sync_pin(std::string name, PinDir dir, IecType type, std::string unit, std::string doc, bool array,
-                 bool required = false, std::string init = {}) {
-  PinDecl p = pin(std::move(name), dir, type, std::move(unit), std::move(doc), std::move(init), {}, required);
-  if (array) p.length_param.assign(1, 'n');  // (not = "n": a GCC 12 -Wrestrict false positive)
-  return p;
-}
-
-ParamDecl sync_param(std::string name, IecType type, std::string def, std::optional<double> min,
-                     std::optional<double> max, std::string doc) {
-  return param(std::move(name), type, std::move(def), min, max, "", std::move(doc));
-}
-
 }  // namespace
 
 void register_transient_sync(BlockRegistry& r) {
-  constexpr auto In = PinDir::In;
-  constexpr auto Out = PinDir::Out;
-  constexpr bool A = true, S = false;
   BlockTypeInfo t;
   t.name = "TRANSIENT_SYNC";
   t.category = kCategory;
@@ -501,58 +484,60 @@ void register_transient_sync(BlockRegistry& r) {
       "roots of eqs. 33-34, the unified rule, the look-ahead guard) in "
       "docs/motion/transient-sync.md";
   t.pins = {
-      sync_pin("r", In, IecType::LREAL, "m", "reference positions (steps and ramps)", A, true),
-      sync_pin("r_dot", In, IecType::LREAL, "m/s",
-          "reference velocities; when not connected, derived as (r_k - r_(k-1)) / (time between the scans), 0 on "
-          "the first scan",
-          A),
-      sync_pin("v_min", In, IecType::LREAL, "m/s", "nominal lower velocity bounds (xdot-), below v_max", A, true),
-      sync_pin("v_max", In, IecType::LREAL, "m/s", "nominal upper velocity bounds (xdot+), above v_min", A, true),
-      sync_pin("a_min", In, IecType::LREAL, "m/s^2", "lower acceleration bounds (U-), negative", A, true),
-      sync_pin("a_max", In, IecType::LREAL, "m/s^2", "upper acceleration bounds (U+), positive", A, true),
-      sync_pin("x0", In, IecType::LREAL, "m", "start positions for reset (and the first scan when start_at_r is FALSE)",
-          A),
-      sync_pin("v0", In, IecType::LREAL, "m/s",
-          "start velocities for reset (and the first scan when start_at_r is FALSE)", A),
-      sync_pin("reset", In, IecType::BOOL, "", "while TRUE every filter is held at x = x0, x_dot = v0 (x_ddot = 0)", S),
-      sync_pin("x", Out, IecType::LREAL, "m", "filtered positions at this scan", A),
-      sync_pin("x_dot", Out, IecType::LREAL, "m/s", "filtered velocities at this scan", A),
-      sync_pin("x_ddot", Out, IecType::LREAL, "m/s^2", "accelerations applied from this scan to the next", A),
-      sync_pin("v_min_applied", Out, IecType::LREAL, "m/s",
-          "lower velocity bounds applied this scan (v_min, or the scaled/parked bound)", A),
-      sync_pin("v_max_applied", Out, IecType::LREAL, "m/s",
-          "upper velocity bounds applied this scan (v_max, or the scaled/parked bound)", A),
-      sync_pin("tracking", Out, IecType::BOOL, "", "TRUE when x and x_dot equal r and r_dot (within the tolerance)", A),
-      sync_pin("steps_to_go", Out, IecType::LINT, "",
-          "each axis's own transient time with its nominal bounds (Table I): scans until tracking if it were "
-          "not synchronized (0 tracking, -1 never)",
-          A),
-      sync_pin("error", Out, IecType::BOOL, "", "TRUE while the axis's bounds or reference are invalid", A),
-      sync_pin("arrival", Out, IecType::LINT, "",
-          "t_M: scans until the common arrival, the largest finite steps_to_go (0 when all track)", S),
-      sync_pin("synchronized", Out, IecType::BOOL, "", "TRUE when every axis tracks its reference", S),
-      sync_pin("scaled", Out, IecType::LINT, "", "number of axes running on a reduced velocity bound this scan", S),
-      sync_pin("energy", Out, IecType::LREAL, "m^2/s",
-          "E of eq. (24) of the open transient window (held after it closes): T * sum of x_dot^2 over its scans "
-          "and all axes",
-          S),
-      sync_pin("energy_last", Out, IecType::LREAL, "m^2/s", "E of the last closed transient window", S),
-      sync_pin("windows", Out, IecType::LINT, "", "number of closed transient windows", S),
-      sync_pin("window_scans", Out, IecType::LINT, "",
-          "scans in the open transient window so far (held after it closes: its length)", S),
-      sync_pin("spread", Out, IecType::LINT, "",
-          "arrival spread of the last closed window: latest minus earliest arrival scan of the axes that "
-          "moved (0 = synchronous)",
-          S),
+      input("r", IecType::LREAL).unit("m").array("n").required().doc("reference positions (steps and ramps)"),
+      input("r_dot", IecType::LREAL).unit("m/s").array("n")
+          .doc("reference velocities; when not connected, derived as (r_k - r_(k-1)) / (time between the scans), 0 on "
+               "the first scan"),
+      input("v_min", IecType::LREAL).unit("m/s").array("n").required()
+          .doc("nominal lower velocity bounds (xdot-), below v_max"),
+      input("v_max", IecType::LREAL).unit("m/s").array("n").required()
+          .doc("nominal upper velocity bounds (xdot+), above v_min"),
+      input("a_min", IecType::LREAL).unit("m/s^2").array("n").required()
+          .doc("lower acceleration bounds (U-), negative"),
+      input("a_max", IecType::LREAL).unit("m/s^2").array("n").required()
+          .doc("upper acceleration bounds (U+), positive"),
+      input("x0", IecType::LREAL).unit("m").array("n")
+          .doc("start positions for reset (and the first scan when start_at_r is FALSE)"),
+      input("v0", IecType::LREAL).unit("m/s").array("n")
+          .doc("start velocities for reset (and the first scan when start_at_r is FALSE)"),
+      input("reset", IecType::BOOL).doc("while TRUE every filter is held at x = x0, x_dot = v0 (x_ddot = 0)"),
+      output("x", IecType::LREAL).unit("m").array("n").doc("filtered positions at this scan"),
+      output("x_dot", IecType::LREAL).unit("m/s").array("n").doc("filtered velocities at this scan"),
+      output("x_ddot", IecType::LREAL).unit("m/s^2").array("n").doc("accelerations applied from this scan to the next"),
+      output("v_min_applied", IecType::LREAL).unit("m/s").array("n")
+          .doc("lower velocity bounds applied this scan (v_min, or the scaled/parked bound)"),
+      output("v_max_applied", IecType::LREAL).unit("m/s").array("n")
+          .doc("upper velocity bounds applied this scan (v_max, or the scaled/parked bound)"),
+      output("tracking", IecType::BOOL).array("n")
+          .doc("TRUE when x and x_dot equal r and r_dot (within the tolerance)"),
+      output("steps_to_go", IecType::LINT).array("n")
+          .doc("each axis's own transient time with its nominal bounds (Table I): scans until tracking if it were not "
+               "synchronized (0 tracking, -1 never)"),
+      output("error", IecType::BOOL).array("n").doc("TRUE while the axis's bounds or reference are invalid"),
+      output("arrival", IecType::LINT)
+          .doc("t_M: scans until the common arrival, the largest finite steps_to_go (0 when all track)"),
+      output("synchronized", IecType::BOOL).doc("TRUE when every axis tracks its reference"),
+      output("scaled", IecType::LINT).doc("number of axes running on a reduced velocity bound this scan"),
+      output("energy", IecType::LREAL).unit("m^2/s")
+          .doc("E of eq. (24) of the open transient window (held after it closes): T * sum of x_dot^2 over its scans "
+               "and all axes"),
+      output("energy_last", IecType::LREAL).unit("m^2/s").doc("E of the last closed transient window"),
+      output("windows", IecType::LINT).doc("number of closed transient windows"),
+      output("window_scans", IecType::LINT)
+          .doc("scans in the open transient window so far (held after it closes: its length)"),
+      output("spread", IecType::LINT)
+          .doc("arrival spread of the last closed window: latest minus earliest arrival scan of the axes that moved "
+               "(0 = synchronous)"),
   };
   t.params = {
-      sync_param("n", IecType::DINT, "", 1, static_cast<double>(kMaxAxes), "number of axes (sets the array pin lengths)"),
-      sync_param("rule", IecType::DINT, "0", 0, 2,
-            "bound-scaling rule: 0 unified (eq. 33 or 34 by the side on which the filter comes to rest, any sign of "
-            "r_dot), 1 the paper's (by the signs of r - x and r_dot, zero-bound parking otherwise), 2 off "
-            "(independent filters)"),
-      sync_param("start_at_r", IecType::BOOL, "TRUE", std::nullopt, std::nullopt,
-            "TRUE: the first scan starts every filter at x = r, x_dot = r_dot; FALSE: at (x0, v0)"),
+      parameter("n", IecType::DINT).min(1).max(static_cast<double>(kMaxAxes))
+          .doc("number of axes (sets the array pin lengths)"),
+      parameter("rule", IecType::DINT).init("0").min(0).max(2)
+          .doc("bound-scaling rule: 0 unified (eq. 33 or 34 by the side on which the filter comes to rest, any sign of "
+               "r_dot), 1 the paper's (by the signs of r - x and r_dot, zero-bound parking otherwise), 2 off "
+               "(independent filters)"),
+      parameter("start_at_r", IecType::BOOL).init("TRUE")
+          .doc("TRUE: the first scan starts every filter at x = r, x_dot = r_dot; FALSE: at (x0, v0)"),
   };
   t.create = [](BlockSetup& s) -> std::unique_ptr<Block> {
     const auto n = s.param<std::int32_t>("n");

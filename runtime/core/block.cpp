@@ -4,6 +4,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "runtime/core/pin_decl.hpp"
+
 namespace syncplc {
 
 int BlockTypeInfo::pin_index(std::string_view pin) const {
@@ -48,24 +50,17 @@ void add_implicit_pins(BlockTypeInfo& info) {
     if (!prm.tunable) continue;
     if (prm.type != IecType::LREAL && prm.type != IecType::REAL && !is_integer(prm.type))
       throw std::logic_error("block type " + info.name + ": tunable parameter " + prm.name + " must be a number");
-    PinDecl t;
-    t.name = prm.name + kTuningSuffix;
-    t.dir = PinDir::In;
-    t.type = prm.type;
-    t.unit = prm.unit;
-    t.tunes = prm.name;
-    t.doc = "tuning input of " + prm.name + ": when connected, read every scan; a changed value within the "
-            "parameter's range takes effect bumplessly, an invalid one keeps the last valid value and sets ENO "
-            "FALSE. Unconnected: the parameter applies";
+    PinDecl t = input(prm.name + kTuningSuffix, prm.type)
+                    .unit(prm.unit)
+                    .doc("tuning input of " + prm.name + ": when connected, read every scan; a changed value within "
+                         "the parameter's range takes effect bumplessly, an invalid one keeps the last valid value "
+                         "and sets ENO FALSE. Unconnected: the parameter applies");
+    t.tunes = prm.name;  // the registry's own field: no builder step, so no block type can set it
     info.pins.push_back(std::move(t));
   }
-  PinDecl eno;
-  eno.name = kEnoPin;
-  eno.dir = PinDir::Out;
-  eno.type = IecType::BOOL;
-  eno.doc = "FALSE while an input is NaN or infinite (the block then does not execute and its outputs hold "
-            "their last valid values) or a tuning input is invalid; TRUE otherwise";
-  info.pins.push_back(std::move(eno));
+  info.pins.push_back(output(kEnoPin, IecType::BOOL)
+                          .doc("FALSE while an input is NaN or infinite (the block then does not execute and its "
+                               "outputs hold their last valid values) or a tuning input is invalid; TRUE otherwise"));
 }
 
 // What finite_guard.hpp checks for the instance `setup` describes.

@@ -1,12 +1,14 @@
-// The one way to declare a block's pins: a pin by name and type, then named
-// steps instead of positional "", "", true arguments.
+// The one way to declare a block's pins and parameters: a pin or parameter by
+// name and type, then named steps instead of positional "", "", true arguments.
 //
 //   input("IN", IecType::LREAL).unit("m").doc("measured position").required()
 //   input("IN1", TypeClass::ANY_NUM).doc("operand 1")       // generic pin
 //   output("OUT", IecType::BOOL).doc("TRUE once ET >= PT")
 //   input("w", IecType::LREAL).array("n").init("1")          // ARRAY[1..n]
+//   parameter("kp", IecType::LREAL).init("1").min(0).unit("1/s").tunable().doc("gain")
 #pragma once
 
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -41,5 +43,28 @@ inline Pin input(std::string name, IecType type) { return Pin(std::move(name), P
 inline Pin input(std::string name, TypeClass cls) { return Pin(std::move(name), PinDir::In, cls); }
 inline Pin output(std::string name, IecType type) { return Pin(std::move(name), PinDir::Out, type); }
 inline Pin output(std::string name, TypeClass cls) { return Pin(std::move(name), PinDir::Out, cls); }
+
+// A parameter without init() is mandatory: every instance must set it.
+class Param {
+ public:
+  Param(std::string name, IecType type) {
+    d_.name = std::move(name);
+    d_.type = type;
+  }
+  Param& init(std::string value) { d_.default_value = std::move(value); return *this; }
+  Param& min(double v) { d_.min = v; return *this; }  // inclusive, in unit()
+  Param& max(double v) { d_.max = v; return *this; }
+  Param& unit(std::string u) { d_.unit = std::move(u); return *this; }
+  Param& doc(std::string text) { d_.doc = std::move(text); return *this; }
+  // May change while the block runs (ParamDecl::tunable): through an online
+  // change (Block::retune_from) or its tuning input <name>_in (Block::tune).
+  Param& tunable(bool t = true) { d_.tunable = t; return *this; }
+  operator ParamDecl() const { return d_; }
+
+ private:
+  ParamDecl d_;
+};
+
+inline Param parameter(std::string name, IecType type) { return Param(std::move(name), type); }
 
 }  // namespace syncplc

@@ -1,4 +1,4 @@
-// The one pin-declaration helper: named steps set exactly their field.
+// The one pin- and parameter-declaration helper: named steps set exactly their field.
 #include "runtime/core/pin_decl.hpp"
 
 #include <gtest/gtest.h>
@@ -30,6 +30,32 @@ TEST(PinDecl, NamedStepsSetTheirFields) {
   EXPECT_EQ(out.dir, PinDir::Out);
   EXPECT_EQ(out.cls, TypeClass::ANY_NUM);
   EXPECT_EQ(out.doc, "sum");
+}
+
+TEST(ParamDecl, NamedStepsSetTheirFields) {
+  ParamDecl kp = parameter("kp", IecType::LREAL).init("1").min(0).max(10).unit("1/s").doc("gain").tunable();
+  EXPECT_EQ(kp.name, "kp");
+  EXPECT_EQ(kp.type, IecType::LREAL);
+  EXPECT_EQ(kp.default_value, "1");
+  EXPECT_EQ(kp.min, 0.0);
+  EXPECT_EQ(kp.max, 10.0);
+  EXPECT_EQ(kp.unit, "1/s");
+  EXPECT_EQ(kp.doc, "gain");
+  EXPECT_TRUE(kp.tunable);
+
+  // Nothing but name and type: mandatory, unbounded, structural.
+  ParamDecl n = parameter("n", IecType::DINT);
+  EXPECT_EQ(n.type, IecType::DINT);
+  EXPECT_TRUE(n.default_value.empty());
+  EXPECT_FALSE(n.min.has_value());
+  EXPECT_FALSE(n.max.has_value());
+  EXPECT_TRUE(n.unit.empty());
+  EXPECT_TRUE(n.doc.empty());
+  EXPECT_FALSE(n.tunable);
+
+  ParamDecl lo = parameter("lo", IecType::LREAL).min(-1.5);
+  EXPECT_EQ(lo.min, -1.5);
+  EXPECT_FALSE(lo.max.has_value());
 }
 
 TEST(MonotonicClock, NeverGoesBack) {

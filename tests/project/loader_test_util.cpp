@@ -40,18 +40,8 @@ const BlockRegistry& param_blocks() {
     g.category = "test";
     g.doc = "OUT := IN * K";
     g.pins = {input("IN", IecType::LREAL).required(), output("OUT", IecType::LREAL)};
-    ParamDecl k;
-    k.name = "K";
-    k.type = IecType::LREAL;
-    k.default_value = "1";
-    k.min = 0;
-    k.max = 100;
-    k.unit = "m/s";
-    ParamDecl n;
-    n.name = "N";
-    n.type = IecType::DINT;
-    n.default_value = "0";
-    g.params = {k, n};
+    g.params = {parameter("K", IecType::LREAL).init("1").min(0).max(100).unit("m/s"),
+                parameter("N", IecType::DINT).init("0")};
     g.create = [](BlockSetup& s) -> std::unique_ptr<Block> { return std::make_unique<Gain>(s); };
     r.add(std::move(g));
     BlockTypeInfo nd;
@@ -59,10 +49,7 @@ const BlockRegistry& param_blocks() {
     nd.category = "test";
     nd.doc = "OUT := IN; needs P";
     nd.pins = {input("IN", IecType::LREAL), output("OUT", IecType::LREAL)};
-    ParamDecl p;
-    p.name = "P";
-    p.type = IecType::INT;
-    nd.params = {p};
+    nd.params = {parameter("P", IecType::INT)};
     nd.create = [](BlockSetup&) -> std::unique_ptr<Block> { return std::make_unique<Pass>(); };
     r.add(std::move(nd));
     return r;

@@ -3,6 +3,8 @@
 // lines (# n) where it helps.
 #include "tests/project/loader_test_util.hpp"
 
+#include "runtime/core/pin_decl.hpp"
+
 namespace syncplc::loadertest {
 namespace {
 
@@ -793,10 +795,7 @@ TEST(LoadErrors, CannotInferADatatypeWithoutDefault) {
   BlockTypeInfo t;
   t.name = "PICKY";
   t.category = "test";
-  PinDecl in;
-  in.name = "IN";
-  in.cls = TypeClass::ANY_NUM;
-  t.pins = {in};
+  t.pins = {input("IN", TypeClass::ANY_NUM)};
   t.create = [](BlockSetup&) -> std::unique_ptr<Block> { return nullptr; };
   reg.add(std::move(t));
   LoadOptions o;
@@ -1121,7 +1120,7 @@ TEST(LoadErrors, MisspeltParameterInABlockFactory) {
   BlockTypeInfo t;
   t.name = "TYPO";
   t.category = "test";
-  t.params = {ParamDecl{"name", IecType::LREAL, "1", {}, {}, "", "", false}};
+  t.params = {parameter("name", IecType::LREAL).init("1")};
   struct Typo final : Block {
     explicit Typo(BlockSetup& s) : v(s.param<double>("nmae")) {}
     void execute(ScanContext&) noexcept override {}

@@ -86,9 +86,6 @@ class Accumulate final : public Block {
   double sum_ = 0;
 };
 
-PinDecl in_pin(const char* n) { return input(n, IecType::LREAL); }
-PinDecl out_pin(const char* n) { return output(n, IecType::LREAL); }
-
 }  // namespace
 
 std::vector<ScanRecord>& records() {
@@ -116,31 +113,30 @@ const BlockRegistry& test_blocks() {
     BlockRegistry r;
     register_iec_blocks(r);
     register_motion_blocks(r);
-    r.add(BlockTypeInfo{"RECORD", "test", "records every scan", "", {in_pin("IN"), out_pin("OUT")}, {}, std::nullopt, false,
+    const Pin in = input("IN", IecType::LREAL), out = output("OUT", IecType::LREAL);
+    r.add(BlockTypeInfo{"RECORD", "test", "records every scan", "", {in, out}, {}, std::nullopt, false,
                         [](BlockSetup& s) { return std::make_unique<Record>(s.instance_name()); }});
-    r.add(BlockTypeInfo{"HOOK", "test", "calls the test's hook", "", {in_pin("IN"), out_pin("OUT")}, {}, std::nullopt, false,
+    r.add(BlockTypeInfo{"HOOK", "test", "calls the test's hook", "", {in, out}, {}, std::nullopt, false,
                         [](BlockSetup&) { return std::make_unique<Hook>(); }});
-    r.add(BlockTypeInfo{"HANG", "test", "a scan that does not end once armed", "", {in_pin("IN"), out_pin("OUT")}, {},
-                        std::nullopt, false, [](BlockSetup&) { return std::make_unique<Hang>(); }});
+    r.add(BlockTypeInfo{"HANG", "test", "a scan that does not end once armed", "", {in, out}, {}, std::nullopt, false,
+                        [](BlockSetup&) { return std::make_unique<Hang>(); }});
     r.add(BlockTypeInfo{"STAMP", "test", "four copies of the scan time in ms", "",
-                        {out_pin("A"), out_pin("B"), out_pin("C"), out_pin("D")}, {}, std::nullopt, false,
-                        [](BlockSetup&) { return std::make_unique<Stamp>(); }});
-    PinDecl ain = in_pin("IN"), aout = out_pin("OUT"), flags = out_pin("FLAGS");
-    ain.length_param = aout.length_param = flags.length_param = "N";
-    ain.unit = aout.unit = "m";
-    flags.type = IecType::BOOL;
-    ParamDecl n{"N", IecType::INT, "3", 0, 5000, "", "elements"};
-    ParamDecl gain{"GAIN", IecType::LREAL, "2", std::nullopt, std::nullopt, "", "gain"};
+                        {output("A", IecType::LREAL), output("B", IecType::LREAL), output("C", IecType::LREAL),
+                         output("D", IecType::LREAL)},
+                        {}, std::nullopt, false, [](BlockSetup&) { return std::make_unique<Stamp>(); }});
     r.add(BlockTypeInfo{"ARRAY_GAIN", "test", "OUT[i] := GAIN*IN[i]; SUM := sum of IN", "",
-                        {ain, aout, out_pin("SUM"), flags}, {n, gain}, std::nullopt, false,
-                        [](BlockSetup& s) { return std::make_unique<ArrayGain>(s); }});
-    ParamDecl k{"K", IecType::LREAL, "1", std::nullopt, std::nullopt, "", "gain (tunable)"};
-    k.tunable = true;
-    ParamDecl mode{"MODE", IecType::INT, "0", std::nullopt, std::nullopt, "", "structure"};
-    r.add(BlockTypeInfo{"ACC", "test", "SUM := SUM + K*IN", "", {in_pin("IN"), out_pin("SUM")}, {k, mode}, std::nullopt,
-                        false, [](BlockSetup& s) { return std::make_unique<Accumulate>(s); }});
-    ParamDecl cap{"N", IecType::DINT, "100000", 1, 10000000, "", "samples kept"};
-    r.add(BlockTypeInfo{"LOG", "test", "keeps (now, IN) of its first N scans", "", {in_pin("IN"), out_pin("OUT")}, {cap},
+                        {input("IN", IecType::LREAL).unit("m").array("N"),
+                         output("OUT", IecType::LREAL).unit("m").array("N"), output("SUM", IecType::LREAL),
+                         output("FLAGS", IecType::BOOL).array("N")},
+                        {parameter("N", IecType::INT).init("3").min(0).max(5000).doc("elements"),
+                         parameter("GAIN", IecType::LREAL).init("2").doc("gain")},
+                        std::nullopt, false, [](BlockSetup& s) { return std::make_unique<ArrayGain>(s); }});
+    r.add(BlockTypeInfo{"ACC", "test", "SUM := SUM + K*IN", "", {in, output("SUM", IecType::LREAL)},
+                        {parameter("K", IecType::LREAL).init("1").tunable().doc("gain (tunable)"),
+                         parameter("MODE", IecType::INT).init("0").doc("structure")},
+                        std::nullopt, false, [](BlockSetup& s) { return std::make_unique<Accumulate>(s); }});
+    r.add(BlockTypeInfo{"LOG", "test", "keeps (now, IN) of its first N scans", "", {in, out},
+                        {parameter("N", IecType::DINT).init("100000").min(1).max(10000000).doc("samples kept")},
                         std::nullopt, false, [](BlockSetup& s) {
                           return std::make_unique<LogBlock>(static_cast<std::size_t>(s.param<std::int32_t>("N")));
                         }});

@@ -1,46 +1,33 @@
-// Internal: declaration helpers of the controller blocks (SYNC_CONTROLLER,
-// PD_CONTROLLER, PID) and the checks their factories run on parameters.
-// The block harness does not range-check parameters; the loader does, but the
-// factories check again so a bad value is a load error from either path.
+// Internal: the checked parameter reads of the controller blocks
+// (SYNC_CONTROLLER, PD_CONTROLLER, PID). The block harness does not
+// range-check parameters; the loader does, but the factories check again so a
+// bad value is a load error from either path.
 #pragma once
 
 #include <cmath>
-#include <optional>
 #include <string>
-#include <utility>
 
-#include "fblocks/motion/decl.hpp"
 #include "runtime/core/block.hpp"
 
 namespace syncplc::motion::ctl {
 
-inline PinDecl in(std::string name, IecType type, std::string unit, std::string doc, bool required = false,
-                  std::string init = {}) {
-  return pin(std::move(name), PinDir::In, type, std::move(unit), std::move(doc), std::move(init), {}, required);
+// The declaration index of `name`; -1 for a misspelt name in the factory,
+// reported as a load error (not as an out-of-range read).
+inline int param_index_or_report(BlockSetup& s, const char* name, bool* ok) {
+  const int i = s.type().param_index(name);
+  if (i < 0) {
+    s.unknown_param(name);
+    *ok = false;
+  }
+  return i;
 }
-
-inline PinDecl out(std::string name, IecType type, std::string unit, std::string doc) {
-  return pin(std::move(name), PinDir::Out, type, std::move(unit), std::move(doc));
-}
-
-inline PinDecl array_in(std::string name, IecType type, std::string unit, std::string length_param, std::string doc,
-                        std::string init = {}) {
-  return pin(std::move(name), PinDir::In, type, std::move(unit), std::move(doc), std::move(init), std::move(length_param));
-}
-
-using motion::param;
-using motion::tunable;
 
 // Reads an LREAL parameter; reports a non-finite value or one outside the
 // declared range as a load error (returns the value anyway).
 inline double real_param(BlockSetup& s, const char* name, bool* ok) {
   const BlockTypeInfo& t = s.type();
-  const int i = t.param_index(name);
-  if (i < 0) {  // a misspelt name in the factory: a load error, not an out-of-range read
-    s.unknown_param(name);
-    *ok = false;
-    return 0;
-  }
+  const int i = param_index_or_report(s, name, ok);
+  if (i < 0) return 0;
   const ParamDecl& d = t.params[static_cast<std::size_t>(i)];
   const double v = s.param_cell(i).get<double>();
   auto fail = [&](const std::string& why) {
@@ -56,12 +43,8 @@ inline double real_param(BlockSetup& s, const char* name, bool* ok) {
 // Reads an integer parameter (any IEC integer type) with its declared range.
 inline long long int_param(BlockSetup& s, const char* name, bool* ok) {
   const BlockTypeInfo& t = s.type();
-  const int i = t.param_index(name);
-  if (i < 0) {  // a misspelt name in the factory: a load error, not an out-of-range read
-    s.unknown_param(name);
-    *ok = false;
-    return 0;
-  }
+  const int i = param_index_or_report(s, name, ok);
+  if (i < 0) return 0;
   const ParamDecl& d = t.params[static_cast<std::size_t>(i)];
   const double v = cell_as_double(d.type, s.param_cell(i));
   if ((d.min && v < *d.min) || (d.max && v > *d.max)) {
