@@ -16,6 +16,7 @@
 #include "runtime/core/supervisor.hpp"
 #include "runtime/modbus/server.hpp"
 #include "runtime/cli/instance_file.hpp"
+#include "runtime/cli/plc_store.hpp"
 #include "runtime/cli/reload.hpp"
 #include "runtime/cli/serve_modbus.hpp"
 #include "runtime/project/report.hpp"
@@ -65,10 +66,14 @@ void write_reload_result(const std::string& pid_file, const ReloadResult& r) {
 
 }  // namespace
 
-int cmd_run(const std::string& project, const std::string& duration, const std::vector<std::string>& sets,
-            bool no_status, int cpu_latency_us, std::optional<int> modbus_port, const std::string& pid_file_option) {
+int cmd_run(const RunOptions& options) {
+  const std::string& project = options.project;
+  const std::string& duration = options.duration;
+  const bool no_status = options.no_status;
+  const std::optional<int> modbus_port = options.modbus_port;
+  const std::string& pid_file_option = options.pid_file;
   RealtimeRunner::Options runner_options;
-  runner_options.cpu_latency_us = cpu_latency_us;
+  runner_options.cpu_latency_us = options.cpu_latency_us;
   std::optional<std::int64_t> limit;
   if (!duration.empty()) {
     std::string err;
@@ -80,10 +85,21 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
     runner_options.duration_ns = *limit;  // counted from the first release, not from here
   }
   LoadOptions o;
-  if (!parse_sets(sets, o)) return kExitInvalid;
+  if (!parse_sets(options.sets, o)) return kExitInvalid;
   auto r = load_or_report(project, o);
   if (!r.ok()) return kExitInvalid;
   std::unique_ptr<Program> program = std::move(r.program);
+
+  // The PLC's database first: a second instance on it stops here, before
+  // anything binds or moves; retain values are in the images before the first scan.
+  std::string err;
+  std::vector<std::string> notices;
+  auto plc_store = PlcStore::open(database_path(options.db, r.store, project), *program, r, notices, &err);
+  if (!plc_store) {
+    std::cerr << "syncplc: " << err << "\n";
+    return kExitInvalid;
+  }
+  for (const auto& n : notices) std::cerr << "syncplc: warning: " << n << "\n";
 
   // SIGINT/SIGTERM (stop) and SIGHUP (reload) are taken synchronously by this
   // thread only; task threads inherit the blocked mask and never see them.
@@ -96,7 +112,6 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
   pthread_sigmask(SIG_BLOCK, &sigs, nullptr);
   signal(SIGPIPE, SIG_IGN);  // a Modbus client that goes away must not end the PLC
 
-  std::string err;
   if (!program->open_drivers(&err)) {
     std::cerr << "syncplc: " << err << "\n";
     return kExitDriverFailed;
@@ -119,6 +134,7 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
   } remove_pid_file{pid_file};
   auto runner = std::make_unique<RealtimeRunner>(*program, runner_options);
   runner->start();
+  plc_store->start();
   Reloader reloader(project, o, modbus_port);
   Supervisor supervisor(*program, *runner);
   const bool live = !no_status && isatty(STDOUT_FILENO);
@@ -147,7 +163,7 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
     }
     if (sig == SIGHUP || sig == SIGUSR1) {
       // Online change: load and check the file first; only a good project replaces the running one.
-      ReloadResult rr = reloader.reload(program, *runner, modbus_server, std::cerr);
+      ReloadResult rr = reloader.reload(program, *runner, modbus_server, plc_store.get(), std::cerr);
       for (const auto& line : rr.lines) std::cerr << line << "\n";
       // An event like the tasks' (the time on the tasks' axis), kept on the
       // live screen with the other events; the result stays apart until the next.
@@ -193,6 +209,7 @@ int cmd_run(const std::string& project, const std::string& duration, const std::
     runner->join();
     program->close_drivers();
   }
+  plc_store->stop();  // after the tasks: its jobs' final run takes their last snapshots
   for_each_event(*program, supervisor, [](const std::string& line) { std::cerr << line << "\n"; });
   const int status = run_exit_status(joined, all_stopped, supervisor.any_hung());
   if (!joined)

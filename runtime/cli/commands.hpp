@@ -31,8 +31,17 @@ int cmd_check(const std::string& project);
 int cmd_blocks(const std::string& name, bool markdown);
 int cmd_sim(const std::string& project, const std::string& duration, std::optional<std::uint64_t> seed,
             const std::string& trace, const std::vector<std::string>& sets, bool quiet, const std::string& metrics_path);
-int cmd_run(const std::string& project, const std::string& duration, const std::vector<std::string>& sets,
-            bool no_status, int cpu_latency_us, std::optional<int> modbus_port, const std::string& pid_file);
+struct RunOptions {
+  std::string project;
+  std::string duration;           // --duration; "" until stopped
+  std::vector<std::string> sets;  // --set
+  bool no_status = false;
+  int cpu_latency_us = 0;
+  std::optional<int> modbus_port;
+  std::string pid_file;  // "" : default_pid_file(project)
+  std::string db;        // --db: the PLC's database ("" : the project's store: path, else the default; docs/store.md)
+};
+int cmd_run(const RunOptions& options);
 int cmd_reload(const std::string& project, const std::string& pid_file);
 int cmd_test(const std::string& project, const std::string& tests, const std::string& junit);
 

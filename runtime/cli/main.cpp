@@ -11,7 +11,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", "syncplc 0.1.0");
 
-  std::string project, duration, trace, tests, junit, block, metrics, pid_file;
+  std::string project, duration, trace, tests, junit, block, metrics, pid_file, db;
   std::optional<std::uint64_t> seed;
   std::vector<std::string> sets;
   bool markdown = false, quiet = false, no_status = false;
@@ -45,6 +45,8 @@ int main(int argc, char** argv) {
   run->add_option("--modbus-port", modbus_port,
                   "serve Modbus TCP on this port (0: any free port), even without a modbus: section")
       ->check(CLI::Range(0, 65535));
+  run->add_option("--db", db, "the PLC's database: retain values, projects, events, trends (default: the project's "
+                              "store: path, else $XDG_STATE_HOME/syncplc/plc.db; :memory: keeps nothing)");
   run->add_option("--pid-file", pid_file, "where `syncplc reload` finds this instance (default: one per project file in "
                                           "$XDG_RUNTIME_DIR/syncplc or /tmp/syncplc-UID)");
 
@@ -68,7 +70,18 @@ int main(int argc, char** argv) {
     if (*check) return cmd_check(project);
     if (*blocks) return cmd_blocks(block, markdown);
     if (*sim) return cmd_sim(project, duration, seed, trace, sets, quiet, metrics);
-    if (*run) return cmd_run(project, duration, sets, no_status, cpu_latency_us, modbus_port, pid_file);
+    if (*run) {
+      RunOptions o;
+      o.project = project;
+      o.duration = duration;
+      o.sets = sets;
+      o.no_status = no_status;
+      o.cpu_latency_us = cpu_latency_us;
+      o.modbus_port = modbus_port;
+      o.pid_file = pid_file;
+      o.db = db;
+      return cmd_run(o);
+    }
     if (*reload) return cmd_reload(project, pid_file);
     if (*test) return cmd_test(project, tests, junit);
   } catch (const std::exception& e) {

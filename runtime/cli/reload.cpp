@@ -40,7 +40,7 @@ void Reloader::poll(RealtimeRunner& runner, std::ostream& events) {
 }
 
 ReloadResult Reloader::reload(std::unique_ptr<Program>& program, RealtimeRunner& runner,
-                              std::unique_ptr<modbus::Server>& server, std::ostream& events) {
+                              std::unique_ptr<modbus::Server>& server, PlcStore* store, std::ostream& events) {
   ReloadResult r;
   poll(runner, events);
   if (pending_) {
@@ -86,6 +86,9 @@ ReloadResult Reloader::reload(std::unique_ptr<Program>& program, RealtimeRunner&
     server.reset();  // changed settings: a new server (its clients reconnect)
     server = start_modbus(*next.program, next.modbus, modbus_port_);
   }
+  // The store's jobs read the new program's snapshots from now on (the old
+  // tasks mirror theirs into it until they switch), before the old one goes.
+  if (store) store->switch_program(*next.program, next);
   // Each task switches at its first release at or after T, which is up to a
   // period after it; a task later than that and a second is stuck in a scan.
   std::int64_t longest = 0;

@@ -10,6 +10,7 @@
 
 #include "runtime/core/program_change.hpp"
 #include "runtime/core/realtime.hpp"
+#include "runtime/cli/plc_store.hpp"
 #include "runtime/modbus/server.hpp"
 #include "runtime/project/loader.hpp"
 
@@ -32,7 +33,7 @@ class Reloader {
   // changes nothing. Old events are printed to `events` before the old
   // program goes.
   ReloadResult reload(std::unique_ptr<Program>& program, RealtimeRunner& runner,
-                      std::unique_ptr<modbus::Server>& server, std::ostream& events);
+                      std::unique_ptr<modbus::Server>& server, PlcStore* store, std::ostream& events);
   // Completes a change that waited for a late task, once it has switched.
   void poll(RealtimeRunner& runner, std::ostream& events);
   bool change_pending() const { return pending_ != nullptr; }

@@ -65,6 +65,12 @@ void StoreThread::wake() {
   cv_.notify_all();
 }
 
+void StoreThread::switch_program(Program& next, const StoreSettings& settings) {
+  exclusive([&] {
+    for (auto& j : jobs_) j->switch_program(next, settings);
+  });
+}
+
 StoreHealth StoreThread::health() const {
   std::lock_guard lk(state_mutex_);
   return health_;

@@ -17,7 +17,9 @@
 #include <thread>
 #include <vector>
 
+#include "runtime/core/program.hpp"
 #include "runtime/store/database.hpp"
+#include "runtime/store/store_settings.hpp"
 
 namespace syncplc::store {
 
@@ -37,6 +39,13 @@ class StoreJob {
   // (SQLite::Exception or std::exception) when the database refuses: the job
   // keeps its pending data and is run again later.
   virtual void run(Database& db, std::int64_t now_ns, bool final) = 0;
+  // An online change installed `next` with its store settings: read its
+  // snapshots from now on. Called inside StoreThread::exclusive (no run
+  // meanwhile), before the old program goes.
+  virtual void switch_program(Program& next, const StoreSettings& settings) {
+    (void)next;
+    (void)settings;
+  }
 };
 
 struct StoreHealth {
@@ -70,6 +79,9 @@ class StoreThread {
     std::lock_guard lk(run_mutex_);
     f();
   }
+
+  // An online change: every job reads `next` from now on (inside exclusive()).
+  void switch_program(Program& next, const StoreSettings& settings);
 
   Database& database() { return *db_; }
 

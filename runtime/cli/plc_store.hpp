@@ -1,0 +1,53 @@
+// The PLC's memory in `syncplc run` (docs/store.md): the database opened
+// before any task runs, the store thread started with the jobs the project
+// needs, pointed at the new program by an online change, and stopped after
+// the tasks at a clean stop (its jobs' final run stores the last values).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "runtime/core/program.hpp"
+#include "runtime/project/loader.hpp"
+#include "runtime/store/store_thread.hpp"
+
+namespace syncplc::cli {
+
+// $XDG_STATE_HOME/syncplc/plc.db, else $HOME/.local/state/syncplc/plc.db.
+std::string default_database_path();
+// --db, else the project's store: path (relative to the project file's
+// directory), else the default.
+std::string database_path(const std::string& option, const store::StoreSettings& s, const std::string& project_file);
+
+class PlcStore {
+ public:
+  // Opens the database at `path` and prepares the jobs for `p`. Null, with
+  // `error`, when the PLC must not start: another instance holds the
+  // database, or a job cannot use it (tables from a newer syncplc). A file
+  // that is corrupt is moved aside and a new one made; a database that
+  // cannot be opened at all leaves the store off (off_reason()); both are
+  // in `notices`, which the caller shows loudly.
+  static std::unique_ptr<PlcStore> open(const std::string& path, Program& p, const LoadResult& loaded,
+                                        std::vector<std::string>& notices, std::string* error);
+  ~PlcStore();
+
+  void start();
+  void stop();
+  // An online change installed `next` (its load result `loaded`).
+  void switch_program(Program& next, const LoadResult& loaded);
+
+  bool on() const { return thread_ != nullptr; }
+  const std::string& off_reason() const { return off_reason_; }
+  const std::string& path() const { return path_; }
+  store::StoreHealth health() const;
+  store::StoreThread* thread() { return thread_.get(); }
+
+ private:
+  PlcStore() = default;
+  std::string path_;
+  std::string off_reason_;
+  std::unique_ptr<store::StoreThread> thread_;
+};
+
+}  // namespace syncplc::cli
