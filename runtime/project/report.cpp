@@ -69,6 +69,18 @@ void print_statistics(std::ostream& os, const Program& p, bool virtual_time) {
     os << fmt::format("  {:<16} {:>10} {:>8} {:>8} {:>6} {:>30} {:>30}{}\n", t->config().name, s.scans, s.overruns,
                       s.skipped, s.watchdog_trips, quad(s.exec), quad(s.jitter), t->stopped() ? "  STOPPED" : "");
   }
+  // What crossed the tasks' edges, for the tasks where anything did: writes
+  // from HMIs and tests, LET reads that fell back to the older publication
+  // (snapshot_channel.hpp), events lost to a full event ring.
+  auto count = [](std::uint64_t n, const char* one, const char* many) {
+    return fmt::format("{} {}", n, n == 1 ? one : many);
+  };
+  for (const auto& t : p.tasks) {
+    auto s = t->stats.summary();
+    if (s.writes_applied == 0 && s.late_reads == 0 && s.events_dropped == 0) continue;
+    os << fmt::format("  {}: {}, {}, {}\n", t->config().name, count(s.writes_applied, "queued write applied", "queued writes applied"),
+                      count(s.late_reads, "late read", "late reads"), count(s.events_dropped, "event dropped", "events dropped"));
+  }
 }
 
 std::string format_event(const Program& p, const Event& e) {
