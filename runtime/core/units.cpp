@@ -187,4 +187,13 @@ std::optional<double> parse_quantity(std::string_view text, std::string_view tar
   return v * given->scale / want->scale;
 }
 
+UnitCopy unit_copy(std::string_view a, std::string_view b) {
+  if (a.empty() || b.empty() || a == b) return UnitCopy::Fits;
+  auto ua = parse_unit(a, nullptr), ub = parse_unit(b, nullptr);
+  if (!ua || !ub) return UnitCopy::Fits;
+  if (!ua->same_dimension(*ub)) return UnitCopy::OtherDimension;
+  if (std::fabs(ua->scale - ub->scale) <= 1e-12 * std::fabs(ub->scale)) return UnitCopy::Fits;
+  return UnitCopy::OtherScale;
+}
+
 }  // namespace syncplc

@@ -24,6 +24,14 @@ std::optional<Unit> parse_unit(std::string_view text, std::string* error);
 // Without a unit the number is taken in `target`.
 std::optional<double> parse_quantity(std::string_view text, std::string_view target, std::string* error);
 
+// Whether a value in unit `a` may be copied as it is into unit `b` (a
+// connection, a driver channel bound to a tag): Fits when the units are
+// equal, either end has none, or one does not parse (that is reported where
+// it is declared); otherwise another dimension, or the same one at another
+// scale (mm into m: off by 1000).
+enum class UnitCopy { Fits, OtherDimension, OtherScale };
+UnitCopy unit_copy(std::string_view a, std::string_view b);
+
 // Splits "12.5 mm/s" into number text and unit text (either may be empty).
 void split_quantity(std::string_view text, std::string& number, std::string& unit);
 

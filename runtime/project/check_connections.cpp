@@ -31,14 +31,12 @@ const std::string& endpoint_unit(const Declarations& p, const Endpoint& e) {
 void check_units(const Declarations& p, const ConnectionDecl& c, Diagnostics& diags) {
   const std::string& us = endpoint_unit(p, c.src);
   const std::string& ud = endpoint_unit(p, c.dst);
-  if (us.empty() || ud.empty() || us == ud) return;
-  auto a = parse_unit(us, nullptr), b = parse_unit(ud, nullptr);
-  if (!a || !b) return;  // a bad unit is reported where it is declared
-  if (a->same_dimension(*b) && std::fabs(a->scale - b->scale) <= 1e-12 * std::fabs(b->scale)) return;
+  const UnitCopy fit = unit_copy(us, ud);
+  if (fit == UnitCopy::Fits) return;
   diags.error(c.loc, "unit mismatch: " + c.src.text + " is in " + us + ", " + c.dst.text + " in " + ud +
-                         (a->same_dimension(*b) ? " (a connection copies the value: scale it with a MUL block, or give "
-                                                  "both ends one unit)"
-                                                : " (another dimension)"));
+                         (fit == UnitCopy::OtherDimension ? " (another dimension)"
+                                                          : " (a connection copies the value: scale it with a MUL block, or "
+                                                            "give both ends one unit)"));
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // from its settings (after --set driver.key=value), its channels bound to tags.
 #include <algorithm>
 
+#include "runtime/core/units.hpp"
 #include "runtime/project/stages.hpp"
 
 namespace syncplc {
@@ -133,6 +134,14 @@ void read_drivers(const ConfigNode& n, const DriverRegistry& drivers, Declaratio
             diags.error(tagn.loc, "type mismatch: channel " + dd.name + "." + ch + " is " + std::string(type_name(it->type)) +
                                    (it->length > 1 ? "[" + std::to_string(it->length) + "]" : "") + ", tag " + tg.name + " is " +
                                    std::string(type_name(tg.type)) + (tg.length > 1 ? "[" + std::to_string(tg.length) + "]" : ""));
+          // A channel copies its value as it is, as a connection does: the
+          // tag must mean the channel's unit (a tag without one takes any).
+          if (const UnitCopy fit = unit_copy(it->unit, tg.unit); fit != UnitCopy::Fits)
+            diags.error(tagn.loc, "unit mismatch: channel " + dd.name + "." + ch + " is in " + it->unit + ", tag " + tg.name +
+                                   " in " + tg.unit +
+                                   (fit == UnitCopy::OtherDimension ? " (another dimension)"
+                                                                    : " (the driver copies the value: give the tag the "
+                                                                      "channel's unit, or scale it with a MUL block)"));
           auto ci = static_cast<std::size_t>(it - chans.begin());
           dd.channel_tag[ci] = ti;
           dd.channel_loc[ci] = tagn.loc;

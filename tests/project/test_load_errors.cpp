@@ -838,6 +838,28 @@ drivers:
                              "p.yaml:15:15: type mismatch: channel d5.c is INT, tag b is BOOL"));
 }
 
+TEST(LoadErrors, DriverChannelsAndTheirTagsMustMeanOneUnit) {
+  // A channel copies its value as it is: rad into a tag in m is another
+  // dimension, into mrad off by 1000; a tag without a unit takes any.
+  auto e = errors(R"(
+tasks: [{name: main, period: 1ms}]
+tags:
+  - {name: a, type: LREAL, unit: m}
+  - {name: b, type: LREAL, unit: mrad}
+  - {name: c, type: LREAL}
+  - {name: d, type: LREAL, unit: rad}
+drivers:
+  - name: io
+    type: memory
+    channels: [{name: p1, dir: in, type: LREAL, unit: rad}, {name: p2, dir: in, type: LREAL, unit: rad},
+               {name: p3, dir: in, type: LREAL, unit: rad}, {name: p4, dir: in, type: LREAL, unit: rad}]
+    bind: {p1: a, p2: b, p3: c, p4: d}
+)");
+  EXPECT_THAT(e, ElementsAre("p.yaml:12:16: unit mismatch: channel io.p1 is in rad, tag a in m (another dimension)",
+                             "p.yaml:12:23: unit mismatch: channel io.p2 is in rad, tag b in mrad (the driver copies the "
+                             "value: give the tag the channel's unit, or scale it with a MUL block)"));
+}
+
 // --- traces and watch ------------------------------------------------------------------------
 
 TEST(LoadErrors, TracesAndWatchNamingUnknownThings) {
