@@ -36,7 +36,8 @@ std::optional<ExtractedVersion> extract_version(const std::string& db_path, std:
     return std::nullopt;
   }
   if (!fs::exists(db_path)) {
-    *error = "no database at " + db_path + " (it holds the projects a PLC ran)";
+    *error = "no database at " + db_path + ", so no project to load from it" +
+             (number ? "" : ": give a project file (syncplc run PROJECT)");
     return std::nullopt;
   }
   auto db = store::Database::open_read_only(db_path, error);
@@ -49,7 +50,7 @@ std::optional<ExtractedVersion> extract_version(const std::string& db_path, std:
   }
   if (!v->accepted) {
     *error = "version " + std::to_string(v->number) + " was rejected (" + std::to_string(v->errors.size()) +
-             " errors): only an accepted version can be loaded again";
+             (v->errors.size() == 1 ? " error" : " errors") + "): only an accepted version can be loaded again";
     return std::nullopt;
   }
   // Content-addressed: written anew beside, then put in place.
