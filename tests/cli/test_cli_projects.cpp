@@ -136,12 +136,17 @@ TEST(CliProjects, RunWithoutAFileStartsTheLastAcceptedProject) {
   ASSERT_EQ(run_cli("run " + path + " --no-status --duration 100ms --db " + db).rc, 0);
   write_temp_file("boot.yaml", "tasks: [{name: t, period: 1ms}]\nblocks: [{name: m, type: NOPE}]\n");
   ASSERT_EQ(run_cli("run " + path + " --no-status --duration 100ms --db " + db).rc, 2);  // rejected: not the boot project
-  r = run_cli("run --no-status --duration 200ms --db " + db);
-  ASSERT_EQ(r.rc, 0) << r.err;
-  EXPECT_NE(r.err.find("syncplc: starting version 1 of " + db), std::string::npos) << r.err;
-  r = run_cli("projects --db " + db);
-  EXPECT_NE(r.out.find("boot      accepted  tank 7"), std::string::npos) << r.out;
-  EXPECT_EQ(sqlite3(db, "SELECT source FROM project_versions WHERE number = 3"), "version 1\n");
+  const std::string pid = write_temp_file("boot.pid", "");
+  Instance plc({"--no-status", "--db", db, "--pid-file", pid}, "boot");
+  EXPECT_TRUE(plc.wait_for("syncplc: starting version 1 of " + db)) << slurp(plc.err);
+  std::string listing;
+  EXPECT_TRUE(projects_show(db, "boot      accepted  tank 7", &listing)) << listing;
+  // Its pid file works as any: a reload loads the extracted project file again.
+  r = run_cli("reload --pid-file " + pid);
+  EXPECT_EQ(r.rc, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("accepted: reloaded "), std::string::npos) << r.out;
+  EXPECT_EQ(plc.stop(), 0) << slurp(plc.err);
+  EXPECT_EQ(sqlite3(db, "SELECT origin, source FROM project_versions WHERE number = 3"), "boot|version 1\n");
 }
 
 TEST(CliProjects, RunWithoutAFileRefusesADatabaseWithNoAcceptedProject) {
