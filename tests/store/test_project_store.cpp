@@ -155,6 +155,18 @@ TEST(ProjectStore, AProjectFileThatCannotBeReadIsARejectedVersionWithoutFiles) {
   EXPECT_FALSE(same_as_last_accepted(db->sql(), ""));
 }
 
+TEST(ProjectStore, ALoadWithAMissingIncludeKeepsTheFilesItRead) {
+  const std::string dir = testing::fresh_dir("missing_include");
+  write(dir + "/p.yaml", "include: [a.yaml, gone.yaml]\ntasks: [{name: t, period: 1ms}]\n");
+  write(dir + "/a.yaml", "tags: [{name: x, type: BOOL}]\n");
+  auto r = load_project(dir + "/p.yaml");
+  ASSERT_FALSE(r.ok());
+  const ProjectContent c = make_content(r.sources);
+  ASSERT_EQ(c.files.size(), 2u);
+  EXPECT_EQ(c.files[0].path, "p.yaml");
+  EXPECT_EQ(c.files[1].path, "a.yaml");
+}
+
 TEST(ProjectStore, AnExtractedVersionLoadsAsTheOriginalDid) {
   const std::string dir = testing::fresh_dir("extract");
   auto db = open_db(dir);
