@@ -1,6 +1,7 @@
-// `syncplc reload [PROJECT] [--pid-file F]`: asks the running `syncplc run`
-// of PROJECT to load its project file again (online change), waits for the
-// outcome and prints it. Exit 0: accepted; 1: rejected (the running program
+// `syncplc reload [PROJECT] [--pid-file F] [--version N]`: asks the running
+// `syncplc run` of PROJECT to load its project file again (online change),
+// or with --version a version from its project store (rollback), waits for
+// the outcome and prints it. Exit 0: accepted; 1: rejected (the running program
 // goes on unchanged); 2: no such instance.
 #include <signal.h>
 
@@ -13,10 +14,11 @@
 
 #include "runtime/cli/commands.hpp"
 #include "runtime/cli/instance_file.hpp"
+#include "runtime/cli/project_versions.hpp"
 
 namespace syncplc::cli {
 
-int cmd_reload(const std::string& project, const std::string& pid_file) {
+int cmd_reload(const std::string& project, const std::string& pid_file, std::int64_t version) {
   std::string path = pid_file;
   if (path.empty() && !project.empty()) path = default_pid_file(project);
   if (path.empty()) {
@@ -44,6 +46,11 @@ int cmd_reload(const std::string& project, const std::string& pid_file) {
   const std::string result = reload_result_file(path);
   std::error_code ec;
   std::filesystem::remove(result, ec);  // `run` writes it anew (write and rename) when the reload is done
+  std::filesystem::remove(reload_request_file(path), ec);
+  if (version > 0 && !write_reload_request(path, version, &err)) {
+    std::cerr << "syncplc: reload: " << err << "\n";
+    return kExitInvalid;
+  }
   if (kill(inst->pid, SIGUSR1) != 0) {
     std::cerr << "syncplc: reload: cannot signal process " << inst->pid << "\n";
     return kExitInvalid;

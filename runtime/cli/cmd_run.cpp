@@ -17,6 +17,7 @@
 #include "runtime/modbus/server.hpp"
 #include "runtime/cli/instance_file.hpp"
 #include "runtime/cli/plc_store.hpp"
+#include "runtime/cli/project_versions.hpp"
 #include "runtime/cli/reload.hpp"
 #include "runtime/cli/serve_modbus.hpp"
 #include "runtime/project/report.hpp"
@@ -67,7 +68,23 @@ void write_reload_result(const std::string& pid_file, const ReloadResult& r) {
 }  // namespace
 
 int cmd_run(const RunOptions& options) {
-  const std::string& project = options.project;
+  // Without a project file: the last accepted project in the database, as a
+  // boot project (docs/store.md, "Projects"); it keeps that database.
+  std::string project = options.project, db_option = options.db, origin = "run", source;
+  if (project.empty()) {
+    std::string why;
+    const std::string db = db_option.empty() ? default_database_path() : db_option;
+    auto boot = extract_version(db, 0, &why);
+    if (!boot) {
+      std::cerr << "syncplc: run: " << why << "\n";
+      return kExitInvalid;
+    }
+    project = boot->project_file;
+    db_option = db;
+    origin = "boot";
+    source = "version " + std::to_string(boot->number);
+    std::cerr << "syncplc: starting version " << boot->number << " of " << db << " (" << project << ")\n";
+  }
   const std::string& duration = options.duration;
   const bool no_status = options.no_status;
   const std::optional<int> modbus_port = options.modbus_port;
@@ -87,18 +104,23 @@ int cmd_run(const RunOptions& options) {
   LoadOptions o;
   if (!parse_sets(options.sets, o)) return kExitInvalid;
   auto r = load_or_report(project, o);
-  if (!r.ok()) return kExitInvalid;
+  if (!r.ok()) {
+    record_rejected_run(db_option.empty() ? default_database_path() : db_option, project_load(r, project, origin, source));
+    return kExitInvalid;
+  }
+  store::ProjectLoad start = project_load(r, project, origin, source);  // before the program moves out of r
   std::unique_ptr<Program> program = std::move(r.program);
 
   // The PLC's database first: a second instance on it stops here, before
   // anything binds or moves; retain values are in the images before the first scan.
   std::string err;
   std::vector<std::string> notices;
-  auto plc_store = PlcStore::open(database_path(options.db, r.store, project), *program, r, notices, &err);
+  auto plc_store = PlcStore::open(database_path(db_option, r.store, project), *program, r, notices, &err);
   if (!plc_store) {
     std::cerr << "syncplc: " << err << "\n";
     return kExitInvalid;
   }
+  plc_store->record(std::move(start));  // written when the store thread starts
   for (const auto& n : notices) std::cerr << "syncplc: warning: " << n << "\n";
 
   // SIGINT/SIGTERM (stop) and SIGHUP (reload) are taken synchronously by this
@@ -163,7 +185,21 @@ int cmd_run(const RunOptions& options) {
     }
     if (sig == SIGHUP || sig == SIGUSR1) {
       // Online change: load and check the file first; only a good project replaces the running one.
-      ReloadResult rr = reloader.reload(program, *runner, modbus_server, plc_store.get(), std::cerr);
+      // `syncplc reload --version N`: that stored version, extracted, by online change.
+      ReloadFrom from;
+      if (const std::int64_t version = sig == SIGUSR1 ? take_reload_request(pid_file) : 0) {
+        std::string why;
+        auto v = extract_version(plc_store->path(), version, &why);
+        if (!v) {
+          ReloadResult refused;
+          refused.summary = "rollback refused: " + why + "; the running program continues unchanged";
+          std::cerr << "syncplc: " << refused.summary << "\n";
+          write_reload_result(pid_file, refused);
+          continue;
+        }
+        from = {v->project_file, "rollback", "version " + std::to_string(v->number)};
+      }
+      ReloadResult rr = reloader.reload(program, *runner, modbus_server, plc_store.get(), std::cerr, from);
       for (const auto& line : rr.lines) std::cerr << line << "\n";
       // An event like the tasks' (the time on the tasks' axis), kept on the
       // live screen with the other events; the result stays apart until the next.

@@ -32,7 +32,7 @@ int cmd_blocks(const std::string& name, bool markdown);
 int cmd_sim(const std::string& project, const std::string& duration, std::optional<std::uint64_t> seed,
             const std::string& trace, const std::vector<std::string>& sets, bool quiet, const std::string& metrics_path);
 struct RunOptions {
-  std::string project;
+  std::string project;            // "" : the last accepted project in the database
   std::string duration;           // --duration; "" until stopped
   std::vector<std::string> sets;  // --set
   bool no_status = false;
@@ -42,7 +42,10 @@ struct RunOptions {
   std::string db;        // --db: the PLC's database ("" : the project's store: path, else the default; docs/store.md)
 };
 int cmd_run(const RunOptions& options);
-int cmd_reload(const std::string& project, const std::string& pid_file);
+int cmd_reload(const std::string& project, const std::string& pid_file, std::int64_t version);
+// `syncplc projects`: the project store's versions; with `show`, version
+// `show`'s files (all, or the one named `file`).
+int cmd_projects(const std::string& db, std::int64_t show, const std::string& file);
 int cmd_test(const std::string& project, const std::string& tests, const std::string& junit);
 
 }  // namespace syncplc::cli

@@ -35,7 +35,7 @@ int main(int argc, char** argv) {
   sim->add_flag("--quiet,-q", quiet, "no progress display");
 
   auto* run = app.add_subcommand("run", "run a project in real time");
-  run->add_option("PROJECT", project, "project file (YAML)")->required();
+  run->add_option("PROJECT", project, "project file (YAML); none: the last accepted project in the database");
   run->add_option("--duration,-d", duration, "stop after this time, e.g. 60s (default: until Ctrl-C or SIGTERM)");
   run->add_option("--set", sets, "override a parameter: instance.param=value (repeatable)");
   run->add_flag("--no-status", no_status, "no live status screen, even on a terminal");
@@ -54,6 +54,18 @@ int main(int argc, char** argv) {
                                               "and switches to it without a stop; prints what changed");
   reload->add_option("PROJECT", project, "the project file the instance runs (default: the only one running)");
   reload->add_option("--pid-file", pid_file, "the instance's pid file (as given to run --pid-file)");
+  std::int64_t version = 0;
+  reload->add_option("--version", version, "load this version of the project store instead (rollback; see syncplc projects)")
+      ->check(CLI::PositiveNumber);
+
+  auto* projects = app.add_subcommand("projects", "the projects loaded onto the PLC: every version, its origin and outcome");
+  projects->add_option("--db", db, "the PLC's database (default: $XDG_STATE_HOME/syncplc/plc.db)");
+  auto* projects_show = projects->add_subcommand("show", "print a stored version's files");
+  std::int64_t show = 0;
+  std::string show_file;
+  projects_show->add_option("N", show, "the version number")->required()->check(CLI::PositiveNumber);
+  projects_show->add_option("--file", show_file, "only this file, as it is named in the version");
+  projects_show->add_option("--db", db, "the PLC's database");
 
   auto* test = app.add_subcommand("test", "run scan-cycle tests against a project in virtual time");
   test->add_option("PROJECT", project, "project file (YAML)")->required();
@@ -82,7 +94,8 @@ int main(int argc, char** argv) {
       o.db = db;
       return cmd_run(o);
     }
-    if (*reload) return cmd_reload(project, pid_file);
+    if (*reload) return cmd_reload(project, pid_file, version);
+    if (*projects) return cmd_projects(db, *projects_show ? show : 0, show_file);
     if (*test) return cmd_test(project, tests, junit);
   } catch (const std::exception& e) {
     std::cerr << "syncplc: " << e.what() << "\n";

@@ -24,12 +24,13 @@ std::string database_path(const std::string& option, const store::StoreSettings&
 namespace {
 
 // The jobs the project needs, each prepared on `db` (its tables).
-bool add_jobs(store::StoreThread& st, Program& p, const LoadResult& loaded, std::string* error) {
-  (void)st;
+bool add_jobs(store::StoreThread& st, Program& p, const LoadResult& loaded, std::string* error,
+              store::ProjectsJob*& projects) {
   (void)p;
   (void)loaded;
-  (void)error;
-  return true;
+  auto pj = std::make_unique<store::ProjectsJob>();
+  projects = pj.get();
+  return st.add(std::move(pj), error);
 }
 
 }  // namespace
@@ -55,7 +56,7 @@ std::unique_ptr<PlcStore> PlcStore::open(const std::string& path, Program& p, co
     notices.push_back("store: the database " + path + " was unreadable (" + report.problem + "); it was moved to " +
                       report.moved_aside + " and a new one started: retain values start from their initial values");
   s->thread_ = std::make_unique<store::StoreThread>(std::move(db));
-  if (!add_jobs(*s->thread_, p, loaded, error)) return nullptr;
+  if (!add_jobs(*s->thread_, p, loaded, error, s->projects_)) return nullptr;
   return s;
 }
 
@@ -71,6 +72,12 @@ void PlcStore::stop() {
 
 void PlcStore::switch_program(Program& next, const LoadResult& loaded) {
   if (thread_) thread_->switch_program(next, loaded.store);
+}
+
+void PlcStore::record(store::ProjectLoad load) {
+  if (!projects_) return;
+  projects_->submit(std::move(load));
+  thread_->wake();
 }
 
 store::StoreHealth PlcStore::health() const {

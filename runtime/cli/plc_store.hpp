@@ -10,6 +10,7 @@
 
 #include "runtime/core/program.hpp"
 #include "runtime/project/loader.hpp"
+#include "runtime/store/projects_job.hpp"
 #include "runtime/store/store_thread.hpp"
 
 namespace syncplc::cli {
@@ -36,6 +37,9 @@ class PlcStore {
   void stop();
   // An online change installed `next` (its load result `loaded`).
   void switch_program(Program& next, const LoadResult& loaded);
+  // A project load (start, online change, rollback) for the project store,
+  // written by the store thread (nothing when the store is off).
+  void record(store::ProjectLoad load);
 
   bool on() const { return thread_ != nullptr; }
   const std::string& off_reason() const { return off_reason_; }
@@ -48,6 +52,7 @@ class PlcStore {
   std::string path_;
   std::string off_reason_;
   std::unique_ptr<store::StoreThread> thread_;
+  store::ProjectsJob* projects_ = nullptr;  // owned by thread_
 };
 
 }  // namespace syncplc::cli

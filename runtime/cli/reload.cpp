@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <ostream>
 
+#include "runtime/cli/project_versions.hpp"
 #include "runtime/cli/serve_modbus.hpp"
 #include "runtime/core/iec_type.hpp"
 #include "runtime/core/program_change.hpp"
@@ -40,18 +41,30 @@ void Reloader::poll(RealtimeRunner& runner, std::ostream& events) {
 }
 
 ReloadResult Reloader::reload(std::unique_ptr<Program>& program, RealtimeRunner& runner,
-                              std::unique_ptr<modbus::Server>& server, PlcStore* store, std::ostream& events) {
+                              std::unique_ptr<modbus::Server>& server, PlcStore* store, std::ostream& events,
+                              const ReloadFrom& from) {
   ReloadResult r;
+  const std::string& file = from.path.empty() ? project_ : from.path;
+  const std::string what = from.source.empty() ? file : from.source + " (" + file + ")";
   poll(runner, events);
   if (pending_) {
     r.summary = "reload refused: the previous change still waits for a task that has not reached its switch";
     return r;
   }
-  auto next = load_project(project_, options_);
+  auto next = load_project(file, options_);
+  // Every load goes to the project store, accepted or rejected with its errors.
+  auto record = [&](bool accepted) {
+    if (!store) return;
+    auto load = project_load(next, file, from.origin, from.source);
+    load.accepted = accepted;
+    if (!accepted && next.ok()) load.errors = r.lines;
+    store->record(std::move(load));
+  };
   if (!next.ok()) {
     for (const auto& d : next.diagnostics.sorted()) r.lines.push_back(d.text());
-    r.summary = fmt::format("reload of {} rejected ({} error{}); the running program continues unchanged", project_,
+    r.summary = fmt::format("reload of {} rejected ({} error{}); the running program continues unchanged", what,
                             r.lines.size(), r.lines.size() == 1 ? "" : "s");
+    record(false);
     return r;
   }
   Program& old = *program;
@@ -65,7 +78,8 @@ ReloadResult Reloader::reload(std::unique_ptr<Program>& program, RealtimeRunner&
     if (!d.open(&err)) {
       for (std::size_t j = 0; j < i; ++j) next.program->drivers[change->new_drivers[j]].driver->close();
       r.lines.push_back("driver " + d.name() + ": " + err);
-      r.summary = "reload of " + project_ + " rejected (a driver did not open); the running program continues unchanged";
+      r.summary = "reload of " + what + " rejected (a driver did not open); the running program continues unchanged";
+      record(false);
       return r;
     }
   }
@@ -109,7 +123,8 @@ ReloadResult Reloader::reload(std::unique_ptr<Program>& program, RealtimeRunner&
   r.lines.push_back(fmt::format("switch at {:.6f}s: the first scans of the new program started at most {}{} after their release",
                                 static_cast<double>(change->switch_ns) * 1e-9, format_ns(late),
                                 late_task.empty() ? "" : " (task " + late_task + ")"));
-  r.summary = "reloaded " + project_ + ": " + change_summary(*change);
+  r.summary = "reloaded " + what + ": " + change_summary(*change);
+  record(true);
   if (!runner.change_complete()) {
     std::string stuck;
     for (const auto& h : change->handovers)

@@ -22,6 +22,15 @@ struct ReloadResult {
   std::vector<std::string> lines;  // the errors (rejected) or the change report (accepted)
 };
 
+// What a reload loads: the instance's project file (path ""), or another
+// file, e.g. a stored version extracted for a rollback. origin and source
+// go to the project store ("rollback", "version 3").
+struct ReloadFrom {
+  std::string path;
+  std::string origin = "reload";
+  std::string source;
+};
+
 class Reloader {
  public:
   Reloader(std::string project, LoadOptions options, std::optional<int> modbus_port)
@@ -33,7 +42,8 @@ class Reloader {
   // changes nothing. Old events are printed to `events` before the old
   // program goes.
   ReloadResult reload(std::unique_ptr<Program>& program, RealtimeRunner& runner,
-                      std::unique_ptr<modbus::Server>& server, PlcStore* store, std::ostream& events);
+                      std::unique_ptr<modbus::Server>& server, PlcStore* store, std::ostream& events,
+                      const ReloadFrom& from = {});
   // Completes a change that waited for a late task, once it has switched.
   void poll(RealtimeRunner& runner, std::ostream& events);
   bool change_pending() const { return pending_ != nullptr; }

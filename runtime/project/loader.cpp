@@ -15,12 +15,13 @@ namespace syncplc {
 namespace {
 
 // Stage 1: the YAML tree into declarations. The tree is not used after it.
-Declarations read_declarations(ConfigNode& root, const std::string& path, const LoadOptions& opts, Diagnostics& diags) {
+Declarations read_declarations(ConfigNode& root, const std::string& path, const LoadOptions& opts, Diagnostics& diags,
+                               std::vector<store::SourceFile>& sources) {
   Declarations p;
   p.file = path;
   const BlockRegistry& blocks = opts.blocks ? *opts.blocks : builtin_blocks();
   const DriverRegistry& drivers = opts.drivers ? *opts.drivers : builtin_drivers();
-  merge_includes(root, path, diags);
+  merge_includes(root, path, diags, &sources);
   for (const auto& [k, v] : root.map)
     if (!kTopKeys.count(k))
       diags.error(v.loc, "unknown top-level key '" + k + "' (project, include, tasks, tags, blocks, connections, drivers, traces, watch, metrics, modbus, store)");
@@ -44,8 +45,10 @@ Declarations read_declarations(ConfigNode& root, const std::string& path, const 
   return p;
 }
 
-LoadResult load_tree(ConfigNode root, const std::string& path, const LoadOptions& opts, Diagnostics diags) {
+LoadResult load_tree(ConfigNode root, const std::string& path, const LoadOptions& opts, Diagnostics diags,
+                     std::vector<store::SourceFile> sources) {
   LoadResult r;
+  r.sources = std::move(sources);
   if (!diags.empty()) {
     r.diagnostics = std::move(diags);
     return r;
@@ -55,7 +58,7 @@ LoadResult load_tree(ConfigNode root, const std::string& path, const LoadOptions
     r.diagnostics = std::move(diags);
     return r;
   }
-  Declarations p = read_declarations(root, path, opts, diags);
+  Declarations p = read_declarations(root, path, opts, diags, r.sources);
   root = ConfigNode{};  // the declarations hold what is needed (a large project's tree is most of the memory)
 
   // Stage 2: checks.
@@ -106,13 +109,14 @@ bool parse_override(const std::string& text, ParamOverride& out) {
 LoadResult load_project_text(const std::string& text, const std::string& name, const LoadOptions& options) {
   Diagnostics d;
   ConfigNode root = read_yaml_string(text, name, d);
-  return load_tree(std::move(root), name, options, std::move(d));
+  return load_tree(std::move(root), name, options, std::move(d), {{name, text}});
 }
 
 LoadResult load_project(const std::string& path, const LoadOptions& options) {
   Diagnostics d;
-  ConfigNode root = read_yaml_file(path, d);
-  return load_tree(std::move(root), path, options, std::move(d));
+  std::vector<store::SourceFile> sources;
+  ConfigNode root = read_yaml_file(path, d, &sources);
+  return load_tree(std::move(root), path, options, std::move(d), std::move(sources));
 }
 
 }  // namespace syncplc

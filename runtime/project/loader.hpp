@@ -16,6 +16,7 @@
 #include "runtime/modbus/modbus_config.hpp"
 #include "runtime/project/diagnostics.hpp"
 #include "runtime/project/metrics.hpp"
+#include "runtime/store/source_file.hpp"
 #include "runtime/store/store_settings.hpp"
 
 namespace syncplc {
@@ -40,6 +41,9 @@ struct LoadResult {
   MetricsSettings metrics;  // the metrics: section, resolved in the program
   store::StoreSettings store;  // the store: section and the trended tags
   Diagnostics diagnostics;
+  // Every file read, the project file first, then its include: files as
+  // they were read (also when the load failed): what the project store keeps.
+  std::vector<store::SourceFile> sources;
   bool ok() const { return program != nullptr; }
 };
 

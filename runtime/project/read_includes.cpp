@@ -13,7 +13,7 @@ const std::set<std::string> kTopKeys = {"project", "include", "tasks", "tags", "
 namespace {
 
 void merge_level(ConfigNode& root, const std::string& path, int depth, std::vector<std::string>& include_stack,
-                 Diagnostics& diags) {
+                 Diagnostics& diags, std::vector<store::SourceFile>* read) {
   const ConfigNode* inc = root.find("include");
   if (!inc) return;
   std::vector<const ConfigNode*> files;
@@ -33,7 +33,7 @@ void merge_level(ConfigNode& root, const std::string& path, int depth, std::vect
       continue;
     }
     Diagnostics local;
-    ConfigNode sub = read_yaml_file(p.string(), local);
+    ConfigNode sub = read_yaml_file(p.string(), local, read);
     for (const auto& e : local.list()) {
       if (e.loc.line == 0) diags.error(f->loc, "include '" + f->scalar + "': " + e.message);
       else diags.error(e.loc, e.message);
@@ -41,7 +41,7 @@ void merge_level(ConfigNode& root, const std::string& path, int depth, std::vect
     if (!local.empty()) continue;
     if (!sub.is_map()) { diags.error(f->loc, "include '" + f->scalar + "' is not a map of sections"); continue; }
     include_stack.push_back(canonical);
-    merge_level(sub, p.string(), depth + 1, include_stack, diags);
+    merge_level(sub, p.string(), depth + 1, include_stack, diags, read);
     include_stack.pop_back();
     for (auto& [k, v] : sub.map) {
       if (k == "include") continue;
@@ -70,10 +70,10 @@ void merge_level(ConfigNode& root, const std::string& path, int depth, std::vect
 
 }  // namespace
 
-void merge_includes(ConfigNode& root, const std::string& path, Diagnostics& diags) {
+void merge_includes(ConfigNode& root, const std::string& path, Diagnostics& diags, std::vector<store::SourceFile>* read) {
   std::error_code ec;
   std::vector<std::string> include_stack = {std::filesystem::weakly_canonical(path, ec).string()};  // outermost first
-  merge_level(root, path, 0, include_stack, diags);
+  merge_level(root, path, 0, include_stack, diags, read);
 }
 
 }  // namespace syncplc

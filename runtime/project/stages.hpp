@@ -31,7 +31,8 @@ bool parse_tag_type(const std::string& s, IecType& t, std::uint32_t& len, std::i
 // --- 1. read: YAML -> Declarations -----------------------------------------------
 // Top-level keys; include: files merged into the root (read_includes.cpp).
 extern const std::set<std::string> kTopKeys;
-void merge_includes(ConfigNode& root, const std::string& path, Diagnostics& diags);
+// Each file read is added to `read`.
+void merge_includes(ConfigNode& root, const std::string& path, Diagnostics& diags, std::vector<store::SourceFile>* read);
 void read_project(const ConfigNode& n, Declarations& p, Diagnostics& diags);  // read_sections.cpp
 void read_tasks(const ConfigNode& n, Declarations& p, Diagnostics& diags);
 void read_tags(const ConfigNode& n, Declarations& p, Diagnostics& diags);

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <map>
 #include <sstream>
 
@@ -184,16 +185,19 @@ ConfigNode read_yaml_string(const std::string& text, const std::string& name, Di
   });
 }
 
-ConfigNode read_yaml_file(const std::string& path, Diagnostics& diags) {
+ConfigNode read_yaml_file(const std::string& path, Diagnostics& diags, std::vector<store::SourceFile>* read) {
   std::ifstream in(path, std::ios::binary);
   if (!in) {
     diags.error(SourceLoc{path, 0, 0}, "cannot open file");
     return ConfigNode{};
   }
-  return read_yaml_stream(in, path, diags, [&](int n) {
-    std::ifstream again(path, std::ios::binary);
-    return nth_line(again, n);
-  });
+  std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  if (in.bad()) {
+    diags.error(SourceLoc{path, 0, 0}, "cannot read file");
+    return ConfigNode{};
+  }
+  if (read) read->push_back({path, text});
+  return read_yaml_string(text, path, diags);
 }
 
 }  // namespace syncplc
