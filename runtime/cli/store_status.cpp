@@ -40,6 +40,7 @@ void print_store_status(std::ostream& os, const PlcStore& s) {
   const StoreStatus st = store_status(s);
   switch (st.state) {
     case StoreStatus::State::Ok:
+      if (!st.dropped) return;  // all is well: nothing to add to the statistics
       os << "\nStore: ok, " << s.path() << "\n";
       break;
     case StoreStatus::State::Fault:

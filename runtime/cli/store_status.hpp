@@ -25,7 +25,8 @@ StoreStatus store_status(const PlcStore& s);
 // The live screen's line (it cuts it at the screen's edge): "Store ok  plc.db",
 // "Store FAULT  12 pending  3 failures  events: database or disk is full".
 std::string store_status_line(const StoreStatus& st, const std::string& path);
-// run's exit message: the state, what was not written and why.
+// run's exit message: the state, what was not written and why; nothing
+// when the store is ok and every event was recorded.
 void print_store_status(std::ostream& os, const PlcStore& s);
 
 }  // namespace syncplc::cli
