@@ -19,6 +19,8 @@
 #include "runtime/cli/plc_store.hpp"
 #include "runtime/cli/project_versions.hpp"
 #include "runtime/cli/reload.hpp"
+#include "runtime/cli/run_events.hpp"
+#include "runtime/cli/store_status.hpp"
 #include "runtime/cli/serve_modbus.hpp"
 #include "runtime/project/report.hpp"
 
@@ -34,13 +36,31 @@ timespec main_wait(std::int64_t epoch_ns, const std::optional<std::int64_t>& lim
   return timespec{0, static_cast<long>(ns)};
 }
 
-// The tasks' events and the supervisor's, one formatted line each.
+// The tasks' events and the supervisor's, one formatted line each, each
+// also recorded in the event log.
 template <class F>
-void for_each_event(Program& p, Supervisor& supervisor, F&& f) {
+void for_each_event(Program& p, Supervisor& supervisor, RunEvents& log, F&& f) {
   Event e;
   for (auto& t : p.tasks)
-    while (t->pop_event(e)) f(format_event(p, e));
-  while (supervisor.pop_event(e)) f(format_event(p, e));
+    while (t->pop_event(e)) {
+      f(format_event(p, e));
+      log.task_event(p, e);
+    }
+  while (supervisor.pop_event(e)) {
+    f(format_event(p, e));
+    log.task_event(p, e);
+  }
+}
+
+// Why `run` ended, in words, for the event log.
+std::string stop_reason(int stop_signal, bool joined, bool all_stopped, int status) {
+  std::string why = stop_signal == SIGINT    ? "stopped by SIGINT"
+                    : stop_signal == SIGTERM ? "stopped by SIGTERM"
+                    : stop_signal == SIGHUP  ? "stopped: the terminal hung up (SIGHUP)"
+                    : !joined                ? "a scan did not end: exiting without its thread"
+                    : all_stopped            ? "every task has stopped"
+                                             : "the run ended (--duration)";
+  return why + " (exit status " + std::to_string(status) + ")";
 }
 
 // Why `run` ended (commands.hpp): a requested stop is 0.
@@ -122,6 +142,7 @@ int cmd_run(const RunOptions& options) {
   }
   plc_store->record(std::move(start));  // written when the store thread starts
   for (const auto& n : notices) std::cerr << "syncplc: warning: " << n << "\n";
+  RunEvents run_events(*plc_store);  // the event log and the Modbus audit trail
 
   // SIGINT/SIGTERM (stop) and SIGHUP (reload) are taken synchronously by this
   // thread only; task threads inherit the blocked mask and never see them.
@@ -139,7 +160,7 @@ int cmd_run(const RunOptions& options) {
     return kExitDriverFailed;
   }
   // The server binds before any task runs: a port in use stops here, cleanly.
-  auto modbus_server = start_modbus(*program, r.modbus, modbus_port);
+  auto modbus_server = start_modbus(*program, r.modbus, modbus_port, &run_events);
   if (!modbus_server && (modbus_port || r.modbus.server.enabled)) {
     program->close_drivers();
     return kExitInvalid;
@@ -156,8 +177,11 @@ int cmd_run(const RunOptions& options) {
   } remove_pid_file{pid_file};
   auto runner = std::make_unique<RealtimeRunner>(*program, runner_options);
   runner->start();
+  run_events.set_epoch(runner->epoch_ns());
+  run_events.started(project, plc_store->path());
   plc_store->start();
   Reloader reloader(project, o, modbus_port);
+  reloader.set_event_log(&run_events);
   Supervisor supervisor(*program, *runner);
   const bool live = !no_status && isatty(STDOUT_FILENO);
   LiveScreen screen(std::cout, live);  // the alternate screen, given back on every way out (live_screen.hpp)
@@ -180,6 +204,7 @@ int cmd_run(const RunOptions& options) {
       rr.summary = "reload refused: a task's scan did not end and its thread cannot be stopped; restart syncplc";
       std::cerr << "syncplc: " << rr.summary << "\n";
       screen.set_reload_result(false, "refused: a task's scan did not end (restart syncplc)");
+      run_events.reloaded(false, rr.summary, rr.lines);
       write_reload_result(pid_file, rr);
       continue;
     }
@@ -201,6 +226,7 @@ int cmd_run(const RunOptions& options) {
       }
       ReloadResult rr = reloader.reload(program, *runner, modbus_server, plc_store.get(), std::cerr, from);
       for (const auto& line : rr.lines) std::cerr << line << "\n";
+      run_events.reloaded(rr.accepted, rr.summary, rr.lines);
       // An event like the tasks' (the time on the tasks' axis), kept on the
       // live screen with the other events; the result stays apart until the next.
       const std::string event = fmt::format("[{:.6f}s] {:<14} {}", static_cast<double>(runner->now_ns()) * 1e-9,
@@ -222,11 +248,13 @@ int cmd_run(const RunOptions& options) {
       warned = !runner->warnings().empty() || RealtimeRunner::monotonic_ns() - t0 > 1'000'000'000;
     }
     supervisor.check();  // a scan that does not end: safe outputs, task stopped (supervisor.hpp)
-    for_each_event(p, supervisor, [&](const std::string& line) {
+    plc_store->watch_health();
+    for_each_event(p, supervisor, run_events, [&](const std::string& line) {
       if (live) screen.add_event(line);
       else std::cerr << line << "\n";
     });
     double elapsed = static_cast<double>(std::max<std::int64_t>(0, RealtimeRunner::monotonic_ns() - t0)) * 1e-9;
+    if (live) screen.set_store(store_status_line(store_status(*plc_store), plc_store->path()));
     screen.draw(p, elapsed, modbus_server.get(), &supervisor);
     if (limit && RealtimeRunner::monotonic_ns() - t0 >= *limit) break;
     if (supervisor.all_stopped()) {  // by their watchdogs, or given up on by the supervisor
@@ -245,9 +273,11 @@ int cmd_run(const RunOptions& options) {
     runner->join();
     program->close_drivers();
   }
-  plc_store->stop();  // after the tasks: its jobs' final run takes their last snapshots
-  for_each_event(*program, supervisor, [](const std::string& line) { std::cerr << line << "\n"; });
+  for_each_event(*program, supervisor, run_events, [](const std::string& line) { std::cerr << line << "\n"; });
   const int status = run_exit_status(joined, all_stopped, supervisor.any_hung());
+  run_events.stopped(stop_reason(stop_signal, joined, all_stopped, status));
+  plc_store->watch_health();
+  plc_store->stop();  // after the tasks: its jobs' final run takes their last snapshots (and writes the stop event)
   if (!joined)
     std::cerr << "syncplc: a scan did not end; its task's outputs are in their safe state; exiting without its "
                  "thread (status " << status << ")\n";
@@ -259,6 +289,7 @@ int cmd_run(const RunOptions& options) {
     std::cout << "\nModbus TCP on " << modbus_server->endpoint() << "\n";
     modbus::print_counters(std::cout, modbus_server->counters().summary());
   }
+  print_store_status(std::cout, *plc_store);
   if (!joined) {
     // Destructors would join the stuck thread (forever): end here.
     std::cout.flush();

@@ -46,6 +46,13 @@ int cmd_reload(const std::string& project, const std::string& pid_file, std::int
 // `syncplc projects`: the project store's versions; with `show`, version
 // `show`'s files (all, or the one named `file`).
 int cmd_projects(const std::string& db, std::int64_t show, const std::string& file);
+struct EventsOptions {
+  std::string db;                  // "" : the default database (docs/store.md)
+  std::string since;               // --since: "10m", "2026-11-25T10:00:00"; "" : all
+  bool follow = false;             // keep printing new events until Ctrl-C
+  std::vector<std::string> kinds;  // --kind (repeatable); empty: all
+};
+int cmd_events(const EventsOptions& options);
 int cmd_test(const std::string& project, const std::string& tests, const std::string& junit);
 
 }  // namespace syncplc::cli

@@ -195,6 +195,10 @@ std::string render_live_screen(const LiveView& v, std::size_t width) {
                      compact_count(m.open), compact_count(m.requests), compact_count(m.values_written),
                      compact_count(m.exceptions), codes.empty() ? "" : " (" + codes + ")"));
   }
+  if (!v.store.empty()) {
+    if (v.modbus_endpoint.empty()) line("");
+    line(v.store);
+  }
   if (!v.watched.empty()) {
     line("");
     line("Watched tags");
@@ -280,6 +284,7 @@ LiveView LiveScreen::view(Program& p, double elapsed_s, const modbus::Server* se
     v.watched.push_back({name, text, t->unit});
   }
   v.events.assign(events_.begin(), events_.end());
+  v.store = store_;
   v.reload = reload_;
   v.reload_failed = reload_failed_;
   v.reload_details = reload_details_;

@@ -55,6 +55,7 @@ struct LiveView {
     std::string name, value, unit;
   };
   std::vector<Watched> watched;
+  std::string store;                // the PLC database's state (store_status.hpp), "" for none
   std::vector<std::string> events;  // oldest first
   std::string reload;               // the last online change's result, "" before the first
   bool reload_failed = false;
@@ -96,6 +97,9 @@ class LiveScreen {
   // `details` are the first errors of a failed one. Also an event.
   void set_reload_result(bool ok, std::string message, std::vector<std::string> details = {});
 
+  // The store's line (store_status_line), shown under the Modbus line.
+  void set_store(std::string line) { store_ = std::move(line); }
+
   LiveView view(Program& p, double elapsed_s, const modbus::Server* server, const Supervisor* supervisor) const;
   // Renders a frame at the terminal's width and draws it over the last one.
   void draw(Program& p, double elapsed_s, const modbus::Server* server, const Supervisor* supervisor);
@@ -105,6 +109,7 @@ class LiveScreen {
   bool entered_ = false;
   std::deque<std::string> events_;
   std::string reload_;
+  std::string store_;
   bool reload_failed_ = false;
   std::vector<std::string> reload_details_;
 };

@@ -67,6 +67,16 @@ int main(int argc, char** argv) {
   projects_show->add_option("--file", show_file, "only this file, as it is named in the version");
   projects_show->add_option("--db", db, "the PLC's database");
 
+  EventsOptions events_options;
+  auto* events = app.add_subcommand("events", "the PLC's event log: starts, stops, reloads, faults, HMI writes with "
+                                              "the client's address; also while the PLC runs");
+  events->add_option("--db", events_options.db, "the PLC's database (default: $XDG_STATE_HOME/syncplc/plc.db)");
+  events->add_option("--since", events_options.since, "from this long ago (10m, 2h) or this local time "
+                                                      "(2026-11-25T10:00:00)");
+  events->add_flag("--follow,-f", events_options.follow, "keep printing new events until Ctrl-C");
+  events->add_option("--kind", events_options.kinds, "only events of this kind (repeatable): start, stop, reload, "
+                                                     "reload-failed, hmi-write, modbus-refused, watchdog, ...");
+
   auto* test = app.add_subcommand("test", "run scan-cycle tests against a project in virtual time");
   test->add_option("PROJECT", project, "project file (YAML)")->required();
   test->add_option("TESTS", tests, "tests file (YAML)")->required();
@@ -97,6 +107,7 @@ int main(int argc, char** argv) {
     if (*reload) return cmd_reload(project, pid_file, version);
     if (*projects) return cmd_projects(db, *projects_show ? show : 0, show_file);
     if (*test) return cmd_test(project, tests, junit);
+    if (*events) return cmd_events(events_options);
   } catch (const std::exception& e) {
     std::cerr << "syncplc: " << e.what() << "\n";
     return kExitInvalid;

@@ -57,6 +57,14 @@ std::unique_ptr<PlcStore> PlcStore::open(const std::string& path, Program& p, co
                       report.moved_aside + " and a new one started: retain values start from their initial values");
   s->thread_ = std::make_unique<store::StoreThread>(std::move(db));
   if (!add_jobs(*s->thread_, p, loaded, error, s->projects_)) return nullptr;
+  store::StoreThread* st = s->thread_.get();
+  s->events_.on_push([st] { st->wake(); });
+  if (!st->add(std::make_unique<store::EventLog>(s->events_, store::retention_of(loaded.store)), error)) return nullptr;
+  if (!report.moved_aside.empty())
+    s->record(store::EventRecord{store::wall_now_ns(), "store-moved-aside", "", std::nullopt, "store",
+                                 "the database was unreadable (" + report.problem + "); moved to " + report.moved_aside +
+                                     ", a new one started",
+                                 ""});
   return s;
 }
 
@@ -78,6 +86,23 @@ void PlcStore::record(store::ProjectLoad load) {
   if (!projects_) return;
   projects_->submit(std::move(load));
   thread_->wake();
+}
+
+void PlcStore::record(store::EventRecord r) {
+  if (thread_) events_.push(std::move(r));
+}
+
+void PlcStore::watch_health() {
+  if (!thread_) return;
+  const store::StoreHealth h = thread_->health();
+  if (h.fault == fault_seen_) return;
+  fault_seen_ = h.fault;
+  // Written when the database takes writes again, at the time it was seen.
+  record(store::EventRecord{store::wall_now_ns(), h.fault ? "store-fault" : "store-ok", "", std::nullopt, "store",
+                            h.fault ? "the database refuses to write: " + h.last_error + "; records wait (at most " +
+                                          std::to_string(events_.capacity()) + " events)"
+                                    : "the database takes writes again; waiting records written",
+                            ""});
 }
 
 store::StoreHealth PlcStore::health() const {

@@ -11,6 +11,7 @@
 #include "runtime/core/program.hpp"
 #include "runtime/project/loader.hpp"
 #include "runtime/store/projects_job.hpp"
+#include "runtime/store/event_log.hpp"
 #include "runtime/store/store_thread.hpp"
 
 namespace syncplc::cli {
@@ -47,12 +48,22 @@ class PlcStore {
   store::StoreHealth health() const;
   store::StoreThread* thread() { return thread_.get(); }
 
+  // The event log (store/event_log.hpp): a record for the store thread to
+  // write. Nothing is recorded when the store is off. Any non-real-time thread.
+  void record(store::EventRecord r);
+  const store::EventQueue& events() const { return events_; }
+  // Records the store's fault as an event when it starts and when it clears
+  // (run's main thread calls it with its other periodic checks).
+  void watch_health();
+
  private:
   PlcStore() = default;
   std::string path_;
   std::string off_reason_;
   std::unique_ptr<store::StoreThread> thread_;
   store::ProjectsJob* projects_ = nullptr;  // owned by thread_
+  store::EventQueue events_;
+  bool fault_seen_ = false;
 };
 
 }  // namespace syncplc::cli

@@ -34,7 +34,7 @@ Reloader::~Reloader() {
 void Reloader::poll(RealtimeRunner& runner, std::ostream& events) {
   if (!pending_ || !runner.change_complete()) return;
   runner.finish_change();
-  print_events(events, *pending_old_);
+  drain_task_events(events, *pending_old_, log_);
   for (std::size_t a : pending_->old_drivers) pending_old_->drivers[a].driver->close();
   pending_.reset();
   pending_old_.reset();
@@ -98,7 +98,7 @@ ReloadResult Reloader::reload(std::unique_ptr<Program>& program, RealtimeRunner&
     server->replace_program(*next.program, next.modbus.places);
   } else if (server || next_cfg.enabled) {
     server.reset();  // changed settings: a new server (its clients reconnect)
-    server = start_modbus(*next.program, next.modbus, modbus_port_);
+    server = start_modbus(*next.program, next.modbus, modbus_port_, log_);
   }
   // The store's jobs read the new program's snapshots from now on (the old
   // tasks mirror theirs into it until they switch), before the old one goes.
@@ -137,7 +137,7 @@ ReloadResult Reloader::reload(std::unique_ptr<Program>& program, RealtimeRunner&
     return r;
   }
   runner.finish_change();
-  print_events(events, old);
+  drain_task_events(events, old, log_);
   for (std::size_t a : change->old_drivers) old.drivers[a].driver->close();
   change.reset();
   program = std::move(next.program);  // the old program (and the fresh blocks swapped into it) goes

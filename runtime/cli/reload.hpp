@@ -11,6 +11,7 @@
 #include "runtime/core/program_change.hpp"
 #include "runtime/core/realtime.hpp"
 #include "runtime/cli/plc_store.hpp"
+#include "runtime/cli/run_events.hpp"
 #include "runtime/modbus/server.hpp"
 #include "runtime/project/loader.hpp"
 
@@ -47,11 +48,15 @@ class Reloader {
   // Completes a change that waited for a late task, once it has switched.
   void poll(RealtimeRunner& runner, std::ostream& events);
   bool change_pending() const { return pending_ != nullptr; }
+  // The event log: the old program's last events, and the audit trail of a
+  // Modbus server the change restarts.
+  void set_event_log(RunEvents* log) { log_ = log; }
 
  private:
   std::string project_;
   LoadOptions options_;
   std::optional<int> modbus_port_;
+  RunEvents* log_ = nullptr;
   // A change one task has not reached yet (a scan that does not end): the
   // old program stays until it does (poll), never destroyed under its thread.
   std::unique_ptr<ProgramChange> pending_;

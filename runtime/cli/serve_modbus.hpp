@@ -16,6 +16,8 @@ bool same_server(const ModbusConfig& a, const ModbusConfig& b);
 ModbusConfig server_config(const ModbusConfig& project, std::optional<int> port_override);
 // Starts the server of `p` when the settings enable it; prints where it
 // listens. nullptr when it is off or could not start (the reason is printed).
-std::unique_ptr<modbus::Server> start_modbus(Program& p, const ModbusSettings& s, std::optional<int> port_override);
+// `audit`: the event log's audit trail (writes, refused connections), or null.
+std::unique_ptr<modbus::Server> start_modbus(Program& p, const ModbusSettings& s, std::optional<int> port_override,
+                                             modbus::ServerAudit* audit = nullptr);
 
 }  // namespace syncplc::cli

@@ -218,6 +218,10 @@ struct Event {
   EventKind kind = EventKind::Info;
   const char* message = "";  // static text: raising an event never allocates
   double value = 0;
+  // The raising task's scan count (Task::scan_count) when it was raised, set
+  // by Task::push (a plain copy: real-time safe); kNoScan from the supervisor.
+  static constexpr std::uint64_t kNoScan = ~std::uint64_t{0};
+  std::uint64_t scan = kNoScan;
 };
 
 class EventSink {

@@ -85,7 +85,9 @@ void Task::push(const Event& e) noexcept {
     last = cur;
     if (repeat) return;
   }
-  if (!events_.push(e)) stats.events_dropped.fetch_add(1, std::memory_order_relaxed);
+  Event stamped = e;
+  stamped.scan = scan_count_;
+  if (!events_.push(stamped)) stats.events_dropped.fetch_add(1, std::memory_order_relaxed);
 }
 
 void Task::apply_writes() noexcept {

@@ -214,6 +214,8 @@ std::uint8_t RequestHandler::queue_staged(PendingReply* pending) {
   // All or nothing: a request whose write spans two tasks is never half applied.
   if (!Task::enqueue_all(batches_.data(), batches_.size())) return kServerDeviceBusy;
   counters_.values_written.fetch_add(batch_.size(), std::memory_order_relaxed);
+  // staged_[i] is the value of writes_[i] (stage_bits, stage_registers).
+  if (audit_) audit_->written(*program_, client_, writes_.data(), staged_.data(), staged_.size());
   // Read after queuing: publication n + 2 comes from a scan that started after this write was queued.
   if (pending)
     for (const std::uint16_t owner : owners_)

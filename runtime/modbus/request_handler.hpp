@@ -33,6 +33,7 @@
 
 #include "runtime/modbus/modbus_config.hpp"
 #include "runtime/core/program.hpp"
+#include "runtime/modbus/audit.hpp"
 #include "runtime/modbus/counters.hpp"
 #include "runtime/modbus/frame.hpp"
 #include "runtime/modbus/register_map.hpp"
@@ -81,6 +82,10 @@ class RequestHandler {
   // (after an online change) between requests.
   void set_program(Program& program, const ModbusPlaces& places = {});
   const ModbusMap& map() const { return map_; }
+  // Every write queued is told to `audit` with the client of the request
+  // being handled (set_client, by the server before handle()).
+  void set_audit(ServerAudit* audit) { audit_ = audit; }
+  void set_client(ClientAddress client) { client_ = client; }
 
   enum class Outcome : std::uint8_t {
     Sent,        // the reply (normal or exception) went out whole
@@ -120,6 +125,8 @@ class RequestHandler {
   Counters& counters_;
   Program* program_ = nullptr;
   ModbusMap map_;
+  ServerAudit* audit_ = nullptr;
+  ClientAddress client_;
   modbus_t* ctx_ = nullptr;
   _modbus_mapping_t* scratch_ = nullptr;
   std::vector<const ModbusPoint*> reads_, writes_;  // the points of a request (reused: no allocation)

@@ -50,6 +50,7 @@ std::string raise_descriptor_limit(int clients) {
 struct Server::Connection {
   int fd = -1;
   std::uint32_t peer = 0;  // IPv4, host byte order
+  std::uint16_t peer_port = 0;
   std::size_t used = 0;    // bytes in buf
   std::int64_t last_request_ns = 0;
   bool paused = false;     // an FC 23 reply is waiting: later frames wait behind it
@@ -340,6 +341,7 @@ void Server::accept_clients(std::int64_t now) {
       // request. Counted first, so whoever sees the close also sees the count.
       counters_.refused.fetch_add(1, std::memory_order_relaxed);
       close(fd);
+      if (audit_) audit_->refused(ClientAddress{peer, ntohs(a.sin_port)}, allowed ? "max_clients reached" : "not in allowed_clients");
       continue;
     }
     std::size_t slot = 0;
@@ -347,6 +349,7 @@ void Server::accept_clients(std::int64_t now) {
     Connection& c = *slots_[slot];
     c.fd = fd;
     c.peer = peer;
+    c.peer_port = ntohs(a.sin_port);
     c.used = 0;
     c.paused = false;
     c.pending.active = false;
@@ -381,6 +384,7 @@ void Server::serve_frames(std::size_t slot, std::int64_t now) {
     const FrameCheck f = check_frame(c.buf + at, c.used - at);
     if (f.status == FrameStatus::Incomplete) break;
     if (f.status == FrameStatus::Bad) { close_connection(slot, counters_.closed_bad_frame); return; }
+    handler_->set_client(ClientAddress{c.peer, c.peer_port});
     const auto outcome = handler_->handle(c.fd, c.buf + at, f.length, c.pending, now);
     at += f.length;
     c.last_request_ns = now;

@@ -30,6 +30,7 @@
 
 #include "runtime/modbus/modbus_config.hpp"
 #include "runtime/core/program.hpp"
+#include "runtime/modbus/audit.hpp"
 #include "runtime/modbus/counters.hpp"
 #include "runtime/modbus/request_handler.hpp"
 
@@ -56,6 +57,12 @@ class Server {
   // True when the server thread was kept off the CPUs of pinned tasks
   // (no `cpus` setting, and a CPU without a pinned task was left).
   bool off_task_cpus() const { return off_task_cpus_; }
+  // The audit trail (audit.hpp): acknowledged writes and refused
+  // connections. Before start(); null: none.
+  void set_audit(ServerAudit* audit) {
+    audit_ = audit;
+    handler_->set_audit(audit);
+  }
   // Coils, inputs and registers mapped (values, not registers).
   std::size_t handler_map_size() const;
 
@@ -87,6 +94,7 @@ class Server {
   ModbusConfig config_;
   Counters counters_;
   std::unique_ptr<RequestHandler> handler_;
+  ServerAudit* audit_ = nullptr;
   int listen_fd_ = -1;
   int epoll_fd_ = -1;
   int wake_fd_ = -1;  // eventfd: stop and program replacement

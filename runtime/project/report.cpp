@@ -87,12 +87,15 @@ std::string format_event(const Program& p, const Event& e) {
   std::string where = p.tasks[e.task]->config().name;
   if (e.block >= 0 && static_cast<std::size_t>(e.block) < p.tasks[e.task]->blocks.size())
     where += "/" + p.tasks[e.task]->blocks[static_cast<std::size_t>(e.block)].name;
-  std::string val;
-  if (e.kind == EventKind::WatchdogTrip || e.kind == EventKind::ScanOverrun)
-    val = " (scan took " + format_ns(static_cast<std::int64_t>(e.value * 1e9)) + ")";
-  if (e.kind == EventKind::ScanHung) val = " (running for " + format_ns(static_cast<std::int64_t>(e.value * 1e9)) + ")";
   return fmt::format("[{:.6f}s] {:<14} {}: {}{}", static_cast<double>(e.time_ns) * 1e-9, event_kind_name(e.kind), where,
-                     e.message, val);
+                     e.message, event_value_text(e));
+}
+
+std::string event_value_text(const Event& e) {
+  if (e.kind == EventKind::WatchdogTrip || e.kind == EventKind::ScanOverrun)
+    return " (scan took " + format_ns(static_cast<std::int64_t>(e.value * 1e9)) + ")";
+  if (e.kind == EventKind::ScanHung) return " (running for " + format_ns(static_cast<std::int64_t>(e.value * 1e9)) + ")";
+  return "";
 }
 
 std::size_t print_events(std::ostream& os, Program& p) {

@@ -15,6 +15,8 @@ void print_statistics(std::ostream& os, const Program& p, bool virtual_time);
 // Drains every task's event ring and prints the events. Returns how many.
 std::size_t print_events(std::ostream& os, Program& p);
 std::string format_event(const Program& p, const Event& e);
+// What an event's value means, as format_event appends it: " (scan took 1.2ms)", or "".
+std::string event_value_text(const Event& e);
 std::string format_ns(std::int64_t ns);  // 1.234ms, 12us, 3.5s
 
 }  // namespace syncplc

@@ -97,10 +97,15 @@ void StoreThread::run_job(StoreJob& job, std::int64_t now, bool final) {
 void StoreThread::loop() {
   for (;;) {
     bool stopping = false;
+    std::int64_t next = std::numeric_limits<std::int64_t>::max();
+    {
+      // Under run_mutex_: a job's due time may depend on the program that
+      // switch_program() (inside exclusive()) changes.
+      std::lock_guard run(run_mutex_);
+      for (std::size_t i = 0; i < jobs_.size(); ++i) next = std::min(next, std::max(jobs_[i]->due_ns(), retry_at_[i]));
+    }
     {
       std::unique_lock lk(state_mutex_);
-      std::int64_t next = std::numeric_limits<std::int64_t>::max();
-      for (std::size_t i = 0; i < jobs_.size(); ++i) next = std::min(next, std::max(jobs_[i]->due_ns(), retry_at_[i]));
       const std::int64_t now = monotonic_ns();
       if (!stop_ && !wake_ && next > now) {
         const auto wait = std::chrono::nanoseconds(std::min<std::int64_t>(next - now, 1'000'000'000));

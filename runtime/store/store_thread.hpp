@@ -33,7 +33,7 @@ class StoreJob {
   virtual bool prepare(Database& db, std::string* error) = 0;
   // Monotonic ns when run() is due next (a job with queued records says
   // "now"; INT64_MAX: nothing to do). Asked again after every wake().
-  // Called on the store thread and must be cheap.
+  // Called on the store thread (never during switch_program) and must be cheap.
   virtual std::int64_t due_ns() const = 0;
   // Does the job's work. `final`: the last run, at a clean stop. Throws
   // (SQLite::Exception or std::exception) when the database refuses: the job

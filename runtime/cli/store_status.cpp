@@ -1,0 +1,57 @@
+#include "runtime/cli/store_status.hpp"
+
+#include <fmt/format.h>
+
+#include <filesystem>
+
+#include "runtime/core/monotonic_clock.hpp"
+
+namespace syncplc::cli {
+
+StoreStatus store_status(const PlcStore& s) {
+  StoreStatus st;
+  const store::StoreHealth h = s.health();
+  st.error = h.last_error;
+  st.failures = h.failures;
+  st.pending = s.events().pending();
+  st.dropped = s.events().dropped();
+  if (h.last_ok_ns > 0) st.since_ok_ns = monotonic_ns() - h.last_ok_ns;
+  st.state = !s.on() ? StoreStatus::State::Off : h.fault ? StoreStatus::State::Fault : StoreStatus::State::Ok;
+  return st;
+}
+
+std::string store_status_line(const StoreStatus& st, const std::string& path) {
+  std::string line;
+  switch (st.state) {
+    case StoreStatus::State::Ok:
+      line = fmt::format("Store ok  {}", std::filesystem::path(path).filename().string());
+      if (st.dropped) line += fmt::format("  {} events dropped", st.dropped);
+      break;
+    case StoreStatus::State::Fault:
+      // The counts first: the error text is cut at the screen's edge.
+      line = fmt::format("Store FAULT  {} pending  {} failures  {}", st.pending, st.failures, st.error);
+      break;
+    case StoreStatus::State::Off: line = "Store off  " + st.error; break;
+  }
+  return line;
+}
+
+void print_store_status(std::ostream& os, const PlcStore& s) {
+  const StoreStatus st = store_status(s);
+  switch (st.state) {
+    case StoreStatus::State::Ok:
+      if (!st.dropped) return;  // all is well: nothing to add to the statistics
+      os << "\nStore: ok, " << s.path() << "\n";
+      break;
+    case StoreStatus::State::Fault:
+      os << "\nStore: FAULT: " << st.error << "; " << st.pending << " event records were not written (" << st.failures
+         << " failed attempts)\n";
+      break;
+    case StoreStatus::State::Off:
+      os << "\nStore: off (" << st.error << "): nothing was recorded\n";
+      return;
+  }
+  if (st.dropped) os << "  " << st.dropped << " event records dropped (the queue of " << s.events().capacity() << " was full)\n";
+}
+
+}  // namespace syncplc::cli
