@@ -94,12 +94,14 @@ int cmd_run(const RunOptions& options) {
   // anything binds or moves; retain values are in the images before the first scan.
   std::string err;
   std::vector<std::string> notices;
-  auto plc_store = PlcStore::open(database_path(options.db, r.store, project), *program, r, notices, &err);
+  auto plc_store = PlcStore::open(database_path(options.db, r.store, project), *program, r, notices, &err,
+                                  store::parse_start_mode(options.start).value_or(store::StartMode::Warm));
   if (!plc_store) {
     std::cerr << "syncplc: " << err << "\n";
     return kExitInvalid;
   }
   for (const auto& n : notices) std::cerr << "syncplc: warning: " << n << "\n";
+  for (const auto& n : plc_store->retain_notices()) std::cerr << "syncplc: " << n << "\n";
 
   // SIGINT/SIGTERM (stop) and SIGHUP (reload) are taken synchronously by this
   // thread only; task threads inherit the blocked mask and never see them.

@@ -10,6 +10,7 @@
 
 #include "runtime/core/program.hpp"
 #include "runtime/project/loader.hpp"
+#include "runtime/store/retain.hpp"
 #include "runtime/store/store_thread.hpp"
 
 namespace syncplc::cli {
@@ -28,8 +29,10 @@ class PlcStore {
   // that is corrupt is moved aside and a new one made; a database that
   // cannot be opened at all leaves the store off (off_reason()); both are
   // in `notices`, which the caller shows loudly.
+  // `start`: which retained values come back (retain.hpp) before the first scan.
   static std::unique_ptr<PlcStore> open(const std::string& path, Program& p, const LoadResult& loaded,
-                                        std::vector<std::string>& notices, std::string* error);
+                                        std::vector<std::string>& notices, std::string* error,
+                                        store::StartMode start = store::StartMode::Warm);
   ~PlcStore();
 
   void start();
@@ -42,12 +45,15 @@ class PlcStore {
   const std::string& path() const { return path_; }
   store::StoreHealth health() const;
   store::StoreThread* thread() { return thread_.get(); }
+  // What the start restored and did not (retain.hpp), for the log and events.
+  const std::vector<std::string>& retain_notices() const { return retain_notices_; }
 
  private:
   PlcStore() = default;
   std::string path_;
   std::string off_reason_;
   std::unique_ptr<store::StoreThread> thread_;
+  std::vector<std::string> retain_notices_;
 };
 
 }  // namespace syncplc::cli
