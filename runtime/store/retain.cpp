@@ -62,7 +62,7 @@ std::string shown(const Program& p, const RetainVar& v, const Cell* cells) {
     for (std::uint32_t k = 0; k < v.length; ++k) s += fmt::format("{}{:#x}", k ? " " : "", cells[k].raw);
     return s;
   }
-  const Tag& t = *p.find_tag(v.name);
+  const Tag& t = p.tags[static_cast<std::size_t>(v.tag)];
   if (v.length == 1 && !t.is_array) return format_value(t.type, cells[0]);
   std::string s = "[";
   for (std::uint32_t k = 0; k < v.length; ++k) s += (k ? ", " : "") + format_value(t.type, cells[k]);
@@ -126,12 +126,15 @@ std::string_view start_mode_name(StartMode m) {
 
 std::vector<RetainVar> retained_vars(const Program& p) {
   std::vector<RetainVar> vars;
-  for (const auto& t : p.tags)
-    if (t.retain || t.persistent) vars.push_back({t.name, "tag", tag_identity(t), t.persistent, t.owner, t.cell, t.length, -1});
+  for (std::size_t i = 0; i < p.tags.size(); ++i) {
+    const Tag& t = p.tags[i];
+    if (t.retain || t.persistent)
+      vars.push_back({t.name, "tag", tag_identity(t), t.persistent, t.owner, t.cell, t.length, -1, static_cast<int>(i)});
+  }
   for (std::size_t i = 0; i < p.retained.size(); ++i) {
     const auto& r = p.retained[i];
     vars.push_back({r.name, "block", fmt::format("{} state {} ({} cells)", r.type, r.layout, r.length), r.persistent,
-                    r.task, r.cell, r.length, static_cast<int>(i)});
+                    r.task, r.cell, r.length, static_cast<int>(i), -1});
   }
   return vars;
 }
@@ -235,6 +238,7 @@ std::vector<std::string> restore_retain(SQLite::Database& db, Program& p, StartM
   for (auto& t : p.tasks)
     for (auto& ch : t->channels) ch->fill(t->image.data());
 
+  if (vars.empty() && !dropped && mode != StartMode::Origin) return lines;  // nothing retained, nothing to say
   std::string head = fmt::format("retain: {} start: {} of {} retained values restored", start_mode_name(mode), restored,
                                  vars.size());
   if (mode == StartMode::Origin) head += " (reset origin: every stored value deleted)";

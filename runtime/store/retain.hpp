@@ -41,6 +41,7 @@ struct RetainVar {
   std::uint32_t cell = 0;  // in the task's published range
   std::uint32_t length = 0;
   int instance = -1;  // index in Program::retained, -1 for a tag
+  int tag = -1;       // index in Program::tags, -1 for an instance
 };
 std::vector<RetainVar> retained_vars(const Program& p);
 

@@ -5,9 +5,13 @@ row. After every kill:
   - `PRAGMA integrity_check` is ok (the sqlite3 shell, read-only);
   - the stored value is never lower than a value the sqlite3 shell read as
     stored while the PLC ran ("reported as stored");
-  - the stored value is within one store interval (plus a scheduling margin,
-    LOSS_MARGIN) of the last value a Modbus client (pymodbus) read before the
-    kill: the counter counts one per ms, so counts are milliseconds;
+  - the stored value is close to the last value a Modbus client (pymodbus)
+    read before the kill (the counter counts one per ms, so counts are
+    milliseconds): the median loss over all kills within one store interval
+    plus one more (a commit's time, a late wake-up of the store thread), and
+    no single loss beyond one interval plus LOSS_MARGIN (the store thread is
+    not real time: a loaded 2-core machine can hold it back for a while; the
+    worst loss is printed, and docs/benchmarks.md reports it);
   - the restarted PLC goes on from the stored value: its first Modbus read is
     at least the stored value and at most the stored value plus the ms it ran.
 
@@ -29,8 +33,9 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 PROJECT = os.path.join(HERE, "retain_kill.yaml")
 INTERVAL_MS = 100       # store: retain_interval in retain_kill.yaml
 # The store thread is not real time: on a loaded 2-core machine its cycle can
-# start late and its commit (an fsync) take a while. Counted in ms (= counts).
-LOSS_MARGIN = 400
+# start late and its commit (an fsync) take a while. Counted in ms (= counts);
+# rounds last 150..1200 ms, so a job that stored only at the start would fail.
+LOSS_MARGIN = 2000
 
 
 def sql(db, query):
@@ -113,10 +118,14 @@ def main():
         losses.append(loss)
         print("kill %d: last read %d, stored %d, reported before %d: lost %d ms of counting" % (k, last_read, after, reported, loss))
         if loss > INTERVAL_MS + LOSS_MARGIN:
-            raise AssertionError("kill %d: lost %d counts, more than one interval (%d ms) + %d" % (k, loss, INTERVAL_MS, LOSS_MARGIN))
+            raise AssertionError("kill %d: lost %d counts, more than one interval (%d ms) + %d; its stderr:\n%s"
+                                 % (k, loss, INTERVAL_MS, LOSS_MARGIN, "".join(server.stderr_lines)))
         expect_restored = after
-    print("kill test ok: %d kills; loss window (ms of counting lost) max %d, mean %.1f; interval %d ms"
-          % (kills, max(losses), sum(losses) / len(losses), INTERVAL_MS))
+    median = sorted(losses)[len(losses) // 2]
+    if median > 2 * INTERVAL_MS:
+        raise AssertionError("median loss %d ms over %d kills, more than two intervals: %r" % (median, kills, losses))
+    print("kill test ok: %d kills; loss window (ms of counting lost) max %d, median %d, mean %.1f, over one interval %d; interval %d ms"
+          % (kills, max(losses), median, sum(losses) / len(losses), sum(1 for x in losses if x > INTERVAL_MS), INTERVAL_MS))
 
 
 if __name__ == "__main__":
