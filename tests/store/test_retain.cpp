@@ -284,6 +284,29 @@ TEST_F(Retain, OnlyChangedValuesAreWritten) {
   EXPECT_EQ(a.job->last_written(), 1u);
 }
 
+TEST_F(Retain, ARestartAfterAnOnlineChangeIsAWarmStartOfTheNewProject) {
+  write(kBase);
+  Plc a = start();
+  set_values(a);
+  a.stop();
+  // The online change: the edited file is loaded and the job follows it.
+  write(std::string(kBase) + "  - {name: added, type: BOOL}\n");
+  LoadResult next = load_project(project);
+  ASSERT_TRUE(next.ok());
+  // What the handover carries over, and a change after it.
+  next.program->tasks[0]->image[next.program->find_tag("keep")->cell].set<std::int32_t>(200);
+  next.program->tasks[0]->image[next.program->find_tag("r")->cell].set<std::int32_t>(101);
+  next.program->tasks[0]->publish();
+  a.job->switch_program(*next.program, next.store);
+  a.job->run(*a.db, monotonic_ns(), true);
+  EXPECT_EQ(a.job->last_written(), 1u);  // r changed; keep was stored before the change
+  a.job.reset();
+  a.db.reset();
+  Plc b = start();  // the edited file again: not a changed project
+  EXPECT_EQ(b.dint("r"), 101);
+  EXPECT_EQ(b.dint("keep"), 200);
+}
+
 TEST_F(Retain, ResetColdDeletesRetainValuesAndOriginEverything) {
   write(kBase);
   {
