@@ -46,7 +46,9 @@ struct RetainVar {
 std::vector<RetainVar> retained_vars(const Program& p);
 
 // What identifies the project's content: FNV-1a over the project file and
-// every file its tags were read from (includes), in path order.
+// every file its tags were read from (includes), in path order. An include
+// without tags is not in it: the project store's hash of the whole file set
+// should replace this once it exists.
 std::string project_content_hash(const Program& p);
 
 // The retain part's tables (schema.hpp).
