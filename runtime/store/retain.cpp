@@ -278,8 +278,13 @@ bool RetainJob::prepare(Database& db, std::string* error) {
     std::copy(c, c + vars_[i].length, stored_.begin() + offset_[i]);
     known_[i] = true;
   }
-  next_ns_ = monotonic_ns() + interval_ns_;
+  schedule(monotonic_ns() + interval_ns_);
   return true;
+}
+
+void RetainJob::schedule(std::int64_t next_ns) {
+  next_ns_ = next_ns;
+  due_.store(vars_.empty() ? INT64_MAX : next_ns, std::memory_order_relaxed);
 }
 
 void RetainJob::switch_program(Program& next, const StoreSettings& settings) {
@@ -309,6 +314,7 @@ void RetainJob::switch_program(Program& next, const StoreSettings& settings) {
     }
   }
   pending_hash_ = project_content_hash(next);
+  schedule(next_ns_);
 }
 
 void RetainJob::take_values() {
@@ -324,7 +330,7 @@ void RetainJob::take_values() {
 
 void RetainJob::run(Database& db, std::int64_t now_ns, bool final) {
   (void)final;  // the final run is a run like the others: the last snapshots
-  next_ns_ = now_ns + interval_ns_;
+  schedule(now_ns + interval_ns_);
   take_values();
   std::vector<std::size_t> changed;
   for (std::size_t i = 0; i < vars_.size(); ++i)

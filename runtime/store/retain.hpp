@@ -16,6 +16,7 @@
 
 #include <SQLiteCpp/Database.h>
 
+#include <atomic>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -72,7 +73,9 @@ class RetainJob final : public StoreJob {
   RetainJob(Program& p, const StoreSettings& s, StartMode mode);
   const char* name() const override { return "retain"; }
   bool prepare(Database& db, std::string* error) override;
-  std::int64_t due_ns() const override { return vars_.empty() ? INT64_MAX : next_ns_; }
+  // The store thread asks this outside exclusive(), also while an online
+  // change runs switch_program: hence an atomic, not vars_ and next_ns_.
+  std::int64_t due_ns() const override { return due_.load(std::memory_order_relaxed); }
   void run(Database& db, std::int64_t now_ns, bool final) override;
   void switch_program(Program& next, const StoreSettings& settings) override;
 
@@ -83,11 +86,13 @@ class RetainJob final : public StoreJob {
 
  private:
   void take_values();
+  void schedule(std::int64_t next_ns);
 
   Program* program_;
   StartMode mode_;
   std::int64_t interval_ns_;
   std::int64_t next_ns_ = 0;
+  std::atomic<std::int64_t> due_{INT64_MAX};  // next_ns_, or INT64_MAX with nothing retained
   std::vector<RetainVar> vars_;
   std::vector<std::uint32_t> offset_;  // per var: its first cell in taken_ / stored_
   std::vector<Cell> taken_;            // from the snapshots, this run
