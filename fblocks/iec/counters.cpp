@@ -22,6 +22,11 @@ class Ctu final : public Block {
     out<V>(kCv, cv_);
   }
 
+ // Retained: the count and the edge memory (a restart with CU still TRUE is no new edge).
+  std::uint32_t retain_cells() const noexcept override { return 2; }
+  void save_retain(Cell* out) const noexcept override { out[0].set<V>(cv_); out[1].set<bool>(cu_m_); }
+  void load_retain(const Cell* in) noexcept override { cv_ = in[0].get<V>(); cu_m_ = in[1].get<bool>(); }
+
  private:
   bool cu_m_ = false;
   V cv_ = 0;
@@ -43,6 +48,10 @@ class Ctd final : public Block {
     out<bool>(kQ, cv_ <= 0);
     out<V>(kCv, cv_);
   }
+
+ std::uint32_t retain_cells() const noexcept override { return 2; }
+  void save_retain(Cell* out) const noexcept override { out[0].set<V>(cv_); out[1].set<bool>(cd_m_); }
+  void load_retain(const Cell* in) noexcept override { cv_ = in[0].get<V>(); cd_m_ = in[1].get<bool>(); }
 
  private:
   bool cd_m_ = false;
@@ -75,6 +84,18 @@ class Ctud final : public Block {
     out<bool>(kQu, cv_ >= pv);
     out<bool>(kQd, cv_ <= 0);
     out<V>(kCv, cv_);
+  }
+
+ std::uint32_t retain_cells() const noexcept override { return 3; }
+  void save_retain(Cell* out) const noexcept override {
+    out[0].set<V>(cv_);
+    out[1].set<bool>(cu_m_);
+    out[2].set<bool>(cd_m_);
+  }
+  void load_retain(const Cell* in) noexcept override {
+    cv_ = in[0].get<V>();
+    cu_m_ = in[1].get<bool>();
+    cd_m_ = in[2].get<bool>();
   }
 
  private:

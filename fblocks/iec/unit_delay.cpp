@@ -13,6 +13,10 @@ class UnitDelay final : public Block {
  public:
   void execute(ScanContext&) noexcept override { *pin_cell(kOut) = state_; }
   void end_of_scan() noexcept override { state_ = *pin_cell(kIn); }
+  // The sample survives a restart: a loop through the delay goes on from it.
+  std::uint32_t retain_cells() const noexcept override { return 1; }
+  void save_retain(Cell* out) const noexcept override { out[0] = state_; }
+  void load_retain(const Cell* in) noexcept override { state_ = in[0]; }
 
  private:
   Cell state_{};

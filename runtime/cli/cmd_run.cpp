@@ -135,13 +135,15 @@ int cmd_run(const RunOptions& options) {
   // anything binds or moves; retain values are in the images before the first scan.
   std::string err;
   std::vector<std::string> notices;
-  auto plc_store = PlcStore::open(database_path(db_option, r.store, project), *program, r, notices, &err);
+  auto plc_store = PlcStore::open(database_path(db_option, r.store, project), *program, r, notices, &err,
+                                  store::parse_start_mode(options.start).value_or(store::StartMode::Warm));
   if (!plc_store) {
     std::cerr << "syncplc: " << err << "\n";
     return kExitInvalid;
   }
   plc_store->record(std::move(start));  // written when the store thread starts
   for (const auto& n : notices) std::cerr << "syncplc: warning: " << n << "\n";
+  for (const auto& n : plc_store->retain_notices()) std::cerr << "syncplc: " << n << "\n";
   RunEvents run_events(*plc_store);  // the event log and the Modbus audit trail
 
   // SIGINT/SIGTERM (stop) and SIGHUP (reload) are taken synchronously by this

@@ -40,6 +40,7 @@ struct RunOptions {
   std::optional<int> modbus_port;
   std::string pid_file;  // "" : default_pid_file(project)
   std::string db;        // --db: the PLC's database ("" : the project's store: path, else the default; docs/store.md)
+  std::string start = "warm";  // --start warm|cold|origin: which retained values come back (docs/store.md)
 };
 int cmd_run(const RunOptions& options);
 int cmd_reload(const std::string& project, const std::string& pid_file, std::int64_t version);
@@ -53,6 +54,8 @@ struct EventsOptions {
   std::vector<std::string> kinds;  // --kind (repeatable); empty: all
 };
 int cmd_events(const EventsOptions& options);
+// `syncplc reset cold|origin [PROJECT] [--db PATH]`: deletes stored retain values (docs/store.md).
+int cmd_reset(const std::string& kind, const std::string& project, const std::string& db);
 int cmd_test(const std::string& project, const std::string& tests, const std::string& junit);
 
 }  // namespace syncplc::cli

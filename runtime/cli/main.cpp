@@ -11,7 +11,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", "syncplc 0.1.0");
 
-  std::string project, duration, trace, tests, junit, block, metrics, pid_file, db;
+  std::string project, duration, trace, tests, junit, block, metrics, pid_file, db, start = "warm", reset_kind;
   std::optional<std::uint64_t> seed;
   std::vector<std::string> sets;
   bool markdown = false, quiet = false, no_status = false;
@@ -47,6 +47,9 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 65535));
   run->add_option("--db", db, "the PLC's database: retain values, projects, events, trends (default: the project's "
                               "store: path, else $XDG_STATE_HOME/syncplc/plc.db; :memory: keeps nothing)");
+  run->add_option("--start", start, "which retained values come back: warm (retain and persistent; retain only "
+                                    "if the project is unchanged), cold (persistent only), origin (none; all deleted)")
+      ->check(CLI::IsMember({"warm", "cold", "origin"}));
   run->add_option("--pid-file", pid_file, "where `syncplc reload` finds this instance (default: one per project file in "
                                           "$XDG_RUNTIME_DIR/syncplc or /tmp/syncplc-UID)");
 
@@ -77,6 +80,12 @@ int main(int argc, char** argv) {
   events->add_option("--kind", events_options.kinds, "only events of this kind (repeatable): start, stop, reload, "
                                                      "reload-failed, hmi-write, modbus-refused, watchdog, ...");
 
+  auto* reset = app.add_subcommand("reset", "delete stored retain values while the PLC is stopped: cold (retain "
+                                            "values; persistent ones stay) or origin (every stored value)");
+  reset->add_option("KIND", reset_kind, "cold or origin")->required()->check(CLI::IsMember({"cold", "origin"}));
+  reset->add_option("PROJECT", project, "the project whose store: path names the database");
+  reset->add_option("--db", db, "the PLC's database (default: as for run)");
+
   auto* test = app.add_subcommand("test", "run scan-cycle tests against a project in virtual time");
   test->add_option("PROJECT", project, "project file (YAML)")->required();
   test->add_option("TESTS", tests, "tests file (YAML)")->required();
@@ -102,12 +111,14 @@ int main(int argc, char** argv) {
       o.modbus_port = modbus_port;
       o.pid_file = pid_file;
       o.db = db;
+      o.start = start;
       return cmd_run(o);
     }
     if (*reload) return cmd_reload(project, pid_file, version);
     if (*projects) return cmd_projects(db, *projects_show ? show : 0, show_file);
     if (*test) return cmd_test(project, tests, junit);
     if (*events) return cmd_events(events_options);
+    if (*reset) return cmd_reset(reset_kind, project, db);
   } catch (const std::exception& e) {
     std::cerr << "syncplc: " << e.what() << "\n";
     return kExitInvalid;

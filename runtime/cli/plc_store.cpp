@@ -24,10 +24,12 @@ std::string database_path(const std::string& option, const store::StoreSettings&
 namespace {
 
 // The jobs the project needs, each prepared on `db` (its tables).
-bool add_jobs(store::StoreThread& st, Program& p, const LoadResult& loaded, std::string* error,
-              store::ProjectsJob*& projects) {
-  (void)p;
-  (void)loaded;
+bool add_jobs(store::StoreThread& st, Program& p, const LoadResult& loaded, store::StartMode start,
+              std::vector<std::string>& retain_notices, std::string* error, store::ProjectsJob*& projects) {
+  auto retain = std::make_unique<store::RetainJob>(p, loaded.store, start);
+  store::RetainJob& r = *retain;
+  if (!st.add(std::move(retain), error)) return false;
+  retain_notices = r.start_notices();
   auto pj = std::make_unique<store::ProjectsJob>();
   projects = pj.get();
   return st.add(std::move(pj), error);
@@ -36,7 +38,7 @@ bool add_jobs(store::StoreThread& st, Program& p, const LoadResult& loaded, std:
 }  // namespace
 
 std::unique_ptr<PlcStore> PlcStore::open(const std::string& path, Program& p, const LoadResult& loaded,
-                                         std::vector<std::string>& notices, std::string* error) {
+                                         std::vector<std::string>& notices, std::string* error, store::StartMode start) {
   std::unique_ptr<PlcStore> s(new PlcStore);
   s->path_ = path;
   store::OpenReport report;
@@ -56,7 +58,7 @@ std::unique_ptr<PlcStore> PlcStore::open(const std::string& path, Program& p, co
     notices.push_back("store: the database " + path + " was unreadable (" + report.problem + "); it was moved to " +
                       report.moved_aside + " and a new one started: retain values start from their initial values");
   s->thread_ = std::make_unique<store::StoreThread>(std::move(db));
-  if (!add_jobs(*s->thread_, p, loaded, error, s->projects_)) return nullptr;
+  if (!add_jobs(*s->thread_, p, loaded, start, s->retain_notices_, error, s->projects_)) return nullptr;
   store::StoreThread* st = s->thread_.get();
   s->events_.on_push([st] { st->wake(); });
   if (!st->add(std::make_unique<store::EventLog>(s->events_, store::retention_of(loaded.store)), error)) return nullptr;

@@ -12,6 +12,7 @@
 #include "runtime/project/loader.hpp"
 #include "runtime/store/projects_job.hpp"
 #include "runtime/store/event_log.hpp"
+#include "runtime/store/retain.hpp"
 #include "runtime/store/store_thread.hpp"
 
 namespace syncplc::cli {
@@ -30,8 +31,10 @@ class PlcStore {
   // that is corrupt is moved aside and a new one made; a database that
   // cannot be opened at all leaves the store off (off_reason()); both are
   // in `notices`, which the caller shows loudly.
+  // `start`: which retained values come back (retain.hpp) before the first scan.
   static std::unique_ptr<PlcStore> open(const std::string& path, Program& p, const LoadResult& loaded,
-                                        std::vector<std::string>& notices, std::string* error);
+                                        std::vector<std::string>& notices, std::string* error,
+                                        store::StartMode start = store::StartMode::Warm);
   ~PlcStore();
 
   void start();
@@ -47,6 +50,8 @@ class PlcStore {
   const std::string& path() const { return path_; }
   store::StoreHealth health() const;
   store::StoreThread* thread() { return thread_.get(); }
+  // What the start restored and did not (retain.hpp), for the log and events.
+  const std::vector<std::string>& retain_notices() const { return retain_notices_; }
 
   // The event log (store/event_log.hpp): a record for the store thread to
   // write. Nothing is recorded when the store is off. Any non-real-time thread.
@@ -64,6 +69,7 @@ class PlcStore {
   store::ProjectsJob* projects_ = nullptr;  // owned by thread_
   store::EventQueue events_;
   bool fault_seen_ = false;
+  std::vector<std::string> retain_notices_;
 };
 
 }  // namespace syncplc::cli

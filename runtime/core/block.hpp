@@ -124,6 +124,19 @@ class Block {
     return false;
   }
 
+  // Retain (docs/store.md, "Retained block instances"): a block whose state
+  // is worth keeping across a restart (a counter's count, a unit delay's
+  // sample) exposes it as retain_cells() cells, a number fixed at creation.
+  // save_retain runs on the scan path into cells the task publishes (no
+  // allocation); load_retain runs before the first scan. retain_layout()
+  // changes whenever the meaning of the cells changes, so a stored state of
+  // an older layout is not restored. 0 cells: nothing to retain (a project
+  // declaring such an instance retain is refused at load).
+  virtual std::uint32_t retain_cells() const noexcept { return 0; }
+  virtual std::uint32_t retain_layout() const noexcept { return 1; }
+  virtual void save_retain(Cell* out) const noexcept { (void)out; }
+  virtual void load_retain(const Cell* in) noexcept { (void)in; }
+
   template <class T>
   T in(int pin) const noexcept { return pins_[pin]->get<T>(); }
   template <class T>

@@ -74,6 +74,20 @@ struct DriverBinding {
   std::string settings;
 };
 
+// A block instance declared retain: its state (Block::save_retain) is copied
+// each scan into `length` cells of its task's published range at `cell`, so
+// the store thread reads it from the snapshots like a tag.
+struct RetainedInstance {
+  std::string name;
+  std::string type;             // block type name
+  std::uint32_t layout = 1;     // Block::retain_layout()
+  std::uint16_t task = 0;
+  std::uint32_t position = 0;   // in the task's execution order
+  std::uint32_t cell = 0;
+  std::uint32_t length = 0;
+  bool persistent = false;
+};
+
 class Program {
  public:
   std::string name;
@@ -82,6 +96,7 @@ class Program {
   std::uint64_t seed = 0;
   std::vector<std::unique_ptr<Task>> tasks;
   std::vector<Tag> tags;
+  std::vector<RetainedInstance> retained;  // block instances declared retain or persistent
   std::vector<DriverBinding> drivers;
   std::vector<TraceColumn> traces;
   std::vector<std::string> watch;  // tags shown by the live status

@@ -185,6 +185,15 @@ std::unique_ptr<ProgramChange> plan_change(Program& from, Program& to) {
           h->write_back[t.cell + k] = old->cell + k;
         }
       }
+      // Retained block state (same instance, type and layout): mirrored too,
+      // so the store never reads a kept counter's state as its initial one.
+      for (const auto& r : to.retained) {
+        if (r.task != i) continue;
+        for (const auto& o : from.retained)
+          if (o.name == r.name && o.task == static_cast<std::uint16_t>(j) && o.type == r.type && o.layout == r.layout &&
+              o.length == r.length)
+            h->owned.push_back({o.cell, r.cell, r.length});
+      }
       // Block instances.
       for (std::size_t p = 0; p < nt.blocks.size(); ++p) {
         const auto& nb = nt.blocks[p];

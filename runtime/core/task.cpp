@@ -140,6 +140,8 @@ void Task::scan(ScanContext& ctx) noexcept {
     end_of_scan_guarded(*blocks[i].block, ctx);
   }
   ctx.block = -1;
+  for (auto k : retained_blocks)                        // retained block state, published with the tags
+    blocks[k].block->save_retain(img + blocks[k].retain_cell);
 
   for (auto* d : drivers) d->write_outputs(ctx);        // 4
   ++scan_count_;

@@ -98,6 +98,8 @@ struct BlockInstance {
   std::vector<std::uint32_t> pin_length;  // elements of each pin: 1, or n for an array pin
   std::vector<CellCopy> copy_in;    // before execute (for a unit delay: before end_of_scan)
   std::vector<CellCopy> copy_out;   // after execute: output -> tags
+  std::uint32_t retain_cell = 0;    // retained state: image[retain_cell, + retain_length), published
+  std::uint32_t retain_length = 0;  // 0: not retained
 };
 
 // Values of other tasks' tags, taken from their snapshot channels at the
@@ -122,6 +124,7 @@ class Task : private EventSink {
   std::uint32_t owned_cells = 0;    // published range: image[0, owned_cells)
   std::vector<BlockInstance> blocks;  // execution order; unit delays first
   std::size_t unit_delays = 0;      // blocks[0, unit_delays) are unit delays
+  std::vector<std::uint32_t> retained_blocks;  // positions in blocks of instances declared retain
   std::vector<Inbound> inbound;
   std::vector<IoDriver*> drivers;
   std::vector<std::pair<std::uint32_t, Cell>> safe_values;  // cell, value on SafeStop

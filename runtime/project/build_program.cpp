@@ -66,6 +66,9 @@ std::vector<std::unique_ptr<Block>> create_blocks(const Declarations& p, Diagnos
       diags.error(in.loc, in.name + " (" + in.type->name + "): " + e.what());
     }
     if (!block && diags.size() == before) diags.error(in.loc, in.name + " (" + in.type->name + ") could not be created");
+    if (block && in.retain && block->retain_cells() == 0)
+      diags.error(in.retain_loc, in.name + " (" + in.type->name + ") has no state to retain (retain: and persistent: "
+                  "are for blocks with state, e.g. counters and UNIT_DELAY; docs/store.md)");
   }
   return blocks;
 }
@@ -99,6 +102,14 @@ std::unique_ptr<Program> build_program(Declarations& p, const Wiring& w, const B
     td.tag.cell = next[td.tag.owner];
     grow(td.tag.owner, td.tag.length);
   }
+  // Retained block state sits after the tags, inside the published range.
+  std::vector<std::uint32_t> retain_cell(p.instances.size(), 0);
+  for (std::size_t i = 0; i < p.instances.size(); ++i)
+    if (p.instances[i].retain) {
+      auto t = static_cast<std::size_t>(p.instances[i].task);
+      retain_cell[i] = next[t];
+      grow(t, created[i]->retain_cells());
+    }
   for (std::size_t t = 0; t < nt; ++t) prog->tasks[t]->owned_cells = next[t];
   std::vector<std::map<int, std::uint32_t>> foreign(nt);  // task -> tag -> local cell
   auto local_cell = [&](int tag, std::size_t task) -> std::uint32_t {
@@ -169,6 +180,17 @@ std::unique_ptr<Program> build_program(Declarations& p, const Wiring& w, const B
       bi.pin_cell = pin_cells[i];
       bi.pin_length = in.pin_length;
       bi.block = std::move(created[i]);
+      if (in.retain) {
+        bi.retain_cell = retain_cell[i];
+        bi.retain_length = bi.block->retain_cells();
+        bi.block->save_retain(&task.image[bi.retain_cell]);
+        task.retained_blocks.push_back(static_cast<std::uint32_t>(k));
+        // The state's identity: a CTU<INT>'s count is no CTU<DINT>'s.
+        const std::string type = in.type->is_generic() ? in.type->name + "<" + std::string(type_name(bi.datatype)) + ">"
+                                                       : in.type->name;
+        prog->retained.push_back({in.name, type, bi.block->retain_layout(), static_cast<std::uint16_t>(t),
+                                  static_cast<std::uint32_t>(k), bi.retain_cell, bi.retain_length, in.persistent});
+      }
       task.blocks.push_back(std::move(bi));
       prog->instances[in.name] = {static_cast<std::uint16_t>(t), static_cast<std::uint32_t>(k)};
     }

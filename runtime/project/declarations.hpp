@@ -58,6 +58,9 @@ struct InstanceDecl {
   int task = -1;
   std::optional<IecType> datatype;
   bool datatype_fixed = false;
+  bool retain = false;      // retain: true (persistent implies it): the block's state survives a restart
+  bool persistent = false;  // also survives loading a changed project
+  SourceLoc retain_loc;     // where retain:/persistent: is written
   SourceLoc loc;
   // As written, by ParamDecl or pin index; few per instance, so kept sparse
   // (copies of the file's nodes: the tree is gone before the build).

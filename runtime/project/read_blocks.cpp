@@ -27,9 +27,18 @@ void read_blocks(const ConfigNode& n, const BlockRegistry& blocks, Declarations&
       else if (k == "params") params = &v;
       else if (k == "inputs") inputs = &v;
       else if (k == "datatype") dtype = &v;
-      else if (k == "description") {}
-      else diags.error(v.loc, "unknown key '" + k + "' in a block instance (name, type, task, datatype, params, inputs, description)");
+      else if (k == "retain" || k == "persistent") {
+        std::string err;
+        auto c = parse_value(IecType::BOOL, v.scalar, &err);
+        if (!c) diags.error(v.loc, k + ": " + err);
+        else if (c->get<bool>()) {
+          (k == "retain" ? in.retain : in.persistent) = true;
+          in.retain_loc = v.loc;
+        }
+      } else if (k == "description") {}
+      else diags.error(v.loc, "unknown key '" + k + "' in a block instance (name, type, task, datatype, params, inputs, retain, persistent, description)");
     }
+    if (in.persistent) in.retain = true;  // PERSISTENT implies RETAIN, as for tags
     if (in.name.empty()) { diags.error(b.loc, "block instance without a name"); ok = false; }
     if (!b.find("type")) { diags.error(b.loc, "block instance " + in.name + " has no type"); ok = false; }
     if (!task) { if (p.tasks.size() == 1) in.task = 0; else { diags.error(b.loc, "block instance " + in.name + " has no task"); ok = false; } }
