@@ -140,6 +140,7 @@ void Task::scan(ScanContext& ctx) noexcept {
   ctx.block = -1;
 
   for (auto* d : drivers) d->write_outputs(ctx);        // 4
+  if (!trends.empty()) trends.fold(img, ctx.now_ns);    // the historian's buckets see every scan
   ++scan_count_;
 }
 
