@@ -3,6 +3,8 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "runtime/store/historian.hpp"
+
 namespace syncplc::cli {
 namespace fs = std::filesystem;
 
@@ -25,10 +27,7 @@ namespace {
 
 // The jobs the project needs, each prepared on `db` (its tables).
 bool add_jobs(store::StoreThread& st, Program& p, const LoadResult& loaded, std::string* error) {
-  (void)st;
-  (void)p;
-  (void)loaded;
-  (void)error;
+  if (!st.add(std::make_unique<store::Historian>(p, loaded.store), error)) return false;
   return true;
 }
 
