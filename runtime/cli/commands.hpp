@@ -43,6 +43,13 @@ struct RunOptions {
 };
 int cmd_run(const RunOptions& options);
 int cmd_reload(const std::string& project, const std::string& pid_file);
+struct TrendOptions {
+  std::vector<std::string> tags;  // labels ("pos[2]") or tags (all their elements)
+  std::string db;                 // "" : the default database (docs/store.md)
+  std::string since, until;       // "" : unbounded (wall_time.hpp: parse_when)
+  bool csv = false;
+};
+int cmd_trend(const TrendOptions& options);
 int cmd_test(const std::string& project, const std::string& tests, const std::string& junit);
 
 }  // namespace syncplc::cli
