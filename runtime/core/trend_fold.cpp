@@ -4,6 +4,14 @@
 #include <cmath>
 
 namespace syncplc {
+namespace {
+
+// How long a ring holds the buckets of its elements: the store thread drains
+// every 100 ms; a commit (WAL fsync, checkpoint) on a loaded machine was seen
+// to hold it up past 1.3 s (docs/benchmarks.md, "The historian").
+constexpr std::int64_t kRingSpanNs = 4'000'000'000;
+
+}  // namespace
 
 void TrendFold::add(std::uint32_t series, std::uint32_t cell, IecType type, std::int64_t rate_ns) {
   Element e;
@@ -17,7 +25,7 @@ void TrendFold::add(std::uint32_t series, std::uint32_t cell, IecType type, std:
 
 void TrendFold::finalize() {
   std::size_t capacity = 0;
-  for (const auto& e : elements_) capacity += static_cast<std::size_t>(kTrendRingSpanNs / e.rate_ns) + 2;
+  for (const auto& e : elements_) capacity += static_cast<std::size_t>(kRingSpanNs / e.rate_ns) + 2;
   ring_.reset(capacity);
 }
 

@@ -7,8 +7,10 @@
 // the store thread, which sees only published snapshots, could miss it.
 //
 // Real-time safe: fold() neither allocates nor locks; the ring is sized at
-// project load to hold kTrendRingSpanNs of buckets. A full ring drops the
-// bucket and counts it (dropped()): the store thread reports the gap.
+// project load to hold 4 s of buckets (trend_fold.cpp: the store thread
+// drains every 100 ms, but a commit with its fsync and checkpoint on a busy
+// disk can hold it up for seconds). A full ring drops the bucket and counts
+// it (dropped()).
 #pragma once
 
 #include <atomic>
@@ -19,9 +21,6 @@
 #include "runtime/core/spsc_ring.hpp"
 
 namespace syncplc {
-
-// The store thread drains every 100 ms; the ring holds ten times that.
-inline constexpr std::int64_t kTrendRingSpanNs = 1'000'000'000;
 
 // A finished bucket of one trended element.
 struct TrendBucket {

@@ -81,8 +81,8 @@ void Historian::drain() {
     TrendBucket b;
     while (fold.pop(b)) {
       if (queue_.size() >= kMaxQueued) {
-        queue_.pop_front();  // the database refused for long: the oldest go first
-        ++lost_;
+        ++lost_;  // the database refused for long: what comes now is lost, the queue (and its order) stays
+        continue;
       }
       queue_.push_back(Queued{active_[b.series], b});
     }
@@ -105,7 +105,12 @@ void Historian::store_queue(SQLite::Database& db) {
   std::vector<std::optional<double>> last(series_.size());
   for (std::size_t i = 0; i < series_.size(); ++i) last[i] = series_[i].last_stored;
   std::uint64_t n = 0;
-  for (const auto& q : queue_) {
+  const std::size_t batch = queue_.size();
+  for (std::size_t i = 0; i < batch; ++i) {
+    // A long transaction must not let the tasks' rings overflow: they are
+    // emptied into the queue as it goes (what comes in waits for the next).
+    if (i % kDrainEvery == kDrainEvery - 1) drain();
+    const Queued& q = queue_[i];
     const Series& s = series_[q.series];
     const TrendBucket& b = q.bucket;
     if (!passes_deadband(b, s.spec.deadband, last[q.series])) continue;
@@ -124,7 +129,7 @@ void Historian::store_queue(SQLite::Database& db) {
   }
   tr.commit();
   for (std::size_t i = 0; i < series_.size(); ++i) series_[i].last_stored = last[i];
-  queue_.clear();
+  queue_.erase(queue_.begin(), queue_.begin() + static_cast<std::ptrdiff_t>(batch));
   stored_ += n;
 }
 

@@ -39,8 +39,10 @@ class Historian final : public StoreJob {
   static constexpr std::int64_t kDrainNs = 100'000'000;
   static constexpr std::int64_t kCommitNs = 1'000'000'000;
   static constexpr std::int64_t kRetentionNs = 60'000'000'000;
-  // Buckets the queue keeps while the database refuses them (then the oldest go).
+  // Buckets the queue keeps while the database refuses them (further ones are lost, counted).
   static constexpr std::size_t kMaxQueued = 1'000'000;
+  // Inside a long store, the rings are drained again after this many points.
+  static constexpr std::size_t kDrainEvery = 8192;
 
  private:
   struct Queued {
