@@ -3,6 +3,7 @@
 #include <cctype>
 #include <cstdio>
 #include <ctime>
+#include <limits>
 
 #include <fmt/format.h>
 
@@ -51,7 +52,12 @@ std::optional<std::int64_t> parse_when(const std::string& text, std::int64_t now
   tm.tm_hour = h;
   tm.tm_min = mi;
   tm.tm_sec = s;
-  return static_cast<std::int64_t>(timegm(&tm)) * 1'000'000'000 + frac;
+  // ns since 1970 end in 2262: a later time is "after every point".
+  const std::int64_t sec = static_cast<std::int64_t>(timegm(&tm));
+  constexpr std::int64_t kMaxSec = std::numeric_limits<std::int64_t>::max() / 1'000'000'000 - 1;
+  if (sec > kMaxSec) return std::numeric_limits<std::int64_t>::max();
+  if (sec < -kMaxSec) return std::numeric_limits<std::int64_t>::min();
+  return sec * 1'000'000'000 + frac;
 }
 
 std::string format_wall(std::int64_t ns) {

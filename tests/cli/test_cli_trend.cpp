@@ -5,9 +5,11 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <limits>
 #include <regex>
 #include <sstream>
 
+#include "runtime/cli/wall_time.hpp"
 #include "tests/support/cli_runner.hpp"
 #include "tests/support/test_blocks.hpp"
 
@@ -106,7 +108,7 @@ TEST(CliTrend, RunStoresBucketsTheSqliteShellAndTrendCsvRead) {
     ASSERT_EQ(f.size(), 6u) << out[i];
     EXPECT_TRUE(std::regex_match(f[0], iso)) << out[i];
     EXPECT_EQ(f[1], "pos");
-    EXPECT_DOUBLE_EQ(std::stod(f[3]), std::stod(g[3]));
+    EXPECT_NEAR(std::stod(f[3]), std::stod(g[3]), 1e-12 * 20);  // the shell prints 15 digits, trend --csv all 17
     EXPECT_EQ(f[5], g[5]);
   }
   // --since in the future: the header alone.
@@ -118,6 +120,23 @@ TEST(CliTrend, RunStoresBucketsTheSqliteShellAndTrendCsvRead) {
   EXPECT_EQ(bad.rc, 2);
   EXPECT_NE(bad.err.find("no trend of 'speed'"), std::string::npos) << bad.err;
   EXPECT_NE(bad.err.find("trended: idle, pos"), std::string::npos) << bad.err;
+}
+
+TEST(CliTrend, WhenIsAUtcTimeOrADurationAgo) {
+  using syncplc::cli::format_wall;
+  using syncplc::cli::parse_when;
+  std::string err;
+  const std::int64_t t = 1'764'043'200'000'000'000;  // 2025-11-25T04:00:00Z
+  EXPECT_EQ(parse_when("2025-11-25T04:00:00Z", 0, &err), t);
+  EXPECT_EQ(parse_when("2025-11-25 04:00:00.25", 0, &err), t + 250'000'000);
+  EXPECT_EQ(parse_when("2025-11-25", 0, &err), t - 4 * 3'600'000'000'000);
+  EXPECT_EQ(parse_when("10m", t, &err), t - 600'000'000'000);
+  EXPECT_EQ(parse_when("now", t, &err), t);
+  EXPECT_EQ(parse_when("2999-01-01", 0, &err), std::numeric_limits<std::int64_t>::max());  // past int64 ns: after everything
+  EXPECT_FALSE(parse_when("yesterday", t, &err));
+  EXPECT_NE(err.find("'yesterday' is not a time"), std::string::npos) << err;
+  EXPECT_FALSE(parse_when("2025-13-01", t, &err));
+  EXPECT_EQ(format_wall(t + 100'000'000), "2025-11-25T04:00:00.100Z");
 }
 
 }  // namespace
