@@ -24,7 +24,7 @@ bash scripts/build.sh build-asan -DSYNCPLC_SANITIZE=address,undefined -DSYNCPLC_
 
 echo "== ThreadSanitizer"
 # Only what the threaded and CLI tests need: the other suites do not run here.
-SYNCPLC_TARGETS="syncplc test_realtime test_cli" \
+SYNCPLC_TARGETS="syncplc test_realtime test_cli test_store" \
   bash scripts/build.sh build-tsan -DSYNCPLC_SANITIZE=thread -DSYNCPLC_BENCH=OFF
 (cd build-tsan && TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
    ctest --output-on-failure -j "$jobs" -L 'threaded|cli|peers')

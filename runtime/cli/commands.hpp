@@ -56,6 +56,13 @@ struct EventsOptions {
 int cmd_events(const EventsOptions& options);
 // `syncplc reset cold|origin [PROJECT] [--db PATH]`: deletes stored retain values (docs/store.md).
 int cmd_reset(const std::string& kind, const std::string& project, const std::string& db);
+struct TrendOptions {
+  std::vector<std::string> tags;  // labels ("pos[2]") or tags (all their elements)
+  std::string db;                 // "" : the default database (docs/store.md)
+  std::string since, until;       // "" : unbounded (wall_time.hpp: parse_when)
+  bool csv = false;
+};
+int cmd_trend(const TrendOptions& options);
 int cmd_test(const std::string& project, const std::string& tests, const std::string& junit);
 
 }  // namespace syncplc::cli

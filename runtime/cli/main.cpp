@@ -91,6 +91,14 @@ int main(int argc, char** argv) {
   test->add_option("TESTS", tests, "tests file (YAML)")->required();
   test->add_option("--junit", junit, "write a JUnit XML report to this file");
 
+  TrendOptions trend_options;
+  auto* trend = app.add_subcommand("trend", "print the historian's points of trended tags (also while the PLC runs)");
+  trend->add_option("TAG", trend_options.tags, "a trended tag (all its elements) or one element, e.g. pos[2]")->required();
+  trend->add_option("--db", trend_options.db, "the PLC's database (default: $XDG_STATE_HOME/syncplc/plc.db)");
+  trend->add_option("--since", trend_options.since, "from this time: 2026-11-25T04:00:00Z (UTC), or a duration ago: 10m");
+  trend->add_option("--until", trend_options.until, "before this time (same forms as --since)");
+  trend->add_flag("--csv", trend_options.csv, "CSV: time,tag,min,max,mean,count");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -119,6 +127,7 @@ int main(int argc, char** argv) {
     if (*test) return cmd_test(project, tests, junit);
     if (*events) return cmd_events(events_options);
     if (*reset) return cmd_reset(reset_kind, project, db);
+    if (*trend) return cmd_trend(trend_options);
   } catch (const std::exception& e) {
     std::cerr << "syncplc: " << e.what() << "\n";
     return kExitInvalid;

@@ -3,6 +3,8 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "runtime/store/historian.hpp"
+
 namespace syncplc::cli {
 namespace fs = std::filesystem;
 
@@ -30,6 +32,7 @@ bool add_jobs(store::StoreThread& st, Program& p, const LoadResult& loaded, stor
   store::RetainJob& r = *retain;
   if (!st.add(std::move(retain), error)) return false;
   retain_notices = r.start_notices();
+  if (!st.add(std::make_unique<store::Historian>(p, loaded.store), error)) return false;
   auto pj = std::make_unique<store::ProjectsJob>();
   projects = pj.get();
   return st.add(std::move(pj), error);

@@ -144,6 +144,7 @@ void Task::scan(ScanContext& ctx) noexcept {
     blocks[k].block->save_retain(img + blocks[k].retain_cell);
 
   for (auto* d : drivers) d->write_outputs(ctx);        // 4
+  if (!trends.empty()) trends.fold(img, ctx.now_ns);    // the historian's buckets see every scan
   ++scan_count_;
 }
 

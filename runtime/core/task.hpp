@@ -24,6 +24,7 @@
 #include "runtime/core/io_driver.hpp"
 #include "runtime/core/spsc_ring.hpp"
 #include "runtime/core/snapshot_channel.hpp"
+#include "runtime/core/trend_fold.hpp"
 
 namespace syncplc {
 
@@ -133,6 +134,7 @@ class Task : private EventSink {
   // by one consuming task (with the publication before, for LET reads).
   std::vector<std::unique_ptr<SnapshotChannel>> channels;
   std::mutex external_mutex;        // serialises readers of channels[0]; never taken by the scan
+  TrendFold trends;                 // the trended elements of its owned tags (trend_fold.hpp)
 
   // Sizes queues and channels and binds pins. Call once, after the image is final.
   void finalize();

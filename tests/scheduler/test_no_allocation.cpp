@@ -1,7 +1,8 @@
 // The scan path never allocates: every size is resolved at load. This test
 // replaces the global operator new of the test binary with a counting one and
 // runs scans of a project that uses every standard block family, two tasks,
-// snapshots between them, queued writes and a driver.
+// snapshots between them, queued writes, a driver and trended tags (their
+// rings fill up, nobody drains them here: full rings drop without allocating).
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -95,8 +96,8 @@ tasks:
 tags:
   - {name: run, type: BOOL, init: TRUE, hmi: readwrite}
   - {name: count, type: DINT}
-  - {name: level, type: LREAL}
-  - {name: levels, type: "ARRAY[0..3] OF LREAL"}
+  - {name: level, type: LREAL, trend: {rate: 10ms, deadband: 0.1}}
+  - {name: levels, type: "ARRAY[0..3] OF LREAL", trend: true}
   - {name: elapsed, type: TIME}
   - {name: out, type: BOOL, safe: FALSE}
   - {name: div0, type: INT}

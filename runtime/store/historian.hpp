@@ -1,0 +1,76 @@
+// The historian (docs/store.md, "The historian"): the store job that takes
+// the tasks' finished trend buckets (trend_fold.hpp) and stores them in the
+// tables trend_series and trend_point.
+//
+//   - every 100 ms it drains the tasks' rings into a bounded queue of its own
+//     (the real-time side never waits for the database);
+//   - once a second (and at a clean stop) it stores the queue in one
+//     transaction, each bucket that passes its series' deadband;
+//   - once a minute it downsamples and trims the tables (trend_retention.hpp).
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <optional>
+#include <vector>
+
+#include "runtime/store/store_thread.hpp"
+#include "runtime/store/trend_series.hpp"
+
+namespace syncplc::store {
+
+class Historian final : public StoreJob {
+ public:
+  Historian(Program& p, const StoreSettings& s);
+  const char* name() const override { return "trends"; }
+  bool prepare(Database& db, std::string* error) override;
+  std::int64_t due_ns() const override { return next_drain_; }
+  void run(Database& db, std::int64_t now_ns, bool final) override;
+  void switch_program(Program& next, const StoreSettings& settings) override;
+
+  // Wall time (ns since the Unix epoch) of the program's logical time 0. By
+  // default taken from the program's real-time epoch at the first run; a
+  // virtual-time test sets it.
+  void set_time_base(std::int64_t wall_ns) { time_base_ = wall_ns; }
+  // Buckets lost so far: dropped by a full task ring or a full queue.
+  std::uint64_t lost() const { return lost_; }
+  std::uint64_t stored() const { return stored_; }
+
+  static constexpr std::int64_t kDrainNs = 100'000'000;
+  static constexpr std::int64_t kCommitNs = 1'000'000'000;
+  static constexpr std::int64_t kRetentionNs = 60'000'000'000;
+  // Buckets the queue keeps while the database refuses them (further ones are lost, counted).
+  static constexpr std::size_t kMaxQueued = 1'000'000;
+  // Inside a long store, the rings are drained again after this many points.
+  static constexpr std::size_t kDrainEvery = 8192;
+
+ private:
+  struct Queued {
+    std::uint32_t series;  // index in series_
+    TrendBucket bucket;
+  };
+  struct Series {
+    TrendSeries spec;
+    std::int64_t id = 0;                // trend_series.id (0: not yet written)
+    std::optional<double> last_stored;  // the mean of the last stored point (deadband)
+  };
+  // The program's series, by label: series_ only grows (an online change
+  // adds the new labels; a queued bucket of a removed tag is still stored).
+  void take_series(const Program& p, const StoreSettings& s);
+  void drain();
+  void register_series(SQLite::Database& db);
+  void store_queue(SQLite::Database& db);
+
+  Program* program_;
+  StoreSettings settings_;
+  std::vector<Series> series_;
+  std::vector<std::uint32_t> active_;        // the program's fold series number -> index in series_
+  std::vector<std::uint64_t> seen_dropped_;  // per task: its fold's dropped() counted so far
+  std::deque<Queued> queue_;
+  bool series_changed_ = true;               // series_ has entries not yet in trend_series
+  std::optional<std::int64_t> time_base_;
+  std::int64_t next_drain_ = 0, next_commit_ = 0, next_retention_ = 0;
+  std::uint64_t lost_ = 0, stored_ = 0;
+};
+
+}  // namespace syncplc::store
