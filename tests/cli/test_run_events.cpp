@@ -7,22 +7,14 @@
 #include <filesystem>
 #include <fstream>
 
+#include "tests/store/store_test_util.hpp"
 #include "tests/support/cli_runner.hpp"
 
 namespace syncplc::testing {
 namespace {
 
-std::string shell(const std::string& db, const std::string& sql) {
-  const std::string cmd = "sqlite3 -readonly '" + db + "' \"" + sql + "\" 2>&1";
-  std::string out;
-  if (FILE* p = popen(cmd.c_str(), "r")) {
-    char buf[4096];
-    while (std::size_t n = fread(buf, 1, sizeof buf, p)) out.append(buf, n);
-    pclose(p);
-  }
-  while (!out.empty() && out.back() == '\n') out.pop_back();
-  return out;
-}
+using syncplc::store::testing::sqlite_shell;
+
 
 std::string fresh_db(const std::string& name) {
   const auto dir = std::filesystem::temp_directory_path() / ("syncplc-run-events-" + std::to_string(getpid())) / name;
@@ -45,18 +37,18 @@ TEST(RunEvents, StartStopAndATasksEventsWithItsScanNumber) {
   const std::string db = fresh_db("start_stop");
   const CliResult r = run_cli("run " + project + " --no-status -d 300ms --db " + db);
   ASSERT_EQ(r.rc, 0) << r.err;
-  EXPECT_EQ(shell(db, "SELECT kind FROM events ORDER BY id LIMIT 1"), "start");
-  EXPECT_EQ(shell(db, "SELECT message FROM events ORDER BY id DESC LIMIT 1"),
+  EXPECT_EQ(sqlite_shell(db, "SELECT kind FROM events ORDER BY id LIMIT 1"), "start");
+  EXPECT_EQ(sqlite_shell(db, "SELECT message FROM events ORDER BY id DESC LIMIT 1"),
             "the run ended (--duration) (exit status 0)");
   // Each watchdog trip is one event of task slow with the scan it came from.
-  EXPECT_EQ(shell(db, "SELECT count(*) > 0, count(*) = count(scan), count(DISTINCT scan) = count(*) FROM events "
+  EXPECT_EQ(sqlite_shell(db, "SELECT count(*) > 0, count(*) = count(scan), count(DISTINCT scan) = count(*) FROM events "
                       "WHERE kind = 'watchdog' AND task = 'slow'"),
             "1|1|1");
   const CliResult listed = run_cli("events --db " + db + " --kind watchdog");
   ASSERT_EQ(listed.rc, 0) << listed.err;
   EXPECT_NE(listed.out.find("watchdog          slow       "), std::string::npos) << listed.out;
   EXPECT_NE(listed.out.find("watchdog tripped"), std::string::npos) << listed.out;
-  EXPECT_EQ(shell(db, "PRAGMA integrity_check"), "ok");
+  EXPECT_EQ(sqlite_shell(db, "PRAGMA integrity_check"), "ok");
 }
 
 TEST(RunEvents, ACorruptDatabaseMovedAsideIsAnEventOfTheNewOne) {
@@ -65,7 +57,7 @@ TEST(RunEvents, ACorruptDatabaseMovedAsideIsAnEventOfTheNewOne) {
   std::ofstream(db) << "this is not an SQLite database, and it is long enough to be read as one......";
   const CliResult r = run_cli("run " + project + " --no-status -d 100ms --db " + db);
   ASSERT_EQ(r.rc, 0) << r.err;
-  const std::string moved = shell(db, "SELECT message FROM events WHERE kind = 'store-moved-aside'");
+  const std::string moved = sqlite_shell(db, "SELECT message FROM events WHERE kind = 'store-moved-aside'");
   EXPECT_NE(moved.find("the database was unreadable ("), std::string::npos) << moved;
   EXPECT_NE(moved.find("moved to " + db + ".corrupt-"), std::string::npos) << moved;
 }

@@ -19,6 +19,7 @@ namespace syncplc::store {
 namespace {
 
 using ::testing::HasSubstr;
+using syncplc::store::testing::sqlite_shell;
 
 constexpr std::int64_t kSecond = 1'000'000'000;
 
@@ -35,18 +36,6 @@ std::unique_ptr<Database> open_db(const std::string& name) {
 
 std::int64_t count(Database& db) { return db.sql().execAndGet("SELECT count(*) FROM events").getInt64(); }
 
-// The sqlite3 shell's answer to `sql` on the file (a reader beside the writer).
-std::string shell(const std::string& path, const std::string& sql) {
-  const std::string cmd = "sqlite3 -readonly '" + path + "' \"" + sql + "\" 2>&1";
-  std::string out;
-  if (FILE* p = popen(cmd.c_str(), "r")) {
-    char buf[4096];
-    while (std::size_t n = fread(buf, 1, sizeof buf, p)) out.append(buf, n);
-    pclose(p);
-  }
-  while (!out.empty() && out.back() == '\n') out.pop_back();
-  return out;
-}
 
 TEST(EventLog, WritesEveryFieldOfAQueuedRecordAndNullForWhatIsNotKnown) {
   auto db = open_db("fields");
@@ -60,11 +49,11 @@ TEST(EventLog, WritesEveryFieldOfAQueuedRecordAndNullForWhatIsNotKnown) {
   EXPECT_EQ(log.due_ns(), 0) << "queued records are due now";
   log.run(*db, 0, false);
   EXPECT_EQ(q.pending(), 0u);
-  EXPECT_EQ(shell(db->path(), "SELECT kind, task, ifnull(scan, 'NULL'), source, message, ifnull(client, 'NULL') "
+  EXPECT_EQ(sqlite_shell(db->path(), "SELECT kind, task, ifnull(scan, 'NULL'), source, message, ifnull(client, 'NULL') "
                               "FROM events ORDER BY id"),
             "hmi-write|main|NULL|modbus|speed := 12.5|127.0.0.1:40512\n"
             "overrun|fast|1234|fast|scan overran its period|NULL");
-  EXPECT_EQ(shell(db->path(), "SELECT time_ns FROM events ORDER BY id LIMIT 1"), std::to_string(now));
+  EXPECT_EQ(sqlite_shell(db->path(), "SELECT time_ns FROM events ORDER BY id LIMIT 1"), std::to_string(now));
 }
 
 TEST(EventLog, KeepsTheNewestMaxCountEvents) {
@@ -77,7 +66,7 @@ TEST(EventLog, KeepsTheNewestMaxCountEvents) {
   for (int i = 0; i < 12; ++i) q.push(record(now + i, "e" + std::to_string(i)));
   log.run(*db, 0, false);
   EXPECT_EQ(count(*db), 5);
-  EXPECT_EQ(shell(db->path(), "SELECT group_concat(message, ',') FROM (SELECT message FROM events ORDER BY id)"),
+  EXPECT_EQ(sqlite_shell(db->path(), "SELECT group_concat(message, ',') FROM (SELECT message FROM events ORDER BY id)"),
             "e7,e8,e9,e10,e11");
 }
 
@@ -91,7 +80,7 @@ TEST(EventLog, DropsEventsOlderThanMaxAgeAndChecksTheAgeAgainLater) {
   q.push(record(now - 2 * 3600 * kSecond, "two hours ago"));
   q.push(record(now - 60 * kSecond, "a minute ago"));
   log.run(*db, 0, false);
-  EXPECT_EQ(shell(db->path(), "SELECT message FROM events"), "a minute ago");
+  EXPECT_EQ(sqlite_shell(db->path(), "SELECT message FROM events"), "a minute ago");
   // Nothing queued: the job is due again only for the age limit, not before a minute.
   EXPECT_GE(log.due_ns(), 60 * kSecond);
 }
@@ -139,14 +128,14 @@ TEST(EventLog, DiskFullKeepsRecordsQueuedDamagesNothingAndWritesThemOnceThereIsR
   }
   EXPECT_EQ(q.pending(), 10u) << "kept for the next try";
   EXPECT_EQ(log.due_ns(), 0);
-  EXPECT_EQ(shell(db->path(), "PRAGMA integrity_check"), "ok");
-  EXPECT_EQ(shell(db->path(), "SELECT count(*) || ' ' || max(message) FROM events"), "1 before the disk filled");
+  EXPECT_EQ(sqlite_shell(db->path(), "PRAGMA integrity_check"), "ok");
+  EXPECT_EQ(sqlite_shell(db->path(), "SELECT count(*) || ' ' || max(message) FROM events"), "1 before the disk filled");
   // Space returns: the waiting records are written once, in order.
   db->sql().exec("PRAGMA max_page_count = 1073741823");
   log.run(*db, 0, false);
   EXPECT_EQ(q.pending(), 0u);
-  EXPECT_EQ(shell(db->path(), "SELECT count(*), count(DISTINCT time_ns) FROM events"), "11|11");
-  EXPECT_EQ(shell(db->path(), "PRAGMA integrity_check"), "ok");
+  EXPECT_EQ(sqlite_shell(db->path(), "SELECT count(*), count(DISTINCT time_ns) FROM events"), "11|11");
+  EXPECT_EQ(sqlite_shell(db->path(), "PRAGMA integrity_check"), "ok");
 }
 
 TEST(EventLog, AReadOnlyDatabaseRefusesWithSqliteReadonlyAndTheRecordsWait) {
@@ -168,10 +157,10 @@ TEST(EventLog, AReadOnlyDatabaseRefusesWithSqliteReadonlyAndTheRecordsWait) {
     EXPECT_EQ(e.getErrorCode(), SQLITE_READONLY) << e.what();
   }
   EXPECT_EQ(q.pending(), 1u);
-  EXPECT_EQ(shell(db->path(), "SELECT group_concat(message) FROM events"), "first");
+  EXPECT_EQ(sqlite_shell(db->path(), "SELECT group_concat(message) FROM events"), "first");
   db->sql().exec("PRAGMA query_only = 0");
   log.run(*db, 0, false);
-  EXPECT_EQ(shell(db->path(), "SELECT group_concat(message) FROM (SELECT message FROM events ORDER BY id)"),
+  EXPECT_EQ(sqlite_shell(db->path(), "SELECT group_concat(message) FROM (SELECT message FROM events ORDER BY id)"),
             "first,second");
 }
 
@@ -203,8 +192,8 @@ TEST(EventLog, OnTheStoreThreadAFullDiskIsAVisibleFaultThatClearsWhenRoomReturns
   // Retried by the thread (a second after the failure): written, the fault cleared.
   EXPECT_TRUE(eventually([&] { return !st.health().fault && q.pending() == 0; }));
   st.stop();
-  EXPECT_EQ(shell(path, "SELECT count(*) FROM events"), "1");
-  EXPECT_EQ(shell(path, "PRAGMA integrity_check"), "ok");
+  EXPECT_EQ(sqlite_shell(path, "SELECT count(*) FROM events"), "1");
+  EXPECT_EQ(sqlite_shell(path, "PRAGMA integrity_check"), "ok");
 }
 
 }  // namespace
