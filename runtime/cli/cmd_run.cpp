@@ -162,7 +162,8 @@ int cmd_run(const RunOptions& options) {
     return kExitDriverFailed;
   }
   // The server binds before any task runs: a port in use stops here, cleanly.
-  auto modbus_server = start_modbus(*program, r.modbus, modbus_port, &run_events);
+  StoreStatusRegisters store_registers(*plc_store);
+  auto modbus_server = start_modbus(*program, r.modbus, modbus_port, &run_events, &store_registers);
   if (!modbus_server && (modbus_port || r.modbus.server.enabled)) {
     program->close_drivers();
     return kExitInvalid;
@@ -184,6 +185,7 @@ int cmd_run(const RunOptions& options) {
   plc_store->start();
   Reloader reloader(project, o, modbus_port);
   reloader.set_event_log(&run_events);
+  reloader.set_store_status(&store_registers);
   Supervisor supervisor(*program, *runner);
   const bool live = !no_status && isatty(STDOUT_FILENO);
   LiveScreen screen(std::cout, live);  // the alternate screen, given back on every way out (live_screen.hpp)

@@ -98,7 +98,7 @@ ReloadResult Reloader::reload(std::unique_ptr<Program>& program, RealtimeRunner&
     server->replace_program(*next.program, next.modbus.places);
   } else if (server || next_cfg.enabled) {
     server.reset();  // changed settings: a new server (its clients reconnect)
-    server = start_modbus(*next.program, next.modbus, modbus_port_, log_);
+    server = start_modbus(*next.program, next.modbus, modbus_port_, log_, store_status_);
   }
   // The store's jobs read the new program's snapshots from now on (the old
   // tasks mirror theirs into it until they switch), before the old one goes.

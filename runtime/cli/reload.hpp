@@ -51,12 +51,15 @@ class Reloader {
   // The event log: the old program's last events, and the audit trail of a
   // Modbus server the change restarts.
   void set_event_log(RunEvents* log) { log_ = log; }
+  // What a server started anew shows in its store status registers.
+  void set_store_status(const modbus::StoreStatusSource* s) { store_status_ = s; }
 
  private:
   std::string project_;
   LoadOptions options_;
   std::optional<int> modbus_port_;
   RunEvents* log_ = nullptr;
+  const modbus::StoreStatusSource* store_status_ = nullptr;
   // A change one task has not reached yet (a scan that does not end): the
   // old program stays until it does (poll), never destroyed under its thread.
   std::unique_ptr<ProgramChange> pending_;

@@ -27,11 +27,12 @@ ModbusConfig server_config(const ModbusConfig& project, std::optional<int> port_
 }
 
 std::unique_ptr<modbus::Server> start_modbus(Program& p, const ModbusSettings& s, std::optional<int> port_override,
-                                             modbus::ServerAudit* audit) {
+                                             modbus::ServerAudit* audit, const modbus::StoreStatusSource* store_status) {
   ModbusConfig cfg = server_config(s.server, port_override);
   if (!cfg.enabled) return nullptr;
   auto server = std::make_unique<modbus::Server>(p, ModbusSettings{cfg, s.places});
   server->set_audit(audit);
+  server->set_store_status(store_status);
   std::string err;
   if (!server->start(&err)) {
     std::cerr << "syncplc: modbus: " << err << "\n";

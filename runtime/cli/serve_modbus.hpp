@@ -17,7 +17,9 @@ ModbusConfig server_config(const ModbusConfig& project, std::optional<int> port_
 // Starts the server of `p` when the settings enable it; prints where it
 // listens. nullptr when it is off or could not start (the reason is printed).
 // `audit`: the event log's audit trail (writes, refused connections), or null.
+// `store_status`: what the store status registers show, or null ("off").
 std::unique_ptr<modbus::Server> start_modbus(Program& p, const ModbusSettings& s, std::optional<int> port_override,
-                                             modbus::ServerAudit* audit = nullptr);
+                                             modbus::ServerAudit* audit = nullptr,
+                                             const modbus::StoreStatusSource* store_status = nullptr);
 
 }  // namespace syncplc::cli

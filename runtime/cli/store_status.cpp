@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <filesystem>
 
 #include "runtime/core/monotonic_clock.hpp"
@@ -53,5 +54,18 @@ void print_store_status(std::ostream& os, const PlcStore& s) {
   }
   if (st.dropped) os << "  " << st.dropped << " event records dropped (the queue of " << s.events().capacity() << " was full)\n";
 }
+
+modbus::StoreStatusWords store_status_words(const StoreStatus& st) {
+  auto u32 = [](std::uint64_t v) { return static_cast<std::uint32_t>(std::min<std::uint64_t>(v, 0xFFFFFFFF)); };
+  modbus::StoreStatusWords w;
+  w.state = static_cast<std::uint16_t>(st.state);
+  w.since_ok_s = st.since_ok_ns < 0 ? 0xFFFF : static_cast<std::uint16_t>(std::min<std::int64_t>(st.since_ok_ns / 1'000'000'000, 0xFFFE));
+  w.pending = u32(st.pending);
+  w.dropped = u32(st.dropped);
+  w.failures = u32(st.failures);
+  return w;
+}
+
+modbus::StoreStatusWords StoreStatusRegisters::store_status_words() const { return cli::store_status_words(store_status(store_)); }
 
 }  // namespace syncplc::cli

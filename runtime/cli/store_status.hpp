@@ -9,6 +9,7 @@
 #include <string>
 
 #include "runtime/cli/plc_store.hpp"
+#include "runtime/modbus/store_status_source.hpp"
 
 namespace syncplc::cli {
 
@@ -28,5 +29,17 @@ std::string store_status_line(const StoreStatus& st, const std::string& path);
 // run's exit message: the state, what was not written and why; nothing
 // when the store is ok and every event was recorded.
 void print_store_status(std::ostream& os, const PlcStore& s);
+
+// The store status block of input registers (docs/modbus.md, "Store status"),
+// read by the Modbus server's thread.
+modbus::StoreStatusWords store_status_words(const StoreStatus& st);
+class StoreStatusRegisters final : public modbus::StoreStatusSource {
+ public:
+  explicit StoreStatusRegisters(const PlcStore& store) : store_(store) {}
+  modbus::StoreStatusWords store_status_words() const override;
+
+ private:
+  const PlcStore& store_;
+};
 
 }  // namespace syncplc::cli

@@ -54,6 +54,9 @@ struct ModbusConfig {
   // First input register of the task status block (docs/modbus.md, "Task
   // status"): eight registers per task, in task order. nullopt: not served.
   std::optional<std::uint32_t> task_status = 9000;
+  // First input register of the store status block (docs/modbus.md, "Store
+  // status"): eight registers. nullopt: not served.
+  std::optional<std::uint32_t> store_status = 8990;
 };
 
 // The settings on one line, as `syncplc check` prints them:

@@ -187,37 +187,61 @@ std::string modbus_span_text(const ModbusSpan& s) {
   return name + "s " + std::to_string(s.first) + ".." + std::to_string(std::uint64_t{s.first} + s.count - 1);
 }
 
-ModbusMap ModbusMap::build(const Program& p, const ModbusSettings& s, std::vector<std::string>* notes,
-                           std::vector<ModbusOverlap>* overlaps) {
-  ModbusMap m = build(p.tags, s.places, notes, overlaps);
-  if (!s.server.task_status || p.tasks.empty()) return m;
-  const std::uint32_t base = *s.server.task_status;
-  const std::uint32_t end = base + kTaskStatusRegisters * static_cast<std::uint32_t>(p.tasks.size());
-  auto& v = m.tables_[static_cast<int>(ModbusTable::InputRegisters)];
+namespace {
+
+// The status blocks are served only where no tag takes a register of them.
+bool status_block_free(const std::vector<ModbusPoint>& v, const Program& p, std::uint32_t base, std::uint32_t end,
+                       const char* what, const char* key, std::vector<std::string>* notes) {
   for (const auto& pt : v)
     if (pt.address < end && pt.address + pt.width > base) {
       if (notes)
-        notes->push_back("task status not served: input registers " + std::to_string(base) + ".." + std::to_string(end - 1) +
-                         " overlap tag " + p.tags[pt.tag].name + " (move it with modbus: {task_status: N})");
-      return m;
+        notes->push_back(std::string(what) + " not served: input registers " + std::to_string(base) + ".." +
+                         std::to_string(end - 1) + " overlap " +
+                         (pt.status == ModbusPoint::Status::None ? "tag " + p.tags[pt.tag].name : std::string("the task status block")) +
+                         " (move it with modbus: {" + key + ": N})");
+      return false;
     }
+  return true;
+}
+
+}  // namespace
+
+ModbusMap ModbusMap::build(const Program& p, const ModbusSettings& s, std::vector<std::string>* notes,
+                           std::vector<ModbusOverlap>* overlaps) {
+  ModbusMap m = build(p.tags, s.places, notes, overlaps);
+  auto& v = m.tables_[static_cast<int>(ModbusTable::InputRegisters)];
   using S = ModbusPoint::Status;
-  for (std::uint16_t t = 0; t < p.tasks.size(); ++t) {
-    const std::uint32_t a = base + kTaskStatusRegisters * t;
-    auto point = [&](std::uint32_t off, std::uint32_t width, IecType type, S status) {
-      ModbusPoint pt;
-      pt.table = ModbusTable::InputRegisters;
-      pt.address = a + off;
-      pt.width = width;
-      pt.owner = t;
-      pt.type = type;
-      pt.status = status;
-      v.push_back(pt);
-    };
-    point(0, 1, IecType::UINT, S::State);
-    point(1, 1, IecType::UINT, S::AgeMs);
-    point(2, 4, IecType::ULINT, S::Scans);
-    point(6, 2, IecType::UDINT, S::PeriodUs);
+  auto point = [&v](std::uint32_t address, std::uint32_t width, IecType type, S status, std::uint16_t owner) {
+    ModbusPoint pt;
+    pt.table = ModbusTable::InputRegisters;
+    pt.address = address;
+    pt.width = width;
+    pt.owner = owner;
+    pt.type = type;
+    pt.status = status;
+    v.push_back(pt);
+  };
+  if (s.server.task_status && !p.tasks.empty()) {
+    const std::uint32_t base = *s.server.task_status;
+    const std::uint32_t end = base + kTaskStatusRegisters * static_cast<std::uint32_t>(p.tasks.size());
+    if (status_block_free(v, p, base, end, "task status", "task_status", notes))
+      for (std::uint16_t t = 0; t < p.tasks.size(); ++t) {
+        const std::uint32_t a = base + kTaskStatusRegisters * t;
+        point(a + 0, 1, IecType::UINT, S::State, t);
+        point(a + 1, 1, IecType::UINT, S::AgeMs, t);
+        point(a + 2, 4, IecType::ULINT, S::Scans, t);
+        point(a + 6, 2, IecType::UDINT, S::PeriodUs, t);
+      }
+  }
+  if (s.server.store_status) {
+    const std::uint32_t a = *s.server.store_status;
+    if (status_block_free(v, p, a, a + kStoreStatusRegisters, "store status", "store_status", notes)) {
+      point(a + 0, 1, IecType::UINT, S::StoreState, 0);
+      point(a + 1, 1, IecType::UINT, S::StoreSinceOk, 0);
+      point(a + 2, 2, IecType::UDINT, S::StorePending, 0);
+      point(a + 4, 2, IecType::UDINT, S::StoreDropped, 0);
+      point(a + 6, 2, IecType::UDINT, S::StoreFailures, 0);
+    }
   }
   std::sort(v.begin(), v.end(), [](const ModbusPoint& x, const ModbusPoint& y) { return x.address < y.address; });
   return m;
@@ -306,10 +330,13 @@ void print_modbus_map(std::ostream& os, const Program& p, const ModbusMap& m, Wo
   for (int t = 0; t < 4; ++t) {
     const auto& v = m.points(static_cast<ModbusTable>(t));
     for (std::size_t i = 0; i < v.size();) {
-      if (v[i].status != ModbusPoint::Status::None) {  // the task status block: one line a task
+      if (v[i].status != ModbusPoint::Status::None) {  // the status blocks: one line a task, one for the store
         if (v[i].status == ModbusPoint::Status::State)
           os << "  input registers " << v[i].address << ".." << v[i].address + kTaskStatusRegisters - 1 << "  status of task "
              << p.tasks[v[i].owner]->config().name << " (state, age ms, scans, period us)  read only\n";
+        if (v[i].status == ModbusPoint::Status::StoreState)
+          os << "  input registers " << v[i].address << ".." << v[i].address + kStoreStatusRegisters - 1
+             << "  status of the store (state, s since commit, pending, dropped, failures)  read only\n";
         ++i;
         continue;
       }

@@ -41,8 +41,12 @@ struct ModbusPoint {
   std::uint16_t owner = 0;
   std::uint32_t cell = 0;
   IecType type = IecType::INT;
-  // A task status register (not a tag; `owner` is the task): what it shows.
-  enum class Status : std::uint8_t { None, State, AgeMs, Scans, PeriodUs } status = Status::None;
+  // A status register (not a tag): of the task status block (`owner` is the
+  // task) or of the store status block.
+  enum class Status : std::uint8_t {
+    None, State, AgeMs, Scans, PeriodUs,                                // task status
+    StoreState, StoreSinceOk, StorePending, StoreDropped, StoreFailures  // store status
+  } status = Status::None;
   bool explicit_place = false;  // placed by the tag's modbus: key, not by the convention
 };
 
@@ -53,6 +57,14 @@ struct ModbusPoint {
 // 65535), +2..+5 its scans published (ULINT), +6..+7 its period in µs (UDINT).
 inline constexpr std::uint32_t kTaskStatusRegisters = 8;
 enum class TaskState : std::uint16_t { NotStarted = 0, Running = 1, Stopped = 2, Late = 3 };
+
+// The store status block, from `server.store_status` (default 8990), input
+// registers: +0 state (0 ok, 1 FAULT: the database refuses writes and
+// records wait in a bounded queue, 2 off: no database), +1 seconds since the
+// last commit (saturating; 65535 none yet), +2..+3 event records pending,
+// +4..+5 event records dropped, +6..+7 failed store runs (UDINTs).
+inline constexpr std::uint32_t kStoreStatusRegisters = 8;
+inline bool is_store_status(ModbusPoint::Status s) { return s >= ModbusPoint::Status::StoreState; }
 
 // Registers a value of type t takes (bits for BOOL count as one coil).
 std::uint32_t register_width(IecType t);

@@ -109,8 +109,13 @@ RequestHandler::Outcome RequestHandler::reply(int fd, const std::uint8_t* frame,
 
 void RequestHandler::load(ModbusTable t, const std::vector<const ModbusPoint*>& points) {
   owners_.clear();
+  bool task_status = false, store_status = false;
   std::uint16_t last = 0xFFFF;
   for (const auto* pt : points) {
+    if (pt->status != ModbusPoint::Status::None) {
+      (is_store_status(pt->status) ? store_status : task_status) = true;
+      continue;
+    }
     if (pt->owner == last) continue;  // neighbours usually share an owner
     last = pt->owner;
     if (std::find(owners_.begin(), owners_.end(), last) == owners_.end()) owners_.push_back(last);
@@ -118,12 +123,10 @@ void RequestHandler::load(ModbusTable t, const std::vector<const ModbusPoint*>& 
   std::uint8_t* bits = t == ModbusTable::Coils ? scratch_->tab_bits : scratch_->tab_input_bits;
   std::uint16_t* regs = t == ModbusTable::HoldingRegisters ? scratch_->tab_registers : scratch_->tab_input_registers;
   const bool bit_table = t == ModbusTable::Coils || t == ModbusTable::DiscreteInputs;
-  bool status = false;
   for (const std::uint16_t owner : owners_) {
     program_->tasks[owner]->with_published([&](const Cell* image) {
       for (const auto* pt : points) {
-        if (pt->owner != owner) continue;
-        if (pt->status != ModbusPoint::Status::None) { status = true; continue; }
+        if (pt->owner != owner || pt->status != ModbusPoint::Status::None) continue;
         const Cell c = image[pt->cell];
         if (bit_table) bits[pt->address] = (c.raw & 0xFF) ? 1 : 0;
         else if (pt->width == 1 && pt->type != IecType::SINT) regs[pt->address] = static_cast<std::uint16_t>(c.raw);
@@ -131,14 +134,32 @@ void RequestHandler::load(ModbusTable t, const std::vector<const ModbusPoint*>& 
       }
     });
   }
-  if (status) load_task_status(points, regs);
+  if (task_status) load_task_status(points, regs);
+  if (store_status) load_store_status(points, regs);
+}
+
+void RequestHandler::load_store_status(const std::vector<const ModbusPoint*>& points, std::uint16_t* regs) {
+  const StoreStatusWords w = store_status_ ? store_status_->store_status_words() : StoreStatusWords{};
+  for (const auto* pt : points) {
+    Cell c;
+    switch (pt->status) {
+      case ModbusPoint::Status::StoreState: c.set<std::uint16_t>(w.state); break;
+      case ModbusPoint::Status::StoreSinceOk: c.set<std::uint16_t>(w.since_ok_s); break;
+      case ModbusPoint::Status::StorePending: c.set<std::uint32_t>(w.pending); break;
+      case ModbusPoint::Status::StoreDropped: c.set<std::uint32_t>(w.dropped); break;
+      case ModbusPoint::Status::StoreFailures: c.set<std::uint32_t>(w.failures); break;
+      default: continue;
+    }
+    if (pt->width == 1) regs[pt->address] = static_cast<std::uint16_t>(c.raw);
+    else encode_registers(pt->type, c, config_.word_order, regs + pt->address);
+  }
 }
 
 void RequestHandler::load_task_status(const std::vector<const ModbusPoint*>& points, std::uint16_t* regs) {
   const std::int64_t epoch = program_->epoch_ns.load(std::memory_order_acquire);
   const std::int64_t now = epoch < 0 ? -1 : monotonic_ns() - epoch;  // on the tasks' time axis
   for (const auto* pt : points) {
-    if (pt->status == ModbusPoint::Status::None) continue;
+    if (pt->status == ModbusPoint::Status::None || is_store_status(pt->status)) continue;
     Task& task = *program_->tasks[pt->owner];
     const SnapshotStamp s = task.published_stamp();
     const std::int64_t period = task.config().period_ns;
@@ -157,7 +178,7 @@ void RequestHandler::load_task_status(const std::vector<const ModbusPoint*>& poi
       case ModbusPoint::Status::AgeMs: c.set<std::uint16_t>(static_cast<std::uint16_t>(std::min<std::int64_t>(age / 1'000'000, 65535))); break;
       case ModbusPoint::Status::Scans: c.set<std::uint64_t>(s.scan); break;
       case ModbusPoint::Status::PeriodUs: c.set<std::uint32_t>(static_cast<std::uint32_t>(std::min<std::int64_t>(period / 1000, 0xFFFFFFFF))); break;
-      case ModbusPoint::Status::None: break;
+      default: break;
     }
     if (pt->width == 1) regs[pt->address] = static_cast<std::uint16_t>(c.raw);
     else encode_registers(pt->type, c, config_.word_order, regs + pt->address);

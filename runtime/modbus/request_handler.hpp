@@ -34,6 +34,7 @@
 #include "runtime/modbus/modbus_config.hpp"
 #include "runtime/core/program.hpp"
 #include "runtime/modbus/audit.hpp"
+#include "runtime/modbus/store_status_source.hpp"
 #include "runtime/modbus/counters.hpp"
 #include "runtime/modbus/frame.hpp"
 #include "runtime/modbus/register_map.hpp"
@@ -86,6 +87,8 @@ class RequestHandler {
   // being handled (set_client, by the server before handle()).
   void set_audit(ServerAudit* audit) { audit_ = audit; }
   void set_client(ClientAddress client) { client_ = client; }
+  // Where the store status block's values come from; null: the block reads as "off".
+  void set_store_status(const StoreStatusSource* source) { store_status_ = source; }
 
   enum class Outcome : std::uint8_t {
     Sent,        // the reply (normal or exception) went out whole
@@ -111,6 +114,8 @@ class RequestHandler {
   void load(ModbusTable t, const std::vector<const ModbusPoint*>& points);
   // The task status registers among `points` (register_map.hpp, kTaskStatusRegisters).
   void load_task_status(const std::vector<const ModbusPoint*>& points, std::uint16_t* regs);
+  // The store status registers among `points` (register_map.hpp, kStoreStatusRegisters).
+  void load_store_status(const std::vector<const ModbusPoint*>& points, std::uint16_t* regs);
   // Decodes and checks the values a write carries (bits: one per coil; registers:
   // big-endian words). False when a value is outside its tag's type (exception 03).
   bool stage_bits(const std::vector<const ModbusPoint*>& points, const std::uint8_t* bits);
@@ -126,6 +131,7 @@ class RequestHandler {
   Program* program_ = nullptr;
   ModbusMap map_;
   ServerAudit* audit_ = nullptr;
+  const StoreStatusSource* store_status_ = nullptr;
   ClientAddress client_;
   modbus_t* ctx_ = nullptr;
   _modbus_mapping_t* scratch_ = nullptr;

@@ -63,6 +63,9 @@ class Server {
     audit_ = audit;
     handler_->set_audit(audit);
   }
+  // The store status block's source (store_status_source.hpp). Before
+  // start(); null: the block reads as "off".
+  void set_store_status(const StoreStatusSource* source) { handler_->set_store_status(source); }
   // Coils, inputs and registers mapped (values, not registers).
   std::size_t handler_map_size() const;
 

@@ -10,7 +10,7 @@ namespace syncplc {
 namespace {
 
 const char* const kSectionKeys =
-    "enabled, port, bind, unit_id, max_clients, idle_timeout, word_order, allowed_clients, read_only, cpus, task_status";
+    "enabled, port, bind, unit_id, max_clients, idle_timeout, word_order, allowed_clients, read_only, cpus, task_status, store_status";
 
 // A BOOL setting; false (and `out` unchanged) after reporting a bad value.
 bool read_flag(const ConfigNode& v, const std::string& what, bool& out, Diagnostics& d) {
@@ -155,6 +155,10 @@ void read_modbus_section(const ConfigNode& n, ModbusConfig& out, Diagnostics& d)
     else if (k == "task_status") {
       if (v.is_scalar() && v.scalar == "none") out.task_status.reset();
       else if (auto c = read_integer(v, "modbus task_status", 0, 65535 - 8 * 64, d)) out.task_status = static_cast<std::uint32_t>(*c);
+    }
+    else if (k == "store_status") {
+      if (v.is_scalar() && v.scalar == "none") out.store_status.reset();
+      else if (auto c = read_integer(v, "modbus store_status", 0, 65535 - 8, d)) out.store_status = static_cast<std::uint32_t>(*c);
     }
     else d.error(v.loc, "unknown key '" + k + "' in modbus (" + kSectionKeys + ")");
   }

@@ -89,6 +89,28 @@ TEST(StoreStatusLine, OkFaultAndOffWithTheCountsBeforeTheErrorText) {
   EXPECT_EQ(store_status_line(st, "plc.db"), "Store off  cannot open the database /x/plc.db: unable to open database file");
 }
 
+TEST(StoreStatusRegisters, WordsSaturateAndSayNoCommitYet) {
+  StoreStatus st;
+  modbus::StoreStatusWords w = store_status_words(st);
+  EXPECT_EQ(w.state, 0);
+  EXPECT_EQ(w.since_ok_s, 0xFFFF) << "no commit yet";
+  st.since_ok_ns = 7'900'000'000;
+  EXPECT_EQ(store_status_words(st).since_ok_s, 7) << "whole seconds";
+  st.since_ok_ns = 100'000LL * 1'000'000'000;
+  EXPECT_EQ(store_status_words(st).since_ok_s, 0xFFFE) << "saturates below 'none yet'";
+  st.state = StoreStatus::State::Fault;
+  st.pending = 10'000;
+  st.dropped = 5'000'000'000ULL;
+  st.failures = 12;
+  w = store_status_words(st);
+  EXPECT_EQ(w.state, 1);
+  EXPECT_EQ(w.pending, 10'000u);
+  EXPECT_EQ(w.dropped, 0xFFFFFFFFu) << "UDINT saturates";
+  EXPECT_EQ(w.failures, 12u);
+  st.state = StoreStatus::State::Off;
+  EXPECT_EQ(store_status_words(st).state, 2);
+}
+
 TEST(StoreStatusLine, OnTheLiveScreenWithin80Columns) {
   LiveView v;
   v.project = "demo 1.0";

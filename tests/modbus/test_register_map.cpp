@@ -282,6 +282,31 @@ TEST(ModbusMap, CheckMarksExplicitPlacesAndPrintsTheWordOrder) {
   EXPECT_THAT(os.str(), ::testing::HasSubstr("  holding register 1025  plain INT at %MW1  read only\n"));
 }
 
+TEST(ModbusMap, StatusBlocksOfTasksAndStoreAreListedAndKeptClearOfTags) {
+  auto r = load_test_result(kProject);
+  ASSERT_TRUE(r.program);
+  std::ostringstream os;
+  print_modbus_map(os, *r.program, ModbusMap::build(*r.program, r.modbus), WordOrder::HighFirst);
+  EXPECT_THAT(os.str(), ::testing::HasSubstr("  input registers 8990..8997  status of the store (state, s since commit, "
+                                             "pending, dropped, failures)  read only\n"));
+  EXPECT_THAT(os.str(), ::testing::HasSubstr("  input registers 9000..9007  status of task main"));
+  ModbusSettings s = r.modbus;
+  s.server.store_status = 9004;  // inside the task status block
+  std::vector<std::string> notes;
+  ModbusMap m = ModbusMap::build(*r.program, s, &notes);
+  EXPECT_THAT(notes, ::testing::Contains("store status not served: input registers 9004..9011 overlap the task status "
+                                         "block (move it with modbus: {store_status: N})"));
+  for (const auto& pt : m.points(ModbusTable::InputRegisters)) EXPECT_FALSE(is_store_status(pt.status));
+  s.server.store_status = 3;  // tag level is input register 5
+  notes.clear();
+  ModbusMap::build(*r.program, s, &notes);
+  EXPECT_THAT(notes, ::testing::Contains("store status not served: input registers 3..10 overlap tag level (move it "
+                                         "with modbus: {store_status: N})"));
+  s.server.store_status.reset();
+  m = ModbusMap::build(*r.program, s);
+  for (const auto& pt : m.points(ModbusTable::InputRegisters)) EXPECT_FALSE(is_store_status(pt.status));
+}
+
 TEST(ModbusConfig, ClientNetworksParseAndPrint) {
   auto n = parse_client_network("192.168.1.0/24");
   ASSERT_TRUE(n);

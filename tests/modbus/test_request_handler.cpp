@@ -419,5 +419,24 @@ TEST_F(Handler, TaskStatusRegistersTellStateAgeScansAndPeriod) {
   EXPECT_EQ(body(ask(frame(pdu(0x04, 9003, 1)))), exception_of(0x04, 0x02));
 }
 
+// Input registers 8990.. (the default store_status): the store's state as its source tells it.
+TEST_F(Handler, StoreStatusRegistersTellStatePendingDroppedFailures) {
+  Bytes r = body(ask(frame(pdu(0x04, 8990, 8))));
+  EXPECT_EQ(r, (Bytes{0x04, 16, 0, 2, 0xFF, 0xFF, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0})) << "no source: off, never committed";
+  struct Source final : modbus::StoreStatusSource {
+    modbus::StoreStatusWords w;
+    modbus::StoreStatusWords store_status_words() const override { return w; }
+  } source;
+  source.w = {1, 7, 70000, 3, 0x01020304};
+  handler->set_store_status(&source);
+  r = body(ask(frame(pdu(0x04, 8990, 8))));
+  EXPECT_EQ(r, (Bytes{0x04, 16, 0, 1, 0, 7, 0, 1, 0x11, 0x70, 0, 0, 0, 3, 1, 2, 3, 4})) << "FAULT, 7 s, UDINTs high word first";
+  config.word_order = WordOrder::LowFirst;
+  r = body(ask(frame(pdu(0x04, 8992, 2))));
+  EXPECT_EQ(r, (Bytes{0x04, 4, 0x11, 0x70, 0, 1})) << "low word first";
+  EXPECT_EQ(body(ask(frame(pdu(0x04, 8993, 1)))), exception_of(0x04, 0x02)) << "a UDINT cannot be cut";
+  EXPECT_EQ(body(ask(frame(pdu(0x03, 8990, 1)))), exception_of(0x03, 0x02)) << "input registers only";
+}
+
 }  // namespace
 }  // namespace syncplc

@@ -73,6 +73,10 @@ def main():
         # Seen while the PLC runs, with the client's address.
         follower.wait_for("hmi-write", "qw_int := 1234", "client " + client)
         follower.wait_for("hmi-write", "q_cmd := TRUE", "client " + client)
+        # The store status block (docs/modbus.md, "Store status"): ok, a commit
+        # made (seconds since it, not 65535), nothing dropped, no failed run.
+        st = peer.wait_read("input", 8990, 8, lambda v: v[0] == 0 and v[1] < 65535, "store status ok, committed")
+        P.check_equal(st[4:], [0, 0, 0, 0], "store status: no record dropped, no failed run")
         peer.close()
     finally:
         if follower:

@@ -116,7 +116,7 @@ modbus:
                           "p.yaml:10:43: modbus allowed_clients: 'nope' is not an IPv4 address or network (a.b.c.d or a.b.c.d/n, n 0..32)",
                           "p.yaml:11:14: modbus read_only: 'sometimes' is not a BOOL (TRUE or FALSE)",
                           "p.yaml:12:11: unknown key 'colour' in modbus (enabled, port, bind, unit_id, max_clients, idle_timeout, "
-                          "word_order, allowed_clients, read_only, cpus, task_status)",
+                          "word_order, allowed_clients, read_only, cpus, task_status, store_status)",
                           "p.yaml:13:13: modbus cpus must be an integer 0..1023, not '1024'"));
 }
 
@@ -162,7 +162,7 @@ tasks: [{name: main, period: 1ms}]
 modbus: [5020]
 )"),
               ElementsAre("p.yaml:2:9: modbus: expected a map {enabled, port, bind, unit_id, max_clients, idle_timeout, "
-                          "word_order, allowed_clients, read_only, cpus, task_status}"));
+                          "word_order, allowed_clients, read_only, cpus, task_status, store_status}"));
 }
 
 TEST(ModbusSection, ComesFromAnIncludedFileOrFromOneFileOnly) {
