@@ -191,6 +191,19 @@ class Pid final : public Block {
     out<bool>(kSat, clipped);
   }
 
+  // Retained (docs/store.md, "Retained block instances"): the integral part,
+  // in output units, so a loop restarted at its operating point continues
+  // from the bias it had learnt instead of winding up again from 0 (the
+  // bumpless restart of Astrom & Hagglund 3.5). The derivative filter is not
+  // kept: it describes a signal of a run that ended, and the first scan
+  // after the start takes no derivative (first_).
+  std::uint32_t retain_cells() const noexcept override { return 1; }
+  void save_retain(Cell* out) const noexcept override { out[0].set<double>(integral_); }
+  void load_retain(const Cell* in) noexcept override {
+    const double i = in[0].get<double>();
+    if (std::isfinite(i)) integral_ = i;
+  }
+
  private:
   // The tunable values of `n`; the structure (anti_windup, d_on_error) stays.
   void apply(const PidConfig& n) noexcept {
@@ -280,7 +293,8 @@ void register_pid_controllers(BlockRegistry& r) {
         "bumpless. reset (priority over manual): I = D = 0, y = LIMIT(out_min, 0, out_max). Gains, times and "
         "limits are tunable while running (online change or the <param>_in inputs): I is kept as the "
         "integral of Kp/Ti error and D as its filtered output, so a change does not bump y (in steady state "
-        "not at all; otherwise only P follows Kp error).";
+        "not at all; otherwise only P follows Kp error). A retain or persistent instance keeps I over a restart "
+        "(the derivative filter starts afresh, with no derivative on the first scan).";
     t.reference =
         "Astrom & Hagglund, Advanced PID Control (ISA 2006), sections 3.5-3.6 and 13.4; behaviour as CODESYS "
         "PID / TwinCAT FB_CTRL_PID";

@@ -65,5 +65,29 @@ TEST(Sr, HoldsStateAcrossScans) {
   EXPECT_FALSE(h.get<bool>("Q1"));
 }
 
+// Retained (docs/store.md): the latched Q1 comes back in a new instance and
+// still obeys the table; a fresh one starts FALSE.
+TEST(Sr, RetainedStateComesBackLatched) {
+  for (const char* type : {"SR", "RS"}) {
+    const bool sr = std::string(type) == "SR";
+    BlockHarness a(registry(), type);
+    a.set<bool>(sr ? "S1" : "S", true);
+    a.scan();
+    ASSERT_EQ(a.block().retain_cells(), 1u) << type;
+    Cell state;
+    a.block().save_retain(&state);
+    BlockHarness b(registry(), type);
+    b.block().load_retain(&state);
+    b.scan();
+    EXPECT_TRUE(b.get<bool>("Q1")) << type << ": restored latched with both inputs FALSE";
+    b.set<bool>(sr ? "R" : "R1", true);
+    b.scan();
+    EXPECT_FALSE(b.get<bool>("Q1")) << type << ": and reset as before";
+    BlockHarness fresh(registry(), type);
+    fresh.scan();
+    EXPECT_FALSE(fresh.get<bool>("Q1"));
+  }
+}
+
 }  // namespace
 }  // namespace syncplc::iectest

@@ -271,6 +271,46 @@ TEST(Pid, ResetClearsTheState) {
   EXPECT_NEAR(h.get<double>("y"), 1.0, 1e-12);  // P only: the integral starts again from 0
 }
 
+// A retained PID (docs/store.md, "Retained block instances") restarts at its
+// operating point with the integral it had: the first output after the
+// restart is the output before it, where a fresh instance falls back to the
+// P part alone (here 0: no error at steady state) and winds up again.
+TEST(Pid, RetainedIntegralRestartsBumplessAtTheOperatingPoint) {
+  const auto params = pid_opts({{"Kp", "4"}, {"Ti", "0.2"}, {"Td", "0.01"}, {"out_min", "-5"}, {"out_max", "5"}});
+  BlockHarness a(registry(), "PID", params);
+  ASSERT_CTL_OK(a);
+  FirstOrder plant(0.5, 0.3, 1e-3);  // steady state needs u = 2 y: a bias only the integral holds
+  a.set<double>("setpoint", 1.5);
+  for (int j = 0; j < 6000; ++j) {
+    a.set<double>("actual", plant.y);
+    a.scan();
+    plant.step(a.get<double>("y"));
+  }
+  const double u_before = a.get<double>("y");
+  ASSERT_NEAR(u_before, 3.0, 1e-3);
+  ASSERT_EQ(a.block().retain_cells(), 1u);
+  Cell state;
+  a.block().save_retain(&state);
+
+  BlockHarness b(registry(), "PID", params), fresh(registry(), "PID", params);
+  ASSERT_CTL_OK(b);
+  b.block().load_retain(&state);
+  for (BlockHarness* h : {&b, &fresh}) {
+    h->set<double>("setpoint", 1.5);
+    h->set<double>("actual", plant.y);
+    h->scan();
+  }
+  EXPECT_NEAR(b.get<double>("y"), u_before, 1e-3) << "restored: no bump, no derivative kick";
+  EXPECT_LT(fresh.get<double>("y"), 0.01) << "not restored: the integral starts from 0";
+  Cell nan;
+  nan.set<double>(std::nan(""));
+  BlockHarness c(registry(), "PID", params);
+  c.block().load_retain(&nan);  // a stored value that is not a number is not taken
+  c.set<double>("setpoint", 1.0);
+  c.scan();
+  EXPECT_NEAR(c.get<double>("y"), 4.0, 1e-12);
+}
+
 // ---- PD_CONTROLLER ----------------------------------------------------------
 
 TEST(PdController, LawAndLimit) {
