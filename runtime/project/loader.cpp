@@ -10,6 +10,7 @@
 #include "runtime/project/store_section.hpp"
 #include "runtime/project/stages.hpp"
 #include "runtime/project/yaml_tree.hpp"
+#include "runtime/store/project_store.hpp"
 #include "runtime/store/trend_series.hpp"
 
 namespace syncplc {
@@ -83,6 +84,7 @@ LoadResult load_tree(ConfigNode root, const std::string& path, const LoadOptions
     r.program = std::move(prog);
     r.modbus = build_modbus(p);
     r.store = build_store(p);
+    r.store.content_hash = store::make_content(r.sources).hash;  // retain's "changed project" (docs/store.md)
     store::build_trend_folds(*r.program, r.store);  // the tasks' historian buckets, sized before they run
   }
   r.diagnostics = std::move(diags);

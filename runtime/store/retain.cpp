@@ -139,26 +139,6 @@ std::vector<RetainVar> retained_vars(const Program& p) {
   return vars;
 }
 
-std::string project_content_hash(const Program& p) {
-  std::set<std::string> files{p.file};
-  for (const auto& t : p.tags)
-    if (!t.loc.file.str().empty()) files.insert(t.loc.file.str());
-  std::uint64_t h = 14695981039346656037ULL;  // FNV-1a 64
-  auto mix = [&h](const char* data, std::size_t n) {
-    for (std::size_t i = 0; i < n; ++i) {
-      h ^= static_cast<unsigned char>(data[i]);
-      h *= 1099511628211ULL;
-    }
-  };
-  for (const auto& f : files) {
-    std::ifstream in(f, std::ios::binary);
-    const std::string content((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    mix(f.data(), f.size() + 1);  // with its terminating NUL: "a" + "bc" differs from "ab" + "c"
-    mix(content.data(), content.size());
-  }
-  return fmt::format("fnv1a64:{:016x}", h);
-}
-
 bool prepare_retain_tables(SQLite::Database& db, std::string* error) { return ensure_schema(db, kRetainSchema, error); }
 
 std::vector<std::string> restore_retain(SQLite::Database& db, Program& p, StartMode mode, const std::string& hash) {
@@ -271,7 +251,7 @@ RetainJob::RetainJob(Program& p, const StoreSettings& s, StartMode mode)
 
 bool RetainJob::prepare(Database& db, std::string* error) {
   if (!prepare_retain_tables(db.sql(), error)) return false;
-  notices_ = restore_retain(db.sql(), *program_, mode_, project_content_hash(*program_));
+  notices_ = restore_retain(db.sql(), *program_, mode_, content_hash_);
   // The restored values are what is stored now.
   for (std::size_t i = 0; i < vars_.size(); ++i) {
     const Cell* c = image_of(*program_, vars_[i]);
@@ -313,7 +293,8 @@ void RetainJob::switch_program(Program& next, const StoreSettings& settings) {
       known_[i] = true;
     }
   }
-  pending_hash_ = project_content_hash(next);
+  content_hash_ = settings.content_hash;
+  pending_hash_ = content_hash_;
   schedule(next_ns_);
 }
 

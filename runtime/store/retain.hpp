@@ -46,12 +46,6 @@ struct RetainVar {
 };
 std::vector<RetainVar> retained_vars(const Program& p);
 
-// What identifies the project's content: FNV-1a over the project file and
-// every file its tags were read from (includes), in path order. An include
-// without tags is not in it: the project store's hash of the whole file set
-// should replace this once it exists.
-std::string project_content_hash(const Program& p);
-
 // The retain part's tables (schema.hpp).
 bool prepare_retain_tables(SQLite::Database& db, std::string* error);
 
@@ -98,6 +92,7 @@ class RetainJob final : public StoreJob {
   std::vector<Cell> taken_;            // from the snapshots, this run
   std::vector<Cell> stored_;           // as last committed
   std::vector<bool> known_;            // per var: stored_ holds its committed value
+  std::string content_hash_;           // StoreSettings::content_hash of the program served
   std::string pending_hash_;           // an online change's content, recorded at the next run
   std::vector<std::string> notices_;
   std::size_t last_written_ = 0;

@@ -36,6 +36,10 @@ struct StoreSettings {
   std::int64_t trend_max_age_ns = 365LL * 24 * 3600 * 1'000'000'000;
   std::uint64_t trend_max_bytes = 1ULL << 30;
   std::vector<TrendSpec> trends;  // in tag order
+  // The project store's content hash of the files this load read
+  // (project_store.hpp): what retain compares to decide "the project
+  // changed" (docs/store.md, "Starts"). "" when loaded from no file.
+  std::string content_hash;
 };
 
 }  // namespace syncplc::store

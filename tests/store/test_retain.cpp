@@ -113,6 +113,32 @@ TEST_F(Retain, AChangedProjectReinitialisesRetainAndKeepsPersistent) {
   EXPECT_EQ(c.dint("keep"), 200);
 }
 
+// "Changed" is the project store's content hash of every file the load
+// read: an edit confined to an included file that declares no tag (only
+// connections and blocks) is a changed project too; an unchanged one is not.
+TEST_F(Retain, AnEditInAnIncludeWithoutTagsIsAChangedProject) {
+  write(std::string(kBase) + "include: [logic.yaml]\n");
+  std::ofstream(dir + "/logic.yaml") << "blocks: [{name: m, type: MOVE, datatype: DINT}]\n"
+                                         "connections: [r -> m.IN, m.OUT -> plain]\n";
+  {
+    Plc a = start();
+    EXPECT_EQ(a.loaded.store.content_hash.size(), 64u) << "SHA-256 in hex";
+    set_values(a);
+    a.stop();
+  }
+  {
+    Plc same = start();
+    EXPECT_EQ(same.dint("r"), 100) << "nothing changed: a warm start restores";
+    same.stop();
+  }
+  std::ofstream(dir + "/logic.yaml", std::ios::trunc) << "blocks: [{name: m, type: MOVE, datatype: DINT}]\n"
+                                                          "connections: [keep -> m.IN, m.OUT -> plain]\n";
+  Plc b = start();
+  EXPECT_EQ(b.dint("r"), 1);
+  EXPECT_EQ(b.dint("keep"), 200);
+  EXPECT_THAT(b.notices(), Contains(HasSubstr("project changed")));
+}
+
 TEST_F(Retain, ColdStartKeepsOnlyPersistentAndOriginNothing) {
   write(kBase);
   {
