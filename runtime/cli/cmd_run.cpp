@@ -243,7 +243,7 @@ int cmd_run(const RunOptions& options) {
       supervisor.attach(*program, *runner);
       continue;
     }
-    reloader.poll(*runner, std::cerr);
+    reloader.poll(*runner, std::cerr, plc_store.get());
     if (!warned) {
       for (const auto& w : runner->warnings()) {
         if (live) screen.add_event("warning: " + w);
@@ -276,6 +276,7 @@ int cmd_run(const RunOptions& options) {
   if (joined) {
     runner->join();
     program->close_drivers();
+    plc_store->tasks_ended(*program);  // the historian's buckets in progress, stored by the final run
   }
   for_each_event(*program, supervisor, run_events, [](const std::string& line) { std::cerr << line << "\n"; });
   const int status = run_exit_status(joined, all_stopped, supervisor.any_hung());

@@ -27,12 +27,15 @@ namespace {
 
 // The jobs the project needs, each prepared on `db` (its tables).
 bool add_jobs(store::StoreThread& st, Program& p, const LoadResult& loaded, store::StartMode start,
-              std::vector<std::string>& retain_notices, std::string* error, store::ProjectsJob*& projects) {
+              std::vector<std::string>& retain_notices, std::string* error, store::ProjectsJob*& projects,
+              const store::Historian*& historian) {
   auto retain = std::make_unique<store::RetainJob>(p, loaded.store, start);
   store::RetainJob& r = *retain;
   if (!st.add(std::move(retain), error)) return false;
   retain_notices = r.start_notices();
-  if (!st.add(std::make_unique<store::Historian>(p, loaded.store), error)) return false;
+  auto h = std::make_unique<store::Historian>(p, loaded.store);
+  historian = h.get();
+  if (!st.add(std::move(h), error)) return false;
   auto pj = std::make_unique<store::ProjectsJob>();
   projects = pj.get();
   return st.add(std::move(pj), error);
@@ -61,7 +64,7 @@ std::unique_ptr<PlcStore> PlcStore::open(const std::string& path, Program& p, co
     notices.push_back("store: the database " + path + " was unreadable (" + report.problem + "); it was moved to " +
                       report.moved_aside + " and a new one started: retain values start from their initial values");
   s->thread_ = std::make_unique<store::StoreThread>(std::move(db));
-  if (!add_jobs(*s->thread_, p, loaded, start, s->retain_notices_, error, s->projects_)) return nullptr;
+  if (!add_jobs(*s->thread_, p, loaded, start, s->retain_notices_, error, s->projects_, s->historian_)) return nullptr;
   store::StoreThread* st = s->thread_.get();
   s->events_.on_push([st] { st->wake(); });
   if (!st->add(std::make_unique<store::EventLog>(s->events_, store::retention_of(loaded.store)), error)) return nullptr;
@@ -86,6 +89,12 @@ void PlcStore::stop() {
 void PlcStore::switch_program(Program& next, const LoadResult& loaded) {
   if (thread_) thread_->switch_program(next, loaded.store);
 }
+
+void PlcStore::tasks_ended(Program& p) {
+  if (thread_) thread_->tasks_ended(p);
+}
+
+std::uint64_t PlcStore::trend_buckets_lost() const { return historian_ ? historian_->lost() : 0; }
 
 void PlcStore::record(store::ProjectLoad load) {
   if (!projects_) return;

@@ -15,6 +15,10 @@
 #include "runtime/store/retain.hpp"
 #include "runtime/store/store_thread.hpp"
 
+namespace syncplc::store {
+class Historian;
+}
+
 namespace syncplc::cli {
 
 // $XDG_STATE_HOME/syncplc/plc.db, else $HOME/.local/state/syncplc/plc.db.
@@ -41,6 +45,12 @@ class PlcStore {
   void stop();
   // An online change installed `next` (its load result `loaded`).
   void switch_program(Program& next, const LoadResult& loaded);
+  // The tasks of `p` stopped running it for good (store_thread.hpp,
+  // StoreJob::tasks_ended): after they were joined at a clean stop, or
+  // after an online change completed, before the old program goes.
+  void tasks_ended(Program& p);
+  // Trend buckets lost so far (a task's full ring, the historian's full queue).
+  std::uint64_t trend_buckets_lost() const;
   // A project load (start, online change, rollback) for the project store,
   // written by the store thread (nothing when the store is off).
   void record(store::ProjectLoad load);
@@ -67,6 +77,7 @@ class PlcStore {
   std::string off_reason_;
   std::unique_ptr<store::StoreThread> thread_;
   store::ProjectsJob* projects_ = nullptr;  // owned by thread_
+  const store::Historian* historian_ = nullptr;  // owned by thread_
   store::EventQueue events_;
   bool fault_seen_ = false;
   std::vector<std::string> retain_notices_;

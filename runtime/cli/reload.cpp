@@ -31,10 +31,11 @@ Reloader::~Reloader() {
     for (std::size_t a : pending_->old_drivers) pending_old_->drivers[a].driver->close();
 }
 
-void Reloader::poll(RealtimeRunner& runner, std::ostream& events) {
+void Reloader::poll(RealtimeRunner& runner, std::ostream& events, PlcStore* store) {
   if (!pending_ || !runner.change_complete()) return;
   runner.finish_change();
   drain_task_events(events, *pending_old_, log_);
+  if (store) store->tasks_ended(*pending_old_);  // the historian's last buckets of the old tasks
   for (std::size_t a : pending_->old_drivers) pending_old_->drivers[a].driver->close();
   pending_.reset();
   pending_old_.reset();
@@ -46,7 +47,7 @@ ReloadResult Reloader::reload(std::unique_ptr<Program>& program, RealtimeRunner&
   ReloadResult r;
   const std::string& file = from.path.empty() ? project_ : from.path;
   const std::string what = from.source.empty() ? file : from.source + " (" + file + ")";
-  poll(runner, events);
+  poll(runner, events, store);
   if (pending_) {
     r.summary = "reload refused: the previous change still waits for a task that has not reached its switch";
     return r;
@@ -138,6 +139,7 @@ ReloadResult Reloader::reload(std::unique_ptr<Program>& program, RealtimeRunner&
   }
   runner.finish_change();
   drain_task_events(events, old, log_);
+  if (store) store->tasks_ended(old);  // the historian's last buckets of the old tasks
   for (std::size_t a : change->old_drivers) old.drivers[a].driver->close();
   change.reset();
   program = std::move(next.program);  // the old program (and the fresh blocks swapped into it) goes

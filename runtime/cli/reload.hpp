@@ -46,7 +46,8 @@ class Reloader {
                       std::unique_ptr<modbus::Server>& server, PlcStore* store, std::ostream& events,
                       const ReloadFrom& from = {});
   // Completes a change that waited for a late task, once it has switched.
-  void poll(RealtimeRunner& runner, std::ostream& events);
+  // `store`: told that the old program's tasks ended (PlcStore::tasks_ended).
+  void poll(RealtimeRunner& runner, std::ostream& events, PlcStore* store = nullptr);
   bool change_pending() const { return pending_ != nullptr; }
   // The event log: the old program's last events, and the audit trail of a
   // Modbus server the change restarts.

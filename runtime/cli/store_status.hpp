@@ -18,6 +18,7 @@ struct StoreStatus {
   std::string error;            // the last failure ("events: database or disk is full"), the reason it is off
   std::uint64_t pending = 0;    // event records waiting to be written
   std::uint64_t dropped = 0;    // event records lost to a full queue
+  std::uint64_t trend_lost = 0;  // trend buckets lost to a full ring or queue (historian.hpp)
   std::uint64_t failures = 0;   // failed store runs since start
   std::int64_t since_ok_ns = -1;  // since the last successful commit; -1: none yet
 };

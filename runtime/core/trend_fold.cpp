@@ -52,4 +52,12 @@ void TrendFold::fold(const Cell* image, std::int64_t release_ns) noexcept {
   }
 }
 
+void TrendFold::flush() noexcept {
+  for (auto& e : elements_) {
+    if (e.running.count == 0) continue;
+    if (!ring_.push(e.running)) dropped_.fetch_add(1, std::memory_order_relaxed);
+    e.running.count = 0;
+  }
+}
+
 }  // namespace syncplc

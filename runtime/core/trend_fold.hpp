@@ -47,6 +47,13 @@ class TrendFold {
   // scans is not stored).
   void fold(const Cell* image, std::int64_t release_ns) noexcept;
 
+  // Once the task has stopped folding for good (a clean stop after its
+  // thread was joined, or an online change after the task switched to the
+  // new program): the buckets in progress go into the ring as they are, so
+  // the last partial bucket is stored too. The caller becomes the ring's
+  // producer: never while fold() may still run.
+  void flush() noexcept;
+
   // The store thread.
   bool pop(TrendBucket& out) noexcept { return ring_.pop(out); }
   std::uint64_t dropped() const noexcept { return dropped_.load(std::memory_order_relaxed); }

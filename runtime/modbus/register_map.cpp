@@ -336,7 +336,7 @@ void print_modbus_map(std::ostream& os, const Program& p, const ModbusMap& m, Wo
              << p.tasks[v[i].owner]->config().name << " (state, age ms, scans, period us)  read only\n";
         if (v[i].status == ModbusPoint::Status::StoreState)
           os << "  input registers " << v[i].address << ".." << v[i].address + kStoreStatusRegisters - 1
-             << "  status of the store (state, s since commit, pending, dropped, failures)  read only\n";
+             << "  status of the store (state, s since commit, pending, lost, failures)  read only\n";
         ++i;
         continue;
       }

@@ -62,7 +62,7 @@ enum class TaskState : std::uint16_t { NotStarted = 0, Running = 1, Stopped = 2,
 // registers: +0 state (0 ok, 1 FAULT: the database refuses writes and
 // records wait in a bounded queue, 2 off: no database), +1 seconds since the
 // last commit (saturating; 65535 none yet), +2..+3 event records pending,
-// +4..+5 event records dropped, +6..+7 failed store runs (UDINTs).
+// +4..+5 records lost (event records, trend buckets), +6..+7 failed store runs (UDINTs).
 inline constexpr std::uint32_t kStoreStatusRegisters = 8;
 inline bool is_store_status(ModbusPoint::Status s) { return s >= ModbusPoint::Status::StoreState; }
 

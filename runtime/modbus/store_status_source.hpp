@@ -13,7 +13,7 @@ struct StoreStatusWords {
   std::uint16_t state = 2;            // 0 ok, 1 FAULT (writes refused, records queue), 2 off (no database)
   std::uint16_t since_ok_s = 0xFFFF;  // seconds since the last commit, saturating; 65535: none yet
   std::uint32_t pending = 0;          // event records waiting to be written
-  std::uint32_t dropped = 0;          // event records lost to a full queue
+  std::uint32_t dropped = 0;          // records lost: event records (full queue) and trend buckets (full ring or queue)
   std::uint32_t failures = 0;         // failed store runs since start
 };
 

@@ -27,10 +27,11 @@ bool passes_deadband(const TrendBucket& b, double deadband, const std::optional<
 
 }  // namespace
 
-Historian::Historian(Program& p, const StoreSettings& s) : program_(&p), settings_(s) { take_series(p, s); }
+Historian::Historian(Program& p, const StoreSettings& s) : settings_(s) { served_ = take_series(p, s); }
 
-void Historian::take_series(const Program& p, const StoreSettings& s) {
-  active_.clear();
+Historian::Feed Historian::take_series(Program& p, const StoreSettings& s) {
+  Feed f;
+  f.program = &p;
   for (auto& ts : trend_series(p, s)) {
     std::size_t i = 0;
     while (i < series_.size() && series_[i].spec.label != ts.label) ++i;
@@ -39,10 +40,11 @@ void Historian::take_series(const Program& p, const StoreSettings& s) {
         series_[i].spec.deadband != ts.deadband || series_[i].id == 0)
       series_changed_ = true;
     series_[i].spec = std::move(ts);
-    active_.push_back(static_cast<std::uint32_t>(i));
+    f.active.push_back(static_cast<std::uint32_t>(i));
   }
-  seen_dropped_.assign(p.tasks.size(), 0);
-  for (std::size_t t = 0; t < p.tasks.size(); ++t) seen_dropped_[t] = p.tasks[t]->trends.dropped();
+  f.seen_dropped.assign(p.tasks.size(), 0);
+  for (std::size_t t = 0; t < p.tasks.size(); ++t) f.seen_dropped[t] = p.tasks[t]->trends.dropped();
+  return f;
 }
 
 bool Historian::prepare(Database& db, std::string* error) {
@@ -76,19 +78,24 @@ void Historian::register_series(SQLite::Database& db) {
 }
 
 void Historian::drain() {
-  for (std::size_t t = 0; t < program_->tasks.size(); ++t) {
-    TrendFold& fold = program_->tasks[t]->trends;
+  for (auto& f : previous_) drain(f);  // older buckets first
+  drain(served_);
+}
+
+void Historian::drain(Feed& f) {
+  for (std::size_t t = 0; t < f.program->tasks.size(); ++t) {
+    TrendFold& fold = f.program->tasks[t]->trends;
     TrendBucket b;
     while (fold.pop(b)) {
       if (queue_.size() >= kMaxQueued) {
-        ++lost_;  // the database refused for long: what comes now is lost, the queue (and its order) stays
+        lost_.fetch_add(1, std::memory_order_relaxed);  // the database refused for long: what comes now is lost, the queue (and its order) stays
         continue;
       }
-      queue_.push_back(Queued{active_[b.series], b});
+      queue_.push_back(Queued{f.active[b.series], b});
     }
     const std::uint64_t dropped = fold.dropped();
-    lost_ += dropped - seen_dropped_[t];
-    seen_dropped_[t] = dropped;
+    lost_.fetch_add(dropped - f.seen_dropped[t], std::memory_order_relaxed);
+    f.seen_dropped[t] = dropped;
   }
 }
 
@@ -137,7 +144,7 @@ void Historian::run(Database& db, std::int64_t now, bool final) {
   next_drain_ = now + kDrainNs;
   drain();
   if (!time_base_) {
-    const std::int64_t epoch = program_->epoch_ns.load(std::memory_order_acquire);
+    const std::int64_t epoch = served_.program->epoch_ns.load(std::memory_order_acquire);
     if (epoch < 0) return;  // not running in real time yet: the buckets wait in the queue
     time_base_ = epoch + (wall_now_ns() - monotonic_ns());
   }
@@ -152,10 +159,28 @@ void Historian::run(Database& db, std::int64_t now, bool final) {
 }
 
 void Historian::switch_program(Program& next, const StoreSettings& settings) {
-  drain();  // the old tasks' finished buckets, in the old numbering
-  program_ = &next;
+  // The old tasks run on until each reaches its switch: their buckets are
+  // drained, in the old numbering, until tasks_ended(old).
+  previous_.push_back(std::move(served_));
   settings_ = settings;
-  take_series(next, settings);
+  served_ = take_series(next, settings);
+}
+
+void Historian::tasks_ended(Program& p) {
+  auto end = [&](Feed& f) {
+    for (auto& t : p.tasks) t->trends.flush();  // the buckets in progress, partial as they are
+    drain(f);
+  };
+  if (served_.program == &p) {
+    end(served_);  // a clean stop: the final run stores them
+    return;
+  }
+  for (auto it = previous_.begin(); it != previous_.end(); ++it)
+    if (it->program == &p) {
+      end(*it);  // an online change completed: the old program goes after this
+      previous_.erase(it);
+      return;
+    }
 }
 
 }  // namespace syncplc::store

@@ -7,8 +7,14 @@
 //   - once a second (and at a clean stop) it stores the queue in one
 //     transaction, each bucket that passes its series' deadband;
 //   - once a minute it downsamples and trims the tables (trend_retention.hpp).
+//
+// No bucket is left behind: after an online change it goes on draining the
+// previous program's tasks (they run until each reaches its switch) until
+// tasks_ended() says they all switched, and then takes their buckets in
+// progress too; at a clean stop, the served program's buckets in progress.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <deque>
 #include <optional>
@@ -27,13 +33,14 @@ class Historian final : public StoreJob {
   std::int64_t due_ns() const override { return next_drain_; }
   void run(Database& db, std::int64_t now_ns, bool final) override;
   void switch_program(Program& next, const StoreSettings& settings) override;
+  void tasks_ended(Program& p) override;
 
   // Wall time (ns since the Unix epoch) of the program's logical time 0. By
   // default taken from the program's real-time epoch at the first run; a
   // virtual-time test sets it.
   void set_time_base(std::int64_t wall_ns) { time_base_ = wall_ns; }
-  // Buckets lost so far: dropped by a full task ring or a full queue.
-  std::uint64_t lost() const { return lost_; }
+  // Buckets lost so far: dropped by a full task ring or a full queue. Any thread.
+  std::uint64_t lost() const { return lost_.load(std::memory_order_relaxed); }
   std::uint64_t stored() const { return stored_; }
 
   static constexpr std::int64_t kDrainNs = 100'000'000;
@@ -54,23 +61,31 @@ class Historian final : public StoreJob {
     std::int64_t id = 0;                // trend_series.id (0: not yet written)
     std::optional<double> last_stored;  // the mean of the last stored point (deadband)
   };
+  // A program whose tasks' rings are drained: the one served, and after an
+  // online change the previous one until its tasks_ended().
+  struct Feed {
+    Program* program = nullptr;
+    std::vector<std::uint32_t> active;        // the program's fold series number -> index in series_
+    std::vector<std::uint64_t> seen_dropped;  // per task: its fold's dropped() counted so far
+  };
   // The program's series, by label: series_ only grows (an online change
   // adds the new labels; a queued bucket of a removed tag is still stored).
-  void take_series(const Program& p, const StoreSettings& s);
+  Feed take_series(Program& p, const StoreSettings& s);
   void drain();
+  void drain(Feed& f);
   void register_series(SQLite::Database& db);
   void store_queue(SQLite::Database& db);
 
-  Program* program_;
   StoreSettings settings_;
   std::vector<Series> series_;
-  std::vector<std::uint32_t> active_;        // the program's fold series number -> index in series_
-  std::vector<std::uint64_t> seen_dropped_;  // per task: its fold's dropped() counted so far
+  Feed served_;
+  std::vector<Feed> previous_;  // programs left by an online change whose tasks may still run
   std::deque<Queued> queue_;
   bool series_changed_ = true;               // series_ has entries not yet in trend_series
   std::optional<std::int64_t> time_base_;
   std::int64_t next_drain_ = 0, next_commit_ = 0, next_retention_ = 0;
-  std::uint64_t lost_ = 0, stored_ = 0;
+  std::atomic<std::uint64_t> lost_{0};
+  std::uint64_t stored_ = 0;
 };
 
 }  // namespace syncplc::store

@@ -71,6 +71,12 @@ void StoreThread::switch_program(Program& next, const StoreSettings& settings) {
   });
 }
 
+void StoreThread::tasks_ended(Program& p) {
+  exclusive([&] {
+    for (auto& j : jobs_) j->tasks_ended(p);
+  });
+}
+
 StoreHealth StoreThread::health() const {
   std::lock_guard lk(state_mutex_);
   return health_;

@@ -46,6 +46,11 @@ class StoreJob {
     (void)next;
     (void)settings;
   }
+  // The tasks of `p` have stopped running it for good: at a clean stop after
+  // their threads were joined (p is the program served), or after an online
+  // change once every task switched away from it (p is the previous one,
+  // still alive). Take what they left unfinished. Inside exclusive().
+  virtual void tasks_ended(Program& p) { (void)p; }
 };
 
 struct StoreHealth {
@@ -80,6 +85,8 @@ class StoreThread {
     f();
   }
 
+  // Every job's tasks_ended(p) (inside exclusive()).
+  void tasks_ended(Program& p);
   // An online change: every job reads `next` from now on (inside exclusive()).
   void switch_program(Program& next, const StoreSettings& settings);
 

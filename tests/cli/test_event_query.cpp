@@ -79,6 +79,9 @@ TEST(StoreStatusLine, OkFaultAndOffWithTheCountsBeforeTheErrorText) {
   EXPECT_EQ(store_status_line(st, "/var/lib/x/plc.db"), "Store ok  plc.db");
   st.dropped = 3;
   EXPECT_EQ(store_status_line(st, "/var/lib/x/plc.db"), "Store ok  plc.db  3 events dropped");
+  st.trend_lost = 12;
+  EXPECT_EQ(store_status_line(st, "/var/lib/x/plc.db"), "Store ok  plc.db  3 events dropped  12 trend buckets lost");
+  EXPECT_EQ(store_status_words(st).dropped, 15u) << "the registers count both as records lost";
   st.state = StoreStatus::State::Fault;
   st.pending = 37;
   st.failures = 12;

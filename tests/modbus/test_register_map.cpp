@@ -288,7 +288,7 @@ TEST(ModbusMap, StatusBlocksOfTasksAndStoreAreListedAndKeptClearOfTags) {
   std::ostringstream os;
   print_modbus_map(os, *r.program, ModbusMap::build(*r.program, r.modbus), WordOrder::HighFirst);
   EXPECT_THAT(os.str(), ::testing::HasSubstr("  input registers 8990..8997  status of the store (state, s since commit, "
-                                             "pending, dropped, failures)  read only\n"));
+                                             "pending, lost, failures)  read only\n"));
   EXPECT_THAT(os.str(), ::testing::HasSubstr("  input registers 9000..9007  status of task main"));
   ModbusSettings s = r.modbus;
   s.server.store_status = 9004;  // inside the task status block
