@@ -157,16 +157,27 @@ int cmd_run(const RunOptions& options) {
   pthread_sigmask(SIG_BLOCK, &sigs, nullptr);
   signal(SIGPIPE, SIG_IGN);  // a Modbus client that goes away must not end the PLC
 
+  // A start that fails from here on still leaves its record: the project
+  // store's version (the project loaded: it stays a boot project) and a
+  // start-failed event with the reason, written by one run of the store
+  // thread (its retain job stores the values the PLC would have started with).
+  auto start_failed = [&](const std::string& why, int status) {
+    run_events.start_failed(why + " (exit status " + std::to_string(status) + ")");
+    plc_store->start();
+    plc_store->stop();
+    return status;
+  };
   if (!program->open_drivers(&err)) {
     std::cerr << "syncplc: " << err << "\n";
-    return kExitDriverFailed;
+    return start_failed(err, kExitDriverFailed);
   }
   // The server binds before any task runs: a port in use stops here, cleanly.
   StoreStatusRegisters store_registers(*plc_store);
   auto modbus_server = start_modbus(*program, r.modbus, modbus_port, &run_events, &store_registers);
   if (!modbus_server && (modbus_port || r.modbus.server.enabled)) {
     program->close_drivers();
-    return kExitInvalid;
+    const ModbusConfig cfg = server_config(r.modbus.server, modbus_port);
+    return start_failed("the Modbus server could not listen on " + cfg.bind + ":" + std::to_string(cfg.port), kExitInvalid);
   }
   // `syncplc reload` finds this instance through its pid file.
   const std::string pid_file = pid_file_option.empty() ? default_pid_file(project) : pid_file_option;

@@ -21,6 +21,10 @@ void RunEvents::stopped(const std::string& why) {
   store_.record(store::EventRecord{store::wall_now_ns(), "stop", "", std::nullopt, "run", why, ""});
 }
 
+void RunEvents::start_failed(const std::string& why) {
+  store_.record(store::EventRecord{store::wall_now_ns(), "start-failed", "", std::nullopt, "run", why, ""});
+}
+
 void RunEvents::reloaded(bool accepted, const std::string& summary, const std::vector<std::string>& lines) {
   std::string message = summary;
   for (const auto& l : lines) message += "\n" + l;  // the errors of a rejected project, or what changed

@@ -28,6 +28,9 @@ class RunEvents : public modbus::ServerAudit {
 
   void started(const std::string& project, const std::string& database);
   void stopped(const std::string& why);
+  // The project loaded but the PLC did not start (a driver that did not open,
+  // a Modbus port in use): why, and the exit status.
+  void start_failed(const std::string& why);
   void reloaded(bool accepted, const std::string& summary, const std::vector<std::string>& lines);
   // A task's or the supervisor's event, from `p` (the program that raised it).
   void task_event(const Program& p, const Event& e);

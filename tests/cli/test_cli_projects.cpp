@@ -3,7 +3,10 @@
 // while the PLC runs), `syncplc reload --version N` rolls a running instance
 // back by online change, and `run` without a file starts the last accepted
 // project. The stored files are checked with the sqlite3 shell.
+#include <arpa/inet.h>
 #include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -119,6 +122,31 @@ TEST(CliProjects, RunRecordsAcceptedAndRejectedProjectsAndProjectsListsAndShowsT
   EXPECT_EQ(sqlite3(db, "SELECT f.data FROM project_versions v JOIN project_files f ON f.hash = v.hash "
                         "WHERE v.number = 1"),
             project_text(3) + "\n");  // the shell ends each row with a newline
+}
+
+// A start that fails after the project loaded (here: its Modbus port is
+// taken) is on record: the version as accepted (it loaded: a later `run`
+// without a file boots it) and a start-failed event with the reason.
+TEST(CliProjects, ARunThatFailsBeforeItsFirstScanIsRecorded) {
+  const std::string db = temp_db("start_failed");
+  const std::string path = write_temp_file("start_failed.yaml", project_text(4));
+  int s = socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ASSERT_EQ(bind(s, reinterpret_cast<sockaddr*>(&a), sizeof a), 0);
+  ASSERT_EQ(listen(s, 1), 0);
+  socklen_t len = sizeof a;
+  getsockname(s, reinterpret_cast<sockaddr*>(&a), &len);
+  const std::string port = std::to_string(ntohs(a.sin_port));
+  auto r = run_cli("run " + path + " --no-status --duration 1s --modbus-port " + port + " --db " + db);
+  close(s);
+  ASSERT_EQ(r.rc, 2) << r.err;
+  EXPECT_EQ(sqlite3(db, "SELECT origin, accepted FROM project_versions"), "run|1\n");
+  EXPECT_EQ(sqlite3(db, "SELECT kind || ': ' || message FROM events WHERE kind = 'start-failed'"),
+            "start-failed: the Modbus server could not listen on 127.0.0.1:" + port + " (exit status 2)\n");
+  EXPECT_EQ(sqlite3(db, "SELECT count(*) FROM events WHERE kind IN ('start', 'stop')"), "0\n") << "it never ran";
+  EXPECT_EQ(sqlite3(db, "PRAGMA integrity_check"), "ok\n");
 }
 
 TEST(CliProjects, ProjectsWithoutADatabaseSaysSo) {
