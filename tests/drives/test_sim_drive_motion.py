@@ -1,0 +1,117 @@
+"""Motion of the simulated CiA 402 drive over Modbus TCP: cyclic synchronous
+position (a move streamed by the client, and a step), profile velocity (the
+6083h/6084h ramps), cyclic synchronous velocity and torque, and the
+drive's own following error supervision (6065h/6066h -> fault 8611h).
+
+    /usr/bin/python3 tests/drives/test_sim_drive_motion.py
+"""
+
+import math
+import time
+
+from drivelib import Axis, SimDrive, check, decode, sim
+
+CPR = (1 << 20) / (2 * math.pi)  # counts per rad (the default 2^20 counts per revolution)
+
+
+def main():
+    d = SimDrive("--axis", "1")
+    a = Axis(d.port)
+
+    # CSP: the client streams a cosine move of 2 rad over 1 s every ~2 ms,
+    # with its velocity as the feed-forward 60B1h (as CIA402_DRIVE does).
+    a.enable(8)
+    x0 = a.actual()["position"]
+    check(abs(x0) < 10, "starts at 0")
+    start = time.monotonic()
+    worst = 0.0
+    while True:
+        t = time.monotonic() - start
+        if t > 1.0:
+            break
+        x = 1.0 - math.cos(math.pi * t)  # 0 -> 2 rad
+        v = math.pi * math.sin(math.pi * t)
+        a.write(sim.HR_TARGET_POSITION, sim.words32(int(x * CPR)) + [0, 0] + sim.words32(int(v * CPR)))
+        got = a.actual()["position"] / CPR
+        worst = max(worst, abs(x - got))
+        time.sleep(0.002)
+    a.write(sim.HR_TARGET_POSITION, sim.words32(int(2.0 * CPR)) + [0, 0, 0, 0])
+    time.sleep(0.5)
+    act = a.actual()
+    check(abs(act["position"] / CPR - 2.0) < 1e-3, "CSP: at 2 rad (%.6f)" % (act["position"] / CPR))
+    check(act["statusword"] & 0x1400 == 0x1400, "CSP: target reached and following the command (bits 10, 12)")
+    check(abs(act["following_error"]) < 200, "CSP: following error 60F4h %d counts" % act["following_error"])
+    # The error seen includes the client's own delay (a read after a write).
+    check(worst < 0.05, "CSP: tracking error of the streamed move %.4f rad (< 0.05)" % worst)
+    # A 0.5 rad step: the loop saturates at 1 PWM and settles.
+    a.target_position(int(2.5 * CPR))
+    limited = False
+    end = time.monotonic() + 0.03  # at 1 PWM the step takes about 45 ms
+    while time.monotonic() < end and not limited:
+        limited = bool(a.actual()["statusword"] & 0x0800)
+    check(limited, "CSP step: internal limit active (bit 11) while saturated")
+    time.sleep(0.6)
+    check(abs(a.actual()["position"] / CPR - 2.5) < 1e-3, "CSP step settles at 2.5 rad")
+
+    # PV: 10 rad/s with the default 100 rad/s^2 ramp (0.1 s).
+    a.mode(3)
+    time.sleep(0.02)
+    check(a.actual()["mode"] == 3, "mode switched to PV while enabled")
+    a.target_velocity(int(10 * CPR))
+    time.sleep(0.05)
+    v_mid = a.actual()["velocity"] / CPR
+    check(2.0 < v_mid < 8.0, "PV: ramping (%.2f rad/s after 50 ms)" % v_mid)
+    time.sleep(0.4)
+    act = a.actual()
+    check(abs(act["velocity"] / CPR - 10) < 0.1, "PV: 10 rad/s reached (%.3f)" % (act["velocity"] / CPR))
+    check(act["statusword"] & 0x0400, "PV: target reached (bit 10)")
+    p1 = act["position"]
+    time.sleep(0.2)
+    check(a.actual()["position"] > p1 + 1.5 * CPR, "PV: the position advances")
+    a.target_velocity(0)
+    time.sleep(0.4)
+    check(abs(a.actual()["velocity"]) < 0.05 * CPR, "PV: stopped")
+
+    # CSV: the target acts without a ramp.
+    a.mode(9)
+    a.target_velocity(int(-5 * CPR))
+    time.sleep(0.3)
+    check(abs(a.actual()["velocity"] / CPR + 5) < 0.1, "CSV: -5 rad/s")
+    a.target_velocity(0)
+    time.sleep(0.3)
+
+    # CST: u = 6071h / 1000; at 0.2 PWM the axis runs at 0.2 k rad/s.
+    a.mode(10)
+    a.write(sim.HR_TARGET_TORQUE, [200])
+    time.sleep(0.6)  # > 10 tau
+    act = a.actual()
+    check(act["torque"] == 200, "CST: torque actual 6077h = 200")
+    check(abs(act["velocity"] / CPR - 0.2 * 35.6206) < 0.05, "CST: steady speed k u (%.3f)" % (act["velocity"] / CPR))
+    a.write(sim.HR_TARGET_TORQUE, [0])
+
+    # Quick stop decelerates on 6085h (200 rad/s^2 by default) from PV 20 rad/s.
+    a.mode(3)
+    a.target_velocity(int(20 * CPR))
+    time.sleep(0.5)
+    a.controlword(0x02)
+    t0 = time.monotonic()
+    a.wait_state(sim.SWITCH_ON_DISABLED)
+    dt = time.monotonic() - t0
+    check(0.05 < dt < 1.0, "quick stop from 20 rad/s took %.3f s (0.1 s ramp)" % dt)
+    check(abs(a.actual()["velocity"]) < 0.05 * CPR, "quick stop: standing")
+
+    # The drive's following error window: 1000 counts, 10 ms.
+    a.write(sim.HR_FOLLOWING_ERROR_WINDOW, sim.words32(1000))
+    a.write(sim.HR_FOLLOWING_ERROR_TIMEOUT, [10])
+    here = a.actual()["position"]
+    a.target_position(here)
+    a.enable(8)
+    a.target_position(here + int(0.5 * CPR))  # far beyond the window
+    sw = a.wait_state(sim.FAULT, timeout=2.0)
+    check(a.actual()["error_code"] == sim.ERROR_FOLLOWING, "following error: fault, error code 8611h")
+    a.close()
+    check(d.stop() == 0, "SIGTERM: clean stop")
+
+
+if __name__ == "__main__":
+    main()
