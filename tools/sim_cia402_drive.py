@@ -339,6 +339,7 @@ class Drive:
                 u = self.velocity_loop(self.v_ref)
             elif m == 10:
                 u = s16(r[HR_TARGET_TORQUE]) / a.torque_scale
+                self.v_ref = self.plant.velocity  # a quick stop ramps down from here
         self.u = max(-a.saturation, min(a.saturation, u))
         self.limited = u != self.u
 

@@ -123,11 +123,10 @@ TEST(Cia402Drive, EveryTransitionOfThePdsFsa) {
     r.set_enable(false);
     EXPECT_TRUE(r.until(State::kReadyToSwitchOn));
     EXPECT_EQ(r.d.transitions().back(), 8);
-    r.b.set<bool>("quick_stop", false);
-    // Up to Switched on with idle_state 2 is another instance's job; here
-    // walk up by enable and stop at Switched on by hand: one Switch on.
+    // Another master's Switch on brings the drive to Switched on (3); the
+    // block (idle_state 1) answers with Shutdown: 6.
     r.d.cycle(0x07, 8);
-    r.scan();  // the block (idle 1) answers Switched on with Shutdown: 6
+    r.scan();
     EXPECT_TRUE(r.until(State::kReadyToSwitchOn));
     EXPECT_EQ(r.d.transitions().back(), 6);
   });
