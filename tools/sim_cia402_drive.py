@@ -293,10 +293,12 @@ class Drive:
         step = rate * self.h
         self.v_ref = target if abs(target - v) <= step else v + math.copysign(step, target - v)
 
-    def velocity_loop(self, v_ref):
+    def velocity_loop(self, v_ref, acc_ref):
+        """u = (v_r + tau a_r)/k + K_v e + I: the plant's inverse as the
+        feed-forward (speed and acceleration), a PI on the speed error."""
         a = self.a
         e = v_ref - self.plant.velocity
-        v = v_ref / a.gain + a.kv * e + self.integral
+        v = (v_ref + a.tau * acc_ref) / a.gain + a.kv * e + self.integral
         u = max(-a.saturation, min(a.saturation, v))
         if u == v or (v > u) != (e > 0):  # conditional integration (anti-windup)
             self.integral += a.ki * self.h * e
@@ -307,10 +309,11 @@ class Drive:
         k = self.counts_per_rad
         s = self.state
         u = 0.0  # power stage off: the motor coasts
+        v_before = self.v_ref
         if s in (QUICK_STOP, FAULT_REACTION):
             dec = u32(r[HR_QUICK_STOP_DECELERATION], r[HR_QUICK_STOP_DECELERATION + 1]) / k
             self.ramp(0.0, dec, dec)
-            u = self.velocity_loop(self.v_ref)
+            u = self.velocity_loop(self.v_ref, (self.v_ref - v_before) / self.h)
         elif s == OPERATION_ENABLED:
             m = self.mode_display
             if m == 8:
@@ -334,9 +337,10 @@ class Drive:
                     acc = u32(r[HR_PROFILE_ACCELERATION], r[HR_PROFILE_ACCELERATION + 1]) / k
                     dec = u32(r[HR_PROFILE_DECELERATION], r[HR_PROFILE_DECELERATION + 1]) / k
                     self.ramp(vt, acc, dec)
+                    u = self.velocity_loop(self.v_ref, (self.v_ref - v_before) / self.h)
                 else:
-                    self.v_ref = vt
-                u = self.velocity_loop(self.v_ref)
+                    self.v_ref = vt  # CSV: the master's target is the reference, no acceleration feed-forward
+                    u = self.velocity_loop(self.v_ref, 0.0)
             elif m == 10:
                 u = s16(r[HR_TARGET_TORQUE]) / a.torque_scale
                 self.v_ref = self.plant.velocity  # a quick stop ramps down from here

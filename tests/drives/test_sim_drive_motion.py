@@ -64,7 +64,9 @@ def main():
         seen.append(a.actual()["velocity"] / CPR)
     mid = [v for v in seen if 0.5 < v < 9.5]
     check(len(mid) >= 3, "PV: ramping, %d samples between 0.5 and 9.5 rad/s" % len(mid))
-    check(all(b >= a_ - 0.05 for a_, b in zip(seen, seen[1:])), "PV: the ramp rises monotonically")
+    rising = [v for v in seen if v < 9.5]
+    check(all(b >= a_ - 0.05 for a_, b in zip(rising, rising[1:])), "PV: the ramp rises monotonically")
+    check(max(seen) < 10.2, "PV: overshoot %.3f rad/s" % (max(seen) - 10))
     time.sleep(0.2)
     act = a.actual()
     check(abs(act["velocity"] / CPR - 10) < 0.1, "PV: 10 rad/s reached (%.3f)" % (act["velocity"] / CPR))
