@@ -14,7 +14,9 @@ default) on a thread of its own. The Modbus side is Debian's python3-pymodbus
 
 It prints "sim_cia402_drive: listening on 127.0.0.1:PORT unit U" once it
 serves, then reads commands on stdin, one per line, answering "ok ..." or
-"error ..." on stdout (docs/drives.md has the register map and the commands):
+"error ..." on stdout; the same commands are taken on a TCP control socket
+with --control-port, and SIGUSR1 drops the connections, SIGUSR2 toggles
+silent (docs/drives.md has the register map and the commands):
 
     drop                 close every client connection now (the drive keeps running)
     silent on|off        accept connections and requests but answer nothing
@@ -477,6 +479,8 @@ def parse_args(argv):
     p = argparse.ArgumentParser(description="Simulated CiA 402 drive on Modbus TCP (pymodbus server).")
     p.add_argument("--host", default="127.0.0.1")
     p.add_argument("--port", type=int, default=0, help="TCP port; 0 = a free port (printed)")
+    p.add_argument("--control-port", type=int, default=None,
+                   help="also take the stdin commands on this TCP port (0 = a free port, printed)")
     p.add_argument("--unit", type=int, default=1, help="Modbus unit id answered (others: no reply)")
     p.add_argument("--rate", type=float, default=1000.0, help="drive cycles per second (default 1000)")
     p.add_argument("--axis", type=int, default=1, choices=[1, 2, 3, 4],
@@ -506,7 +510,7 @@ def parse_args(argv):
     if not (a.rate > 0 and a.tau > 0 and a.gain > 0 and a.saturation > 0 and a.counts_per_rev > 0
             and a.torque_scale > 0):
         p.error("rate, tau, gain, saturation, counts-per-rev and torque-scale must be positive")
-    if not 0 <= a.unit <= 255 or not 0 <= a.port <= 65535:
+    if not 0 <= a.unit <= 255 or not 0 <= a.port <= 65535 or not 0 <= (a.control_port or 0) <= 65535:
         p.error("unit must be 0..255 and port 0..65535")
     return a
 
@@ -517,9 +521,11 @@ def say(text):
 
 
 def command(line, drive, loop, server, stop):
+    """Runs one fault-injection command; returns the answer line ("" for
+    an empty line). Called from the stdin thread and the control socket."""
     words = line.split()
     if not words:
-        return
+        return ""
     cmd, args = words[0], words[1:]
     try:
         if cmd == "drop":
@@ -539,24 +545,41 @@ def command(line, drive, loop, server, stop):
                 raise ValueError("error code must be 1..0xFFFF")
             drive.inject_fault(code, len(args) == 2)
         elif cmd == "status":
-            say("status " + json.dumps(drive.status()))
-            return
+            return "status " + json.dumps(drive.status())
         elif cmd == "quit":
             stop.set()
         else:
-            say("error unknown command: " + line.strip())
-            return
-        say("ok " + " ".join(words))
+            return "error unknown command: " + line.strip()
+        return "ok " + " ".join(words)
     except ValueError as e:
-        say("error %s: %s" % (line.strip(), e))
+        return "error %s: %s" % (line.strip(), e)
 
 
 def read_commands(drive, loop, server, stop):
     for line in sys.stdin:
-        command(line, drive, loop, server, stop)
+        answer = command(line, drive, loop, server, stop)
+        if answer:
+            say(answer)
         if stop.is_set():
             break
     # stdin closed: keep running (a drive started without a terminal)
+
+
+async def control_client(reader, writer, drive, loop, server, stop):
+    """The control socket: the stdin commands, one per line, answered on the socket."""
+    try:
+        while not stop.is_set():
+            line = await reader.readline()
+            if not line:
+                break
+            answer = command(line.decode("utf-8", "replace"), drive, loop, server, stop)
+            if answer:
+                writer.write((answer + "\n").encode())
+                await writer.drain()
+    except (ConnectionError, asyncio.CancelledError):
+        pass
+    finally:
+        writer.close()
 
 
 async def serve(a):
@@ -574,8 +597,17 @@ async def serve(a):
     clock.start()
     for sig in (signal.SIGTERM, signal.SIGINT):
         loop.add_signal_handler(sig, stop.set)
+    # For shell scripts that hold no pipe to the drive: SIGUSR1 = drop,
+    # SIGUSR2 = silent on/off.
+    loop.add_signal_handler(signal.SIGUSR1, command, "drop", drive, loop, server, stop)
+    loop.add_signal_handler(signal.SIGUSR2, lambda: setattr(Faults, "silent", not Faults.silent))
     say("sim_cia402_drive: listening on %s:%d unit %d (tau %g s, gain %g (rad/s)/PWM, %g Hz)"
         % (a.host, port, a.unit, a.tau, a.gain, a.rate))
+    control = None
+    if a.control_port is not None:
+        control = await asyncio.start_server(lambda r, w: control_client(r, w, drive, loop, server, stop),
+                                             a.host, a.control_port)
+        say("sim_cia402_drive: control on %s:%d" % (a.host, control.sockets[0].getsockname()[1]))
     threading.Thread(target=read_commands, args=(drive, loop, server, stop), name="commands", daemon=True).start()
     deadline = time.monotonic() + a.max_time if a.max_time > 0 else None
     while not stop.is_set():
@@ -584,6 +616,8 @@ async def serve(a):
             say("sim_cia402_drive: --max-time reached")
             stop.set()
     clock.join()
+    if control:
+        control.close()
     await server.shutdown()
     serving.cancel()
     say("sim_cia402_drive: stopped after %d cycles" % drive.cycles)

@@ -43,6 +43,13 @@ class SimDrive:
             raise AssertionError("the drive did not start: %r" % line)
         self.port = int(m.group(1))
         self.unit = int(m.group(2))
+        self.control_port = None
+        if "--control-port" in args:
+            line = self.p.stdout.readline()
+            m = re.search(r"control on 127\.0\.0\.1:(\d+)", line)
+            if not m:
+                raise AssertionError("no control port: %r" % line)
+            self.control_port = int(m.group(1))
 
     def command(self, text):
         self.p.stdin.write(text + "\n")

@@ -6,6 +6,7 @@ statusword and 603Fh, and requests to another unit id (no answer).
     /usr/bin/python3 tests/drives/test_sim_drive_faults.py
 """
 
+import signal
 import socket
 import struct
 import time
@@ -110,6 +111,33 @@ def main():
                                 write_address=sim.HR_CONTROLWORD, write_registers=[0x00], unit=1)
     check(decode(r.registers[sim.IR_STATUSWORD]) == sim.SWITCH_ON_DISABLED, "FC 23: the reset took, mirror reads it")
     a.close()
+    check(d.stop() == 0, "SIGTERM: clean stop")
+
+    # Without a pipe: the control socket, SIGUSR1 (drop), SIGUSR2 (silent on/off).
+    d = SimDrive("--control-port", "0")
+    with socket.create_connection(("127.0.0.1", d.control_port), timeout=5) as ctl:
+        f = ctl.makefile("rw")
+        f.write("silent on\n")
+        f.flush()
+        check(f.readline().strip() == "ok silent on", "control socket: ok silent on")
+        check(raw_request(d.port, READ_IR, timeout=0.3) == b"", "control socket: silent took effect")
+        f.write("silent off\nstatus\nnonsense\n")
+        f.flush()
+        check(f.readline().strip() == "ok silent off", "control socket: ok silent off")
+        check(f.readline().startswith("status {"), "control socket: status")
+        check(f.readline().startswith("error"), "control socket: an unknown command is refused")
+    check(good_reply(raw_request(d.port, READ_IR)), "answered again")
+    s = socket.create_connection(("127.0.0.1", d.port), timeout=2)
+    time.sleep(0.05)
+    d.p.send_signal(signal.SIGUSR1)
+    check(s.recv(100) == b"", "SIGUSR1: connections dropped")
+    s.close()
+    d.p.send_signal(signal.SIGUSR2)
+    time.sleep(0.1)
+    check(raw_request(d.port, READ_IR, timeout=0.3) == b"", "SIGUSR2: silent")
+    d.p.send_signal(signal.SIGUSR2)
+    time.sleep(0.1)
+    check(good_reply(raw_request(d.port, READ_IR)), "SIGUSR2 again: answering")
     check(d.stop() == 0, "SIGTERM: clean stop")
 
 
