@@ -151,8 +151,11 @@ class Cia402Drive final : public Block {
   static void raise(ScanContext& ctx, EventKind kind, const char* text, double value) noexcept {
     if (ctx.events) ctx.events->push(Event{ctx.now_ns, ctx.task, ctx.block, kind, text, value});
   }
+  // A mode of any ANY_INT type as an int; values no drive has (beyond
+  // INTEGER16) are clamped, so the conversion is always defined.
   int read_mode(int pin) const noexcept {
-    return static_cast<int>(cell_as_double(mode_type_, *pin_cell(pin)));
+    const double v = cell_as_double(mode_type_, *pin_cell(pin));
+    return v < -32768.0 ? -32768 : v > 32767.0 ? 32767 : static_cast<int>(v);
   }
   void write_mode(int pin, int v) noexcept {
     Cell& c = *pin_cell(pin);

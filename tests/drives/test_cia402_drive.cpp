@@ -380,6 +380,19 @@ TEST(Cia402Drive, ModePinsTakeINTWhenTheInstanceIsINT) {
   EXPECT_TRUE(b.get<bool>("warning"));
 }
 
+TEST(Cia402Drive, AModeBeyondAnyDrivesRangeIsClamped) {
+  BlockHarness::Options o;
+  o.datatype = IecType::LINT;
+  BlockHarness b(builtin_blocks(), "CIA402_DRIVE", o);
+  ASSERT_TRUE(b.ok()) << errors_of(b);
+  b.set<std::int64_t>("mode", 1'000'000'000'000LL);
+  b.set<std::int64_t>("modes_display", -1'000'000'000'000LL);
+  b.set<std::uint16_t>("statusword", 0x0240);
+  b.scan();
+  EXPECT_EQ(b.get<std::int64_t>("modes_of_operation"), 32767);
+  EXPECT_FALSE(b.get<bool>("in_mode"));
+}
+
 TEST(Cia402Drive, FollowingErrorWindow) {
   Rig r(opts({{"following_error_window", "0.01"}, {"following_error_time", "0.005"}}));
   r.set_enable(true);
