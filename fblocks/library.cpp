@@ -7,6 +7,7 @@ const BlockRegistry& builtin_blocks() {
     BlockRegistry r;
     register_iec_blocks(r);
     register_motion_blocks(r);
+    register_drive_blocks(r);
     return r;
   }();
   return registry;

@@ -14,6 +14,10 @@ void register_iec_blocks(BlockRegistry& registry);
 // controllers, reference generators.
 void register_motion_blocks(BlockRegistry& registry);
 
+// The drive profiles (fblocks/drives): CIA402_DRIVE, the master side of a
+// CiA 402 drive's state machine.
+void register_drive_blocks(BlockRegistry& registry);
+
 // Every block type that ships with syncplc, registered once.
 const BlockRegistry& builtin_blocks();
 
