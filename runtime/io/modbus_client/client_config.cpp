@@ -209,7 +209,8 @@ std::optional<RequestGroup> read_group(const ConfigNode& n, const std::vector<Cl
   g.on_change = c.boolean("on_change", false);
   if (g.on_change && !g.writes()) c.error(n.find("on_change")->loc, "on_change is for groups that write");
 
-  g.reaction = reaction(c, dev.reaction);
+  // A device's reaction safe is its read groups' (safe values are inputs); its write groups hold.
+  g.reaction = reaction(c, dev.reaction == StaleReaction::Safe && !g.reads() ? StaleReaction::Hold : dev.reaction);
   g.stale_after_ns = c.duration_ns("stale_after", dev.stale_after_ns, 0, 3600 * kS);
   if (g.reaction == StaleReaction::Safe && !g.reads())
     c.error(n.find("reaction") ? n.find("reaction")->loc : n.loc,
