@@ -132,7 +132,10 @@ void DeviceLink::run() {
       if (ever) reconnects.fetch_add(1, std::memory_order_relaxed);
       ever = true;
       const std::int64_t now = monotonic_ns();
-      for (auto* g : groups_) g->next_due = std::min(g->next_due, now);  // exchange at once after a reconnect
+      for (auto* g : groups_) {
+        g->next_due = std::min(g->next_due, now);  // exchange at once after a reconnect
+        g->have_written = false;  // a restarted device may have lost them: write again, on_change or not
+      }
     }
     GroupHandover* due = *std::min_element(groups_.begin(), groups_.end(),
                                            [](const GroupHandover* a, const GroupHandover* b) { return a->next_due < b->next_due; });
