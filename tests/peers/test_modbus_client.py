@@ -16,7 +16,9 @@ server.
 
   /usr/bin/python3 tests/peers/test_modbus_client.py build/syncplc
 """
+import atexit
 import os
+import shutil
 import signal
 import socket
 import struct
@@ -160,6 +162,7 @@ def main():
     dev = Device(free_port())
     mute = MuteDevice()
     tmp = tempfile.mkdtemp(prefix="mbclient-")
+    atexit.register(shutil.rmtree, tmp, True)
     path = os.path.join(tmp, "client.yaml")
     with open(path, "w") as f:
         f.write(PROJECT.format(dev_port=dev.port, mute_port=mute.port))
