@@ -257,9 +257,10 @@ struct ScanContext {
   // Modbus client group's reaction `stop`, docs/modbus-client.md): after this
   // scan the task applies its safe values and stops, as a safe_stop watchdog
   // does. Static text: it becomes the TaskStopped event's message.
-  const char* stop_request = nullptr;
+  // Mutable: drivers get the context as const (IoDriver::latch_inputs).
+  mutable const char* stop_request = nullptr;
 
-  void request_stop(const char* why) noexcept { stop_request = why; }
+  void request_stop(const char* why) const noexcept { stop_request = why; }
   void fault(const char* message, double value = 0) noexcept {
     if (events) events->push(Event{now_ns, task, block, EventKind::BlockFault, message, value});
   }

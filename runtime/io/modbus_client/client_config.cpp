@@ -235,8 +235,6 @@ std::string_view stale_reaction_key(StaleReaction r) {
   return "hold";
 }
 
-std::uint32_t ValueFormat::width() const { return wire == IecType::BOOL ? 1 : register_width(wire); }
-
 std::optional<ModbusClientConfig> read_modbus_client_config(const ConfigNode& entry, DriverSetup& setup) {
   DriverConfig c(entry, setup, "modbus_client", {"devices", "groups"});
   ModbusClientConfig cfg;

@@ -13,6 +13,7 @@
 #include "runtime/core/io_driver.hpp"
 #include "runtime/io/modbus_client/client_frame.hpp"
 #include "runtime/modbus/modbus_config.hpp"
+#include "runtime/modbus/register_codec.hpp"
 
 namespace syncplc {
 
@@ -45,7 +46,7 @@ struct ValueFormat {
   bool scaled = false;             // scale/offset given: the channel is LREAL, value = raw * scale + offset
   double scale = 1, offset = 0;
   IecType channel() const { return scaled ? IecType::LREAL : wire; }
-  std::uint32_t width() const;     // registers (or coils) one value takes
+  std::uint32_t width() const { return wire == IecType::BOOL ? 1 : register_width(wire); }  // registers (or coils) a value takes
 };
 
 struct RequestGroup {

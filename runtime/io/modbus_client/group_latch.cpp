@@ -39,11 +39,11 @@ void GroupLatch::reset(std::int64_t open_ns) noexcept {
   reacted_ = false;
 }
 
-void GroupLatch::raise(ScanContext& ctx, EventKind kind, const char* text, double value) noexcept {
+void GroupLatch::raise(const ScanContext& ctx, EventKind kind, const char* text, double value) noexcept {
   if (ctx.events) ctx.events->push(Event{ctx.now_ns, ctx.task, -1, kind, text, value});
 }
 
-const GroupStatus& GroupLatch::latch(const Cell* r, std::int64_t now, ScanContext& ctx, Cell* values) noexcept {
+const GroupStatus& GroupLatch::latch(const Cell* r, std::int64_t now, const ScanContext& ctx, Cell* values) noexcept {
   st_.fresh = false;
   const std::uint64_t seq = r[GroupHandover::kSeq].get<std::uint64_t>();
   if (seq != seen_ && seq != 0) {

@@ -53,12 +53,12 @@ class GroupLatch {
   void reset(std::int64_t open_ns) noexcept;
   // result: the group's results buffer (GroupHandover layout). Values of a
   // successful result are copied to `values` (read_values() cells).
-  const GroupStatus& latch(const Cell* result, std::int64_t now, ScanContext& ctx, Cell* values) noexcept;
+  const GroupStatus& latch(const Cell* result, std::int64_t now, const ScanContext& ctx, Cell* values) noexcept;
   const GroupStatus& status() const noexcept { return st_; }
   bool stale() const noexcept { return stale_; }
 
  private:
-  void raise(ScanContext& ctx, EventKind kind, const char* text, double value) noexcept;
+  void raise(const ScanContext& ctx, EventKind kind, const char* text, double value) noexcept;
 
   const RequestGroup* g_ = nullptr;
   GroupTexts texts_;

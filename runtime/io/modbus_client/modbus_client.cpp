@@ -83,10 +83,8 @@ void ModbusClientDriver::close() noexcept {
   open_ = false;
 }
 
-void ModbusClientDriver::latch_inputs(const ScanContext& ctx_in) noexcept {
+void ModbusClientDriver::latch_inputs(const ScanContext& ctx) noexcept {
   if (latch_.empty()) return;  // never opened
-  // request_stop writes into the context; the task reads it back after the scan.
-  ScanContext& ctx = const_cast<ScanContext&>(ctx_in);
   const std::int64_t now = clock_();
   for (std::size_t i = 0; i < cfg_.groups.size(); ++i) {
     const RequestGroup& g = cfg_.groups[i];
@@ -135,8 +133,10 @@ void ModbusClientDriver::write_outputs(const ScanContext&) noexcept {
 }
 
 bool ModbusClientDriver::write_safe_outputs(const SafeOutput* outputs, std::size_t n) noexcept {
-  const bool reached = safe_.engage();
-  // After engage() no write_outputs runs: this thread is the outputs' only producer.
+  // After engage() no write_outputs runs: this thread is the outputs' only
+  // producer. Not reached (a scan stuck inside write_outputs): the outputs
+  // are held, but the hand-over belongs to that scan; touch nothing.
+  if (!safe_.engage()) return false;
   for (std::size_t i = 0; i < cfg_.groups.size(); ++i) {
     const RequestGroup& g = cfg_.groups[i];
     if (!g.writes()) continue;
@@ -153,7 +153,7 @@ bool ModbusClientDriver::write_safe_outputs(const SafeOutput* outputs, std::size
     std::copy(out_[i].begin(), out_[i].end(), b + GroupHandover::kOutValues);
     handover_[i]->outputs.publish();
   }
-  return reached;
+  return true;
 }
 
 bool ModbusClientDriver::read_output(int channel, Cell* values) const {
