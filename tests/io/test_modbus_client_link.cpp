@@ -80,14 +80,14 @@ class FakeDevice {
 Bytes good(const Bytes& req) { return {req[0], req[1], 0, 0, 0, 5, req[6], 3, 2, 0x01, 0x02}; }
 
 struct Client {
-  explicit Client(std::uint16_t port) {
+  explicit Client(std::uint16_t port, std::int64_t reconnect_min = 10'000'000, std::int64_t reconnect_max = 20'000'000) {
     ModbusClientConfig cfg;
     ClientDevice d;
     d.name = "dev";
     d.port = port;
     d.response_timeout_ns = 100'000'000;
-    d.reconnect_min_ns = 10'000'000;
-    d.reconnect_max_ns = 20'000'000;
+    d.reconnect_min_ns = reconnect_min;
+    d.reconnect_max_ns = reconnect_max;
     cfg.devices.push_back(d);
     RequestGroup g;
     g.name = "g";
@@ -166,9 +166,17 @@ TEST(ModbusClientLink, NoDeviceListeningIsAConnectFailure) {
   socklen_t len = sizeof a;
   getsockname(s, reinterpret_cast<sockaddr*>(&a), &len);
   close(s);  // a port nobody listens on
-  Client cl(ntohs(a.sin_port));
+  // Back-off from 10 ms doubling to 80 ms: in 0.7 s about 11 attempts
+  // (0, 10, 30, 70, 150, 230, ...), where a fixed 10 ms would make 70.
+  Client cl(ntohs(a.sin_port), 10'000'000, 80'000'000);
   EXPECT_TRUE(cl.wait_error(code(ClientError::ConnectFailed)));
-  EXPECT_GE(cl.ch("g_errors").get<std::uint32_t>(), 1u);
+  std::this_thread::sleep_for(std::chrono::milliseconds(700));
+  ScanContext ctx;
+  cl.driver->latch_inputs(ctx);
+  const auto attempts = cl.ch("g_errors").get<std::uint32_t>();
+  EXPECT_GE(attempts, 3u);
+  EXPECT_LE(attempts, 20u);
+  EXPECT_FALSE(cl.ch("g_ok").get<bool>());
 }
 
 }  // namespace
