@@ -79,10 +79,12 @@ def main():
     hmi_b.close()
     # A ends by itself (every task stopped, status 3); give it time, then make sure.
     try:
-        a.proc.wait(timeout=10)
+        rc = a.proc.wait(timeout=10)
     except Exception:
         a.proc.send_signal(signal.SIGTERM)
         a.proc.wait(timeout=30)
+        raise AssertionError("A did not end by itself with its only task stopped")
+    assert rc == 3, "A's exit status %d, expected 3 (every task stopped)" % rc
     a._drain.join(timeout=10)
     err = "".join(a.stderr_lines)
     for text in ("modbus_client net.xr: stale past stale_after, stopping the task", "outputs driven to their safe values"):
