@@ -89,6 +89,8 @@ def main():
     err = "".join(a.stderr_lines)
     for text in ("modbus_client net.xr: stale past stale_after, stopping the task", "outputs driven to their safe values"):
         assert text in err, "no '%s' in A's stderr:\n%s" % (text, err)
+    for bad in ("ERROR: AddressSanitizer", "runtime error:", "WARNING: ThreadSanitizer"):
+        assert bad not in err, "sanitizer report on A's stderr:\n" + err
     b.stop()
     print("PASS")
 
