@@ -9,21 +9,24 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
 dir=${2:-build-fuzz}
-SYNCPLC_TARGETS=fuzz_modbus_request bash scripts/build.sh "$dir" -DCMAKE_CXX_COMPILER=clang++ \
+SYNCPLC_TARGETS="fuzz_modbus_request fuzz_modbus_reply" bash scripts/build.sh "$dir" -DCMAKE_CXX_COMPILER=clang++ \
   -DSYNCPLC_FUZZ=ON -DSYNCPLC_SANITIZE=address,undefined -DSYNCPLC_TESTS=OFF -DSYNCPLC_BENCH=OFF
-corpus=$(mktemp -d)
-trap 'rm -rf "$corpus"' EXIT
 mkdir -p "$dir/fuzz-artifacts"
-cp fuzz/corpus/modbus_request/* "$corpus/"
-log="$dir/fuzz-artifacts/fuzz_modbus_request.log"
-status=0
-ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-  "$dir/fuzz/fuzz_modbus_request" -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=10 \
-  -artifact_prefix="$dir/fuzz-artifacts/" -print_final_stats=1 "$corpus" >"$log" 2>&1 || status=$?
-if [ "$status" -ne 0 ]; then
-  cat "$log"
-  echo "fuzz_modbus_request failed (status $status); the input is in $dir/fuzz-artifacts/"
-  exit "$status"
-fi
-grep -E '^(INFO: Seed|#[0-9]+ +DONE|stat::)' "$log"
-echo "fuzz_modbus_request: no failure in $seconds s"
+# The server's request path, then the client driver's reply path.
+for target in modbus_request modbus_reply; do
+  corpus=$(mktemp -d)
+  cp "fuzz/corpus/$target"/* "$corpus/"
+  log="$dir/fuzz-artifacts/fuzz_$target.log"
+  status=0
+  ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+    "$dir/fuzz/fuzz_$target" -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=10 \
+    -artifact_prefix="$dir/fuzz-artifacts/" -print_final_stats=1 "$corpus" >"$log" 2>&1 || status=$?
+  rm -rf "$corpus"
+  if [ "$status" -ne 0 ]; then
+    cat "$log"
+    echo "fuzz_$target failed (status $status); the input is in $dir/fuzz-artifacts/"
+    exit "$status"
+  fi
+  grep -E '^(INFO: Seed|#[0-9]+ +DONE|stat::)' "$log"
+  echo "fuzz_$target: no failure in $seconds s"
+done

@@ -253,7 +253,14 @@ struct ScanContext {
   std::uint16_t task = 0;
   std::int32_t block = -1;       // index of the executing block, set by the executor
   EventSink* events = nullptr;
+  // Set by a driver that asks for its task to stop with its safe outputs (a
+  // Modbus client group's reaction `stop`, docs/modbus-client.md): after this
+  // scan the task applies its safe values and stops, as a safe_stop watchdog
+  // does. Static text: it becomes the TaskStopped event's message.
+  // Mutable: drivers get the context as const (IoDriver::latch_inputs).
+  mutable const char* stop_request = nullptr;
 
+  void request_stop(const char* why) const noexcept { stop_request = why; }
   void fault(const char* message, double value = 0) noexcept {
     if (events) events->push(Event{now_ns, task, block, EventKind::BlockFault, message, value});
   }

@@ -72,6 +72,7 @@ void Task::reset_timing() {
   scan_count_ = 0;
   wd_consecutive_ = 0;
   overrun_series_ = false;
+  stop_request_ = nullptr;
   stopped_.store(false, std::memory_order_release);
 }
 
@@ -144,6 +145,7 @@ void Task::scan(ScanContext& ctx) noexcept {
     blocks[k].block->save_retain(img + blocks[k].retain_cell);
 
   for (auto* d : drivers) d->write_outputs(ctx);        // 4
+  if (ctx.stop_request) stop_request_ = ctx.stop_request;  // acted on by account(), after the scan is recorded
   if (!trends.empty()) trends.fold(img, ctx.now_ns);    // the historian's buckets see every scan
   ++scan_count_;
 }
@@ -209,6 +211,18 @@ Task::Next Task::account(std::int64_t k, std::int64_t planned, std::int64_t star
       }
     }
   }
+  if (stop_request_ && !next.stop) {
+    // A driver's request (ScanContext::request_stop): the safe state, then stop, as safe_stop does.
+    ScanContext ctx;
+    ctx.now_ns = planned;
+    ctx.task = index_;
+    ctx.events = this;
+    apply_safe_state(ctx);
+    stopped_.store(true, std::memory_order_release);
+    push(Event{planned, index_, -1, EventKind::TaskStopped, stop_request_, 0});
+    next.stop = true;
+  }
+  stop_request_ = nullptr;
   return next;
 }
 

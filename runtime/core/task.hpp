@@ -230,6 +230,7 @@ class Task : private EventSink {
   std::int64_t now_ = 0;
   int wd_consecutive_ = 0;
   bool overrun_series_ = false;
+  const char* stop_request_ = nullptr;  // a driver's ScanContext::request_stop, taken by account()
   std::atomic<bool> stopped_{false};
   std::atomic<std::uint64_t> published_{0};
   std::atomic<TaskHandover*> handover_{nullptr};

@@ -1,6 +1,7 @@
 #include "runtime/io/drivers.hpp"
 
 #include "runtime/io/memory_driver.hpp"
+#include "runtime/io/modbus_client/modbus_client.hpp"
 #include "runtime/io/sim_ring.hpp"
 #include "runtime/io/sim_table.hpp"
 
@@ -12,6 +13,7 @@ const DriverRegistry& builtin_drivers() {
     r.add(memory_driver_type());
     r.add(sim_table_driver_type());
     r.add(sim_ring_driver_type());
+    r.add(modbus_client_driver_type());
     return r;
   }();
   return registry;

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "runtime/modbus/modbus_config.hpp"
+#include "runtime/modbus/register_codec.hpp"
 #include "runtime/core/program.hpp"
 
 namespace syncplc {
@@ -65,12 +66,6 @@ enum class TaskState : std::uint16_t { NotStarted = 0, Running = 1, Stopped = 2,
 // +4..+5 records lost (event records, trend buckets), +6..+7 failed store runs (UDINTs).
 inline constexpr std::uint32_t kStoreStatusRegisters = 8;
 inline bool is_store_status(ModbusPoint::Status s) { return s >= ModbusPoint::Status::StoreState; }
-
-// Registers a value of type t takes (bits for BOOL count as one coil).
-std::uint32_t register_width(IecType t);
-// A cell as registers (width register_width(t)) and back.
-void encode_registers(IecType t, Cell c, WordOrder order, std::uint16_t* regs);
-Cell decode_registers(IecType t, const std::uint16_t* regs, WordOrder order);
 
 // The coils or registers a tag takes, all elements together.
 struct ModbusSpan {

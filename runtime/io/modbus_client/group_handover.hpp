@@ -1,0 +1,65 @@
+// The hand-over between a request group's device thread and its task's scan,
+// lock-free both ways (runtime/core/triple_buffer.hpp, one producer and one
+// consumer each):
+//
+//   results  device thread -> latch_inputs: the newest completed exchange,
+//            cells [seq, error, stamp, read values...]; the latch takes the
+//            newest whole one and never waits for an exchange under way.
+//   outputs  write_outputs -> device thread: the newest values to write,
+//            cells [seq, values...]; the device thread writes the newest it
+//            finds when the group is due.
+//
+// The counters are atomics the scan reads for the status channels and
+// `syncplc run` for IoDriver::counters. The rest is the device thread's.
+#pragma once
+
+#include <algorithm>
+#include <atomic>
+#include <cstdint>
+#include <vector>
+
+#include "runtime/core/triple_buffer.hpp"
+#include "runtime/io/modbus_client/client_config.hpp"
+
+namespace syncplc {
+
+struct GroupHandover {
+  static constexpr std::size_t kSeq = 0, kError = 1, kStamp = 2, kValues = 3;  // results cells
+  static constexpr std::size_t kOutValues = 1;                                // outputs cells
+
+  explicit GroupHandover(const RequestGroup& g)
+      : group(&g), results(kValues + g.read_values()), outputs(kOutValues + g.written_values()) {
+    read.assign(g.read_values(), Cell{});
+    written.assign(g.written_values(), Cell{});
+    regs.assign(std::max(g.count, g.write_count) * g.format.width(), 0);
+    bits.assign(g.count, 0);
+  }
+
+  // Device thread: one completed exchange (or failure), stamped with the driver's clock.
+  void publish(std::uint16_t error, std::int64_t stamp, const Cell* values) noexcept {
+    Cell* b = results.back();
+    b[kSeq].set<std::uint64_t>(++seq);
+    b[kError].set<std::uint16_t>(error);
+    b[kStamp].set<std::int64_t>(stamp);
+    if (values && !read.empty()) std::copy(values, values + read.size(), b + kValues);
+    results.publish();
+    if (error) errors.fetch_add(1, std::memory_order_relaxed);
+    if (error == code(ClientError::Timeout)) timeouts.fetch_add(1, std::memory_order_relaxed);
+  }
+
+  const RequestGroup* group;
+  TripleBuffer results;
+  TripleBuffer outputs;
+  std::atomic<std::uint64_t> requests{0}, errors{0}, timeouts{0};
+
+  // --- the device thread's ---
+  std::uint64_t seq = 0;
+  std::int64_t next_due = 0;
+  std::vector<Cell> read;            // decoded read values
+  std::vector<Cell> written;         // the values last acknowledged by the device
+  bool have_written = false;
+  std::vector<std::uint16_t> regs;   // encoded registers to write
+  std::vector<std::uint8_t> bits;    // coils to write
+};
+
+}  // namespace syncplc

@@ -1,0 +1,225 @@
+#include "runtime/io/modbus_client/modbus_client.hpp"
+
+#include <algorithm>
+
+#include "runtime/core/monotonic_clock.hpp"
+
+namespace syncplc {
+namespace {
+
+std::int64_t default_clock() { return monotonic_ns(); }
+
+std::uint32_t saturate32(std::uint64_t v) { return v > 0xFFFFFFFFu ? 0xFFFFFFFFu : static_cast<std::uint32_t>(v); }
+
+}  // namespace
+
+ModbusClientDriver::ModbusClientDriver(ModbusClientConfig cfg) : cfg_(std::move(cfg)), clock_(&default_clock) {
+  auto add = [this](std::string name, PinDir dir, IecType t, std::uint32_t n, std::string unit, std::string doc) {
+    channels_.push_back(DriverChannel{std::move(name), dir, t, n, std::move(unit), std::move(doc)});
+    return static_cast<int>(channels_.size() - 1);
+  };
+  for (const auto& g : cfg_.groups) {
+    GroupChannels c;
+    const IecType t = g.format.channel();
+    const std::string dev = cfg_.devices[g.device].name;
+    if (g.reads()) c.values = add(g.name, PinDir::In, t, g.count, g.unit, "values read from " + dev);
+    else c.values = add(g.name, PinDir::Out, t, g.count, g.unit, "values written to " + dev);
+    if (g.function == ModbusFunction::ReadWriteMultipleRegisters)
+      c.write = add(g.name + "_write", PinDir::Out, t, g.write_count, g.unit, "values written to " + dev + " (FC 23)");
+    c.ok = add(g.name + "_ok", PinDir::In, IecType::BOOL, 1, "", "the last exchange succeeded");
+    c.age = add(g.name + "_age", PinDir::In, IecType::LREAL, 1, "ms", "time since the last successful exchange");
+    c.error = add(g.name + "_error", PinDir::In, IecType::UINT, 1, "", "last error code, 0 when ok");
+    c.reaction = add(g.name + "_reaction", PinDir::In, IecType::BOOL, 1, "", "stale past stale_after: the reaction applies");
+    c.requests = add(g.name + "_requests", PinDir::In, IecType::UDINT, 1, "", "requests sent");
+    c.errors = add(g.name + "_errors", PinDir::In, IecType::UDINT, 1, "", "failed exchanges and connection attempts");
+    c.timeouts = add(g.name + "_timeouts", PinDir::In, IecType::UDINT, 1, "", "requests without a reply in time");
+    c.reconnects = add(g.name + "_reconnects", PinDir::In, IecType::UDINT, 1, "", "the device's reconnections");
+    gch_.push_back(c);
+  }
+  bound_.assign(channels_.size(), nullptr);
+  for (const auto& g : cfg_.groups) {
+    handover_.push_back(std::make_unique<GroupHandover>(g));
+    // Before the first good reply the inputs show the safe values (reaction safe) or zeros.
+    values_.push_back(g.reaction == StaleReaction::Safe ? g.safe : std::vector<Cell>(g.read_values()));
+    out_.emplace_back(g.written_values());
+    out_seq_.push_back(0);
+  }
+}
+
+int ModbusClientDriver::channel_index(const std::string& name) const {
+  for (std::size_t i = 0; i < channels_.size(); ++i)
+    if (channels_[i].name == name) return static_cast<int>(i);
+  return -1;
+}
+
+bool ModbusClientDriver::open(std::string* error) {
+  close();
+  safe_.reset();
+  latch_.clear();
+  const std::int64_t now = clock_();
+  for (const auto& g : cfg_.groups) {
+    latch_.emplace_back(g, make_group_texts(name(), g));
+    latch_.back().reset(now);
+  }
+  open_ = true;
+  if (!network_) return true;
+  for (std::size_t d = 0; d < cfg_.devices.size(); ++d) {
+    std::vector<GroupHandover*> mine;
+    for (std::size_t i = 0; i < cfg_.groups.size(); ++i)
+      if (cfg_.groups[i].device == d) mine.push_back(handover_[i].get());
+    if (mine.empty()) continue;  // a device no group uses: no connection
+    links_.push_back(std::make_unique<DeviceLink>(cfg_.devices[d], std::move(mine), clock_));
+    if (!links_.back()->start(error)) {
+      close();
+      return false;
+    }
+  }
+  return true;
+}
+
+void ModbusClientDriver::close() noexcept {
+  for (auto& l : links_) l->stop();
+  links_.clear();
+  open_ = false;
+}
+
+void ModbusClientDriver::latch_inputs(const ScanContext& ctx) noexcept {
+  if (latch_.empty()) return;  // never opened
+  const std::int64_t now = clock_();
+  for (std::size_t i = 0; i < cfg_.groups.size(); ++i) {
+    const RequestGroup& g = cfg_.groups[i];
+    GroupHandover& h = *handover_[i];
+    const GroupStatus& st = latch_[i].latch(h.results.acquire(), now, ctx, values_[i].data());
+    const GroupChannels& c = gch_[i];
+    if (g.reads()) {
+      if (Cell* v = bound_[static_cast<std::size_t>(c.values)]) {
+        const bool safe = g.reaction == StaleReaction::Safe && st.reacting;
+        const auto& src = safe ? g.safe : values_[i];
+        std::copy(src.begin(), src.end(), v);
+      }
+    }
+    auto set = [this](int ch, auto value) {
+      if (Cell* p = bound_[static_cast<std::size_t>(ch)]) p->set(value);
+    };
+    set(c.ok, st.ok);
+    set(c.age, st.age_ms);
+    set(c.error, st.error);
+    set(c.reaction, st.reacting);
+    set(c.requests, saturate32(h.requests.load(std::memory_order_relaxed)));
+    set(c.errors, saturate32(h.errors.load(std::memory_order_relaxed)));
+    set(c.timeouts, saturate32(h.timeouts.load(std::memory_order_relaxed)));
+    std::uint64_t reconnects = 0;
+    for (const auto& l : links_)
+      if (&l->device() == &cfg_.devices[g.device]) reconnects = l->reconnects.load(std::memory_order_relaxed);
+    set(c.reconnects, saturate32(reconnects));
+  }
+}
+
+void ModbusClientDriver::write_outputs(const ScanContext&) noexcept {
+  if (!safe_.begin_write()) return;  // held in the safe state by the supervisor
+  for (std::size_t i = 0; i < cfg_.groups.size(); ++i) {
+    const RequestGroup& g = cfg_.groups[i];
+    if (!g.writes()) continue;
+    const int ch = g.function == ModbusFunction::ReadWriteMultipleRegisters ? gch_[i].write : gch_[i].values;
+    const Cell* v = bound_[static_cast<std::size_t>(ch)];
+    if (!v) continue;  // an unbound output channel: nothing to write
+    std::copy(v, v + out_[i].size(), out_[i].begin());
+    Cell* b = handover_[i]->outputs.back();
+    b[GroupHandover::kSeq].set<std::uint64_t>(++out_seq_[i]);
+    std::copy(out_[i].begin(), out_[i].end(), b + GroupHandover::kOutValues);
+    handover_[i]->outputs.publish();
+  }
+  safe_.end_write();
+}
+
+bool ModbusClientDriver::write_safe_outputs(const SafeOutput* outputs, std::size_t n) noexcept {
+  // After engage() no write_outputs runs: this thread is the outputs' only
+  // producer. Not reached (a scan stuck inside write_outputs): the outputs
+  // are held, but the hand-over belongs to that scan; touch nothing.
+  if (!safe_.engage()) return false;
+  for (std::size_t i = 0; i < cfg_.groups.size(); ++i) {
+    const RequestGroup& g = cfg_.groups[i];
+    if (!g.writes()) continue;
+    const int ch = g.function == ModbusFunction::ReadWriteMultipleRegisters ? gch_[i].write : gch_[i].values;
+    bool any = false;
+    for (std::size_t k = 0; k < n; ++k)
+      if (outputs[k].channel == ch && outputs[k].element < out_[i].size()) {
+        out_[i][outputs[k].element] = outputs[k].value;
+        any = true;
+      }
+    if (!any && out_seq_[i] == 0) continue;  // nothing ever written and no safe value: leave the device alone
+    Cell* b = handover_[i]->outputs.back();
+    b[GroupHandover::kSeq].set<std::uint64_t>(++out_seq_[i]);
+    std::copy(out_[i].begin(), out_[i].end(), b + GroupHandover::kOutValues);
+    handover_[i]->outputs.publish();
+  }
+  return true;
+}
+
+bool ModbusClientDriver::read_output(int channel, Cell* values) const {
+  for (std::size_t i = 0; i < cfg_.groups.size(); ++i) {
+    const RequestGroup& g = cfg_.groups[i];
+    const int ch = g.function == ModbusFunction::ReadWriteMultipleRegisters ? gch_[i].write : gch_[i].values;
+    if (g.writes() && ch == channel) {
+      std::copy(out_[i].begin(), out_[i].end(), values);
+      return true;
+    }
+  }
+  return false;
+}
+
+void ModbusClientDriver::inject(std::size_t g, std::uint16_t error, std::int64_t stamp, const Cell* values) {
+  handover_[g]->publish(error, stamp, values);
+}
+
+const Cell* ModbusClientDriver::handed_over(std::size_t g) {
+  const Cell* c = handover_[g]->outputs.acquire();
+  return c[GroupHandover::kSeq].get<std::uint64_t>() == 0 ? nullptr : c + GroupHandover::kOutValues;
+}
+
+std::string ModbusClientDriver::summary() const {
+  std::string s = std::to_string(cfg_.devices.size()) + (cfg_.devices.size() == 1 ? " device, " : " devices, ") +
+                  std::to_string(cfg_.groups.size()) + (cfg_.groups.size() == 1 ? " request group:" : " request groups:");
+  for (std::size_t d = 0; d < cfg_.devices.size(); ++d) {
+    const auto& dev = cfg_.devices[d];
+    s += (d ? "; " : " ") + dev.name + " " + dev.host + ":" + std::to_string(dev.port) + " unit " + std::to_string(dev.unit);
+    for (const auto& g : cfg_.groups)
+      if (g.device == d)
+        s += ", " + g.name + " FC" + std::to_string(static_cast<int>(g.function)) + "@" + std::to_string(g.address);
+  }
+  return s;
+}
+
+std::vector<std::pair<std::string, double>> ModbusClientDriver::counters() const {
+  std::vector<std::pair<std::string, double>> out;
+  for (std::size_t i = 0; i < cfg_.groups.size(); ++i) {
+    const auto& h = *handover_[i];
+    const std::string& g = cfg_.groups[i].name;
+    out.emplace_back(g + ".requests", static_cast<double>(h.requests.load(std::memory_order_relaxed)));
+    out.emplace_back(g + ".errors", static_cast<double>(h.errors.load(std::memory_order_relaxed)));
+    out.emplace_back(g + ".timeouts", static_cast<double>(h.timeouts.load(std::memory_order_relaxed)));
+  }
+  for (const auto& l : links_)
+    out.emplace_back(l->device().name + ".reconnects", static_cast<double>(l->reconnects.load(std::memory_order_relaxed)));
+  return out;
+}
+
+DriverTypeInfo modbus_client_driver_type() {
+  DriverTypeInfo t;
+  t.name = "modbus_client";
+  t.doc =
+      "Modbus TCP client: remote devices {name, host (default 127.0.0.1), port, unit, response_timeout, "
+      "connect_timeout, reconnect_min, reconnect_max, word_order, reaction, stale_after} and cyclic request groups "
+      "{name, device, function (1, 2, 3, 4, 5, 6, 15, 16, 23), address, count, write_address, write_count (23), "
+      "type, word_order, scale, offset, unit, every (scan or a duration), on_change, reaction (hold, safe, stop), "
+      "stale_after, safe}. Channels per group g: g (values), g_write (FC 23), g_ok, g_age (ms), g_error, "
+      "g_reaction, g_requests, g_errors, g_timeouts, g_reconnects. One thread per device; docs/modbus-client.md.";
+  t.create = [](const ConfigNode& node, DriverSetup& setup) -> std::unique_ptr<IoDriver> {
+    auto cfg = read_modbus_client_config(node, setup);
+    if (!cfg) return nullptr;
+    return std::make_unique<ModbusClientDriver>(std::move(*cfg));
+  };
+  return t;
+}
+
+}  // namespace syncplc

@@ -1,0 +1,85 @@
+// The Modbus TCP client driver (`type: modbus_client`): remote devices and
+// cyclic request groups (reads FC 1-4, writes FC 5, 6, 15, 16, read/write
+// FC 23) bound to tags through the driver's channels. docs/modbus-client.md
+// describes the keys, the status channels, staleness and the reactions.
+//
+// Channels, per request group g:
+//   g            in (reads) or out (writes): the values, ARRAY of count
+//   g_write      out, FC 23 only: the values written (g is the read side)
+//   g_ok         in BOOL    the last exchange succeeded
+//   g_age        in LREAL ms since the last successful exchange completed
+//   g_error      in UINT    the last error (client_error.hpp), 0 when ok
+//   g_reaction   in BOOL    stale past stale_after: the reaction applies
+//   g_requests, g_errors, g_timeouts, g_reconnects   in UDINT counters
+//
+// Threads: one per device (device_link.hpp); the scan only copies from and
+// to the hand-over buffers (group_handover.hpp) and reads atomics.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "runtime/core/io_driver.hpp"
+#include "runtime/io/modbus_client/client_config.hpp"
+#include "runtime/io/modbus_client/device_link.hpp"
+#include "runtime/io/modbus_client/group_handover.hpp"
+#include "runtime/io/modbus_client/group_latch.hpp"
+#include "runtime/io/safe_output_latch.hpp"
+
+namespace syncplc {
+
+class ModbusClientDriver final : public IoDriver {
+ public:
+  using Clock = DeviceLink::Clock;
+  explicit ModbusClientDriver(ModbusClientConfig cfg);
+  ~ModbusClientDriver() override { close(); }
+
+  const std::vector<DriverChannel>& channels() const override { return channels_; }
+  void bind(const std::vector<Cell*>& cells) override { bound_ = cells; }
+  bool open(std::string* error) override;
+  void latch_inputs(const ScanContext& ctx) noexcept override;
+  void write_outputs(const ScanContext& ctx) noexcept override;
+  void close() noexcept override;
+  bool write_safe_outputs(const SafeOutput* outputs, std::size_t n) noexcept override;
+  bool read_output(int channel, Cell* values) const override;
+  std::string summary() const override;
+  std::vector<std::pair<std::string, double>> counters() const override;
+
+  const ModbusClientConfig& config() const { return cfg_; }
+  int channel_index(const std::string& name) const;
+
+  // --- tests: the exchange replaced by the test -----------------------------------
+  // Before open(): the clock of stamps, ages and stale times (default monotonic_ns).
+  void set_clock(Clock c) { clock_ = c; }
+  // Before open(): no device threads; the test publishes results itself.
+  void set_network(bool on) { network_ = on; }
+  // Without network: a result of group g as its device thread would publish it.
+  void inject(std::size_t g, std::uint16_t error, std::int64_t stamp, const Cell* values);
+  // Without network: the newest outputs handed over for group g (nullptr before any).
+  const Cell* handed_over(std::size_t g);
+
+ private:
+  struct GroupChannels {
+    int values = -1, write = -1, ok = -1, age = -1, error = -1, reaction = -1;
+    int requests = -1, errors = -1, timeouts = -1, reconnects = -1;
+  };
+  ModbusClientConfig cfg_;
+  std::vector<DriverChannel> channels_;
+  std::vector<GroupChannels> gch_;
+  std::vector<Cell*> bound_;
+  std::vector<std::unique_ptr<GroupHandover>> handover_;
+  std::vector<std::unique_ptr<DeviceLink>> links_;
+  std::vector<GroupLatch> latch_;
+  std::vector<std::vector<Cell>> values_;  // per group: the read values the scan shows (last good)
+  std::vector<std::vector<Cell>> out_;     // per group: the outputs last handed over
+  std::vector<std::uint64_t> out_seq_;
+  Clock clock_;
+  bool network_ = true;
+  bool open_ = false;
+  SafeOutputLatch safe_;
+};
+
+DriverTypeInfo modbus_client_driver_type();
+
+}  // namespace syncplc

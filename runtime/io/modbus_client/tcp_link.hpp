@@ -1,0 +1,43 @@
+// The TCP side of one device connection: non-blocking sockets with poll, so
+// every wait has a deadline and ends early when the driver closes (the stop
+// eventfd). Only the device's own thread uses it.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+#include "runtime/io/modbus_client/client_error.hpp"
+
+namespace syncplc {
+
+class TcpLink {
+ public:
+  TcpLink() = default;
+  TcpLink(const TcpLink&) = delete;
+  TcpLink& operator=(const TcpLink&) = delete;
+  ~TcpLink() { close(); }
+
+  void set_stop_fd(int fd) { stop_fd_ = fd; }
+  // ConnectFailed (refused, unreachable, not within timeout_ns, host unknown) or None.
+  ClientError connect(const std::string& host, std::uint16_t port, std::int64_t timeout_ns);
+  bool connected() const { return fd_ >= 0; }
+  void close() noexcept;
+
+  // deadline: the driver's clock (monotonic ns). ConnectionLost when the
+  // peer closed or the send failed, Timeout at the deadline.
+  ClientError send_all(const std::uint8_t* p, std::size_t n, std::int64_t deadline);
+  // Exactly n bytes: Timeout at the deadline, ConnectionLost when the peer
+  // closed before the first byte, Short when it closed after some.
+  ClientError receive(std::uint8_t* p, std::size_t n, std::int64_t deadline);
+  // Sleeps until `deadline` or until the stop fd is signalled (returns true then).
+  bool wait_until(std::int64_t deadline) const;
+
+ private:
+  // Waits for `events` on the socket: 1 ready, 0 deadline, -1 stop or error.
+  int wait(short events, std::int64_t deadline) const;
+  int fd_ = -1;
+  int stop_fd_ = -1;
+};
+
+}  // namespace syncplc

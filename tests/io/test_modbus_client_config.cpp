@@ -1,0 +1,141 @@
+// The modbus_client driver's settings: what loads, and every error at its
+// file:line:col.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "runtime/io/modbus_client/modbus_client.hpp"
+#include "tests/project/loader_test_util.hpp"
+
+namespace syncplc {
+namespace {
+
+using loadertest::has_error;
+
+TEST(ModbusClientConfig, AWholeDriverLoadsWithItsChannels) {
+  auto r = loadertest::load(R"(
+tasks: [{name: main, period: 10ms}]
+tags:
+  - {name: temps, type: "ARRAY[1..2] OF LREAL", unit: K}
+  - {name: temps_ok, type: BOOL}
+  - {name: age, type: LREAL, unit: ms}
+  - {name: speed, type: REAL}
+  - {name: pump, type: BOOL, safe: FALSE}
+drivers:
+  - name: io
+    type: modbus_client
+    devices:
+      - {name: plc2, host: 127.0.0.1, port: 5020, unit: 3, response_timeout: 50ms, word_order: low_first}
+      - {name: valve, port: 5021, reaction: stop, stale_after: 200ms}
+    groups:
+      - {name: t, device: plc2, function: read_input_registers, address: 10, count: 2, type: INT, scale: 0.1,
+         offset: -40, unit: K, every: 100ms, reaction: safe, safe: [20, 21]}
+      - {name: s, device: plc2, function: 16, address: 0, type: REAL, on_change: true}
+      - {name: p, device: valve, function: 5, address: 7}
+      - {name: x, device: valve, function: 23, address: 0, count: 4, write_address: 10, write_count: 2, type: UDINT}
+    bind: {t: temps, t_ok: temps_ok, t_age: age, s: speed, p: pump}
+)");
+  ASSERT_LOADS(r);
+  auto& d = static_cast<ModbusClientDriver&>(*r.program->drivers[0].driver);
+  const auto& c = d.config();
+  ASSERT_EQ(c.devices.size(), 2u);
+  EXPECT_EQ(c.devices[0].unit, 3);
+  EXPECT_EQ(c.devices[0].response_timeout_ns, 50'000'000);
+  EXPECT_EQ(c.devices[1].host, "127.0.0.1");
+  ASSERT_EQ(c.groups.size(), 4u);
+  EXPECT_EQ(c.groups[0].format.order, WordOrder::LowFirst);  // the device's
+  EXPECT_EQ(c.groups[0].format.channel(), IecType::LREAL);
+  EXPECT_EQ(c.groups[0].interval_ns, 100'000'000);
+  EXPECT_EQ(c.groups[0].safe[1].get<double>(), 21.0);
+  EXPECT_EQ(c.groups[1].interval_ns, 10'000'000);  // every scan: the task's period
+  EXPECT_TRUE(c.groups[1].on_change);
+  EXPECT_EQ(c.groups[2].reaction, StaleReaction::Stop);  // the device's
+  EXPECT_EQ(c.groups[2].stale_after_ns, 200'000'000);
+  EXPECT_EQ(c.groups[3].write_count, 2u);
+  EXPECT_EQ(d.channels()[static_cast<std::size_t>(d.channel_index("t"))].dir, PinDir::In);
+  EXPECT_EQ(d.channels()[static_cast<std::size_t>(d.channel_index("s"))].dir, PinDir::Out);
+  EXPECT_EQ(d.channels()[static_cast<std::size_t>(d.channel_index("x_write"))].length, 2u);
+  EXPECT_EQ(d.channels()[static_cast<std::size_t>(d.channel_index("x"))].type, IecType::UDINT);
+  EXPECT_EQ(d.channels()[static_cast<std::size_t>(d.channel_index("p_error"))].type, IecType::UINT);
+  EXPECT_EQ(d.channels()[static_cast<std::size_t>(d.channel_index("x_reconnects"))].type, IecType::UDINT);
+  EXPECT_NE(d.summary().find("plc2 127.0.0.1:5020 unit 3"), std::string::npos);
+}
+
+TEST(ModbusClientConfig, EveryMistakeIsReportedWhereItIs) {
+  auto e = loadertest::errors(R"(
+tasks: [{name: main, period: 10ms}]
+drivers:
+  - name: io
+    type: modbus_client
+    devices:
+      - {name: a, port: 70000, unit: 256, response_timeout: 0s, reconnect_min: 2s, reconnect_max: 1s, color: red}
+      - {name: a, host: "bad host!", port: 502, reaction: explode}
+      - {port: 503}
+    groups:
+      - {name: g1, function: 3, address: 0}
+      - {name: g2, device: b, function: 3, address: 0}
+      - {name: g3, device: a, function: 9, address: 0}
+      - {name: g4, device: a, function: 3, address: 0, count: 126}
+      - {name: g5, device: a, function: 1, address: 0, type: INT}
+      - {name: g6, device: a, function: 3, address: 65535, count: 1, type: DINT}
+      - {name: g7, device: a, function: 6, address: 0, type: DINT}
+      - {name: g8, device: a, function: 3, address: 0, on_change: true}
+      - {name: g9, device: a, function: 16, address: 0, reaction: safe}
+      - {name: g10, device: a, function: 3, address: 0, safe: 1}
+      - {name: g11, device: a, function: 3, address: 0, count: 2, reaction: safe, safe: [1, 2, 3]}
+      - {name: g12, device: a, function: 3, address: 0, every: fast}
+      - {name: g13, device: a, function: 3, address: 0, write_address: 4}
+      - {name: g14, device: a, function: 23, address: 0}
+      - {name: g15, device: a, function: 1, address: 0, scale: 2}
+      - {name: g16, device: a, function: 3, type: BOOL}
+      - {name: g17, device: a, function: 3, address: 0}
+      - {name: g17, device: a, function: 1, address: 0}
+      - {name: "9x", device: a, function: 3, address: 0}
+)");
+  EXPECT_THAT(e, has_error("p.yaml:6:25", "port must be an integer 1..65535"));
+  EXPECT_THAT(e, has_error("p.yaml:6:38", "unit must be an integer 0..255"));
+  EXPECT_THAT(e, has_error("p.yaml:6:61", "response_timeout 0s is outside 1ms .. 1m"));
+  EXPECT_THAT(e, has_error("p.yaml:6:99", "reconnect_max must be at least reconnect_min (2s)"));
+  EXPECT_THAT(e, has_error("p.yaml:6:110", "unknown key 'color' in a device (name, host, port"));
+  EXPECT_THAT(e, has_error("p.yaml:7:16", "duplicate device 'a'"));
+  EXPECT_THAT(e, has_error("p.yaml:7:25", "host: expected an IPv4 address or a host name"));
+  EXPECT_THAT(e, has_error("p.yaml:7:59", "reaction must be one of hold, safe, stop, not 'explode'"));
+  EXPECT_THAT(e, has_error("p.yaml:8:9", "a device needs a name"));
+  EXPECT_THAT(e, has_error("p.yaml:10:9", "request group g1 needs device: (the driver has 3 devices)"));
+  EXPECT_THAT(e, has_error("p.yaml:11:28", "unknown device 'b'"));
+  EXPECT_THAT(e, has_error("p.yaml:12:41", "function: '9' is not 1, 2, 3, 4, 5, 6, 15, 16 or 23"));
+  EXPECT_THAT(e, has_error("p.yaml:13:63", "count 126 takes 126 registers; function 3 carries at most 125"));
+  EXPECT_THAT(e, has_error("p.yaml:14:62", "type: coils and discrete inputs are BOOL"));
+  EXPECT_THAT(e, has_error("p.yaml:15:53", "address + count runs past 65535"));
+  EXPECT_THAT(e, has_error("p.yaml:16:62", "function 6 writes one 16-bit register: count 1 of a 16-bit type"));
+  EXPECT_THAT(e, has_error("p.yaml:17:67", "on_change is for groups that write"));
+  EXPECT_THAT(e, has_error("p.yaml:18:67", "reaction safe sets inputs"));
+  EXPECT_THAT(e, has_error("p.yaml:19:63", "safe: values are used by reaction safe only (this group's reaction is hold)"));
+  EXPECT_THAT(e, has_error("p.yaml:20:89", "safe: expected one value for every element or a list of 2"));
+  EXPECT_THAT(e, has_error("p.yaml:21:64", "every: 'fast' is not a duration"));
+  EXPECT_THAT(e, has_error("p.yaml:22:72", "write_address is for function 23 only"));
+  EXPECT_THAT(e, has_error("p.yaml:23:9", "function 23 needs write_address:"));
+  EXPECT_THAT(e, has_error("p.yaml:24:64", "scale and offset are for register values, not BOOL"));
+  EXPECT_THAT(e, has_error("p.yaml:25:9", "request group g16 needs address:"));
+  EXPECT_THAT(e, has_error("p.yaml:25:51", "type: registers hold integers, bit strings and reals, not BOOL"));
+  EXPECT_THAT(e, has_error("p.yaml:27:16", "request group g17: its channel names clash with another group's"));
+  EXPECT_THAT(e, has_error("p.yaml:28:16", "a request group needs a name"));
+  EXPECT_EQ(e.size(), 28u);
+}
+
+TEST(ModbusClientConfig, DevicesAndGroupsAreRequired) {
+  auto e = loadertest::errors(R"(
+tasks: [{name: main, period: 10ms}]
+drivers:
+  - {name: io, type: modbus_client, groups: []}
+)");
+  EXPECT_THAT(e, has_error("p.yaml:3:5", "devices: expected a list"));
+  auto e2 = loadertest::errors(R"(
+tasks: [{name: main, period: 10ms}]
+drivers:
+  - {name: io, type: modbus_client, devices: [{name: d, port: 502}]}
+)");
+  EXPECT_THAT(e2, has_error("p.yaml:3:5", "groups: expected a list"));
+}
+
+}  // namespace
+}  // namespace syncplc

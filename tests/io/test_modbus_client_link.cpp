@@ -1,0 +1,183 @@
+// The modbus_client driver's device thread over real sockets against a fake
+// device in this process that answers with one kind of bad reply each: every
+// class ends as its error code in the group's status, the connection is
+// closed and opened again (or kept, for an exception reply), nothing crashes.
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <functional>
+#include <thread>
+#include <vector>
+
+#include "runtime/io/modbus_client/modbus_client.hpp"
+
+namespace syncplc {
+namespace {
+
+using Bytes = std::vector<std::uint8_t>;
+
+// Accepts connections on 127.0.0.1 and answers each request with answer(request)
+// (nothing for an empty answer; a last byte 0xEE closes the connection after the rest).
+class FakeDevice {
+ public:
+  explicit FakeDevice(std::function<Bytes(const Bytes&)> answer) : answer_(std::move(answer)) {
+    fd_ = socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    EXPECT_EQ(bind(fd_, reinterpret_cast<sockaddr*>(&a), sizeof a), 0);
+    socklen_t len = sizeof a;
+    getsockname(fd_, reinterpret_cast<sockaddr*>(&a), &len);
+    port = ntohs(a.sin_port);
+    listen(fd_, 8);
+    thread_ = std::thread([this] { serve(); });
+  }
+  ~FakeDevice() {
+    stop_ = true;
+    shutdown(fd_, SHUT_RDWR);
+    close(fd_);
+    thread_.join();
+  }
+  std::uint16_t port = 0;
+  std::atomic<int> connections{0};
+
+ private:
+  void serve() {
+    while (!stop_) {
+      int c = accept(fd_, nullptr, nullptr);
+      if (c < 0) return;
+      ++connections;
+      timeval tv{0, 200'000};
+      setsockopt(c, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+      while (!stop_) {
+        std::uint8_t buf[300];
+        ssize_t n = recv(c, buf, sizeof buf, 0);
+        if (n == 0) break;
+        if (n < 0) continue;  // receive timeout: look at stop_ again
+        Bytes reply = answer_(Bytes(buf, buf + n));
+        // A last byte 0xEE: send the bytes before it, then close the connection.
+        const bool close_after = !reply.empty() && reply.back() == 0xEE;
+        if (close_after) reply.pop_back();
+        if (!reply.empty()) send(c, reply.data(), reply.size(), MSG_NOSIGNAL);
+        if (close_after) break;
+      }
+      close(c);
+    }
+  }
+  std::function<Bytes(const Bytes&)> answer_;
+  int fd_ = -1;
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
+
+// The reply to a read of one holding register (FC 3) with its MBAP copied from the request.
+Bytes good(const Bytes& req) { return {req[0], req[1], 0, 0, 0, 5, req[6], 3, 2, 0x01, 0x02}; }
+
+struct Client {
+  explicit Client(std::uint16_t port, std::int64_t reconnect_min = 10'000'000, std::int64_t reconnect_max = 20'000'000) {
+    ModbusClientConfig cfg;
+    ClientDevice d;
+    d.name = "dev";
+    d.port = port;
+    d.response_timeout_ns = 100'000'000;
+    d.reconnect_min_ns = reconnect_min;
+    d.reconnect_max_ns = reconnect_max;
+    cfg.devices.push_back(d);
+    RequestGroup g;
+    g.name = "g";
+    g.function = ModbusFunction::ReadHoldingRegisters;
+    g.count = 1;
+    g.interval_ns = 5'000'000;
+    cfg.groups.push_back(g);
+    driver = std::make_unique<ModbusClientDriver>(cfg);
+    cells.assign(driver->channels().size(), Cell{});
+    std::vector<Cell*> ptrs;
+    for (auto& c : cells) ptrs.push_back(&c);
+    driver->set_name("io");
+    driver->bind(ptrs);
+    std::string err;
+    EXPECT_TRUE(driver->open(&err)) << err;
+  }
+  ~Client() { driver->close(); }
+  Cell& ch(const char* name) { return cells[static_cast<std::size_t>(driver->channel_index(name))]; }
+  // Latches until the group's error is `code` (or 5 s pass).
+  bool wait_error(std::uint16_t code) {
+    ScanContext ctx;
+    for (int i = 0; i < 1000; ++i) {
+      driver->latch_inputs(ctx);
+      if (ch("g_error").get<std::uint16_t>() == code) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    return false;
+  }
+  std::unique_ptr<ModbusClientDriver> driver;
+  std::vector<Cell> cells;
+};
+
+struct Case {
+  const char* what;
+  std::function<Bytes(const Bytes&)> answer;
+  ClientError expect;
+};
+
+TEST(ModbusClientLink, EveryBadReplyEndsAsItsCodeAndTheDeviceIsReconnected) {
+  const std::vector<Case> cases = {
+      {"good", good, ClientError::None},
+      {"exception 02", [](const Bytes& q) { return Bytes{q[0], q[1], 0, 0, 0, 3, q[6], 0x83, 2}; }, exception_error(2)},
+      {"no answer", [](const Bytes&) { return Bytes{}; }, ClientError::Timeout},
+      {"closed", [](const Bytes&) { return Bytes{0xEE}; }, ClientError::ConnectionLost},
+      {"header then close", [](const Bytes& q) { return Bytes{q[0], q[1], 0, 0, 0, 5, q[6], 0xEE}; }, ClientError::Short},
+      {"wrong transaction", [](const Bytes& q) { Bytes r = good(q); r[1] ^= 1; return r; }, ClientError::WrongTransaction},
+      {"wrong unit", [](const Bytes& q) { Bytes r = good(q); r[6] ^= 1; return r; }, ClientError::WrongUnit},
+      {"wrong function", [](const Bytes& q) { Bytes r = good(q); r[7] = 4; return r; }, ClientError::WrongFunction},
+      {"protocol id", [](const Bytes& q) { Bytes r = good(q); r[3] = 9; return r; }, ClientError::Malformed},
+      {"length field 600", [](const Bytes& q) { Bytes r = good(q); r[4] = 2; r[5] = 0x58; return r; }, ClientError::Oversized},
+      {"byte count", [](const Bytes& q) { return Bytes{q[0], q[1], 0, 0, 0, 7, q[6], 3, 4, 0, 1, 0, 2}; }, ClientError::WrongByteCount},
+      {"trailing byte", [](const Bytes& q) { return Bytes{q[0], q[1], 0, 0, 0, 6, q[6], 3, 2, 0, 1, 9}; }, ClientError::Oversized},
+  };
+  for (const auto& c : cases) {
+    FakeDevice dev(c.answer);
+    Client cl(dev.port);
+    EXPECT_TRUE(cl.wait_error(code(c.expect))) << c.what << ": error " << cl.ch("g_error").get<std::uint16_t>();
+    EXPECT_EQ(cl.ch("g_ok").get<bool>(), c.expect == ClientError::None) << c.what;
+    if (c.expect == ClientError::None) {
+      EXPECT_EQ(cl.ch("g").get<std::int16_t>(), 0x0102);
+    }
+    if (c.expect != ClientError::None && !keeps_connection(code(c.expect))) {
+      // The connection was given up and made again, with back-off.
+      for (int i = 0; i < 400 && dev.connections < 2; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      EXPECT_GE(dev.connections.load(), 2) << c.what;
+    }
+  }
+}
+
+TEST(ModbusClientLink, NoDeviceListeningIsAConnectFailure) {
+  int s = socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  bind(s, reinterpret_cast<sockaddr*>(&a), sizeof a);
+  socklen_t len = sizeof a;
+  getsockname(s, reinterpret_cast<sockaddr*>(&a), &len);
+  close(s);  // a port nobody listens on
+  // Back-off from 10 ms doubling to 80 ms: in 0.7 s about 11 attempts
+  // (0, 10, 30, 70, 150, 230, ...), where a fixed 10 ms would make 70.
+  Client cl(ntohs(a.sin_port), 10'000'000, 80'000'000);
+  EXPECT_TRUE(cl.wait_error(code(ClientError::ConnectFailed)));
+  std::this_thread::sleep_for(std::chrono::milliseconds(700));
+  ScanContext ctx;
+  cl.driver->latch_inputs(ctx);
+  const auto attempts = cl.ch("g_errors").get<std::uint32_t>();
+  EXPECT_GE(attempts, 3u);
+  EXPECT_LE(attempts, 20u);
+  EXPECT_FALSE(cl.ch("g_ok").get<bool>());
+}
+
+}  // namespace
+}  // namespace syncplc
