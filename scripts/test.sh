@@ -2,10 +2,12 @@
 # Installs what is needed, builds, and runs every test three times:
 #   1. the release build (RelWithDebInfo), all tests;
 #   2. AddressSanitizer + UndefinedBehaviorSanitizer, all tests;
-#   3. ThreadSanitizer, the tests of threaded parts (label "threaded"), the CLI
-#      tests and the Modbus peer tests (label "peers": pymodbus and mbpoll
-#      against the real `syncplc run`);
-#   4. the libFuzzer harness of the Modbus request path, 60 s under ASan + UBSan
+#   3. ThreadSanitizer, the tests of threaded parts (label "threaded": the real-time
+#      runner, the store, the modbus_client driver's device threads), the CLI
+#      tests and the peer tests (label "peers": pymodbus, mbpoll and the
+#      simulated drives against the real `syncplc run`);
+#   4. the libFuzzer harnesses of the Modbus server's request path and the
+#      modbus_client driver's reply path, 60 s each under ASan + UBSan
 #      (scripts/fuzz.sh; built with clang).
 # Any failure stops the script with a non-zero status.
 set -euo pipefail
@@ -24,10 +26,10 @@ bash scripts/build.sh build-asan -DSYNCPLC_SANITIZE=address,undefined -DSYNCPLC_
 
 echo "== ThreadSanitizer"
 # Only what the threaded and CLI tests need: the other suites do not run here.
-SYNCPLC_TARGETS="syncplc test_realtime test_cli test_store" \
+SYNCPLC_TARGETS="syncplc test_realtime test_cli test_store test_io" \
   bash scripts/build.sh build-tsan -DSYNCPLC_SANITIZE=thread -DSYNCPLC_BENCH=OFF
 (cd build-tsan && TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
    ctest --output-on-failure -j "$jobs" -L 'threaded|cli|peers')
-echo "== libFuzzer: Modbus request handling"
+echo "== libFuzzer: the Modbus request and reply paths"
 bash scripts/fuzz.sh 60 build-fuzz
 echo "== all test runs passed"
