@@ -83,6 +83,35 @@ void print_statistics(std::ostream& os, const Program& p, bool virtual_time) {
   }
 }
 
+void print_driver_counters(std::ostream& os, const Program& p) {
+  auto number = [](double v) {
+    if (v == static_cast<double>(static_cast<std::int64_t>(v)) && v < 1e15 && v > -1e15)
+      return fmt::format("{}", static_cast<std::int64_t>(v));
+    return fmt::format("{:.4g}", v);
+  };
+  bool header = false;
+  for (const auto& d : p.drivers) {
+    const auto counters = d.driver->counters();
+    if (counters.empty()) continue;
+    if (!header) os << "Drivers\n";
+    header = true;
+    os << fmt::format("  {} ({})\n", d.driver->name(), d.type);
+    std::string what, line;  // consecutive counters of one <what> share a line
+    auto flush = [&] {
+      if (!line.empty()) os << "    " << (what.empty() ? "" : what + ": ") << line << "\n";
+      line.clear();
+    };
+    for (const auto& [key, value] : counters) {
+      const auto dot = key.rfind('.');
+      const std::string w = dot == std::string::npos ? "" : key.substr(0, dot);
+      if (w != what) flush();
+      what = w;
+      line += (line.empty() ? "" : " ") + key.substr(dot == std::string::npos ? 0 : dot + 1) + "=" + number(value);
+    }
+    flush();
+  }
+}
+
 std::string format_event(const Program& p, const Event& e) {
   std::string where = p.tasks[e.task]->config().name;
   if (e.block >= 0 && static_cast<std::size_t>(e.block) < p.tasks[e.task]->blocks.size())
