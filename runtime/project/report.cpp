@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+
 namespace syncplc {
 
 std::string format_ns(std::int64_t ns) {
@@ -87,7 +89,7 @@ void print_driver_counters(std::ostream& os, const Program& p) {
   auto number = [](double v) {
     if (v == static_cast<double>(static_cast<std::int64_t>(v)) && v < 1e15 && v > -1e15)
       return fmt::format("{}", static_cast<std::int64_t>(v));
-    return fmt::format("{:.4g}", v);
+    return std::abs(v) < 1e9 ? fmt::format("{:.1f}", v) : fmt::format("{:.4g}", v);
   };
   bool header = false;
   for (const auto& d : p.drivers) {

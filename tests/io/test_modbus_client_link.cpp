@@ -213,5 +213,17 @@ TEST(ModbusClientLink, RequestsPerSecondAndRoundTripsAreCounted) {
   EXPECT_DOUBLE_EQ(counter(*cl.driver, "g.requests_per_s"), rate);
 }
 
+// Closing the driver interrupts the exchange under way: that is not the
+// device's failure, and counts as no error (run prints the counters after it).
+TEST(ModbusClientLink, AnExchangeCutShortByCloseIsNoError) {
+  FakeDevice dev([](const Bytes&) { return Bytes{}; });  // never answers (100 ms timeout)
+  Client cl(dev.port);
+  for (int i = 0; i < 400 && counter(*cl.driver, "g.requests") < 1; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  ASSERT_GE(counter(*cl.driver, "g.requests"), 1.0);
+  cl.driver->close();
+  EXPECT_EQ(counter(*cl.driver, "g.errors"), 0.0);
+}
+
 }  // namespace
 }  // namespace syncplc

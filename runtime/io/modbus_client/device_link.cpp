@@ -103,6 +103,8 @@ bool DeviceLink::exchange(GroupHandover& h, std::uint16_t* error) {
       else values_from_registers(g.format, reply.data, g.count, h.read.data());
     }
   }
+  // An exchange cut short by stop() is the driver closing, not the device failing: not a result.
+  if (stopping_.load(std::memory_order_acquire)) return true;
   if (e == ClientError::None && g.writes()) h.have_written = true;
   if (e != ClientError::None && g.writes()) h.have_written = false;  // write again, whatever on_change says
   *error = code(e);
