@@ -301,6 +301,7 @@ int cmd_run(const RunOptions& options) {
     std::cout << "\nStopped by "
               << (stop_signal == SIGINT ? "SIGINT" : stop_signal == SIGTERM ? "SIGTERM" : "SIGHUP (the terminal hung up)") << "\n";
   print_statistics(std::cout, *program, false);
+  print_driver_counters(std::cout, *program);
   if (modbus_server) {
     std::cout << "\nModbus TCP on " << modbus_server->endpoint() << "\n";
     modbus::print_counters(std::cout, modbus_server->counters().summary());

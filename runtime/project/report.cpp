@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+
 namespace syncplc {
 
 std::string format_ns(std::int64_t ns) {
@@ -80,6 +82,35 @@ void print_statistics(std::ostream& os, const Program& p, bool virtual_time) {
     if (s.writes_applied == 0 && s.late_reads == 0 && s.events_dropped == 0) continue;
     os << fmt::format("  {}: {}, {}, {}\n", t->config().name, count(s.writes_applied, "queued write applied", "queued writes applied"),
                       count(s.late_reads, "late read", "late reads"), count(s.events_dropped, "event dropped", "events dropped"));
+  }
+}
+
+void print_driver_counters(std::ostream& os, const Program& p) {
+  auto number = [](double v) {
+    if (v == static_cast<double>(static_cast<std::int64_t>(v)) && v < 1e15 && v > -1e15)
+      return fmt::format("{}", static_cast<std::int64_t>(v));
+    return std::abs(v) < 1e9 ? fmt::format("{:.1f}", v) : fmt::format("{:.4g}", v);
+  };
+  bool header = false;
+  for (const auto& d : p.drivers) {
+    const auto counters = d.driver->counters();
+    if (counters.empty()) continue;
+    if (!header) os << "Drivers\n";
+    header = true;
+    os << fmt::format("  {} ({})\n", d.driver->name(), d.type);
+    std::string what, line;  // consecutive counters of one <what> share a line
+    auto flush = [&] {
+      if (!line.empty()) os << "    " << (what.empty() ? "" : what + ": ") << line << "\n";
+      line.clear();
+    };
+    for (const auto& [key, value] : counters) {
+      const auto dot = key.rfind('.');
+      const std::string w = dot == std::string::npos ? "" : key.substr(0, dot);
+      if (w != what) flush();
+      what = w;
+      line += (line.empty() ? "" : " ") + key.substr(dot == std::string::npos ? 0 : dot + 1) + "=" + number(value);
+    }
+    flush();
   }
 }
 

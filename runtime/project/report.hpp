@@ -12,6 +12,9 @@ void print_task_table(std::ostream& os, const Program& p);
 void print_execution_order(std::ostream& os, const Program& p);
 void print_tag_map(std::ostream& os, const Program& p);
 void print_statistics(std::ostream& os, const Program& p, bool virtual_time);
+// Every driver's IoDriver::counters(), those named "<what>.<counter>" one line
+// per <what>: "    g: requests=1000 errors=0 ...". Nothing for drivers without counters.
+void print_driver_counters(std::ostream& os, const Program& p);
 // Drains every task's event ring and prints the events. Returns how many.
 std::size_t print_events(std::ostream& os, Program& p);
 std::string format_event(const Program& p, const Event& e);

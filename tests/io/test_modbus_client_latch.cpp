@@ -182,5 +182,50 @@ TEST(ModbusClientLatch, TheSupervisorsSafeOutputsAreHeldAgainstLateWrites) {
   EXPECT_EQ(r.d->handed_over(1)[0].get<std::int16_t>(), -1);
 }
 
+double counter(const ModbusClientDriver& d, const std::string& name) {
+  for (const auto& [k, v] : d.counters())
+    if (k == name) return v;
+  ADD_FAILURE() << "no counter " << name;
+  return -1;
+}
+bool has_counter(const ModbusClientDriver& d, const std::string& name) {
+  for (const auto& [k, v] : d.counters())
+    if (k == name) return true;
+  return false;
+}
+
+// The round trip counted to the scan that latched the reply, not to the
+// reply: a reply waits for the next scan. Failures and replies no scan took
+// (a newer one came first) are not counted in `latched`.
+TEST(ModbusClientLatch, RoundTripsAreCountedFromTheRequestToTheLatchingScan) {
+  Rig r(project("hold"));
+  r.run_to(0);
+  EXPECT_FALSE(has_counter(*r.d, "g.latched_p50_us"));  // nothing latched yet: no round trip to report
+  Cell v[2];
+  // Sent at 1 ms, in at 3 ms, latched by the scan at 10 ms: 2 ms and 9 ms.
+  r.d->inject(0, 0, 3 * ms, v, 1 * ms);
+  r.run_to(10 * ms);
+  // A timeout between: neither counted.
+  r.d->inject(0, code(ClientError::Timeout), 12 * ms, nullptr, 11 * ms);
+  r.run_to(20 * ms);
+  // Two replies before the scan at 30 ms: only the newer one is latched (30 - 27 = 3 ms).
+  r.d->inject(0, 0, 22 * ms, v, 21 * ms);
+  r.d->inject(0, 0, 28 * ms, v, 27 * ms);
+  r.run_to(30 * ms);
+  // Sent at 32, in at 35, latched at 40: 8 ms.
+  r.d->inject(0, 0, 35 * ms, v, 32 * ms);
+  r.run_to(40 * ms);
+  EXPECT_DOUBLE_EQ(counter(*r.d, "g.latched_max_us"), 9000.0);
+  EXPECT_NEAR(counter(*r.d, "g.latched_p50_us"), 8000.0, 8000.0 / 32);  // 3, 8, 9 ms
+  EXPECT_NEAR(counter(*r.d, "g.latched_p99_us"), 9000.0, 9000.0 / 32);
+  // `reply` is the device thread's part: request to reply, every success (2, 1, 1, 3 ms).
+  EXPECT_DOUBLE_EQ(counter(*r.d, "g.reply_max_us"), 3000.0);
+  EXPECT_NEAR(counter(*r.d, "g.reply_p50_us"), 2000.0, 2000.0 / 32);
+  // Reopened: counted afresh.
+  std::string err;
+  ASSERT_TRUE(r.p->open_drivers(&err)) << err;
+  EXPECT_FALSE(has_counter(*r.d, "g.latched_p50_us"));
+}
+
 }  // namespace
 }  // namespace syncplc

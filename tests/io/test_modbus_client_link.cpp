@@ -179,5 +179,51 @@ TEST(ModbusClientLink, NoDeviceListeningIsAConnectFailure) {
   EXPECT_FALSE(cl.ch("g_ok").get<bool>());
 }
 
+double counter(const ModbusClientDriver& d, const std::string& name) {
+  for (const auto& [k, v] : d.counters())
+    if (k == name) return v;
+  ADD_FAILURE() << "no counter " << name;
+  return -1;
+}
+
+// Requests/s and the round trips over a real socket, against a device that
+// takes 2 ms to answer; the group is due every 5 ms and the "scan" latches
+// every 1 ms. Generous bounds: the machine may be loaded.
+TEST(ModbusClientLink, RequestsPerSecondAndRoundTripsAreCounted) {
+  FakeDevice dev([](const Bytes& q) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    return good(q);
+  });
+  Client cl(dev.port);
+  ScanContext ctx;
+  for (int i = 0; i < 400; ++i) {
+    cl.driver->latch_inputs(ctx);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  cl.driver->close();
+  const double rate = counter(*cl.driver, "g.requests_per_s");
+  EXPECT_GT(rate, 50.0);   // 200/s nominal
+  EXPECT_LT(rate, 250.0);
+  EXPECT_DOUBLE_EQ(counter(*cl.driver, "dev.requests_per_s"), rate);  // the device's only group
+  EXPECT_GE(counter(*cl.driver, "g.reply_p50_us"), 2000.0 * 31 / 32);
+  EXPECT_GE(counter(*cl.driver, "g.latched_p50_us"), counter(*cl.driver, "g.reply_p50_us") * 31 / 32);
+  EXPECT_GE(counter(*cl.driver, "g.latched_max_us"), counter(*cl.driver, "g.reply_max_us"));
+  // Closed: the rate stays that of the time open.
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  EXPECT_DOUBLE_EQ(counter(*cl.driver, "g.requests_per_s"), rate);
+}
+
+// Closing the driver interrupts the exchange under way: that is not the
+// device's failure, and counts as no error (run prints the counters after it).
+TEST(ModbusClientLink, AnExchangeCutShortByCloseIsNoError) {
+  FakeDevice dev([](const Bytes&) { return Bytes{}; });  // never answers (100 ms timeout)
+  Client cl(dev.port);
+  for (int i = 0; i < 400 && counter(*cl.driver, "g.requests") < 1; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  ASSERT_GE(counter(*cl.driver, "g.requests"), 1.0);
+  cl.driver->close();
+  EXPECT_EQ(counter(*cl.driver, "g.errors"), 0.0);
+}
+
 }  // namespace
 }  // namespace syncplc

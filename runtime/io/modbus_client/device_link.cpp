@@ -44,7 +44,7 @@ void DeviceLink::stop() noexcept {
 void DeviceLink::fail_others(const GroupHandover* except, ClientError e) {
   const std::int64_t now = clock_();
   for (auto* g : groups_)
-    if (g != except) g->publish(code(e), now, nullptr);
+    if (g != except) g->publish(code(e), now, nullptr, now);
 }
 
 bool DeviceLink::exchange(GroupHandover& h, std::uint16_t* error) {
@@ -80,6 +80,7 @@ bool DeviceLink::exchange(GroupHandover& h, std::uint16_t* error) {
   std::uint8_t buf[kMaxAdu];
   const std::size_t len = build_request(r, buf);
   h.requests.fetch_add(1, std::memory_order_relaxed);
+  const std::int64_t sent = clock_();
   const std::int64_t deadline = monotonic_ns() + device_->response_timeout_ns;
   ClientError e = link_.send_all(buf, len, deadline);
   std::size_t got = 0;
@@ -102,10 +103,12 @@ bool DeviceLink::exchange(GroupHandover& h, std::uint16_t* error) {
       else values_from_registers(g.format, reply.data, g.count, h.read.data());
     }
   }
+  // An exchange cut short by stop() is the driver closing, not the device failing: not a result.
+  if (stopping_.load(std::memory_order_acquire)) return true;
   if (e == ClientError::None && g.writes()) h.have_written = true;
   if (e != ClientError::None && g.writes()) h.have_written = false;  // write again, whatever on_change says
   *error = code(e);
-  h.publish(code(e), clock_(), e == ClientError::None ? h.read.data() : nullptr);
+  h.publish(code(e), clock_(), e == ClientError::None ? h.read.data() : nullptr, sent);
   return true;
 }
 

@@ -3,14 +3,18 @@
 // consumer each):
 //
 //   results  device thread -> latch_inputs: the newest completed exchange,
-//            cells [seq, error, stamp, read values...]; the latch takes the
-//            newest whole one and never waits for an exchange under way.
+//            cells [seq, error, stamp, sent, read values...] (stamp: the
+//            exchange completed, sent: its request was sent); the latch takes
+//            the newest whole one and never waits for an exchange under way.
 //   outputs  write_outputs -> device thread: the newest values to write,
 //            cells [seq, values...]; the device thread writes the newest it
 //            finds when the group is due.
 //
 // The counters are atomics the scan reads for the status channels and
-// `syncplc run` for IoDriver::counters. The rest is the device thread's.
+// `syncplc run` for IoDriver::counters. The round-trip histograms have one
+// writer each: `reply` the device thread (request sent -> reply in), `latched`
+// the scan (request sent -> its reply latched by latch_inputs, what the
+// program sees). The rest is the device thread's.
 #pragma once
 
 #include <algorithm>
@@ -18,13 +22,14 @@
 #include <cstdint>
 #include <vector>
 
+#include "runtime/core/histogram.hpp"
 #include "runtime/core/triple_buffer.hpp"
 #include "runtime/io/modbus_client/client_config.hpp"
 
 namespace syncplc {
 
 struct GroupHandover {
-  static constexpr std::size_t kSeq = 0, kError = 1, kStamp = 2, kValues = 3;  // results cells
+  static constexpr std::size_t kSeq = 0, kError = 1, kStamp = 2, kSent = 3, kValues = 4;  // results cells
   static constexpr std::size_t kOutValues = 1;                                // outputs cells
 
   explicit GroupHandover(const RequestGroup& g)
@@ -35,12 +40,16 @@ struct GroupHandover {
     bits.assign(g.count, 0);
   }
 
-  // Device thread: one completed exchange (or failure), stamped with the driver's clock.
-  void publish(std::uint16_t error, std::int64_t stamp, const Cell* values) noexcept {
+  // Device thread: one completed exchange (or failure), stamped with the
+  // driver's clock; `sent` when its request went out (a failure to connect
+  // sent none: the stamp).
+  void publish(std::uint16_t error, std::int64_t stamp, const Cell* values, std::int64_t sent) noexcept {
     Cell* b = results.back();
     b[kSeq].set<std::uint64_t>(++seq);
     b[kError].set<std::uint16_t>(error);
     b[kStamp].set<std::int64_t>(stamp);
+    b[kSent].set<std::int64_t>(sent);
+    if (!error) reply.record(stamp - sent);
     if (values && !read.empty()) std::copy(values, values + read.size(), b + kValues);
     results.publish();
     if (error) errors.fetch_add(1, std::memory_order_relaxed);
@@ -51,6 +60,8 @@ struct GroupHandover {
   TripleBuffer results;
   TripleBuffer outputs;
   std::atomic<std::uint64_t> requests{0}, errors{0}, timeouts{0};
+  Histogram reply;    // ns, successful exchanges: request sent -> reply in (device thread)
+  Histogram latched;  // ns, request sent -> reply latched by a scan (latch_inputs)
 
   // --- the device thread's ---
   std::uint64_t seq = 0;

@@ -53,6 +53,7 @@ const GroupStatus& GroupLatch::latch(const Cell* r, std::int64_t now, const Scan
       const std::uint32_t n = g_->read_values();
       for (std::uint32_t i = 0; i < n; ++i) values[i] = r[GroupHandover::kValues + i];
       st_.fresh = true;
+      st_.sent = r[GroupHandover::kSent].get<std::int64_t>();
       last_ok_ = r[GroupHandover::kStamp].get<std::int64_t>();
       if (stale_) raise(ctx, EventKind::Info, texts_.recovered, 0);
       stale_ = false;

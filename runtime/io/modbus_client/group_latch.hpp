@@ -44,6 +44,7 @@ struct GroupStatus {
   std::uint16_t error = code(ClientError::NoReply);
   double age_ms = 0;
   bool fresh = false;        // this latch took new values (copy them to the channel)
+  std::int64_t sent = 0;     // when fresh: the request of those values was sent (driver clock)
 };
 
 class GroupLatch {

@@ -61,6 +61,11 @@ bool ModbusClientDriver::open(std::string* error) {
     latch_.emplace_back(g, make_group_texts(name(), g));
     latch_.back().reset(now);
   }
+  for (auto& h : handover_) {
+    h->reply.reset();
+    h->latched.reset();
+  }
+  opened_ns_ = closed_ns_ = now;
   open_ = true;
   if (!network_) return true;
   for (std::size_t d = 0; d < cfg_.devices.size(); ++d) {
@@ -80,6 +85,7 @@ bool ModbusClientDriver::open(std::string* error) {
 void ModbusClientDriver::close() noexcept {
   for (auto& l : links_) l->stop();
   links_.clear();
+  if (open_) closed_ns_ = clock_();
   open_ = false;
 }
 
@@ -90,6 +96,7 @@ void ModbusClientDriver::latch_inputs(const ScanContext& ctx) noexcept {
     const RequestGroup& g = cfg_.groups[i];
     GroupHandover& h = *handover_[i];
     const GroupStatus& st = latch_[i].latch(h.results.acquire(), now, ctx, values_[i].data());
+    if (st.fresh) h.latched.record(now - st.sent);  // O(1), relaxed atomics, no allocation
     const GroupChannels& c = gch_[i];
     if (g.reads()) {
       if (Cell* v = bound_[static_cast<std::size_t>(c.values)]) {
@@ -168,8 +175,9 @@ bool ModbusClientDriver::read_output(int channel, Cell* values) const {
   return false;
 }
 
-void ModbusClientDriver::inject(std::size_t g, std::uint16_t error, std::int64_t stamp, const Cell* values) {
-  handover_[g]->publish(error, stamp, values);
+void ModbusClientDriver::inject(std::size_t g, std::uint16_t error, std::int64_t stamp, const Cell* values,
+                                std::int64_t sent) {
+  handover_[g]->publish(error, stamp, values, sent < 0 ? stamp : sent);
 }
 
 const Cell* ModbusClientDriver::handed_over(std::size_t g) {
@@ -192,13 +200,30 @@ std::string ModbusClientDriver::summary() const {
 
 std::vector<std::pair<std::string, double>> ModbusClientDriver::counters() const {
   std::vector<std::pair<std::string, double>> out;
+  // Requests/s over the time open (until close() once closed).
+  const double open_s = static_cast<double>((open_ ? clock_() : closed_ns_) - opened_ns_) * 1e-9;
+  auto rate = [open_s](std::uint64_t n) { return open_s > 0 ? static_cast<double>(n) / open_s : 0.0; };
+  auto us = [](std::int64_t ns) { return static_cast<double>(ns) * 1e-3; };
+  std::vector<std::uint64_t> device_requests(cfg_.devices.size(), 0);
   for (std::size_t i = 0; i < cfg_.groups.size(); ++i) {
     const auto& h = *handover_[i];
     const std::string& g = cfg_.groups[i].name;
-    out.emplace_back(g + ".requests", static_cast<double>(h.requests.load(std::memory_order_relaxed)));
+    const std::uint64_t requests = h.requests.load(std::memory_order_relaxed);
+    device_requests[cfg_.groups[i].device] += requests;
+    out.emplace_back(g + ".requests", static_cast<double>(requests));
     out.emplace_back(g + ".errors", static_cast<double>(h.errors.load(std::memory_order_relaxed)));
     out.emplace_back(g + ".timeouts", static_cast<double>(h.timeouts.load(std::memory_order_relaxed)));
+    out.emplace_back(g + ".requests_per_s", rate(requests));
+    for (const auto& [what, hist] : {std::pair{"reply", &h.reply}, std::pair{"latched", &h.latched}}) {
+      const Histogram::Summary s = hist->summary();
+      if (s.count == 0) continue;
+      out.emplace_back(g + "." + what + "_p50_us", us(s.p50));
+      out.emplace_back(g + "." + what + "_p99_us", us(s.p99));
+      out.emplace_back(g + "." + what + "_max_us", us(s.max));
+    }
   }
+  for (std::size_t d = 0; d < cfg_.devices.size(); ++d)
+    if (device_requests[d]) out.emplace_back(cfg_.devices[d].name + ".requests_per_s", rate(device_requests[d]));
   for (const auto& l : links_)
     out.emplace_back(l->device().name + ".reconnects", static_cast<double>(l->reconnects.load(std::memory_order_relaxed)));
   return out;

@@ -12,6 +12,11 @@
 //   g_reaction   in BOOL    stale past stale_after: the reaction applies
 //   g_requests, g_errors, g_timeouts, g_reconnects   in UDINT counters
 //
+// counters() adds, per group, requests/s over the time open and the round
+// trip in µs (p50, p99, max): `reply` from sending the request to its reply,
+// `latched` from sending it to the scan that latched the reply; per device
+// its requests/s.
+//
 // Threads: one per device (device_link.hpp); the scan only copies from and
 // to the hand-over buffers (group_handover.hpp) and reads atomics.
 #pragma once
@@ -54,8 +59,9 @@ class ModbusClientDriver final : public IoDriver {
   void set_clock(Clock c) { clock_ = c; }
   // Before open(): no device threads; the test publishes results itself.
   void set_network(bool on) { network_ = on; }
-  // Without network: a result of group g as its device thread would publish it.
-  void inject(std::size_t g, std::uint16_t error, std::int64_t stamp, const Cell* values);
+  // Without network: a result of group g as its device thread would publish it
+  // (`sent`: when its request went out; by default at `stamp`).
+  void inject(std::size_t g, std::uint16_t error, std::int64_t stamp, const Cell* values, std::int64_t sent = -1);
   // Without network: the newest outputs handed over for group g (nullptr before any).
   const Cell* handed_over(std::size_t g);
 
@@ -77,6 +83,7 @@ class ModbusClientDriver final : public IoDriver {
   Clock clock_;
   bool network_ = true;
   bool open_ = false;
+  std::int64_t opened_ns_ = 0, closed_ns_ = 0;  // the driver clock: the span of requests/s
   SafeOutputLatch safe_;
 };
 
