@@ -108,8 +108,23 @@ def metrics(db_path, duration):
         mean = sum(v) / len(v)
         ages["d%d" % k] = {"mean_ms": mean, "std_ms": math.sqrt(sum((x - mean) ** 2 for x in v) / len(v)),
                            "p50_ms": v[len(v) // 2], "p99_ms": v[min(len(v) - 1, int(len(v) * 0.99))], "max_ms": v[-1]}
+    # The drives sample on their own 1 kHz clocks: a scan may latch the same
+    # drive cycle as the scan before (a repeated position) or skip one (a
+    # double step). Counted where the reference moves fast (0.5 s .. duration - 0.5 s).
+    positions = series(db, "pos")
+    sampling = {}
+    for k in range(1, 5):
+        p = positions.get("pos[%d]" % k, {})
+        mid = [t for t in times if 0.5e9 <= t - t0 <= duration * 1e9 - 0.5e9 and t in p]
+        steps = [p[b] - p[a] for a, b in zip(mid, mid[1:]) if b - a < 1.5e6]
+        repeated = sum(1 for d in steps if d == 0)
+        ratios = [b / a for a, b in zip(steps, steps[1:]) if a]
+        double = sum(1 for r in ratios if r > 1.6)
+        sampling["d%d" % k] = {"steps": len(steps), "repeated": repeated / max(1, len(steps)),
+                               "double_or_more": double / max(1, len(ratios))}
     return {
         "samples": n,
+        "position_sampling": sampling,
         "track_rsme": math.sqrt(track / n),
         "sync_rsme": math.sqrt(sync / n),
         "axes": [{"axis": i + 1, "max_abs_error": max_e[i], "rms_error": math.sqrt(sum_e2[i] / n),
@@ -169,6 +184,9 @@ def main():
     for d, s in m["data_age"].items():
         print("  %s data age: mean %.3f ms, std %.3f ms, p50 %.3f ms, p99 %.3f ms, max %.3f ms"
               % (d, s["mean_ms"], s["std_ms"], s["p50_ms"], s["p99_ms"], s["max_ms"]))
+    for d, s in m["position_sampling"].items():
+        print("  %s position samples: %.1f %% repeated (the same drive cycle as the scan before), %.1f %% steps "
+              "over 1.6 times the one before" % (d, 100 * s["repeated"], 100 * s["double_or_more"]))
     if a.metrics:
         with open(a.metrics, "w") as f:
             json.dump(m, f, indent=2)
