@@ -50,6 +50,28 @@ std::set<std::string> override_driver_settings(ConfigNode& drivers, const LoadOp
         ConfigNode* child = nullptr;
         for (auto& [k, v] : at->map)
           if (k == key) child = &v;
+        // A list of named items (a modbus_client's devices, groups) is entered
+        // by an item's name: io.devices.d1.port=5021.
+        if (child && child->is_list() && dot != std::string::npos) {
+          path = path.substr(dot + 1);
+          dot = path.find('.');
+          const std::string item = path.substr(0, dot);
+          ConfigNode* named = nullptr;
+          for (auto& it : child->items) {
+            const ConfigNode* in = it.is_map() ? it.find("name") : nullptr;
+            if (in && in->scalar == item) named = &it;
+          }
+          if (!named || dot == std::string::npos) {
+            diags.error(cli, "--set " + o.instance + "." + o.param + ": " +
+                                 (named ? "name a setting of " + key + " item " + item
+                                        : key + " has no item named '" + item + "'"));
+            ok = false;
+            break;
+          }
+          at = named;
+          path = path.substr(dot + 1);
+          continue;
+        }
         if (!child) {
           at->map.emplace_back(key, ConfigNode{});
           child = &at->map.back().second;

@@ -122,6 +122,39 @@ drivers:
   EXPECT_EQ(e.size(), 28u);
 }
 
+TEST(ModbusClientConfig, SetReachesADeviceOrAGroupByItsName) {
+  // A launcher that starts the devices on free ports passes them in:
+  // --set io.devices.d2.port=P (scripts/four_axis_network.py).
+  LoadOptions o;
+  o.overrides = {{"io", "devices.d2.port", "5031"}, {"io", "devices.d1.response_timeout", "20ms"},
+                 {"io", "groups.g2.address", "7"}};
+  const char* text = R"(
+tasks: [{name: main, period: 10ms}]
+drivers:
+  - name: io
+    type: modbus_client
+    devices: [{name: d1, port: 5020}, {name: d2, port: 5021}]
+    groups:
+      - {name: g1, device: d1, function: 3, address: 0}
+      - {name: g2, device: d2, function: 3, address: 0}
+)";
+  auto r = loadertest::load(text, o);
+  ASSERT_LOADS(r);
+  const auto& c = static_cast<ModbusClientDriver&>(*r.program->drivers[0].driver).config();
+  EXPECT_EQ(c.devices[0].port, 5020);
+  EXPECT_EQ(c.devices[0].response_timeout_ns, 20'000'000);
+  EXPECT_EQ(c.devices[1].port, 5031);
+  EXPECT_EQ(c.groups[0].address, 0);
+  EXPECT_EQ(c.groups[1].address, 7);
+
+  LoadOptions bad;
+  bad.overrides = {{"io", "devices.d3.port", "1"}, {"io", "devices.d1", "1"}, {"io", "devices.d2.port", "0"}};
+  auto e = loadertest::errors(text, bad);
+  EXPECT_THAT(e, ::testing::Contains("command line:0:0: --set io.devices.d3.port: devices has no item named 'd3'"));
+  EXPECT_THAT(e, ::testing::Contains("command line:0:0: --set io.devices.d1: name a setting of devices item d1"));
+  EXPECT_THAT(e, has_error("command line:0:0", "port"));
+}
+
 TEST(ModbusClientConfig, DevicesAndGroupsAreRequired) {
   auto e = loadertest::errors(R"(
 tasks: [{name: main, period: 10ms}]
