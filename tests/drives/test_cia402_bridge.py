@@ -97,9 +97,11 @@ def main():
         time.sleep(0.01)
     x = drive.status()["position"]
     check(abs(x - 2.0) < 2e-3, "CSP stroke: the drive is at 2 rad (%.5f)" % x)
-    # The following error the block sees includes the bridge's delay (a few
-    # ms at up to 4 rad/s): generous.
-    check(worst < 0.2, "largest following error the block saw: %.4f rad" % worst)
+    # The following error the block sees includes the bridge's delay: a few
+    # ms at up to 4 rad/s on a quiet machine, but this Python bridge can lag
+    # 100 ms and more when ctest runs it beside a build. Generous: it tells a
+    # drive that follows from one that does not (the stroke is 2 rad).
+    check(worst < 0.6, "largest following error the block saw: %.4f rad" % worst)
 
     drive.ok("fault 0x7300")
     wait("a drive fault reaches the block", lambda: flags() == [False, True])

@@ -94,6 +94,11 @@ TEST(ModbusClientLatch, GoodRepliesAreTakenWithTheirAge) {
   EXPECT_EQ(tag_cell(*r.p, "v[2]").get<std::int16_t>(), -12);
   EXPECT_DOUBLE_EQ(r.tag("age").get<double>(), 15.0);  // now 20 ms, reply completed at 5 ms
   EXPECT_TRUE(r.events().empty());
+  // A reply stamped after the latch read its clock (it came in between): age 0, never negative.
+  r.good(13, -14, 40 * ms + 1);
+  r.run_to(40 * ms);
+  EXPECT_EQ(tag_cell(*r.p, "v[1]").get<std::int16_t>(), 13);
+  EXPECT_EQ(r.tag("age").get<double>(), 0.0);
 }
 
 TEST(ModbusClientLatch, ATimeoutIsStaleAtOnceAndHoldKeepsTheValuesFlagged) {

@@ -1,5 +1,6 @@
 #include "runtime/io/modbus_client/group_latch.hpp"
 
+#include <algorithm>
 #include <mutex>
 #include <set>
 
@@ -74,7 +75,9 @@ const GroupStatus& GroupLatch::latch(const Cell* r, std::int64_t now, const Scan
     if (g_->reaction == StaleReaction::Stop) ctx.request_stop(texts_.reaction);
   }
   st_.reacting = stale_ && reacted_;
-  st_.age_ms = static_cast<double>(now - last_ok_) * 1e-6;
+  // A reply published between the latch's clock reading and its acquire is
+  // stamped after `now`: its age is 0, not a negative fraction of a µs.
+  st_.age_ms = static_cast<double>(std::max<std::int64_t>(now - last_ok_, 0)) * 1e-6;
   return st_;
 }
 
