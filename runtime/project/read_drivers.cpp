@@ -42,8 +42,12 @@ std::set<std::string> override_driver_settings(ConfigNode& drivers, const LoadOp
       while (ok) {
         auto dot = path.find('.');
         std::string key = path.substr(0, dot);
-        if (key == "name" || key == "type" || key == "task") {
-          diags.error(cli, "--set " + o.instance + "." + o.param + ": a driver's " + key + " cannot be overridden");
+        // A driver's own name, type and task, and a list item's name (it is how
+        // --set finds the item), are not settings; an item's other keys are
+        // (a group's type: io.groups.g.type=DINT).
+        if (key == "name" || (at == &dn && (key == "type" || key == "task"))) {
+          diags.error(cli, "--set " + o.instance + "." + o.param + ": " +
+                               (at == &dn ? "a driver's " + key : std::string("an item's name")) + " cannot be overridden");
           ok = false;
           break;
         }

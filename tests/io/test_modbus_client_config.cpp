@@ -127,7 +127,7 @@ TEST(ModbusClientConfig, SetReachesADeviceOrAGroupByItsName) {
   // --set io.devices.d2.port=P (scripts/four_axis_network.py).
   LoadOptions o;
   o.overrides = {{"io", "devices.d2.port", "5031"}, {"io", "devices.d1.response_timeout", "20ms"},
-                 {"io", "groups.g2.address", "7"}};
+                 {"io", "groups.g2.address", "7"}, {"io", "groups.g2.type", "DINT"}};
   const char* text = R"(
 tasks: [{name: main, period: 10ms}]
 drivers:
@@ -146,13 +146,30 @@ drivers:
   EXPECT_EQ(c.devices[1].port, 5031);
   EXPECT_EQ(c.groups[0].address, 0);
   EXPECT_EQ(c.groups[1].address, 7);
+  EXPECT_EQ(c.groups[1].format.wire, IecType::DINT) << "a group's type is a setting (a driver's own type is not)";
 
   LoadOptions bad;
-  bad.overrides = {{"io", "devices.d3.port", "1"}, {"io", "devices.d1", "1"}, {"io", "devices.d2.port", "0"}};
+  bad.overrides = {{"io", "devices.d3.port", "1"}, {"io", "devices.d1", "1"}, {"io", "devices.d2.port", "0"},
+                   {"io", "groups.g1.name", "x"}};
   auto e = loadertest::errors(text, bad);
   EXPECT_THAT(e, ::testing::Contains("command line:0:0: --set io.devices.d3.port: devices has no item named 'd3'"));
   EXPECT_THAT(e, ::testing::Contains("command line:0:0: --set io.devices.d1: name a setting of devices item d1"));
   EXPECT_THAT(e, has_error("command line:0:0", "port"));
+  EXPECT_THAT(e, ::testing::Contains("command line:0:0: --set io.groups.g1.name: an item's name cannot be overridden"));
+}
+
+// A group without address: whose count runs past 65535 is reported, never a crash.
+TEST(ModbusClientConfig, AGroupWithoutAddressAndTooLongACountIsAnError) {
+  auto e = loadertest::errors(R"(
+tasks: [{name: main, period: 10ms}]
+drivers:
+  - name: io
+    type: modbus_client
+    devices: [{name: d1, port: 5020}]
+    groups: [{name: g, device: d1, function: 3, type: DINT, count: 40000}]
+)");
+  EXPECT_THAT(e, has_error("p.yaml:6:14", "request group g needs address:"));
+  EXPECT_THAT(e, has_error("p.yaml:6:14", "address + count runs past 65535"));
 }
 
 TEST(ModbusClientConfig, DevicesAndGroupsAreRequired) {

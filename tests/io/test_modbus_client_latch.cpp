@@ -232,5 +232,43 @@ TEST(ModbusClientLatch, RoundTripsAreCountedFromTheRequestToTheLatchingScan) {
   EXPECT_FALSE(has_counter(*r.d, "g.latched_p50_us"));
 }
 
+// A reopened driver starts as a new one: the previous run's last reply is
+// not latched as fresh, and its outputs are not handed over again.
+TEST(ModbusClientLatch, AReopenedDriverServesNothingOfThePreviousRun) {
+  Rig r(project("hold"));
+  r.good(11, -12, 0);
+  tag_cell(*r.p, "cmd").set<std::int16_t>(42);
+  r.run_to(0);
+  ASSERT_TRUE(r.tag("ok").get<bool>());
+  ASSERT_NE(r.d->handed_over(1), nullptr);
+  r.p->close_drivers();
+  std::string err;
+  ASSERT_TRUE(r.p->open_drivers(&err)) << err;
+  EXPECT_EQ(r.d->handed_over(1), nullptr) << "no output of the previous run waits to be written";
+  r.run_to(10 * ms);
+  EXPECT_FALSE(r.tag("ok").get<bool>()) << "the previous run's reply is not fresh data";
+  EXPECT_EQ(r.tag("err").get<std::uint16_t>(), 268);  // no reply yet
+}
+
+// Function 23 reads only with its write: an unbound write side is refused
+// at open, with what to bind, instead of a group that never asks.
+TEST(ModbusClientLatch, AFunction23GroupWithoutItsWriteBoundDoesNotOpen) {
+  auto p = load_test_project(R"(
+tasks: [{name: main, period: 10ms}]
+tags: [{name: v, type: INT}]
+drivers:
+  - name: io
+    type: modbus_client
+    devices: [{name: dev, port: 5020}]
+    groups: [{name: rw, function: 23, address: 0, write_address: 10}]
+    bind: {rw: v}
+)");
+  auto* d = dynamic_cast<ModbusClientDriver*>(p->drivers[0].driver.get());
+  d->set_network(false);
+  std::string err;
+  EXPECT_FALSE(p->open_drivers(&err));
+  EXPECT_NE(err.find("request group rw (function 23) reads only with its write: bind rw_write"), std::string::npos) << err;
+}
+
 }  // namespace
 }  // namespace syncplc

@@ -205,9 +205,13 @@ TEST(ModbusClientLink, RequestsPerSecondAndRoundTripsAreCounted) {
   EXPECT_GT(rate, 50.0);   // 200/s nominal
   EXPECT_LT(rate, 250.0);
   EXPECT_DOUBLE_EQ(counter(*cl.driver, "dev.requests_per_s"), rate);  // the device's only group
+  // Every reply takes the device's 2 ms, and every latched one at least that
+  // (histogram buckets: within 1/32). The two are not compared with each
+  // other: a reply a stalled latch never took (a newer one came) is counted
+  // in reply_* only.
   EXPECT_GE(counter(*cl.driver, "g.reply_p50_us"), 2000.0 * 31 / 32);
-  EXPECT_GE(counter(*cl.driver, "g.latched_p50_us"), counter(*cl.driver, "g.reply_p50_us") * 31 / 32);
-  EXPECT_GE(counter(*cl.driver, "g.latched_max_us"), counter(*cl.driver, "g.reply_max_us"));
+  EXPECT_GE(counter(*cl.driver, "g.latched_p50_us"), 2000.0 * 31 / 32);
+  EXPECT_GE(counter(*cl.driver, "g.latched_max_us"), 2000.0 * 31 / 32);
   // Closed: the rate stays that of the time open.
   std::this_thread::sleep_for(std::chrono::milliseconds(50));
   EXPECT_DOUBLE_EQ(counter(*cl.driver, "g.requests_per_s"), rate);

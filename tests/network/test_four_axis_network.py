@@ -106,11 +106,12 @@ class Plc:
             check(bad not in err, "sanitizer report:\n" + err)
         return out + err  # events are lines on stderr with --no-status
 
-    def age_max(self, k, t_from, t_to):
-        """The largest age of drive k's data over every scan in [t_from, t_to] (ns, wall clock)."""
+    def age_series(self, k, t_from, t_to):
+        """Drive k's data age at every scan in [t_from, t_to] (ns, wall clock), sorted."""
         db = sqlite3.connect(self.db)
-        return db.execute("SELECT max(p.max), count(*) FROM trend_point p JOIN trend_series s ON p.series = s.id "
-                          "WHERE s.label = ? AND p.t BETWEEN ? AND ?", ("age%d" % k, t_from, t_to)).fetchone()
+        return [r[0] for r in db.execute("SELECT p.max FROM trend_point p JOIN trend_series s ON p.series = s.id "
+                                         "WHERE s.label = ? AND p.t BETWEEN ? AND ? ORDER BY p.max",
+                                         ("age%d" % k, t_from, t_to))]
 
 
 def start(binary):
@@ -218,12 +219,17 @@ def test_mute(binary):
             d.stop()
     # every scan of the mute time, from the historian (age trended per scan)
     for k in (1, 2, 4):
-        worst, n = plc.age_max(k, t_from, t_to)
-        print("drive %d: largest data age over %d scans while drive 3 was mute: %.2f ms" % (k, n, worst))
+        ages = plc.age_series(k, t_from, t_to)
+        n = len(ages)
         check(n > 500, "scans recorded while mute: %d" % n)
-        # a device thread shared with the mute drive would wait out its 50 ms
-        # timeouts: these ages would reach 50 ms and more
-        check(worst < 40.0, "drive %d's data age stays below the mute drive's timeout (< 40 ms): %.2f ms" % (k, worst))
+        p90, worst = ages[n * 9 // 10], ages[-1]
+        print("drive %d: data age over %d scans while drive 3 was mute: p90 %.2f ms, max %.2f ms" % (k, n, p90, worst))
+        # A device thread shared with the mute drive would wait out its 50 ms
+        # timeout at every exchange: most of these ages would be 50 ms and
+        # more. A loaded machine stalls a few scans, not most: the p90 is
+        # checked against the timeout, the max only against several of them.
+        check(p90 < 20.0, "drive %d's data age stays well below the mute drive's timeout (p90 < 20 ms): %.2f ms" % (k, p90))
+        check(worst < 500.0, "drive %d's largest data age %.2f ms" % (k, worst))
     shutil.rmtree(work, True)
 
 

@@ -33,7 +33,7 @@ def main():
     assert "--set ax2.compensation=FALSE" in out, out
     assert re.search(r"Track-RSME [\d.e-]+ rad, Sync-RSME [\d.e-]+ rad over \d+ scans", out), out
     m = json.load(open(metrics))
-    assert 800 <= m["samples"] <= 1001, m["samples"]  # scans skipped on a loaded machine are missing
+    assert 500 <= m["samples"] <= 1001, m["samples"]  # scans skipped on a loaded machine are missing
     # a second of the cosine without compensation (docs/four-axis-network.md):
     # the axes follow within 1 rad while the reference goes to 5.8 rad (a run
     # that never enabled the drives has no samples; one that lost a drive trips)

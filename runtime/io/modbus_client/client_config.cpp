@@ -186,7 +186,7 @@ std::optional<RequestGroup> read_group(const ConfigNode& n, const std::vector<Cl
             "count " + std::to_string(g.count) + " takes " + std::to_string(g.count * width) + (bits ? " coils" : " registers") +
                 "; function " + std::to_string(static_cast<int>(g.function)) + " carries at most " + std::to_string(max_quantity(g.function)));
   if (std::uint64_t{g.address} + std::uint64_t{g.count} * width > 65536)
-    c.error(n.find("address")->loc, "address + count runs past 65535");
+    c.error(n.find("address") ? n.find("address")->loc : n.loc, "address + count runs past 65535");
   if (g.function == ModbusFunction::ReadWriteMultipleRegisters) {
     if (!n.find("write_address")) c.error(n.loc, "function 23 needs write_address: (count and address are its read side)");
     g.write_address = static_cast<std::uint16_t>(c.integer("write_address", 0, 0, 65535));

@@ -28,6 +28,7 @@ std::string_view stale_reaction_key(StaleReaction r);  // hold, safe, stop
 struct ClientDevice {
   std::string name;
   std::string host = "127.0.0.1";
+  std::string address;            // host as a numeric IPv4 address, resolved once by open() (never on the device thread)
   std::uint16_t port = 502;
   std::uint8_t unit = 1;
   std::int64_t response_timeout_ns = 200'000'000;

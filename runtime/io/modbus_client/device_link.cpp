@@ -123,7 +123,9 @@ void DeviceLink::run() {
         link_.wait_until(next_connect);
         continue;
       }
-      const ClientError e = link_.connect(device_->host, device_->port, device_->connect_timeout_ns);
+      // The address open() resolved: no name lookup here, where stop() must end every wait at once.
+      const ClientError e = link_.connect(device_->address.empty() ? device_->host : device_->address, device_->port,
+                                          device_->connect_timeout_ns);
       if (stopping_.load(std::memory_order_acquire)) break;
       if (e != ClientError::None) {
         fail_others(nullptr, e);

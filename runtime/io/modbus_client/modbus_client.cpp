@@ -37,6 +37,15 @@ ModbusClientDriver::ModbusClientDriver(ModbusClientConfig cfg) : cfg_(std::move(
     gch_.push_back(c);
   }
   bound_.assign(channels_.size(), nullptr);
+  closed_reconnects_.assign(cfg_.devices.size(), 0);
+  reset_exchange();
+}
+
+void ModbusClientDriver::reset_exchange() {
+  handover_.clear();
+  values_.clear();
+  out_.clear();
+  out_seq_.clear();
   for (const auto& g : cfg_.groups) {
     handover_.push_back(std::make_unique<GroupHandover>(g));
     // Before the first good reply the inputs show the safe values (reaction safe) or zeros.
@@ -54,6 +63,18 @@ int ModbusClientDriver::channel_index(const std::string& name) const {
 
 bool ModbusClientDriver::open(std::string* error) {
   close();
+  // A reopened driver starts as a new one: nothing of the previous run's
+  // replies is latched as fresh, nothing of its outputs is written.
+  reset_exchange();
+  group_link_.assign(cfg_.groups.size(), nullptr);
+  // FC 23 reads only together with its write: an unbound write side would
+  // leave the group without a request, never stale and never reacting.
+  for (std::size_t i = 0; i < cfg_.groups.size(); ++i)
+    if (cfg_.groups[i].function == ModbusFunction::ReadWriteMultipleRegisters && !bound_[static_cast<std::size_t>(gch_[i].write)]) {
+      *error = "request group " + cfg_.groups[i].name + " (function 23) reads only with its write: bind " +
+               cfg_.groups[i].name + "_write to the tag whose values it writes";
+      return false;
+    }
   safe_.reset();
   latch_.clear();
   const std::int64_t now = clock_();
@@ -73,7 +94,15 @@ bool ModbusClientDriver::open(std::string* error) {
     for (std::size_t i = 0; i < cfg_.groups.size(); ++i)
       if (cfg_.groups[i].device == d) mine.push_back(handover_[i].get());
     if (mine.empty()) continue;  // a device no group uses: no connection
-    links_.push_back(std::make_unique<DeviceLink>(cfg_.devices[d], std::move(mine), clock_));
+    ClientDevice& dev = cfg_.devices[d];
+    if (!resolve_ipv4(dev.host, &dev.address)) {
+      *error = "device " + dev.name + ": cannot resolve host '" + dev.host + "' to an IPv4 address";
+      close();
+      return false;
+    }
+    links_.push_back(std::make_unique<DeviceLink>(dev, std::move(mine), clock_));
+    for (std::size_t i = 0; i < cfg_.groups.size(); ++i)
+      if (cfg_.groups[i].device == d) group_link_[i] = links_.back().get();
     if (!links_.back()->start(error)) {
       close();
       return false;
@@ -84,6 +113,11 @@ bool ModbusClientDriver::open(std::string* error) {
 
 void ModbusClientDriver::close() noexcept {
   for (auto& l : links_) l->stop();
+  // Kept for counters() after the close (run prints them at exit).
+  for (const auto& l : links_)
+    for (std::size_t d = 0; d < cfg_.devices.size(); ++d)
+      if (&l->device() == &cfg_.devices[d]) closed_reconnects_[d] = l->reconnects.load(std::memory_order_relaxed);
+  for (auto& p : group_link_) p = nullptr;
   links_.clear();
   if (open_) closed_ns_ = clock_();
   open_ = false;
@@ -115,10 +149,8 @@ void ModbusClientDriver::latch_inputs(const ScanContext& ctx) noexcept {
     set(c.requests, saturate32(h.requests.load(std::memory_order_relaxed)));
     set(c.errors, saturate32(h.errors.load(std::memory_order_relaxed)));
     set(c.timeouts, saturate32(h.timeouts.load(std::memory_order_relaxed)));
-    std::uint64_t reconnects = 0;
-    for (const auto& l : links_)
-      if (&l->device() == &cfg_.devices[g.device]) reconnects = l->reconnects.load(std::memory_order_relaxed);
-    set(c.reconnects, saturate32(reconnects));
+    const DeviceLink* link = i < group_link_.size() ? group_link_[i] : nullptr;
+    set(c.reconnects, saturate32(link ? link->reconnects.load(std::memory_order_relaxed) : 0));
   }
 }
 
@@ -224,8 +256,12 @@ std::vector<std::pair<std::string, double>> ModbusClientDriver::counters() const
   }
   for (std::size_t d = 0; d < cfg_.devices.size(); ++d)
     if (device_requests[d]) out.emplace_back(cfg_.devices[d].name + ".requests_per_s", rate(device_requests[d]));
-  for (const auto& l : links_)
-    out.emplace_back(l->device().name + ".reconnects", static_cast<double>(l->reconnects.load(std::memory_order_relaxed)));
+  for (std::size_t d = 0; d < cfg_.devices.size(); ++d) {
+    std::uint64_t n = closed_reconnects_[d];
+    for (const auto& l : links_)
+      if (&l->device() == &cfg_.devices[d]) n = l->reconnects.load(std::memory_order_relaxed);
+    if (device_requests[d]) out.emplace_back(cfg_.devices[d].name + ".reconnects", static_cast<double>(n));
+  }
   return out;
 }
 

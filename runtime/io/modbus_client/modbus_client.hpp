@@ -52,6 +52,9 @@ class ModbusClientDriver final : public IoDriver {
   std::vector<std::pair<std::string, double>> counters() const override;
 
   const ModbusClientConfig& config() const { return cfg_; }
+  // The hand-over state of a fresh exchange: results, outputs, counters,
+  // the values shown before the first reply (constructor and open()).
+  void reset_exchange();
   int channel_index(const std::string& name) const;
 
   // --- tests: the exchange replaced by the test -----------------------------------
@@ -80,6 +83,8 @@ class ModbusClientDriver final : public IoDriver {
   std::vector<std::vector<Cell>> values_;  // per group: the read values the scan shows (last good)
   std::vector<std::vector<Cell>> out_;     // per group: the outputs last handed over
   std::vector<std::uint64_t> out_seq_;
+  std::vector<const DeviceLink*> group_link_;     // per group: its device's link (null without network), set by open()
+  std::vector<std::uint64_t> closed_reconnects_;  // per device: its reconnections when the links were closed
   Clock clock_;
   bool network_ = true;
   bool open_ = false;

@@ -40,6 +40,15 @@ bool resolve(const std::string& host, std::uint16_t port, sockaddr_in& out) {
 
 }  // namespace
 
+bool resolve_ipv4(const std::string& host, std::string* address) {
+  sockaddr_in a{};
+  if (!resolve(host, 0, a)) return false;
+  char text[INET_ADDRSTRLEN] = {};
+  if (!inet_ntop(AF_INET, &a.sin_addr, text, sizeof text)) return false;
+  *address = text;
+  return true;
+}
+
 void TcpLink::close() noexcept {
   if (fd_ >= 0) ::close(fd_);
   fd_ = -1;

@@ -11,6 +11,11 @@
 
 namespace syncplc {
 
+// `host` as a numeric IPv4 address: itself when it is one, else looked up
+// (getaddrinfo, which may block for the resolver's timeouts: call it where a
+// wait is harmless, never on a device thread that stop() must end at once).
+bool resolve_ipv4(const std::string& host, std::string* address);
+
 class TcpLink {
  public:
   TcpLink() = default;
