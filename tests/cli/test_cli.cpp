@@ -25,6 +25,7 @@ using syncplc::testing::write_temp_file;
 
 using Result = syncplc::testing::CliResult;
 using syncplc::testing::slurp;
+using syncplc::testing::TakenPort;
 Result run(const std::string& args) { return syncplc::testing::run_cli(args); }
 
 const std::string kSrc = SYNCPLC_SOURCE_DIR;
@@ -198,18 +199,12 @@ TEST(Cli, RunRefusesToStartWhenItsModbusPortIsTaken) {
   // A second server on the same port: a clear error, exit status 2, no PLC half running.
   std::string path = write_temp_file("modbus_port.yaml", "tasks: [{name: main, period: 1ms}]\n"
                                      "tags: [{name: x, type: INT, address: \"%MW0\", hmi: read}]\nmodbus: {port: 0}\n");
-  int s = socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  ASSERT_EQ(bind(s, reinterpret_cast<sockaddr*>(&a), sizeof a), 0);
-  ASSERT_EQ(listen(s, 1), 0);
-  socklen_t len = sizeof a;
-  getsockname(s, reinterpret_cast<sockaddr*>(&a), &len);
-  auto r = run("run " + path + " --duration 1s --no-status --modbus-port " + std::to_string(ntohs(a.sin_port)));
-  close(s);
+  TakenPort taken;
+  ASSERT_GT(taken.port, 0);
+  auto r = run("run " + path + " --duration 1s --no-status --modbus-port " + std::to_string(taken.port));
+  taken.release();
   EXPECT_EQ(r.rc, 2);
-  EXPECT_NE(r.err.find("syncplc: modbus: cannot listen on 127.0.0.1:" + std::to_string(ntohs(a.sin_port)) +
+  EXPECT_NE(r.err.find("syncplc: modbus: cannot listen on 127.0.0.1:" + std::to_string(taken.port) +
                        ": Address already in use"), std::string::npos) << r.err;
 }
 

@@ -3,10 +3,7 @@
 // while the PLC runs), `syncplc reload --version N` rolls a running instance
 // back by online change, and `run` without a file starts the last accepted
 // project. The stored files are checked with the sqlite3 shell.
-#include <arpa/inet.h>
 #include <gtest/gtest.h>
-#include <netinet/in.h>
-#include <sys/socket.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -23,6 +20,7 @@ namespace {
 using syncplc::testing::run_cli;
 using syncplc::testing::slurp;
 using syncplc::testing::write_temp_file;
+using syncplc::testing::TakenPort;
 
 std::string project_text(double level) {
   return "project: {name: tank, version: '" + std::to_string(static_cast<int>(level)) + "'}\n" +
@@ -130,17 +128,11 @@ TEST(CliProjects, RunRecordsAcceptedAndRejectedProjectsAndProjectsListsAndShowsT
 TEST(CliProjects, ARunThatFailsBeforeItsFirstScanIsRecorded) {
   const std::string db = temp_db("start_failed");
   const std::string path = write_temp_file("start_failed.yaml", project_text(4));
-  int s = socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  ASSERT_EQ(bind(s, reinterpret_cast<sockaddr*>(&a), sizeof a), 0);
-  ASSERT_EQ(listen(s, 1), 0);
-  socklen_t len = sizeof a;
-  getsockname(s, reinterpret_cast<sockaddr*>(&a), &len);
-  const std::string port = std::to_string(ntohs(a.sin_port));
+  TakenPort taken;
+  ASSERT_GT(taken.port, 0);
+  const std::string port = std::to_string(taken.port);
   auto r = run_cli("run " + path + " --no-status --duration 1s --modbus-port " + port + " --db " + db);
-  close(s);
+  taken.release();
   ASSERT_EQ(r.rc, 2) << r.err;
   EXPECT_EQ(sqlite3(db, "SELECT origin, accepted FROM project_versions"), "run|1\n");
   EXPECT_EQ(sqlite3(db, "SELECT kind || ': ' || message FROM events WHERE kind = 'start-failed'"),

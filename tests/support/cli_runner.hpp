@@ -2,6 +2,9 @@
 // and stderr of one invocation.
 #pragma once
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -49,5 +52,29 @@ inline CliResult run_cli(const std::string& args) {
   r.err = slurp(e);
   return r;
 }
+
+// A TCP port of 127.0.0.1 held by a listening socket for the object's life:
+// a `run` given it finds it in use.
+struct TakenPort {
+  int fd = -1;
+  int port = 0;
+  TakenPort() {
+    fd = socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    if (fd < 0 || bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) != 0 || listen(fd, 1) != 0) return;
+    socklen_t len = sizeof a;
+    getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
+    port = ntohs(a.sin_port);
+  }
+  ~TakenPort() { release(); }
+  void release() {
+    if (fd >= 0) close(fd);
+    fd = -1;
+  }
+  TakenPort(const TakenPort&) = delete;
+  TakenPort& operator=(const TakenPort&) = delete;
+};
 
 }  // namespace syncplc::testing
