@@ -198,32 +198,30 @@ Task::Next Task::account(std::int64_t k, std::int64_t planned, std::int64_t star
       push(Event{planned, index_, -1, EventKind::WatchdogTrip, "watchdog tripped", static_cast<double>(exec) * 1e-9});
       wd_consecutive_ = 0;
       if (cfg_.action != WatchdogAction::Log) {
-        if (cfg_.action == WatchdogAction::SafeStop) {
-          ScanContext ctx;
-          ctx.now_ns = planned;
-          ctx.task = index_;
-          ctx.events = this;
-          apply_safe_state(ctx);
-        }
-        stopped_.store(true, std::memory_order_release);
-        push(Event{planned, index_, -1, EventKind::TaskStopped, "task stopped by its watchdog", 0});
+        stop_now(planned, cfg_.action == WatchdogAction::SafeStop, "task stopped by its watchdog");
         next.stop = true;
       }
     }
   }
   if (stop_request_ && !next.stop) {
     // A driver's request (ScanContext::request_stop): the safe state, then stop, as safe_stop does.
+    stop_now(planned, true, stop_request_);
+    next.stop = true;
+  }
+  stop_request_ = nullptr;
+  return next;
+}
+
+void Task::stop_now(std::int64_t planned, bool safe, const char* why) noexcept {
+  if (safe) {
     ScanContext ctx;
     ctx.now_ns = planned;
     ctx.task = index_;
     ctx.events = this;
     apply_safe_state(ctx);
-    stopped_.store(true, std::memory_order_release);
-    push(Event{planned, index_, -1, EventKind::TaskStopped, stop_request_, 0});
-    next.stop = true;
   }
-  stop_request_ = nullptr;
-  return next;
+  stopped_.store(true, std::memory_order_release);
+  push(Event{planned, index_, -1, EventKind::TaskStopped, why, 0});
 }
 
 void Task::apply_safe_state(ScanContext& ctx) noexcept {

@@ -219,6 +219,9 @@ class Task : private EventSink {
   void push(const Event& e) noexcept override;  // EventSink for blocks
   void apply_writes() noexcept;
   void apply_safe_state(ScanContext& ctx) noexcept;
+  // Ends the task after this scan (a watchdog's stop or safe_stop, a
+  // driver's request): the safe state first when `safe`, then the event.
+  void stop_now(std::int64_t planned, bool safe, const char* why) noexcept;
 
   std::uint16_t index_;
   TaskConfig cfg_;
