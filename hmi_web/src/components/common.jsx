@@ -1,0 +1,62 @@
+// Small pieces used on every page.
+import { useEffect, useRef } from 'preact/hooks';
+import { formatValue } from '../lib/format.js';
+import { can, hint } from '../auth/session.js';
+
+// A value with its unit; forced values get a badge and the forced colour.
+export function Value({ value, type, unit, forced }) {
+  const f = Array.isArray(forced) ? forced.some(Boolean) : !!forced;
+  return (
+    <span class={f ? 'value forced' : 'value'} data-forced={f ? 'true' : 'false'}>
+      <span class="num">{formatValue(value, type)}</span>
+      {unit ? <span class="unit"> {unit}</span> : null}
+      {f ? <span class="badge badge-forced" title="Forced: held at this value whatever the program writes, until unforced">F</span> : null}
+    </span>
+  );
+}
+
+// A button for an action the role may not do: disabled, with the reason.
+export function ActionButton({ action, session, onClick, children, class: cls = '', ...rest }) {
+  const allowed = can(action, session);
+  return (
+    <button type="button" class={`btn ${cls}`} disabled={!allowed || rest.disabled}
+      title={allowed ? rest.title || '' : hint(action)} aria-label={rest['aria-label']} onClick={onClick}>
+      {children}
+    </button>
+  );
+}
+
+// A modal dialog on <dialog> (Esc closes it, focus stays inside).
+export function Modal({ open, title, onClose, children, wide }) {
+  const ref = useRef(null);
+  useEffect(() => {
+    const d = ref.current;
+    if (!d) return;
+    if (open && !d.open) d.showModal();
+    if (!open && d.open) d.close();
+  }, [open]);
+  return (
+    <dialog ref={ref} class={wide ? 'modal wide' : 'modal'} onClose={onClose} onCancel={onClose} aria-label={title}>
+      <header class="modal-head">
+        <h2>{title}</h2>
+        <button type="button" class="btn-icon" aria-label="Close" onClick={onClose}>×</button>
+      </header>
+      {open ? children : null}
+    </dialog>
+  );
+}
+
+export function ErrorNote({ error }) {
+  if (!error) return null;
+  const text = typeof error === 'string' ? error : error.message;
+  return <p class="error-note" role="alert">{text}{error.where ? <span class="where"> ({error.where})</span> : null}</p>;
+}
+
+export function Stat({ label, children, warn }) {
+  return (
+    <div class={warn ? 'stat warn' : 'stat'}>
+      <dt>{label}</dt>
+      <dd>{children}</dd>
+    </div>
+  );
+}

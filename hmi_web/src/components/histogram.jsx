@@ -1,0 +1,37 @@
+// The start-jitter histogram of a task as a small bar chart: one bar per
+// bucket of the runtime's log-linear histogram, labelled by its upper bound.
+import { useMemo } from 'preact/hooks';
+import uPlot from 'uplot';
+import { formatNs } from '../lib/format.js';
+import { Plot } from './plot.jsx';
+
+// Buckets with counts, trimmed of empty ones at both ends.
+export function histogramBars({ boundsNs, counts }) {
+  let lo = counts.findIndex((c) => c > 0);
+  let hi = counts.length - 1 - [...counts].reverse().findIndex((c) => c > 0);
+  if (lo < 0) { lo = 0; hi = Math.min(counts.length - 1, 0); }
+  const idx = []; const cnt = []; const labels = [];
+  for (let i = lo; i <= hi; i++) {
+    idx.push(idx.length);
+    cnt.push(counts[i]);
+    labels.push(i < boundsNs.length ? `≤${formatNs(boundsNs[i])}` : `>${formatNs(boundsNs[boundsNs.length - 1])}`);
+  }
+  return { idx, cnt, labels };
+}
+
+export function JitterHistogram({ histogram }) {
+  const bars = histogramBars(histogram);
+  const key = bars.labels.join('|');
+  const options = useMemo(() => ({
+    legend: { show: false },
+    cursor: { show: true, points: { show: false } },
+    scales: { x: { time: false, range: (u, min, max) => [min - 0.5, max + 0.5] }, y: { distr: 3, log: 10, range: (u, min, max) => [0.5, Math.max(10, max * 2)] } },
+    axes: [
+      { values: (u, splits) => splits.map((s) => bars.labels[s] ?? ''), grid: { show: false }, space: 60, size: 30, font: '11px system-ui' },
+      { size: 46, font: '11px system-ui', grid: { stroke: '#eaeef2', width: 1 }, ticks: { show: false }, filter: (u, splits) => splits.map((s) => (Number.isInteger(Math.log10(s)) ? s : null)), values: (u, splits) => splits.map((s) => (s >= 1000 ? `${s / 1000}k` : s)) },
+    ],
+    series: [{}, { label: 'scans', fill: '#1f6feb99', stroke: '#1f6feb', paths: uPlot.paths.bars({ size: [0.8, 40] }), points: { show: false } }],
+  }), [key]);
+  const data = [bars.idx, bars.cnt.map((c) => (c > 0 ? c : null))];
+  return <Plot options={options} data={data} height={140} label="start jitter histogram" />;
+}

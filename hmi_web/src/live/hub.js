@@ -1,0 +1,82 @@
+// One live stream for the whole page: every view subscribes the refs it shows,
+// the hub keeps the union and reopens the stream (once, shortly after) when
+// it changes. Views read the newest value of a ref from here.
+import { openStream } from '../api/stream.js';
+
+const subscribers = new Map(); // id → {refs:Set, notify}
+const latest = new Map(); // ref → value
+const forcedNow = new Map(); // ref → bool
+let lastTNs = null;
+let stream = null;
+let streamKey = '';
+let reopenTimer = null;
+let connection = { state: 'idle' };
+const connectionListeners = new Set();
+let nextId = 1;
+let rate = 10;
+
+function wantedRefs() {
+  const all = new Set();
+  for (const s of subscribers.values()) for (const r of s.refs) all.add(r);
+  return [...all].sort();
+}
+
+function setConnection(c) {
+  connection = c;
+  for (const l of connectionListeners) l(c);
+}
+
+function reopen() {
+  clearTimeout(reopenTimer);
+  reopenTimer = setTimeout(() => {
+    const refs = wantedRefs();
+    const key = `${rate}|${refs.join(',')}`;
+    if (key === streamKey && stream) return;
+    if (stream) stream.close();
+    stream = null;
+    streamKey = key;
+    if (!refs.length) { setConnection({ state: 'idle' }); return; }
+    stream = openStream({
+      refs, rate,
+      onState: setConnection,
+      onValues: ({ tNs, values, forced }) => {
+        lastTNs = tNs;
+        for (const [r, v] of Object.entries(values)) latest.set(r, v);
+        for (const [r, f] of Object.entries(forced)) forcedNow.set(r, !!f);
+        for (const s of subscribers.values()) s.notify(tNs);
+      },
+    });
+  }, 50);
+}
+
+// Subscribes refs; notify(tNs) is called after every update. Returns an
+// unsubscribe function.
+export function subscribe(refs, notify) {
+  const id = nextId++;
+  subscribers.set(id, { refs: new Set(refs), notify });
+  reopen();
+  return () => { subscribers.delete(id); reopen(); };
+}
+
+// Reconnect now (after a login: the stream may now be allowed).
+export function restart() {
+  if (stream) stream.close();
+  stream = null;
+  streamKey = '';
+  reopen();
+}
+
+export function setRate(hz) {
+  rate = Math.max(1, Math.min(50, hz));
+  reopen();
+}
+
+export const valueOf = (ref) => latest.get(ref);
+export const isForced = (ref) => forcedNow.get(ref) === true;
+export const hasValue = (ref) => latest.has(ref);
+export const lastTime = () => lastTNs;
+export const connectionState = () => connection;
+export function onConnection(listener) {
+  connectionListeners.add(listener);
+  return () => connectionListeners.delete(listener);
+}
