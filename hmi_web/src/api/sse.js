@@ -33,9 +33,9 @@ export class SseParser {
 
   line(line, out) {
     if (line === '') {
-      if (this.data.length) {
-        out.push({ event: this.eventType || 'message', data: this.data.join('\n'), id: this.lastEventId });
-      }
+      // An empty data buffer dispatches nothing (WHATWG: "data:" alone too).
+      const data = this.data.join('\n');
+      if (data !== '') out.push({ event: this.eventType || 'message', data, id: this.lastEventId });
       this.reset();
       return;
     }

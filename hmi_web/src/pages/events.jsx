@@ -3,19 +3,13 @@
 import { useEffect, useRef, useState } from 'preact/hooks';
 import { getEvents } from '../api/endpoints.js';
 import { formatWallNs } from '../lib/format.js';
+import { mergeEvents } from '../lib/events.js';
 import { ErrorNote } from '../components/common.jsx';
 
 const KEEP = 2000; // events kept on the page
 const BAD = new Set(['watchdog', 'task-stopped', 'safe-state', 'scan-hung', 'driver-fault', 'block-fault', 'store-fault', 'reload-failed', 'start-failed', 'queue-overflow', 'login-failed']);
 const WARN = new Set(['overrun', 'force', 'unforce', 'modbus-refused', 'store-moved-aside']);
 
-// Merges new events (any order) into a newest-first list without duplicates.
-export function mergeEvents(list, fresh, keep = KEEP) {
-  const seen = new Set(list.map((e) => e.id));
-  const add = fresh.filter((e) => !seen.has(e.id));
-  if (!add.length) return list;
-  return [...add, ...list].sort((a, b) => b.id - a.id).slice(0, keep);
-}
 
 export function EventsPage() {
   const [events, setEvents] = useState([]);
@@ -34,7 +28,7 @@ export function EventsPage() {
           if (stopped) return;
           if (fresh.length) {
             newest.current = Math.max(newest.current, ...fresh.map((e) => e.id));
-            setEvents((list) => mergeEvents(list, fresh));
+            setEvents((list) => mergeEvents(list, fresh, KEEP));
           }
           setError(null);
         } catch (e) { if (!stopped) setError(e); }

@@ -6,19 +6,14 @@ import { can, hint } from '../auth/session.js';
 import { hasValue, isForced, valueOf } from '../live/hub.js';
 import { useLive } from '../live/hooks.js';
 import { formatValue } from '../lib/format.js';
+import { ACCESS_WORDS, tagMatches } from '../lib/tag_filter.js';
 import { ErrorNote, Value } from '../components/common.jsx';
 import { ChangeDialog } from '../components/change_dialog.jsx';
 
 const MAX_LIVE = 200; // refs streamed at once from this page
 
 const anyForced = (f) => (Array.isArray(f) ? f.some(Boolean) : !!f);
-const ACCESS_WORDS = { readwrite: 'read & write', read: 'read only', none: 'not shown' };
 
-export function tagMatches(t, q, value) {
-  if (!q) return true;
-  const hay = [t.name, t.type, t.unit, t.task, t.access, ACCESS_WORDS[t.access] || '', t.description, value].join(' ').toLowerCase();
-  return q.toLowerCase().split(/\s+/).filter(Boolean).every((w) => hay.includes(w));
-}
 
 function liveForced(ref, fallback) {
   return hasValue(ref) ? isForced(ref) || anyForced(fallback) : anyForced(fallback);
