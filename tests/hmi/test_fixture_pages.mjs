@@ -208,6 +208,12 @@ test('axes: suggested from the program, plots live, the transient with its predi
   await page.reload();
   await page.locator('text=3 axes, transient of sync').waitFor();
   assert.equal(await page.locator('text=Suggested from the program').count(), 0);
+  // A name the PLC does not know is named, not silently left empty.
+  await page.getByRole('button', { name: 'Choose axes…' }).click();
+  await page.getByRole('button', { name: 'Add an axis' }).click();
+  await page.locator('.axis-row').nth(3).getByLabel('Position').fill('nope.x');
+  await page.getByRole('button', { name: 'Show these axes' }).click();
+  await page.locator('.error-note', { hasText: 'No value from the PLC for nope.x' }).waitFor();
   assert.deepEqual(page.jsErrors, []);
   await page.close();
 });

@@ -1,14 +1,21 @@
 // Small pieces used on every page.
 import { useEffect, useRef } from 'preact/hooks';
-import { formatValue } from '../lib/format.js';
+import { elementType, formatScalar, formatValue } from '../lib/format.js';
 import { can, hint } from '../auth/session.js';
 
 // A value with its unit; forced values get a badge and the forced colour.
+// For an array, `forced` may be one flag per element: only those are coloured.
 export function Value({ value, type, unit, forced }) {
+  const perElement = Array.isArray(forced) && Array.isArray(value) && forced.length === value.length;
   const f = Array.isArray(forced) ? forced.some(Boolean) : !!forced;
+  const el = elementType(type);
   return (
     <span class={f ? 'value forced' : 'value'} data-forced={f ? 'true' : 'false'}>
-      <span class="num">{formatValue(value, type)}</span>
+      {perElement ? (
+        <span class="num">{value.map((v, i) => (
+          <>{i ? ', ' : ''}<span class={forced[i] ? 'forced-element' : 'element'}>{formatScalar(v, el)}</span></>
+        ))}</span>
+      ) : <span class={f ? 'num forced-element' : 'num'}>{formatValue(value, type)}</span>}
       {unit ? <span class="unit"> {unit}</span> : null}
       {f ? <span class="badge badge-forced" title="Forced: held at this value whatever the program writes, until unforced">F</span> : null}
     </span>

@@ -35,6 +35,9 @@ function reopen() {
     if (stream) stream.close();
     stream = null;
     streamKey = key;
+    // Values no longer streamed would be stale when a view shows them again.
+    const keep = new Set(refs);
+    for (const r of [...latest.keys()]) if (!keep.has(r)) { latest.delete(r); forcedNow.delete(r); }
     if (!refs.length) { setConnection({ state: 'idle' }); return; }
     stream = openStream({
       refs, rate,
@@ -43,13 +46,18 @@ function reopen() {
         lastTNs = tNs;
         for (const [r, v] of Object.entries(values)) latest.set(r, v);
         for (const [r, f] of Object.entries(forced)) forcedNow.set(r, !!f);
-        for (const s of subscribers.values()) s.notify(tNs);
+        // Only those whose refs this event carries (the stream being replaced
+        // may still deliver one event of the refs it had).
+        for (const s of subscribers.values()) {
+          for (const r of s.refs) if (r in values) { s.notify(tNs, values); break; }
+        }
       },
     });
   }, 50);
 }
 
-// Subscribes refs; notify(tNs) is called after every update. Returns an
+// Subscribes refs; notify(tNs, values) is called after every update that
+// carries one of them. Returns an
 // unsubscribe function.
 export function subscribe(refs, notify) {
   const id = nextId++;

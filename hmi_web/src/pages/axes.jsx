@@ -4,8 +4,8 @@
 // program's suggestion), remembered in this browser.
 import { useCallback, useEffect, useMemo, useRef, useState } from 'preact/hooks';
 import { getBlocks, getStatus, getTags } from '../api/endpoints.js';
-import { valueOf } from '../live/hub.js';
-import { useLiveCallback } from '../live/hooks.js';
+import { hasValue, valueOf } from '../live/hub.js';
+import { useLive, useLiveCallback } from '../live/hooks.js';
 import { configRefs, loadConfig, predictedEndS, saveConfig, suggestAxes, syncErrors, validConfig } from '../lib/axes_config.js';
 import { elementType } from '../lib/format.js';
 import { ErrorNote } from '../components/common.jsx';
@@ -108,6 +108,8 @@ function LivePlots({ config, periodNs }) {
   const endRef = useRef(null);
   const aheadRef = useRef(0.5);
   const [summary, setSummary] = useState(null);
+  const seen = useRef(0);
+  useLive(refs, 1000); // a slow re-render for the words (the plots draw on their own)
   const win = useRef(null);
   const tsWin = useRef(null);
 
@@ -124,7 +126,10 @@ function LivePlots({ config, periodNs }) {
   }, [config]);
 
   let lastDraw = 0;
-  const onUpdate = useCallback((tNs) => {
+  const onUpdate = useCallback((tNs, values) => {
+    // Refs the PLC does not know stay empty (named below the plots).
+    if (!refs.some((r) => r in values)) return;
+    seen.current += 1;
     const tS = (tNs ?? Date.now() * 1e6) / 1e9;
     const pos = axes.map((a) => scalarOf(valueOf(a.position)));
     const e = withErr.map((a) => scalarOf(valueOf(a.error)));
@@ -156,11 +161,13 @@ function LivePlots({ config, periodNs }) {
     if (posPlot.current) posPlot.current.setData([t, ...rel.slice(1, 1 + axes.length)]);
     if (errPlot.current) errPlot.current.setData([t, ...rel.slice(1 + axes.length)]);
     if (tsPlot.current && tsWin.current) tsPlot.current.setData(tsWin.current.relative(tS));
-  }, [config, periodNs]);
+  }, [config, periodNs, refs]);
   useLiveCallback(refs, onUpdate);
 
+  const missing = seen.current > 20 ? refs.filter((r) => !hasValue(r)) : [];
   return (
     <>
+      {missing.length ? <p class="error-note">No value from the PLC for {missing.join(', ')}: check these names under “Choose axes…”.</p> : null}
       {axes.length ? (
         <section class="card">
           <h2>Positions</h2>

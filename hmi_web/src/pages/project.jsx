@@ -13,8 +13,10 @@ function SourceView({ file, errors, focusLine }) {
   const byLine = errorsByLine(errors, file.name);
   useEffect(() => {
     if (!focusLine) return;
+    // Scroll the source box only, not the page.
     const el = document.getElementById(`src-line-${focusLine}`);
-    if (el) el.scrollIntoView({ block: 'center' });
+    const box = el && el.parentElement;
+    if (el && box) box.scrollTop = Math.max(0, el.offsetTop - box.offsetTop - box.clientHeight / 2);
   }, [file.name, focusLine]);
   return (
     <div class="source" aria-label={`source of ${file.name}`}>

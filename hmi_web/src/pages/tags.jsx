@@ -144,7 +144,8 @@ export function TagsPage({ session }) {
                     <td data-label="Tag"><div><strong>{t.name}</strong>{t.description ? <div class="sub">{t.description}</div> : null}</div></td>
                     <td data-label="Type"><span>{t.type}{t.retain ? <span class="pill">retain</span> : null}</span></td>
                     <td data-label="Task">{t.task}</td>
-                    <td data-label="Value" class="value-cell"><Value value={current} type={t.type} unit={t.unit} forced={liveForced(t.name, t.forced)} /></td>
+                    <td data-label="Value" class="value-cell"><Value value={current} type={t.type} unit={t.unit}
+                      forced={Array.isArray(t.forced) && liveForced(t.name, t.forced) ? t.forced : liveForced(t.name, t.forced)} /></td>
                     <td data-label="Access">{ACCESS_WORDS[t.access] || t.access}</td>
                     <td data-label="">
                       <RowActions session={session} item={{ ...t, current }} writable={t.access === 'readwrite'}
