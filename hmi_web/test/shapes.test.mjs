@@ -58,3 +58,20 @@ test('trends: one series or several, points as objects or rows', () => {
   const many = normalizeTrend({ tag: 'axes', series: [{ label: 'axes[1]', points: [[1, 0, 2, 1, 5]] }] });
   assert.equal(many.series[0].points[0].max, 2);
 });
+
+test('the server as runtime/web writes it: _ns keys, jitter, element type with is_array, written every scan', () => {
+  const s = normalizeStatus({ runtime: { program: 'demo', program_version: '1.0.0', store: 'ok' },
+    tasks: [{ name: 't', exec: { count: 3, min_ns: 1, max_ns: 9, mean_ns: 4, p99_ns: 8, last_ns: 5 }, jitter: { min_ns: 2, max_ns: 7, p99_ns: 6, histogram: { bounds_ns: [1000], counts: [3] } } }] });
+  assert.equal(s.runtime.projectName, 'demo 1.0.0');
+  assert.deepEqual(s.tasks[0].exec, { last: 5, min: 1, max: 9, mean: 4, p99: 8 });
+  assert.equal(s.tasks[0].jitter.p99, 6);
+  assert.deepEqual(s.tasks[0].jitter.histogram.counts, [3]);
+  const [arr, every] = normalizeTags({ tags: [
+    { name: 'pos', type: 'LREAL', is_array: true, length: 4, array_lower: 0, hmi: 'readwrite' },
+    { name: 'cmd', type: 'INT', is_array: false, length: 1, hmi: 'readwrite', written_every_scan: true },
+  ] });
+  assert.equal(arr.type, 'ARRAY[0..3] OF LREAL');
+  assert.equal(arr.writable, true);
+  assert.equal(every.type, 'INT');
+  assert.equal(every.writable, false);
+});

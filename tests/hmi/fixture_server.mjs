@@ -19,7 +19,7 @@ const RANK = { viewer: 0, operator: 1, engineer: 2 };
 const TAGS = [
   { name: 'pos', type: 'ARRAY[1..4] OF LREAL', length: 4, lower: 1, unit: 'rad', task: 'servo', hmi: 'read', writer: 'table', retain: false, description: 'measured axis positions' },
   { name: 'err', type: 'ARRAY[1..4] OF LREAL', length: 4, lower: 1, unit: 'rad', task: 'servo', hmi: 'read', writer: 'ax1..ax4', retain: false, description: 'e_i(k) each node writes into the frame' },
-  { name: 'cmd', type: 'ARRAY[1..4] OF LREAL', length: 4, lower: 1, unit: 'PWM', task: 'servo', hmi: 'read', writer: 'ax1..ax4', retain: false, description: 'drive commands' },
+  { name: 'cmd', type: 'ARRAY[1..4] OF LREAL', length: 4, lower: 1, unit: 'PWM', task: 'servo', hmi: 'readwrite', writer: 'ax1..ax4', written_every_scan: true, retain: false, description: 'drive commands' },
   { name: 'speed', type: 'LREAL', length: 1, lower: 1, unit: 'm/s', task: 'servo', hmi: 'readwrite', writer: null, retain: true, description: 'conveyor speed set-point' },
   { name: 'enable', type: 'BOOL', length: 1, lower: 1, unit: '', task: 'servo', hmi: 'readwrite', writer: null, retain: false, description: 'run the conveyor' },
   { name: 'batch', type: 'DINT', length: 1, lower: 1, unit: '', task: 'planner', hmi: 'readwrite', writer: null, retain: true, description: 'bottles per batch' },
@@ -128,12 +128,12 @@ export async function startFixture({ port = 0, users = {}, distDir = DIST } = {}
     const t = now();
     const hist = (scale) => ({ bounds_ns: [1e3, 2e3, 5e3, 1e4, 2e4, 5e4, 1e5, 2e5, 5e5], counts: [0, Math.round(t * 800 * scale), Math.round(t * 160 * scale), Math.round(t * 30 * scale), Math.round(t * 8 * scale), Math.round(t * scale), Math.round(t * 0.1 * scale), 1, 0, 0] });
     return {
-      runtime: { version: '0.1.0', project_file: '/srv/plc/projects/bottle_line/bottle_line.yaml', project_name: 'bottle_line 1.0.1', project_version: 3, uptime_s: t + 7260, store: { state: 'ok' }, modbus: '127.0.0.1:5020' },
+      runtime: { version: '0.1.0', project_file: '/srv/plc/projects/bottle_line/bottle_line.yaml', program: 'bottle_line', program_version: '1.0.1', project_version: 3, uptime_s: t + 7260, store: { state: 'ok' }, modbus: '127.0.0.1:5020' },
       tasks: [
         { name: 'servo', period_ns: 1e6, priority: 80, cpu: 1, state: 'running', scans: Math.floor(t * 1000) + 7260000, overruns: 2, watchdog_trips: 0,
-          exec_ns: { last: 41200, min: 28100, max: 212000, mean: 39800, p99: 88000 }, start_jitter_ns: { min: 1200, max: 187000, p99: 14200, histogram: hist(1) } },
+          exec: { last_ns: 41200, min_ns: 28100, max_ns: 212000, mean_ns: 39800, p99_ns: 88000 }, jitter: { min_ns: 1200, max_ns: 187000, p99_ns: 14200, histogram: hist(1) } },
         { name: 'planner', period_ns: 1e7, priority: 60, cpu: 1, state: 'running', scans: Math.floor(t * 100) + 726000, overruns: 0, watchdog_trips: 0,
-          exec_ns: { last: 12100, min: 9800, max: 61000, mean: 11900, p99: 20400 }, start_jitter_ns: { min: 1500, max: 95000, p99: 11800, histogram: hist(0.1) } },
+          exec: { last_ns: 12100, min_ns: 9800, max_ns: 61000, mean_ns: 11900, p99_ns: 20400 }, jitter: { min_ns: 1500, max_ns: 95000, p99_ns: 11800, histogram: hist(0.1) } },
         { name: 'slow', period_ns: 1e8, priority: 10, cpu: null, state: st.slowStopped ? 'stopped' : 'running', stop_reason: st.slowStopped ? 'watchdog: scan took 412 ms (watchdog 200 ms), action stop' : null,
           scans: 71812, overruns: 3, watchdog_trips: st.slowStopped ? 1 : 0, exec_ns: { last: 812000, min: 790000, max: 412000000, mean: 830000, p99: 1.2e6 }, start_jitter_ns: { min: 2000, max: 40000, p99: 21000, histogram: hist(0.01) } },
       ],
@@ -160,7 +160,13 @@ export async function startFixture({ port = 0, users = {}, distDir = DIST } = {}
     if (req.method === 'GET' && path === '/status') { send(res, 200, status()); return; }
     if (req.method === 'GET' && path === '/tags') {
       const f = url.searchParams.get('filter') || '';
-      send(res, 200, { tags: TAGS.filter((t) => t.name.includes(f)).map((t) => ({ ...t, forced: t.length > 1 ? Array.from({ length: t.length }, (_, i) => `${t.name}[${i + 1}]` in st.forces) : t.name in st.forces })) });
+      // As runtime/web writes a tag: the element type, is_array and array_lower.
+      const info = (t) => {
+        const m = /^ARRAY\[(-?\d+)\.\.-?\d+\] OF (\w+)$/.exec(t.type);
+        const { lower, ...rest } = t;
+        return m ? { ...rest, type: m[2], is_array: true, array_lower: Number(m[1]) } : { ...rest, is_array: false };
+      };
+      send(res, 200, { tags: TAGS.filter((t) => t.name.includes(f)).map((t) => ({ ...info(t), forced: t.length > 1 ? Array.from({ length: t.length }, (_, i) => `${t.name}[${i + 1}]` in st.forces) : t.name in st.forces })) });
       return;
     }
     if (req.method === 'GET' && path === '/blocks') {

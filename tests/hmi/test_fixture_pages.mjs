@@ -85,7 +85,7 @@ test('tags: live values move, the filter narrows, and without login nothing can 
   await until(async () => (await pos.innerText()) !== first, 10000, 'the value to move');
   assert.equal(await page.locator('.conn').innerText(), 'Live');
   await page.getByLabel('Filter').fill('read & write');
-  await until(async () => (await page.locator('#tags-table tbody tr').count()) === 3, 5000, 'three writable tags');
+  await until(async () => (await page.locator('#tags-table tbody tr').count()) === 4, 5000, 'four tags with hmi: readwrite');
   await page.getByLabel('Filter').fill('speed');
   await until(async () => (await page.locator('#tags-table tbody tr').count()) === 1, 5000, 'one row');
   const write = page.locator('tr[data-tag=speed] button', { hasText: 'Write' });
@@ -126,7 +126,12 @@ test('login: a wrong password is said in words; an operator writes a value; forc
   await page.locator('dialog[open] .segmented label', { hasText: 'FALSE' }).click();
   await page.locator('dialog[open] button[type=submit]').click();
   await until(() => fixture.state.written.enable === false, 5000, 'enable written FALSE');
-  assert.equal(await page.locator('tr[data-tag=pos] button', { hasText: 'Write' }).isDisabled(), true); // hmi: read
+  const readOnly = page.locator('tr[data-tag=pos] button', { hasText: 'Write' });
+  assert.equal(await readOnly.isDisabled(), true);
+  assert.match(await readOnly.getAttribute('title'), /hmi: read/);
+  const everyScan = page.locator('tr[data-tag=cmd] button', { hasText: 'Write' });
+  assert.equal(await everyScan.isDisabled(), true);
+  assert.match(await everyScan.getAttribute('title'), /writes this value every scan/);
   assert.equal(await row.locator('button', { hasText: 'Force' }).isDisabled(), true);
   await page.getByRole('button', { name: 'Log out' }).click();
   await page.getByRole('button', { name: 'Log in' }).waitFor();

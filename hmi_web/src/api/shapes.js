@@ -7,9 +7,11 @@ const num = (v) => (typeof v === 'number' && Number.isFinite(v) ? v : (v === nul
 const list = (data, key) => (Array.isArray(data) ? data : (data && Array.isArray(data[key]) ? data[key] : []));
 const first = (...vs) => vs.find((v) => v !== undefined && v !== null);
 
+// {last, min, max, mean, p99} from either plain or _ns-suffixed keys.
 function stats(s) {
   s = s || {};
-  return { last: num(s.last), min: num(s.min), max: num(s.max), mean: num(s.mean), p99: num(s.p99) };
+  const k = (name) => num(first(s[name], s[`${name}_ns`]));
+  return { last: k('last'), min: k('min'), max: k('max'), mean: k('mean'), p99: k('p99') };
 }
 
 export function normalizeHistogram(h) {
@@ -21,7 +23,7 @@ export function normalizeHistogram(h) {
 }
 
 export function normalizeTask(t) {
-  const jitter = first(t.start_jitter_ns, t.jitter_ns, t.start_jitter, {}) || {};
+  const jitter = first(t.start_jitter_ns, t.jitter_ns, t.start_jitter, t.jitter, {}) || {};
   return {
     name: t.name,
     periodNs: num(first(t.period_ns, t.period)),
@@ -47,7 +49,7 @@ export function normalizeStatus(d) {
     runtime: {
       version: first(r.version, null),
       projectFile: first(r.project_file, r.project, null),
-      projectName: first(r.project_name, null),
+      projectName: first(r.project_name, r.program ? [r.program, r.program_version].filter(Boolean).join(' ') : null, null),
       projectVersion: first(r.project_version, null),
       uptimeS: num(first(r.uptime_s, r.uptime)),
       store,
@@ -59,14 +61,22 @@ export function normalizeStatus(d) {
 }
 
 export function normalizeTag(t) {
+  const length = num(first(t.length, 1));
+  const lower = num(first(t.lower, t.lower_bound, t.array_lower, 1));
+  // The element type with is_array, or the whole declaration as written.
+  const type = t.is_array && !/^ARRAY/i.test(t.type) ? `ARRAY[${lower}..${lower + length - 1}] OF ${t.type}` : t.type;
+  const access = first(t.hmi, t.access, 'read');
   return {
     name: t.name,
-    type: t.type,
-    length: num(first(t.length, 1)),
-    lower: num(first(t.lower, t.lower_bound, t.array_lower, 1)),
+    type,
+    length,
+    lower,
+    access,
+    // hmi: readwrite, and not a tag the program writes every scan (that one can only be forced).
+    writable: access === 'readwrite' && !t.written_every_scan,
+    writtenEveryScan: !!t.written_every_scan,
     unit: t.unit || '',
     task: t.task || '',
-    access: first(t.hmi, t.access, 'read'),
     writer: first(t.writer, null),
     retain: !!t.retain,
     forced: first(t.forced, false),

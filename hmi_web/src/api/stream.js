@@ -22,6 +22,7 @@ export function openStream({ refs, rate = 10, onValues, onState }) {
     controller = new AbortController();
     state(attempt ? 'connecting' : 'connecting');
     let error = null;
+    let streamError = null;
     try {
       const res = await fetch(apiUrl('/stream', { refs, rate }), {
         headers: { Accept: 'text/event-stream', ...authHeaders() },
@@ -38,6 +39,11 @@ export function openStream({ refs, rate = 10, onValues, onState }) {
         const { value, done } = await reader.read();
         if (done) break;
         for (const ev of parser.push(value)) {
+          if (ev.event === 'error') {
+            // The server says why it ends the stream (e.g. a ref it does not know).
+            try { streamError = JSON.parse(ev.data).error; } catch { streamError = ev.data; }
+            continue;
+          }
           if (ev.event !== 'values') continue;
           let d;
           try { d = JSON.parse(ev.data); } catch { continue; }
@@ -46,7 +52,7 @@ export function openStream({ refs, rate = 10, onValues, onState }) {
           onValues({ tNs: d.t_ns, values: d.values || {}, forced: d.forced || {} });
         }
       }
-      error = 'The PLC closed the live stream.';
+      error = streamError || 'The PLC closed the live stream.';
     } catch (e) {
       if (stopped || (e && e.name === 'AbortError')) return;
       error = e && e.message ? e.message : String(e);

@@ -6,6 +6,13 @@ import { histogramBars } from '../lib/histogram.js';
 import { Plot } from './plot.jsx';
 
 
+// Grid lines at 1, 10, 100 … only (a log scale's default has nine per decade).
+const decades = (min, max) => {
+  const out = [];
+  for (let d = 1; d <= max; d *= 10) if (d >= min) out.push(d);
+  return out;
+};
+
 export function JitterHistogram({ histogram }) {
   const bars = histogramBars(histogram);
   const key = bars.labels.join('|');
@@ -15,7 +22,7 @@ export function JitterHistogram({ histogram }) {
     scales: { x: { time: false, range: (u, min, max) => [min - 0.5, max + 0.5] }, y: { distr: 3, log: 10, range: (u, min, max) => [0.5, Math.max(10, max * 2)] } },
     axes: [
       { values: (u, splits) => splits.map((s) => bars.labels[s] ?? ''), grid: { show: false }, space: 60, size: 30, font: '11px system-ui' },
-      { size: 46, font: '11px system-ui', grid: { stroke: '#eaeef2', width: 1 }, ticks: { show: false }, filter: (u, splits) => splits.map((s) => (Number.isInteger(Math.log10(s)) ? s : null)), values: (u, splits) => splits.map((s) => (s >= 1000 ? `${s / 1000}k` : s)) },
+      { size: 46, font: '11px system-ui', grid: { stroke: '#eaeef2', width: 1 }, ticks: { show: false }, splits: (u, i, min, max) => decades(min, max), values: (u, splits) => splits.map((s) => (s >= 1000 ? `${s / 1000}k` : s)) },
     ],
     series: [{}, { label: 'scans', fill: '#1f6feb99', stroke: '#1f6feb', paths: uPlot.paths.bars({ size: [0.8, 40] }), points: { show: false } }],
   }), [key]);

@@ -22,7 +22,9 @@ function liveForced(ref, fallback) {
 function RowActions({ session, item, writable, onChange, onUnforce }) {
   const forced = liveForced(item.name, item.forced);
   const canWrite = can('write', session);
-  const writeHint = !canWrite ? hint('write') : !writable ? 'This value cannot be written from outside (the project gives it hmi: read, or the program writes it every scan). An engineer can force it.' : '';
+  const writeHint = !canWrite ? hint('write')
+    : !writable ? (item.writtenEveryScan ? 'The program writes this value every scan, so a write would not hold. An engineer can force it.'
+      : 'The project does not allow writing this value from outside (hmi: read). An engineer can force it.') : '';
   return (
     <div class="row-actions">
       <button type="button" class="btn small" disabled={!canWrite || !writable} title={writeHint}
@@ -148,7 +150,7 @@ export function TagsPage({ session }) {
                       forced={Array.isArray(t.forced) && liveForced(t.name, t.forced) ? t.forced : liveForced(t.name, t.forced)} /></td>
                     <td data-label="Access">{ACCESS_WORDS[t.access] || t.access}</td>
                     <td data-label="">
-                      <RowActions session={session} item={{ ...t, current }} writable={t.access === 'readwrite'}
+                      <RowActions session={session} item={{ ...t, current }} writable={t.writable}
                         onChange={(mode, item) => setDialog({ mode, target: item })} onUnforce={doUnforce} />
                     </td>
                   </tr>
