@@ -1,7 +1,7 @@
 // The shell: header, navigation (a menu button on a narrow screen), the
 // connection state, who is logged in, and the page chosen by the URL's hash.
 import { useEffect, useState } from 'preact/hooks';
-import { logout } from './api/endpoints.js';
+import { logout, me } from './api/endpoints.js';
 import { current, end, onSession } from './auth/session.js';
 import { restart } from './live/hub.js';
 import { useConnection } from './live/hooks.js';
@@ -59,6 +59,9 @@ export function App() {
     return () => window.removeEventListener('hashchange', onHash);
   }, []);
   useEffect(() => onSession(setSession), []);
+  // A session from before a reload of the page: still known to the PLC?
+  // (A 401 ends it, through the http module.)
+  useEffect(() => { if (current()) me().catch(() => {}); }, []);
   useEffect(() => { document.title = `${page.label} · syncplc`; }, [page]);
 
   async function doLogout() {

@@ -143,7 +143,7 @@ export async function startFixture({ port = 0, users = {}, distDir = DIST } = {}
 
   async function api(req, res, url) {
     const path = url.pathname.slice('/api/v1'.length);
-    st.requests.push(`${req.method} ${path}`);
+    st.requests.push(`${req.method} ${path}${url.search}`);
     const vals = programValues(now(), st);
     if (req.method === 'POST' && path === '/login') {
       const b = await body(req);

@@ -133,6 +133,13 @@ test('login: a wrong password is said in words; an operator writes a value; forc
   assert.equal(await everyScan.isDisabled(), true);
   assert.match(await everyScan.getAttribute('title'), /writes this value every scan/);
   assert.equal(await row.locator('button', { hasText: 'Force' }).isDisabled(), true);
+  // A reload keeps the session (this tab); a token the PLC forgot ends it.
+  await page.reload();
+  await page.locator('.who .user-name', { hasText: 'olga' }).waitFor();
+  fixture.state.tokens.clear();
+  await page.reload();
+  await page.getByRole('button', { name: 'Log in' }).waitFor();
+  await login(page, 'olga');
   await page.getByRole('button', { name: 'Log out' }).click();
   await page.getByRole('button', { name: 'Log in' }).waitFor();
   assert.equal(await page.evaluate(() => sessionStorage.getItem('syncplc.session')), null);
@@ -248,6 +255,10 @@ test('events: newest first, following new ones, filtered by kind', async () => {
   assert.match(await page.locator(`#events-table tr[data-id="${id}"]`).getAttribute('class'), /row-bad/);
   await page.getByLabel('Kind of event').selectOption('watchdog');
   assert.equal(await page.locator('#events-table tbody tr').count(), 1);
+  // A kind not seen yet can be chosen; the PLC is asked for it.
+  await page.getByLabel('Kind of event').selectOption('reload-failed');
+  await page.locator('text=No events of kind reload-failed yet.').waitFor();
+  assert.ok(fixture.state.requests.some((r) => r.startsWith('GET /events?') && r.includes('kind=reload-failed')));
   await page.close();
 });
 

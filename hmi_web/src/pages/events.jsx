@@ -7,6 +7,10 @@ import { mergeEvents } from '../lib/events.js';
 import { ErrorNote } from '../components/common.jsx';
 
 const KEEP = 2000; // events kept on the page
+// The kinds the PLC records (docs/store.md), offered before any is seen.
+const KNOWN_KINDS = ['start', 'stop', 'start-failed', 'reload', 'reload-failed', 'watchdog', 'task-stopped', 'safe-state',
+  'overrun', 'block-fault', 'scan-hung', 'driver-fault', 'queue-overflow', 'hmi-write', 'modbus-refused', 'store-fault',
+  'store-ok', 'store-moved-aside'];
 const BAD = new Set(['watchdog', 'task-stopped', 'safe-state', 'scan-hung', 'driver-fault', 'block-fault', 'store-fault', 'reload-failed', 'start-failed', 'queue-overflow', 'login-failed']);
 const WARN = new Set(['overrun', 'force', 'unforce', 'modbus-refused', 'store-moved-aside']);
 
@@ -39,7 +43,13 @@ export function EventsPage() {
     return () => { stopped = true; clearTimeout(timer); };
   }, [follow]);
 
-  const kinds = [...new Set(events.map((e) => e.kind))].sort();
+  const kinds = [...new Set([...KNOWN_KINDS, ...events.map((e) => e.kind)])].sort();
+
+  // A kind chosen: its older events too, asked of the PLC by kind.
+  useEffect(() => {
+    if (!kind) return;
+    getEvents({ kind, limit: 500 }).then((fresh) => setEvents((list) => mergeEvents(list, fresh, KEEP))).catch(setError);
+  }, [kind]);
   const shown = kind ? events.filter((e) => e.kind === kind) : events;
   return (
     <>
