@@ -64,6 +64,20 @@ try {
       taken.push(file);
     }
   }
+  // The force dialog with its confirmation, and the login dialog, on a phone.
+  await page.goto(`${fixture.url}/#/tags`);
+  await page.locator('tr[data-tag=speed] button', { hasText: 'Force' }).click();
+  await page.locator('dialog[open] input[name=value]').fill('0.8');
+  await page.locator('dialog[open] input[name=confirm]').check();
+  await page.screenshot({ path: join(out, 'force-phone.png') });
+  taken.push(join(out, 'force-phone.png'));
+  await page.keyboard.press('Escape');
+  await page.getByRole('button', { name: 'Log out' }).click();
+  await page.getByRole('button', { name: 'Log in' }).click();
+  await page.getByLabel('User name').fill('erik');
+  await page.screenshot({ path: join(out, 'login-phone.png') });
+  taken.push(join(out, 'login-phone.png'));
+  await page.keyboard.press('Escape');
   // The menu of the phone layout, opened.
   await page.goto(`${fixture.url}/#/overview`);
   await page.getByRole('button', { name: 'Menu' }).click();

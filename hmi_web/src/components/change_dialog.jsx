@@ -6,6 +6,8 @@ import { force, writeTag } from '../api/endpoints.js';
 import { arrayBounds, elementType, formatValue } from '../lib/format.js';
 import { intRange, isIntegerType, isRealType, parseInput } from '../lib/iec.js';
 import { ErrorNote, Modal } from './common.jsx';
+import { hasValue, valueOf } from '../live/hub.js';
+import { useLive } from '../live/hooks.js';
 
 export function ValueInput({ type, unit, value, onInput, id }) {
   if (type === 'BOOL') {
@@ -40,13 +42,15 @@ export function ChangeDialog({ mode, target, onClose, onDone }) {
   const [confirmed, setConfirmed] = useState(false);
   const [error, setError] = useState(null);
   const [busy, setBusy] = useState(false);
+  useLive(target ? [target.name] : [], 250); // "Now:" follows the PLC while the dialog is open
   if (!target) return null;
+  const live = hasValue(target.name) ? valueOf(target.name) : target.current;
   const type = elementType(target.type);
   const ref = bounds ? `${target.name}[${element}]` : target.name;
   const parsed = text === '' ? null : parseInput(text, type);
   const elementOk = !bounds || (/^-?\d+$/.test(element) && Number(element) >= bounds.lower && Number(element) <= bounds.upper);
   const ready = parsed && parsed.ok && elementOk && (mode !== 'force' || confirmed);
-  const currentValue = bounds && Array.isArray(target.current) && elementOk ? target.current[Number(element) - bounds.lower] : target.current;
+  const currentValue = bounds && Array.isArray(live) && elementOk ? live[Number(element) - bounds.lower] : live;
 
   async function submit(e) {
     e.preventDefault();
