@@ -210,6 +210,11 @@ test('axes: suggested from the program, plots live, the transient with its predi
   await page.locator('text=Suggested from the program').waitFor();
   await until(async () => (await page.locator('.plot canvas').count()) === 3, 10000, 'three plots');
   await until(async () => /arrive together in \d+\.\d\d s|All axes track/.test(await page.locator('.transient-summary').innerText()), 10000, 'the transient summary');
+  // A forced axis value is flagged here too.
+  fixture.state.forces['ax2.x'] = 1;
+  await page.locator('.forced-note', { hasText: 'ax2.x' }).waitFor();
+  delete fixture.state.forces['ax2.x'];
+  await until(async () => (await page.locator('.forced-note').count()) === 0, 5000, 'the forced note gone');
   // The user's choice is remembered in this browser.
   await page.getByRole('button', { name: 'Choose axes…' }).click();
   await page.getByRole('button', { name: 'Remove ax4' }).click();

@@ -4,7 +4,7 @@
 // program's suggestion), remembered in this browser.
 import { useCallback, useEffect, useMemo, useRef, useState } from 'preact/hooks';
 import { getBlocks, getStatus, getTags } from '../api/endpoints.js';
-import { hasValue, valueOf } from '../live/hub.js';
+import { hasValue, isForced, valueOf } from '../live/hub.js';
 import { useLive, useLiveCallback } from '../live/hooks.js';
 import { configRefs, loadConfig, predictedEndS, saveConfig, suggestAxes, syncErrors, validConfig } from '../lib/axes_config.js';
 import { elementType } from '../lib/format.js';
@@ -165,8 +165,12 @@ function LivePlots({ config, periodNs }) {
   useLiveCallback(refs, onUpdate);
 
   const missing = seen.current > 20 ? refs.filter((r) => !hasValue(r)) : [];
+  const forced = refs.filter(isForced);
   return (
     <>
+      {forced.length ? (
+        <p class="forced-note" role="status"><span class="badge badge-forced">F</span> Forced, so not what the program computes: {forced.join(', ')}</p>
+      ) : null}
       {missing.length ? <p class="error-note">No value from the PLC for {missing.join(', ')}: check these names under “Choose axes…”.</p> : null}
       {axes.length ? (
         <section class="card">
