@@ -14,7 +14,7 @@ const watch = process.argv.includes('--watch');
 
 await rm(dist, { recursive: true, force: true });
 await mkdir(dist, { recursive: true });
-await copyFile(join(here, 'src', 'index.html'), join(dist, 'index.html'));
+for (const f of ['index.html', 'favicon.svg']) await copyFile(join(here, 'src', f), join(dist, f));
 
 const options = {
   entryPoints: { app: join(here, 'src', 'main.jsx') },

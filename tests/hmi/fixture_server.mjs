@@ -13,7 +13,7 @@ import { fileURLToPath } from 'node:url';
 
 const here = dirname(fileURLToPath(import.meta.url));
 export const DIST = resolve(here, '../../hmi_web/dist');
-const TYPES = { '.html': 'text/html; charset=utf-8', '.js': 'text/javascript', '.css': 'text/css', '.map': 'application/json', '.txt': 'text/plain' };
+const TYPES = { '.svg': 'image/svg+xml', '.html': 'text/html; charset=utf-8', '.js': 'text/javascript', '.css': 'text/css', '.map': 'application/json', '.txt': 'text/plain' };
 const RANK = { viewer: 0, operator: 1, engineer: 2 };
 
 const TAGS = [
@@ -286,7 +286,10 @@ export async function startFixture({ port = 0, users = {}, distDir = DIST } = {}
     if (!file.startsWith(distDir + sep)) { res.writeHead(404); res.end(); return; }
     try {
       const data = await readFile(file);
-      res.writeHead(200, { 'Content-Type': TYPES[extname(file)] || 'application/octet-stream' });
+      // The strictest policy the HMI is meant to work under: everything from
+      // the PLC itself, no inline script or style, no other origin.
+      res.writeHead(200, { 'Content-Type': TYPES[extname(file)] || 'application/octet-stream',
+        'Content-Security-Policy': "default-src 'self'; frame-ancestors 'none'; form-action 'none'; base-uri 'none'" });
       res.end(data);
     } catch { res.writeHead(404, { 'Content-Type': 'text/plain' }); res.end('not found'); }
   }

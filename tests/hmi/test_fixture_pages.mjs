@@ -38,6 +38,8 @@ async function open(path, viewport = DESKTOP) {
   pages.add(page);
   const errors = [];
   page.on('pageerror', (e) => errors.push(e.message));
+  // A blocked resource (the content security policy, a missing file) is an error too.
+  page.on('console', (m) => { if (m.type() === 'error' && !/status of (401|403|404|409|400|503)/.test(m.text())) errors.push(m.text()); });
   await page.setViewportSize(viewport);
   await page.goto(`${fixture.url}/#/${path}`);
   page.jsErrors = errors;
