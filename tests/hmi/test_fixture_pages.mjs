@@ -265,7 +265,7 @@ test('events: newest first, following new ones, filtered by kind', async () => {
   // A kind not seen yet can be chosen; the PLC is asked for it.
   await page.getByLabel('Kind of event').selectOption('reload-failed');
   await page.locator('text=No events of kind reload-failed yet.').waitFor();
-  assert.ok(fixture.state.requests.some((r) => r.startsWith('GET /events?') && r.includes('kind=reload-failed')));
+  await until(() => fixture.state.requests.some((r) => r.startsWith('GET /events?') && r.includes('kind=reload-failed')), 5000, 'the PLC asked for that kind');
   await page.close();
 });
 

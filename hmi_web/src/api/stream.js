@@ -19,8 +19,9 @@ export function openStream({ refs, rate = 10, onValues, onState }) {
     if (stopped) return;
     if (typeof document !== 'undefined' && document.hidden) { state('paused'); return; }
     if (!refs.length) { state('idle'); return; }
+    if (controller) controller.abort(); // never two streams at once
     controller = new AbortController();
-    state(attempt ? 'connecting' : 'connecting');
+    if (!attempt) state('connecting'); // while retrying, the state stays 'lost'
     let error = null;
     let streamError = null;
     try {

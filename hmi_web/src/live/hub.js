@@ -22,6 +22,8 @@ function wantedRefs() {
 }
 
 function setConnection(c) {
+  // 'live' comes with every event: tell the views only about changes.
+  if (c.state === connection.state && c.error === connection.error && c.retryInMs === connection.retryInMs) return;
   connection = c;
   for (const l of connectionListeners) l(c);
 }

@@ -123,10 +123,14 @@ export function ProjectPage({ session }) {
   const [error, setError] = useState(null);
   const [busy, setBusy] = useState('');
   const [versionsKey, setVersionsKey] = useState(0);
+  const [skipped, setSkipped] = useState(0);
   const allowed = can('project', session);
 
   async function pick(e) {
-    const list = [...e.currentTarget.files];
+    const all = [...e.currentTarget.files];
+    // From a folder: the project's text files only (YAML and CSV tables).
+    const list = all.filter((f) => /\.(ya?ml|csv)$/i.test(f.name));
+    setSkipped(all.length - list.length);
     const read = await Promise.all(list.map(async (f) => ({ path: f.webkitRelativePath || f.name, text: await f.text() })));
     const named = relativeNames(read);
     setFiles(named);
@@ -172,7 +176,7 @@ export function ProjectPage({ session }) {
             <label>Main file
               <select value={main} onChange={(e) => setMain(e.currentTarget.value)}>{files.map((f) => <option value={f.name}>{f.name}</option>)}</select>
             </label>
-            <p class="sub">{files.length} file{files.length > 1 ? 's' : ''}: {files.map((f) => f.name).join(', ')}</p>
+            <p class="sub">{files.length} file{files.length > 1 ? 's' : ''}: {files.map((f) => f.name).join(', ')}{skipped ? ` (${skipped} other file${skipped > 1 ? 's' : ''} left out: only .yaml, .yml and .csv are sent)` : ''}</p>
             <div class="actions left">
               <button type="button" class="btn" disabled={!allowed || !!busy} title={allowed ? 'Check without changing the running program' : hint('project')} onClick={() => run('check')}>{busy === 'check' ? 'Checking…' : 'Check'}</button>
               <button type="button" class="btn primary" disabled={!allowed || !!busy} title={allowed ? 'Load by online change; the running program is replaced between two scans' : hint('project')} onClick={() => run('load')}>{busy === 'load' ? 'Loading…' : 'Load onto the PLC'}</button>

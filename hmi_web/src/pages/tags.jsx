@@ -90,6 +90,7 @@ export function TagsPage({ session }) {
   const [notice, setNotice] = useState(null);
 
   async function reload() {
+    if (document.hidden) return;
     try {
       const [t, b] = await Promise.all([getTags(), getBlocks().catch(() => [])]);
       setTags(t);
