@@ -131,7 +131,7 @@ export async function startFixture({ port = 0, users = {}, distDir = DIST } = {}
       runtime: { version: '0.1.0', project_file: '/srv/plc/projects/bottle_line/bottle_line.yaml', program: 'bottle_line', program_version: '1.0.1', project_version: 3, uptime_s: t + 7260, store: { state: 'ok' }, modbus: '127.0.0.1:5020' },
       tasks: [
         { name: 'servo', period_ns: 1e6, priority: 80, cpu: 1, state: 'running', scans: Math.floor(t * 1000) + 7260000, overruns: 2, watchdog_trips: 0,
-          exec: { last_ns: 41200, min_ns: 28100, max_ns: 212000, mean_ns: 39800, p99_ns: 88000 }, jitter: { min_ns: 1200, max_ns: 187000, p99_ns: 14200, histogram: hist(1) } },
+          exec: { last_ns: 41200, min_ns: 28100, max_ns: 212000, mean_ns: 39800, p99_ns: 88000, histogram: { bounds_ns: [2e4, 5e4, 1e5, 2e5, 5e5], counts: [Math.round(t * 20), Math.round(t * 950), Math.round(t * 25), Math.round(t * 2), 1] } }, jitter: { min_ns: 1200, max_ns: 187000, p99_ns: 14200, histogram: hist(1) } },
         { name: 'planner', period_ns: 1e7, priority: 60, cpu: 1, state: 'running', scans: Math.floor(t * 100) + 726000, overruns: 0, watchdog_trips: 0,
           exec: { last_ns: 12100, min_ns: 9800, max_ns: 61000, mean_ns: 11900, p99_ns: 20400 }, jitter: { min_ns: 1500, max_ns: 95000, p99_ns: 11800, histogram: hist(0.1) } },
         { name: 'slow', period_ns: 1e8, priority: 10, cpu: null, state: st.slowStopped ? 'stopped' : 'running', stop_reason: st.slowStopped ? 'watchdog: scan took 412 ms (watchdog 200 ms), action stop' : null,

@@ -70,6 +70,10 @@ test('overview: a card per task with statistics and a jitter histogram; a stoppe
   assert.equal(await page.locator('[data-task=servo] canvas').count() > 0, true);
   assert.match(await page.locator('[data-task=servo]').innerText(), /every 1 ms/);
   assert.match(await page.locator('.runtime').innerText(), /bottle_line 1\.0\.1 \(version 3\)/);
+  // The execution-time histogram a click away, where the PLC sends one.
+  await page.locator('[data-task=servo] .segmented label', { hasText: 'execution' }).click();
+  await page.locator('[data-task=servo] h4', { hasText: 'Execution time: scans per duration' }).waitFor();
+  assert.equal(await page.locator('[data-task=planner] .segmented').count(), 0);
   fixture.stopTask(true);
   await page.locator('.banner-bad', { hasText: 'Task slow has stopped' }).waitFor();
   assert.match(await page.locator('[data-task=slow]').getAttribute('class'), /\bbad\b/);

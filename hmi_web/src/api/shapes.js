@@ -34,7 +34,7 @@ export function normalizeTask(t) {
     scans: num(t.scans),
     overruns: num(t.overruns),
     watchdogTrips: num(first(t.watchdog_trips, t.watchdog)),
-    exec: stats(first(t.exec_ns, t.exec_time_ns, t.exec)),
+    exec: { ...stats(first(t.exec_ns, t.exec_time_ns, t.exec)), histogram: normalizeHistogram((first(t.exec_ns, t.exec_time_ns, t.exec) || {}).histogram) },
     jitter: { ...stats(jitter), histogram: normalizeHistogram(first(jitter.histogram, t.jitter_histogram)) },
   };
 }

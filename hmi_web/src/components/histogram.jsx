@@ -1,4 +1,4 @@
-// The start-jitter histogram of a task as a small bar chart: one bar per
+// A task's histogram (start jitter or execution time) as a small bar chart: one bar per
 // bucket of the runtime's log-linear histogram, labelled by its upper bound.
 import { useMemo } from 'preact/hooks';
 import uPlot from 'uplot';
@@ -13,7 +13,7 @@ const decades = (min, max) => {
   return out;
 };
 
-export function JitterHistogram({ histogram }) {
+export function ScanHistogram({ histogram, label }) {
   const bars = histogramBars(histogram);
   const key = bars.labels.join('|');
   const options = useMemo(() => ({
@@ -27,5 +27,5 @@ export function JitterHistogram({ histogram }) {
     series: [{}, { label: 'scans', fill: '#1f6feb99', stroke: '#1f6feb', paths: uPlot.paths.bars({ size: [0.8, 40] }), points: { show: false } }],
   }), [key]);
   const data = [bars.idx, bars.cnt.map((c) => (c > 0 ? c : null))];
-  return <Plot options={options} data={data} height={140} label="start jitter histogram" />;
+  return <Plot options={options} data={data} height={140} label={label || "histogram"} />;
 }

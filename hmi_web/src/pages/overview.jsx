@@ -1,11 +1,34 @@
 // Overview: the runtime, one card per task (scans, overruns, watchdog,
 // execution time, start jitter and its histogram), the store; what is wrong
 // first and in colour.
+import { useState } from 'preact/hooks';
 import { getStatus } from '../api/endpoints.js';
 import { formatCount, formatNs, formatPeriod, formatUptime } from '../lib/format.js';
 import { usePoll } from '../lib/poll.js';
 import { ErrorNote, Stat } from '../components/common.jsx';
-import { JitterHistogram } from '../components/histogram.jsx';
+import { ScanHistogram } from '../components/histogram.jsx';
+
+// The start-jitter histogram, or the execution-time one when the PLC sends it.
+function TaskHistograms({ t }) {
+  const [which, setWhich] = useState('jitter');
+  const shown = which === 'exec' && t.exec.histogram ? 'exec' : 'jitter';
+  const h = shown === 'exec' ? t.exec.histogram : t.jitter.histogram;
+  return (
+    <>
+      <div class="hist-head">
+        <h4>{shown === 'exec' ? 'Execution time: scans per duration' : 'Start jitter: scans per delay'}</h4>
+        {t.exec.histogram ? (
+          <div class="segmented small" role="radiogroup" aria-label={`histogram of ${t.name}`}>
+            {[['jitter', 'jitter'], ['exec', 'execution']].map(([id, label]) => (
+              <label class={shown === id ? 'on' : ''}><input type="radio" name={`hist-${t.name}`} checked={shown === id} onChange={() => setWhich(id)} /> {label}</label>
+            ))}
+          </div>
+        ) : null}
+      </div>
+      {h ? <ScanHistogram histogram={h} label={`${shown === 'exec' ? 'execution time' : 'start jitter'} histogram of ${t.name}`} /> : <p class="hint">No histogram yet.</p>}
+    </>
+  );
+}
 
 function TaskCard({ t }) {
   const stopped = t.state !== 'running';
@@ -30,12 +53,7 @@ function TaskCard({ t }) {
           <tr><th scope="row">Start jitter</th><td>–</td><td>{formatNs(t.jitter.min)}</td><td>–</td><td>{formatNs(t.jitter.p99)}</td><td>{formatNs(t.jitter.max)}</td></tr>
         </tbody>
       </table>
-      {t.jitter.histogram ? (
-        <>
-          <h4>Start jitter: scans per delay</h4>
-          <JitterHistogram histogram={t.jitter.histogram} />
-        </>
-      ) : <p class="hint">No jitter histogram yet.</p>}
+      <TaskHistograms t={t} />
     </section>
   );
 }
