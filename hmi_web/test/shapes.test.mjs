@@ -15,7 +15,7 @@ test('status after the outline: runtime, tasks with statistics and histogram, fo
   assert.equal(t.periodNs, 1e6);
   assert.equal(t.state, 'stopped');
   assert.equal(t.watchdogTrips, 2);
-  assert.deepEqual(t.exec, { last: 5, min: 1, max: 9, mean: 4, p99: 8 });
+  assert.deepEqual(t.exec, { last: 5, min: 1, max: 9, mean: 4, p99: 8, histogram: null });
   assert.deepEqual(t.jitter.histogram, { boundsNs: [1000], counts: [4, 1] });
   assert.equal(s.forces, 2);
   assert.deepEqual(normalizeStatus({}).tasks, []);
@@ -61,9 +61,9 @@ test('trends: one series or several, points as objects or rows', () => {
 
 test('the server as runtime/web writes it: _ns keys, jitter, element type with is_array, written every scan', () => {
   const s = normalizeStatus({ runtime: { program: 'demo', program_version: '1.0.0', store: 'ok' },
-    tasks: [{ name: 't', exec: { count: 3, min_ns: 1, max_ns: 9, mean_ns: 4, p99_ns: 8, last_ns: 5 }, jitter: { min_ns: 2, max_ns: 7, p99_ns: 6, histogram: { bounds_ns: [1000], counts: [3] } } }] });
+    tasks: [{ name: 't', exec: { count: 3, min_ns: 1, max_ns: 9, mean_ns: 4, p99_ns: 8, last_ns: 5, histogram: { bounds_ns: [2000, 4000], counts: [1, 2] } }, jitter: { min_ns: 2, max_ns: 7, p99_ns: 6, histogram: { bounds_ns: [1000], counts: [3] } } }] });
   assert.equal(s.runtime.projectName, 'demo 1.0.0');
-  assert.deepEqual(s.tasks[0].exec, { last: 5, min: 1, max: 9, mean: 4, p99: 8 });
+  assert.deepEqual(s.tasks[0].exec, { last: 5, min: 1, max: 9, mean: 4, p99: 8, histogram: { boundsNs: [2000, 4000], counts: [1, 2] } });
   assert.equal(s.tasks[0].jitter.p99, 6);
   assert.deepEqual(s.tasks[0].jitter.histogram.counts, [3]);
   const [arr, every] = normalizeTags({ tags: [

@@ -1,7 +1,6 @@
 // Small pieces used on every page.
 import { useEffect, useRef } from 'preact/hooks';
 import { elementType, formatScalar, formatValue } from '../lib/format.js';
-import { can, hint } from '../auth/session.js';
 
 // A value with its unit; forced values get a badge and the forced colour.
 // For an array, `forced` may be one flag per element: only those are coloured.
@@ -19,17 +18,6 @@ export function Value({ value, type, unit, forced }) {
       {unit ? <span class="unit"> {unit}</span> : null}
       {f ? <span class="badge badge-forced" title="Forced: held at this value whatever the program writes, until unforced">F</span> : null}
     </span>
-  );
-}
-
-// A button for an action the role may not do: disabled, with the reason.
-export function ActionButton({ action, session, onClick, children, class: cls = '', ...rest }) {
-  const allowed = can(action, session);
-  return (
-    <button type="button" class={`btn ${cls}`} disabled={!allowed || rest.disabled}
-      title={allowed ? rest.title || '' : hint(action)} aria-label={rest['aria-label']} onClick={onClick}>
-      {children}
-    </button>
   );
 }
 

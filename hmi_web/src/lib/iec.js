@@ -11,7 +11,6 @@ const INT_RANGES = {
 
 export const isIntegerType = (t) => Object.prototype.hasOwnProperty.call(INT_RANGES, t);
 export const isRealType = (t) => t === 'REAL' || t === 'LREAL';
-export const isNumericType = (t) => isIntegerType(t) || isRealType(t);
 
 export function intRange(type) {
   const r = INT_RANGES[type];

@@ -6,14 +6,13 @@ import { openStream } from '../api/stream.js';
 const subscribers = new Map(); // id → {refs:Set, notify}
 const latest = new Map(); // ref → value
 const forcedNow = new Map(); // ref → bool
-let lastTNs = null;
 let stream = null;
 let streamKey = '';
 let reopenTimer = null;
 let connection = { state: 'idle' };
 const connectionListeners = new Set();
 let nextId = 1;
-let rate = 10;
+const rate = 10; // values per second: enough to read and to plot
 
 function wantedRefs() {
   const all = new Set();
@@ -45,7 +44,6 @@ function reopen() {
       refs, rate,
       onState: setConnection,
       onValues: ({ tNs, values, forced }) => {
-        lastTNs = tNs;
         for (const [r, v] of Object.entries(values)) latest.set(r, v);
         for (const [r, f] of Object.entries(forced)) forcedNow.set(r, !!f);
         // Only those whose refs this event carries (the stream being replaced
@@ -76,15 +74,9 @@ export function restart() {
   reopen();
 }
 
-export function setRate(hz) {
-  rate = Math.max(1, Math.min(50, hz));
-  reopen();
-}
-
 export const valueOf = (ref) => latest.get(ref);
 export const isForced = (ref) => forcedNow.get(ref) === true;
 export const hasValue = (ref) => latest.has(ref);
-export const lastTime = () => lastTNs;
 export const connectionState = () => connection;
 export function onConnection(listener) {
   connectionListeners.add(listener);
