@@ -87,7 +87,8 @@ export async function request(method, path, { query, body, signal } = {}) {
     data = text ? { text } : null;
   }
   if (!res.ok) {
-    if (res.status === 401) unauthorizedHandler();
+    // A refused login says nothing about the session this tab may hold.
+    if (res.status === 401 && path !== '/login') unauthorizedHandler();
     const message = (data && data.error) || statusWords(res.status);
     throw new ApiError(res.status, message, data && data.where, data);
   }
