@@ -63,7 +63,7 @@ export function TrendsPage() {
     });
     const unit = trend.series[0] ? trend.series[0].unit : '';
     return {
-      series, bands, legend: { show: true },
+      series, bands, legend: { show: true, live: false },
       axes: [{ font: '11px system-ui' }, { label: unit, size: 60, font: '11px system-ui', labelFont: '11px system-ui' }],
       scales: { x: { time: true } },
       key: trend.series.map((s) => s.label).join(),
