@@ -5,4 +5,5 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 bash scripts/build.sh build
+bash scripts/build_hmi.sh
 exec build/syncplc run projects/four_axis_table/sync.yaml --duration "${1:-20s}"

@@ -2,6 +2,8 @@
 # Installs everything syncplc needs to build, test and benchmark on Debian 12.
 # Run as root (or with sudo). Safe to run again: apt-get skips what is there.
 set -euo pipefail
+# The HMI's Node.js and npm (when npm is missing) and the browser tests'
+# chromium are installed by scripts/build_hmi.sh, called by demo.sh and test.sh.
 PACKAGES=(
   build-essential cmake ninja-build pkg-config git
   libyaml-cpp-dev libcli11-dev libfmt-dev libspdlog-dev nlohmann-json3-dev

@@ -13,6 +13,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
+bash scripts/build_hmi.sh --browser  # the HMI and chromium for its browser tests (label hmi)
 jobs=$(nproc)
 
 echo "== release build"

@@ -1,0 +1,90 @@
+// The live value stream: GET /api/v1/stream?refs=...&rate=... read with
+// fetch (so the session's Authorization header goes along), parsed as
+// Server-Sent Events, reconnected with back-off, stopped while the page is
+// hidden (a phone in a pocket costs the PLC nothing).
+import { apiUrl, authHeaders, statusWords } from './http.js';
+import { SseParser, backoffMs } from './sse.js';
+
+// onValues({tNs, values, forced}); onState({state: 'connecting'|'live'|'lost'|'paused'|'idle', error, retryInMs})
+export function openStream({ refs, rate = 10, onValues, onState }) {
+  let stopped = false;
+  let controller = null;
+  let attempt = 0;
+  let timer = null;
+
+  const state = (s, extra = {}) => onState && onState({ state: s, ...extra });
+
+  async function connect() {
+    clearTimeout(timer);
+    if (stopped) return;
+    if (typeof document !== 'undefined' && document.hidden) { state('paused'); return; }
+    if (!refs.length) { state('idle'); return; }
+    if (controller) controller.abort(); // never two streams at once
+    controller = new AbortController();
+    if (!attempt) state('connecting'); // while retrying, the state stays 'lost'
+    let error = null;
+    let streamError = null;
+    try {
+      const res = await fetch(apiUrl('/stream', { refs, rate }), {
+        headers: { Accept: 'text/event-stream', ...authHeaders() },
+        credentials: 'omit', cache: 'no-store', signal: controller.signal,
+      });
+      if (!res.ok || !res.body) {
+        let msg = statusWords(res.status);
+        try { const j = await res.json(); if (j && j.error) msg = j.error; } catch { /* not JSON */ }
+        throw new Error(msg);
+      }
+      const parser = new SseParser();
+      const reader = res.body.pipeThrough(new TextDecoderStream()).getReader();
+      for (;;) {
+        const { value, done } = await reader.read();
+        if (done) break;
+        for (const ev of parser.push(value)) {
+          if (ev.event === 'error') {
+            // The server says why it ends the stream (e.g. a ref it does not know).
+            try { streamError = JSON.parse(ev.data).error; } catch { streamError = ev.data; }
+            continue;
+          }
+          if (ev.event !== 'values') continue;
+          let d;
+          try { d = JSON.parse(ev.data); } catch { continue; }
+          attempt = 0;
+          state('live');
+          onValues({ tNs: d.t_ns, values: d.values || {}, forced: d.forced || {} });
+        }
+      }
+      error = streamError || 'The PLC closed the live stream.';
+    } catch (e) {
+      if (stopped || (e && e.name === 'AbortError')) return;
+      error = e && e.message ? e.message : String(e);
+    }
+    if (stopped) return;
+    if (typeof document !== 'undefined' && document.hidden) { state('paused'); return; }
+    const wait = backoffMs(attempt++);
+    state('lost', { error, retryInMs: wait });
+    timer = setTimeout(connect, wait);
+  }
+
+  function onVisibility() {
+    if (document.hidden) {
+      if (controller) controller.abort();
+      clearTimeout(timer);
+      state('paused');
+    } else {
+      attempt = 0;
+      connect();
+    }
+  }
+
+  if (typeof document !== 'undefined') document.addEventListener('visibilitychange', onVisibility);
+  connect();
+
+  return {
+    close() {
+      stopped = true;
+      clearTimeout(timer);
+      if (controller) controller.abort();
+      if (typeof document !== 'undefined') document.removeEventListener('visibilitychange', onVisibility);
+    },
+  };
+}
