@@ -199,7 +199,7 @@ blocks:
   - {name: fb, type: UNIT_DELAY, task: fast, datatype: BOOL}
   - {name: inv, type: NOT, task: fast}
   - {name: gt, type: GT, task: slow, inputs: {IN2: 5.0}}
-  - {name: rec, type: RECORD, task: slow}
+  - {name: rec, type: MOVE, task: slow}  # not RECORD: its record list grows
 connections:
   - sensor -> add.IN1
   - add.OUT -> lim.IN
