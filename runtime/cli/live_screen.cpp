@@ -199,11 +199,17 @@ std::string render_live_screen(const LiveView& v, std::size_t width) {
     if (v.modbus_endpoint.empty()) line("");
     line(v.store);
   }
+  if (v.forces) {
+    // As PLC programmers expect: a forced program is never mistaken for a free one.
+    line("");
+    line(fmt::format("FORCED: {} element{} held at forced values{}", v.forces, v.forces == 1 ? "" : "s",
+                     v.watched.empty() ? "" : " (F: a watched tag)"));
+  }
   if (!v.watched.empty()) {
     line("");
     line("Watched tags");
     for (const auto& w : v.watched) {
-      const std::string head = fmt::format("  {:<20} ", shorten_middle(w.name, 20));
+      const std::string head = fmt::format("{} {:<20} ", w.forced ? "F" : " ", shorten_middle(w.name, 20));
       const std::string unit = w.unit.empty() ? "" : " " + shorten_end(w.unit, 10);
       const std::size_t room = width > display_width(head) + display_width(unit) ? width - display_width(head) - display_width(unit) : 0;
       line(head + shorten_end(w.value, room) + unit);
@@ -274,6 +280,8 @@ LiveView LiveScreen::view(Program& p, double elapsed_s, const modbus::Server* se
     v.modbus_endpoint = server->endpoint();
     v.modbus = server->counters().summary();
   }
+  v.forces = p.force_count();
+  const auto forces = v.forces ? p.forces() : std::vector<ForceEntry>{};
   for (const auto& name : p.watch) {
     const Tag* t = p.find_tag(name);
     if (!t) continue;
@@ -281,7 +289,10 @@ LiveView LiveScreen::view(Program& p, double elapsed_s, const modbus::Server* se
     p.read_tag(*t, cells.data());
     std::string text;
     for (std::uint32_t i = 0; i < t->length && text.size() < 200; ++i) text += (i ? ", " : "") + value_text(*t, cells[i]);
-    v.watched.push_back({name, text, t->unit});
+    const bool forced = std::any_of(forces.begin(), forces.end(), [&](const ForceEntry& f) {
+      return f.cell.task == t->owner && f.cell.cell >= t->cell && f.cell.cell - t->cell < t->length;
+    });
+    v.watched.push_back({name, text, t->unit, forced});
   }
   v.events.assign(events_.begin(), events_.end());
   v.store = store_;

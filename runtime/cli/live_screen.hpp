@@ -53,7 +53,9 @@ struct LiveView {
   modbus::Counters::Summary modbus{};
   struct Watched {
     std::string name, value, unit;
+    bool forced = false;  // an element is forced: marked "F"
   };
+  std::size_t forces = 0;  // active forces (Program::force_count)
   std::vector<Watched> watched;
   std::string store;                // the PLC database's state (store_status.hpp), "" for none
   std::vector<std::string> events;  // oldest first

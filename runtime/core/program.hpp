@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -88,6 +89,61 @@ struct RetainedInstance {
   bool persistent = false;
 };
 
+// --- forcing (docs/user-guide.md, "Forcing and monitoring") ---------------------
+
+// One active force as every reader sees it (Program::forces).
+struct ForceEntry {
+  std::string ref;         // "tag", "tag[i]", "instance.pin", "instance.pin[i]"
+  CellRef cell;            // one element
+  Cell value;
+  std::string value_text;  // the value as IEC text (format_value)
+  std::string task;        // the owning task's name
+};
+
+// What force/unforce did, with all an audit event needs; the caller (HTTP
+// server, command line) knows the user and writes the event with
+// event_text() (the core has no user to name).
+struct ForceResult {
+  bool ok = false;
+  std::string error;        // why nothing was done, when !ok
+  std::string ref;          // as resolved: "motor.speed", "levels[2]"
+  std::string task;         // the owning task
+  IecType type = IecType::LREAL;
+  std::string value;        // force: the value now held; unforce: the value it was held at
+  std::string previous;     // force: the value it was held at before ("" when it was not forced)
+  bool unforce = false;
+  // "forced motor.speed to 1.5 (was forced to 1)", "unforced motor.speed (was forced to 1.5)".
+  std::string event_text() const;
+};
+
+// What an online change did with a force (program_change.hpp's report).
+struct ForceChange {
+  std::string ref;
+  bool kept = false;
+  std::string detail;  // why it was dropped
+};
+
+// --- pin monitoring -----------------------------------------------------------------
+
+struct PinInfo {
+  std::string name;
+  PinDir dir = PinDir::In;
+  IecType type = IecType::LREAL;
+  std::string unit;
+  CellRef cell;  // length n for an array pin (ARRAY[1..n])
+};
+
+struct InstanceInfo {
+  std::string name;
+  std::string type;            // block type; generic ones with their type: "ADD<LREAL>"
+  std::string task;
+  std::uint32_t position = 0;  // in the task's execution order
+  std::vector<PinInfo> pins;   // in declaration order
+};
+
+// How long a read keeps a task's pins monitored after it (Program::read_value).
+inline constexpr std::int64_t kMonitorLeaseNs = 2'000'000'000;
+
 class Program {
  public:
   std::string name;
@@ -120,10 +176,67 @@ class Program {
   // owner's next scan start. False when the owner's queue is full.
   bool write_tag(const Tag& tag, std::uint32_t element, const Cell* values, std::uint32_t count) const;
 
+  // Forcing. `ref` as resolve() takes it, one element (a scalar tag, tag[i],
+  // instance.pin, instance.pin[i]); `value` as a project file writes it
+  // (parse_value_in_unit: TRUE, 16#FF, T#5ms, "1500 mm" into a tag in m).
+  // The force travels to the owning task through its write queue and holds
+  // from that task's next scan start until unforced, whatever the program,
+  // a driver or an outside writer puts there (force_table.hpp says where in
+  // the scan). Forcing ignores `hmi:` access (the caller checks the user's
+  // role). Refused, with the reason in ForceResult::error: an unknown or
+  // array reference, a bad value, max_forces reached (a new element; a
+  // forced one takes a new value), a stopped task, a full write queue, an
+  // online change under way (force again on the new program). Thread-safe.
+  ForceResult force(const std::string& ref, const std::string& value);
+  // Releases ref: from the next scan the program writes it again (an
+  // unconnected input pin gets its constant back; a tag nothing writes
+  // keeps the forced value until something does).
+  ForceResult unforce(const std::string& ref);
+  // Releases every force, all in the same scan of each task (all or none
+  // queued); one result per force released, for the caller's events.
+  std::vector<ForceResult> unforce_all();
+  // The active forces, sorted by ref: what to flag as forced. A force is
+  // listed once it is queued, which may be up to one scan before its task
+  // holds it. forces_version() changes with every change of the list, so a
+  // reader can keep its copy until then.
+  std::vector<ForceEntry> forces() const;
+  std::size_t force_count() const noexcept { return force_count_.load(std::memory_order_relaxed); }
+  std::uint64_t forces_version() const noexcept { return forces_version_.load(std::memory_order_acquire); }
+  // The value `r` (one element) is forced to, nullopt when it is not forced.
+  std::optional<Cell> forced_value(const CellRef& r) const;
+  // At most this many forces at once (the project's `project: max_forces`);
+  // each task's force table is sized by it at load.
+  std::size_t max_forces = kDefaultMaxForces;
+  // Online change (begin_mirroring): the forces this program holds go over to
+  // `to` where the same element exists with the same type; this program
+  // refuses forces from then on. The report says which were dropped and why.
+  std::vector<ForceChange> hand_forces_to(Program& to);
+
+  // Live values for non-real-time readers. read_value: the newest value of
+  // `r` (a tag, element or pin, as resolve() gives it; r.length cells):
+  // tags from the owner's publication, pins from its task's pin monitor
+  // (pin_monitor.hpp), whose lease every read extends by lease_ns. Returns
+  // the owning task's scan count the values come from, or nullopt while a
+  // pin's monitoring is only starting (no copy since a lapsed lease: ask
+  // again after one period of the task) or for a task that stopped
+  // unmonitored. Thread-safe; never waits for a scan.
+  std::optional<std::uint64_t> read_value(const CellRef& r, Cell* out, std::int64_t lease_ns = kMonitorLeaseNs);
+  // Every block instance with its pins, by task then execution order (GET /blocks).
+  std::vector<InstanceInfo> block_instances() const;
+
   bool open_drivers(std::string* error);
   void close_drivers();
   // Virtual-time tools (single thread): the live value in a task's image.
   Cell* live_cell(const CellRef& r) const { return &tasks[r.task]->image[r.cell]; }
+
+ private:
+  mutable std::mutex forces_mutex_;  // the registry below; never taken by a scan
+  std::vector<ForceEntry> forces_;
+  bool forces_closed_ = false;       // handed to the next program (online change)
+  std::atomic<std::size_t> force_count_{0};
+  std::atomic<std::uint64_t> forces_version_{0};
+  // Adds a force found valid, under forces_mutex_ (force, hand_forces_to).
+  ForceResult add_force(std::string ref, const CellRef& r, Cell value, bool queue);
 };
 
 }  // namespace syncplc

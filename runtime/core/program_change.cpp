@@ -51,6 +51,12 @@ std::uint64_t TaskHandover::apply_successor_writes(Cell* from_image) noexcept {
   std::uint64_t n = 0;
   QueuedWrite w;
   while (to->pop_write(w)) {
+    if (w.kind != WriteKind::Write) {
+      // A force given to the new program: it holds from the switch on (the
+      // new task's table is this thread's until then).
+      to->apply_force_command(w);
+      continue;
+    }
     if (w.cell < write_back.size() && write_back[w.cell] != kDroppedCell) from_image[write_back[w.cell]] = w.value;
     else to->image[w.cell] = w.value;
     ++n;
@@ -67,8 +73,10 @@ void TaskHandover::perform() noexcept {
     // Writes acknowledged to the old task and not yet applied: into the new
     // image, before the new task's own queue (they arrived first).
     QueuedWrite w;
+    // Force commands to the old task were carried over at begin_mirroring
+    // (Program::hand_forces_to): its registry had them from the moment they were queued.
     while (from->pop_write(w))
-      if (w.cell < write_cell.size() && write_cell[w.cell] != kDroppedCell) dst[write_cell[w.cell]] = w.value;
+      if (w.kind == WriteKind::Write && w.cell < write_cell.size() && write_cell[w.cell] != kDroppedCell) dst[write_cell[w.cell]] = w.value;
     // Swapped, not moved: the fresh instance the loader made goes to the old
     // program and is destroyed with it by the main thread (no free here).
     for (const auto& b : blocks) {
@@ -289,6 +297,9 @@ std::int64_t switch_instant(const ProgramChange& c, std::int64_t now_ns) {
 }
 
 void begin_mirroring(ProgramChange& c) {
+  // Forces go over first: each new task's table is filled before any
+  // thread can reach it through its handover (set_handover releases it).
+  c.forces = c.from->hand_forces_to(*c.to);
   for (auto& h : c.handovers) {
     h->switch_ns = c.switch_ns;
     if (h->from) h->from->set_handover(h.get());

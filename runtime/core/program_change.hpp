@@ -126,6 +126,9 @@ struct ProgramChange {
   std::vector<std::size_t> old_drivers;  // bindings of `from` to close after the change (not moved)
   std::int64_t switch_ns = 0;            // T, on the schedulers' time axis
   std::size_t tags_carried = 0;          // tags of the new program that took the old program's value
+  // The old program's forces, kept (same element, same type) or dropped,
+  // filled by begin_mirroring: from then on the old program refuses forces.
+  std::vector<ForceChange> forces;
 
   TaskHandover* for_new_task(std::size_t i) const { return handovers[i].get(); }
   // The handover of old task i (nullptr when the old program had none such).
@@ -144,7 +147,9 @@ std::unique_ptr<ProgramChange> plan_change(Program& from, Program& to);
 // new) gets at least two scans of mirroring before it.
 std::int64_t switch_instant(const ProgramChange& c, std::int64_t now_ns);
 
-// Hands each old task its handover: from now on they mirror their publications.
+// Hands the old program's forces to the new one (Program::hand_forces_to,
+// the outcome in c.forces) and each old task its handover: from now on they
+// mirror their publications.
 void begin_mirroring(ProgramChange& c);
 
 }  // namespace syncplc

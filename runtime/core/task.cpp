@@ -2,11 +2,24 @@
 
 #include "runtime/core/program_change.hpp"
 
+#include <algorithm>
 #include <cstring>
 
 #include "runtime/core/finite_guard.hpp"
 
 namespace syncplc {
+namespace {
+
+// Pin connections are one cell: copy those inline; memcpy (a library call
+// for a run-time length) only for arrays.
+inline void run_copies(Cell* img, const std::vector<CellCopy>& copies) noexcept {
+  for (const auto& c : copies) {
+    if (c.n == 1) img[c.dst] = img[c.src];
+    else std::memcpy(static_cast<void*>(img + c.dst), img + c.src, c.n * sizeof(Cell));
+  }
+}
+
+}  // namespace
 
 std::string_view watchdog_action_name(WatchdogAction a) {
   switch (a) {
@@ -66,6 +79,14 @@ void Task::finalize() {
     ch->resize(owned_cells);
     ch->fill(image.data());
   }
+  forces_.reserve(force_capacity);
+  // Pins are the image's last part (the loader lays them out after the tags and copies).
+  auto first = static_cast<std::uint32_t>(image.size());
+  for (auto& b : blocks) {
+    b.forces = 0;
+    if (!b.pin_cell.empty()) first = std::min(first, *std::min_element(b.pin_cell.begin(), b.pin_cell.end()));
+  }
+  monitor_.resize(first, static_cast<std::uint32_t>(image.size()) - first, image.data());
 }
 
 void Task::reset_timing() {
@@ -95,6 +116,10 @@ void Task::apply_writes() noexcept {
   QueuedWrite w;
   std::uint64_t n = 0;
   while (writes_.pop(w)) {
+    if (w.kind != WriteKind::Write) [[unlikely]] {
+      apply_force_command(w);
+      continue;
+    }
     image[w.cell] = w.value;
     ++n;
   }
@@ -104,21 +129,56 @@ void Task::apply_writes() noexcept {
   if (n) stats.writes_applied.fetch_add(n, std::memory_order_relaxed);
 }
 
+void Task::apply_force_command(const QueuedWrite& w) noexcept {
+  if (w.kind == WriteKind::Force) {
+    ForceSlot slot;
+    slot.cell = w.cell;
+    slot.block = w.block;
+    slot.point = w.point;
+    slot.restore = w.restore;
+    slot.value = w.value;
+    bool added = false;
+    // Full cannot happen: Program::force admits no more than the table holds.
+    if (forces_.set(slot, image.data(), &added) && added && w.block < blocks.size()) ++blocks[w.block].forces;
+  } else if (w.kind == WriteKind::Unforce) {
+    ForceSlot gone;
+    if (forces_.clear(w.cell, image.data(), &gone) && gone.block < blocks.size()) --blocks[gone.block].forces;
+  }
+}
+
+void Task::run_block(std::size_t i, ScanContext& ctx) noexcept {
+  Cell* img = image.data();
+  auto& b = blocks[i];
+  if (i >= unit_delays) run_copies(img, b.copy_in);
+  ctx.block = static_cast<std::int32_t>(i);
+  execute_guarded(*b.block, ctx);  // finite inputs, tuning, ENO (finite_guard.hpp)
+  run_copies(img, b.copy_out);
+}
+
+void Task::run_forced_block(std::size_t i, ScanContext& ctx) noexcept {
+  Cell* img = image.data();
+  auto& b = blocks[i];
+  const auto k = static_cast<std::uint32_t>(i);
+  if (i >= unit_delays) {
+    run_copies(img, b.copy_in);
+    forces_.apply(img, ForcePoint::PinIn, k);   // the block sees its forced inputs
+  }
+  ctx.block = static_cast<std::int32_t>(i);
+  execute_guarded(*b.block, ctx);
+  forces_.apply(img, ForcePoint::PinOut, k);    // its copies take the forced outputs
+  run_copies(img, b.copy_out);
+  forces_.apply(img, ForcePoint::BlockTag, k);  // later readers of its tags see the forced value
+}
+
 void Task::scan(ScanContext& ctx) noexcept {
   ctx.task = index_;
   ctx.events = this;
   now_ = ctx.now_ns;
   Cell* img = image.data();
-  // Pin connections are one cell: copy those inline; memcpy (a library call
-  // for a run-time length) only for arrays.
-  auto run_copies = [img](const std::vector<CellCopy>& copies) {
-    for (const auto& c : copies) {
-      if (c.n == 1) img[c.dst] = img[c.src];
-      else std::memcpy(static_cast<void*>(img + c.dst), img + c.src, c.n * sizeof(Cell));
-    }
-  };
 
-  apply_writes();                                       // 1
+  apply_writes();                                       // 1 (force commands too)
+  const bool forced = !forces_.empty();
+  if (forced) [[unlikely]] forces_.apply_all(img);      // 1: outside writes to a forced element change nothing
   for (auto& in : inbound) {                            // 2: other tasks' tags, as visible at this release
     bool late = false;
     const Cell* src = in.channel->read_at(ctx.now_ns, &late);
@@ -126,17 +186,16 @@ void Task::scan(ScanContext& ctx) noexcept {
     for (const auto& c : in.copies) std::memcpy(static_cast<void*>(img + c.dst), src + c.src, c.n * sizeof(Cell));
   }
   for (auto* d : drivers) d->latch_inputs(ctx);         // 2: field inputs
+  if (forced && forces_.has_driver_inputs()) [[unlikely]] forces_.apply(img, ForcePoint::Driver);
 
   const std::size_t n = blocks.size();                  // 3
   for (std::size_t i = 0; i < n; ++i) {
-    auto& b = blocks[i];
-    if (i >= unit_delays) run_copies(b.copy_in);
-    ctx.block = static_cast<std::int32_t>(i);
-    execute_guarded(*b.block, ctx);                     // finite inputs, tuning, ENO (finite_guard.hpp)
-    run_copies(b.copy_out);
+    if (blocks[i].forces == 0) [[likely]] run_block(i, ctx);
+    else run_forced_block(i, ctx);
   }
   for (std::size_t i = 0; i < unit_delays; ++i) {       // unit delays take this scan's input
-    run_copies(blocks[i].copy_in);
+    run_copies(img, blocks[i].copy_in);
+    if (blocks[i].forces != 0) [[unlikely]] forces_.apply(img, ForcePoint::PinIn, static_cast<std::uint32_t>(i));
     ctx.block = static_cast<std::int32_t>(i);
     end_of_scan_guarded(*blocks[i].block, ctx);
   }
@@ -144,7 +203,7 @@ void Task::scan(ScanContext& ctx) noexcept {
   for (auto k : retained_blocks)                        // retained block state, published with the tags
     blocks[k].block->save_retain(img + blocks[k].retain_cell);
 
-  for (auto* d : drivers) d->write_outputs(ctx);        // 4
+  for (auto* d : drivers) d->write_outputs(ctx);        // 4 (forced tags bound to outputs hold their forced value)
   if (ctx.stop_request) stop_request_ = ctx.stop_request;  // acted on by account(), after the scan is recorded
   if (!trends.empty()) trends.fold(img, ctx.now_ns);    // the historian's buckets see every scan
   ++scan_count_;
@@ -154,6 +213,7 @@ void Task::publish() noexcept {
   // LET: this scan's outputs are visible from its next grid point on.
   const SnapshotStamp stamp{scan_count_, now_, now_ + cfg_.period_ns};
   for (auto& ch : channels) ch->publish(image.data(), stamp);
+  monitor_.publish(image.data(), scan_count_);  // pins, only while someone monitors (pin_monitor.hpp)
   if (TaskHandover* h = handover_.load(std::memory_order_acquire)) h->mirror(image.data(), stamp);
   published_.fetch_add(1, std::memory_order_release);
 }

@@ -20,8 +20,10 @@
 #include <vector>
 
 #include "runtime/core/block.hpp"
+#include "runtime/core/force_table.hpp"
 #include "runtime/core/histogram.hpp"
 #include "runtime/core/io_driver.hpp"
+#include "runtime/core/pin_monitor.hpp"
 #include "runtime/core/spsc_ring.hpp"
 #include "runtime/core/snapshot_channel.hpp"
 #include "runtime/core/trend_fold.hpp"
@@ -55,10 +57,21 @@ struct CellCopy {
   std::uint32_t n = 1;
 };
 
+enum class WriteKind : std::uint8_t {
+  Write,    // value into cell
+  Force,    // hold cell at value (force_table.hpp); point, block and restore say where and how
+  Unforce,  // release cell
+};
+
 // A write queued by a non-real-time thread: applied at the next scan start.
+// Forces travel the same way, as commands (Program::force builds them).
 struct QueuedWrite {
   std::uint32_t cell = 0;  // index in the owning task's image
   Cell value;
+  WriteKind kind = WriteKind::Write;
+  ForcePoint point = ForcePoint::Tag;
+  bool restore = false;
+  std::uint32_t block = kNoBlock;
 };
 
 struct TaskStats {
@@ -101,6 +114,9 @@ struct BlockInstance {
   std::vector<CellCopy> copy_out;   // after execute: output -> tags
   std::uint32_t retain_cell = 0;    // retained state: image[retain_cell, + retain_length), published
   std::uint32_t retain_length = 0;  // 0: not retained
+  // Active forces at this block's points (force_table.hpp): 0 takes the
+  // scan's plain path, so a program without forces pays one branch per block.
+  std::uint32_t forces = 0;
 };
 
 // Values of other tasks' tags, taken from their snapshot channels at the
@@ -135,6 +151,7 @@ class Task : private EventSink {
   std::vector<std::unique_ptr<SnapshotChannel>> channels;
   std::mutex external_mutex;        // serialises readers of channels[0]; never taken by the scan
   TrendFold trends;                 // the trended elements of its owned tags (trend_fold.hpp)
+  std::size_t force_capacity = kDefaultMaxForces;  // the project's max_forces, sized by finalize()
 
   // Sizes queues and channels and binds pins. Call once, after the image is final.
   void finalize();
@@ -194,6 +211,17 @@ class Task : private EventSink {
   std::uint64_t published_count() const { return published_.load(std::memory_order_acquire); }
   // Takes the task's events (the consumer side of its event ring).
   bool pop_event(Event& e) { return events_.pop(e); }
+  // Live pin values for non-real-time readers (pin_monitor.hpp).
+  PinMonitor& pin_monitor() noexcept { return monitor_; }
+
+  // --- forces (force_table.hpp) ----------------------------------------------------
+  // A Force or Unforce command, applied by the thread that scans this task
+  // (at its scan start, or by its predecessor's thread during an online
+  // change), or by the main thread before the task runs. Never allocates.
+  void apply_force_command(const QueuedWrite& w) noexcept;
+  // The task's forces as it holds them: only its scanning thread may call it
+  // while it runs (tests in virtual time; readers use Program::forces()).
+  const ForceTable& force_table() const noexcept { return forces_; }
 
   // --- online change (program_change.hpp) -----------------------------------------
   // From the moment the main thread sets a handover until this task's switch,
@@ -218,6 +246,8 @@ class Task : private EventSink {
  private:
   void push(const Event& e) noexcept override;  // EventSink for blocks
   void apply_writes() noexcept;
+  void run_block(std::size_t i, ScanContext& ctx) noexcept;         // the plain path
+  void run_forced_block(std::size_t i, ScanContext& ctx) noexcept;  // a block with forces at its points
   void apply_safe_state(ScanContext& ctx) noexcept;
   // Ends the task after this scan (a watchdog's stop or safe_stop, a
   // driver's request): the safe state first when `safe`, then the event.
@@ -228,6 +258,8 @@ class Task : private EventSink {
   SpscRing<QueuedWrite> writes_;
   std::mutex write_producers_;  // taken only by writers (non-real-time threads)
   SpscRing<Event> events_;
+  ForceTable forces_;
+  PinMonitor monitor_;
   std::vector<std::uint64_t> last_fault_scan_;  // per block: suppresses repeats
   std::uint64_t scan_count_ = 0;
   std::int64_t now_ = 0;

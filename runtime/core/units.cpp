@@ -159,6 +159,15 @@ void split_quantity(std::string_view text, std::string& number, std::string& uni
   unit = std::string(u);
 }
 
+std::optional<Cell> parse_value_in_unit(IecType t, std::string_view unit, std::string_view text, std::string* error) {
+  if (is_real(t)) {
+    auto v = parse_quantity(text, unit, error);
+    if (!v) return std::nullopt;
+    return real_cell(t, *v, text, error);
+  }
+  return parse_value(t, text, error);
+}
+
 std::optional<double> parse_quantity(std::string_view text, std::string_view target, std::string* error) {
   std::string num, unit;
   split_quantity(text, num, unit);

@@ -10,6 +10,8 @@
 #include <string>
 #include <string_view>
 
+#include "runtime/core/iec_type.hpp"
+
 namespace syncplc {
 
 struct Unit {
@@ -31,6 +33,12 @@ std::optional<double> parse_quantity(std::string_view text, std::string_view tar
 // scale (mm into m: off by 1000).
 enum class UnitCopy { Fits, OtherDimension, OtherScale };
 UnitCopy unit_copy(std::string_view a, std::string_view b);
+
+// A value of type t as users write it for an element whose unit is `unit`:
+// REAL and LREAL as quantities ("1.5", "1500 mm" into m), every other type
+// as an IEC literal (parse_value). The one parser of written values: project
+// files, scan-cycle tests, forces.
+std::optional<Cell> parse_value_in_unit(IecType t, std::string_view unit, std::string_view text, std::string* error);
 
 // Splits "12.5 mm/s" into number text and unit text (either may be empty).
 void split_quantity(std::string_view text, std::string& number, std::string& unit);

@@ -268,7 +268,11 @@ std::unique_ptr<Program> build_program(Declarations& p, const Wiring& w, const B
         prog->tasks[td.tag.owner]->safe_values.emplace_back(td.tag.cell + k, td.tag.safe[k]);
 
   for (auto& td : p.tags) prog->tags.push_back(td.tag);
-  for (auto& t : prog->tasks) t->finalize();
+  prog->max_forces = p.max_forces;
+  for (auto& t : prog->tasks) {
+    t->force_capacity = p.max_forces;  // every force may be in one task
+    t->finalize();
+  }
 
   for (const auto& [ref, loc] : p.traces) {
     std::string err;

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "runtime/core/block.hpp"
+#include "runtime/core/force_table.hpp"
 #include "runtime/core/io_driver.hpp"
 #include "runtime/modbus/modbus_config.hpp"
 #include "runtime/store/store_settings.hpp"
@@ -129,6 +130,7 @@ struct Declarations {
   std::string file;
   std::string name = "unnamed", version = "0";
   std::uint64_t seed = 1;
+  std::size_t max_forces = kDefaultMaxForces;  // project: max_forces
   std::vector<TaskDecl> tasks;
   std::vector<TagDecl> tags;
   std::vector<InstanceDecl> instances;

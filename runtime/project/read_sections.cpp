@@ -27,7 +27,13 @@ void read_project(const ConfigNode& n, Declarations& p, Diagnostics& diags) {
       auto c = parse_value(IecType::ULINT, v.scalar, &err);
       if (!c) diags.error(v.loc, "seed: " + err);
       else p.seed = c->get<std::uint64_t>();
-    } else diags.error(v.loc, "unknown key '" + k + "' in project (name, version, description, seed)");
+    } else if (k == "max_forces") {
+      std::string err;
+      auto c = parse_value(IecType::UDINT, v.scalar, &err);
+      if (!c || c->get<std::uint32_t>() < 1 || c->get<std::uint32_t>() > kMaxMaxForces)
+        diags.error(v.loc, "max_forces: 1.." + std::to_string(kMaxMaxForces) + " forced elements at once");
+      else p.max_forces = c->get<std::uint32_t>();
+    } else diags.error(v.loc, "unknown key '" + k + "' in project (name, version, description, seed, max_forces)");
   }
   if (p.name.empty()) diags.error(n.loc, "project name is empty");
 }

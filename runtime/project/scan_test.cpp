@@ -139,12 +139,7 @@ std::optional<Target> resolve_target(const Program& p, std::size_t axes, const s
 }
 
 std::optional<Cell> parse_cell(IecType t, const std::string& unit, const std::string& text, std::string* err) {
-  if (is_real(t)) {
-    auto v = parse_quantity(text, unit, err);
-    if (!v) return std::nullopt;
-    return real_cell(t, *v, text, err);
-  }
-  return parse_value(t, text, err);
+  return parse_value_in_unit(t, unit, text, err);
 }
 
 class TestsReader {

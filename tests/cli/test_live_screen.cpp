@@ -125,6 +125,30 @@ TEST_F(FourAxisScreen, FitsEightyColumnsWithEventsAndAFailedReloadKept) {
   EXPECT_TRUE(terminal.str().empty()) << "not on a terminal: nothing written";
 }
 
+TEST_F(FourAxisScreen, ShowsTheForcesAndMarksForcedWatchedTags) {
+  LiveScreen screen(terminal, false);
+  std::string plain = render_live_screen(screen.view(*program, 1.0, nullptr, nullptr), 80);
+  EXPECT_FALSE(has(plain, "FORCED")) << plain;
+  ASSERT_FALSE(program->watch.empty());
+  std::string forced_name;
+  for (const auto& w : program->watch)
+    if (program->find_tag(w)->length == 1) {
+      forced_name = w;
+      break;
+    }
+  ASSERT_FALSE(forced_name.empty());
+  const Tag& t = *program->find_tag(forced_name);
+  auto res = program->force(forced_name, t.type == IecType::BOOL ? "TRUE" : "1");
+  ASSERT_TRUE(res.ok) << res.error;
+  LiveView v = screen.view(*program, 1.0, nullptr, nullptr);
+  EXPECT_EQ(v.forces, 1u);
+  for (const auto& w : v.watched) EXPECT_EQ(w.forced, w.name == forced_name) << w.name;
+  const std::string text = render_live_screen(v, 80);
+  expect_fits(text, 80);
+  EXPECT_TRUE(has(text, "FORCED: 1 element held at forced values (F: a watched tag)")) << text;
+  EXPECT_TRUE(has(text, "F " + forced_name)) << text;
+}
+
 TEST_F(FourAxisScreen, TakesAndGivesBackTheAlternateScreen) {
   {
     LiveScreen screen(terminal, true);

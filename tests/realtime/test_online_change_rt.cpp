@@ -1,6 +1,7 @@
 // Online change with real threads (ThreadSanitizer runs this): a running
 // program replaced again and again while its tasks scan and another thread
-// writes tags; each change completes, state is kept across all of them.
+// writes tags and forces; each change completes, state is kept across all
+// of them, and so is a force.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -44,6 +45,7 @@ connections:
 TEST(OnlineChangeRealtime, TwentyChangesUnderWritesKeepEveryScansState) {
   std::unique_ptr<Program> program = load_test_project(project(false));
   ASSERT_TRUE(program);
+  ASSERT_TRUE(program->force("seen", "-7").ok);  // held through every change
   RealtimeRunner runner(*program, quiet_options());
   runner.start();
 
@@ -60,6 +62,10 @@ TEST(OnlineChangeRealtime, TwentyChangesUnderWritesKeepEveryScansState) {
         Cell c;
         c.set<double>(v += 1);
         p->write_tag(*p->find_tag("setpoint"), 0, &c, 1);
+        // Forces too, on whichever program is current (refused while a
+        // change is under way): through the old tasks' mirroring.
+        if (static_cast<long>(v) % 2) p->force("setpoint", std::to_string(v));
+        else p->unforce("setpoint");
       }
       std::this_thread::sleep_for(std::chrono::microseconds(300));
     }
@@ -96,6 +102,10 @@ TEST(OnlineChangeRealtime, TwentyChangesUnderWritesKeepEveryScansState) {
   EXPECT_EQ(program->live_cell(*sum)->get<double>(), static_cast<double>(fast.stats.scans.load()));
   EXPECT_GT(fast.stats.scans.load(), 300u) << "statistics went on through the changes";
   EXPECT_GT(program->tasks[1]->stats.writes_applied.load(), 0u);
+  Cell seen;
+  program->read_tag(*program->find_tag("seen"), &seen);
+  EXPECT_EQ(seen.get<double>(), -7.0) << "the force went over with every change";
+  ASSERT_TRUE(program->forced_value(*program->resolve("seen")));
 }
 
 }  // namespace

@@ -177,6 +177,66 @@ drivers:
   EXPECT_GT(p->tasks[1]->stats.summary().overruns, 0u);  // the overrun path ran too
 }
 
+// Forces at every point of the scan (driver input, a block's output tag,
+// input and output pins, a unit delay's pins, a tag bound to a driver
+// output) and pin monitoring under way: still no allocation on the scan
+// path, also in the scans that take and release the forces.
+TEST(ScanPath, ForcesAndPinMonitoringDoNotAllocate) {
+  auto p = load_test_project(R"(
+tasks:
+  - {name: fast, period: 1ms}
+  - {name: slow, period: 5ms}
+tags:
+  - {name: sensor, type: LREAL}
+  - {name: level, type: LREAL}
+  - {name: levels, type: "ARRAY[0..3] OF LREAL"}
+  - {name: out, type: BOOL}
+  - {name: flag, type: BOOL}
+  - {name: setpoint, type: LREAL, hmi: readwrite}
+blocks:
+  - {name: add, type: ADD, task: fast, datatype: LREAL, inputs: {IN2: 0.5}}
+  - {name: lim, type: LIMIT, task: fast, inputs: {MN: 0.0, MX: 10.0}}
+  - {name: fb, type: UNIT_DELAY, task: fast, datatype: BOOL}
+  - {name: inv, type: NOT, task: fast}
+  - {name: gt, type: GT, task: slow, inputs: {IN2: 5.0}}
+  - {name: rec, type: MOVE, task: slow}  # not RECORD: its record list grows
+connections:
+  - sensor -> add.IN1
+  - add.OUT -> lim.IN
+  - lim.OUT -> level
+  - lim.OUT -> levels[1]
+  - fb.OUT -> inv.IN
+  - inv.OUT -> fb.IN
+  - inv.OUT -> out
+  - level -> gt.IN1
+  - gt.OUT -> flag
+  - setpoint -> rec.IN
+drivers:
+  - name: io
+    type: memory
+    task: fast
+    channels: [{name: o, dir: out, type: BOOL}, {name: i, dir: in, type: LREAL}]
+    bind: {o: out, i: sensor}
+)");
+  ASSERT_TRUE(p);
+  VirtualClock clock(*p);
+  Cell pin;
+  ASSERT_TRUE(p->read_value(*p->resolve("lim.OUT"), &pin, 10'000'000'000));  // monitored for the whole run
+  ASSERT_TRUE(p->read_value(*p->resolve("gt.OUT"), &pin, 10'000'000'000));
+  clock.run_until(20'000'000);
+  const char* forced[][2] = {{"sensor", "3"}, {"level", "4"}, {"levels[1]", "5"}, {"add.IN2", "1.5"},
+                             {"lim.OUT", "2"}, {"fb.IN", "TRUE"}, {"fb.OUT", "FALSE"}, {"out", "TRUE"},
+                             {"gt.IN1", "6"}, {"setpoint", "7"}};
+  for (const auto& f : forced) ASSERT_TRUE(p->force(f[0], f[1]).ok) << f[0];
+  EXPECT_EQ(allocations_while_running(clock, 20'000'000, 500'000'000), 0);
+  EXPECT_EQ(p->tasks[0]->force_table().size(), 8u);
+  EXPECT_EQ(p->tasks[1]->force_table().size(), 2u);
+  ASSERT_EQ(p->unforce_all().size(), 10u);
+  EXPECT_EQ(allocations_while_running(clock, 500'000'000, 600'000'000), 0);
+  EXPECT_EQ(p->tasks[0]->force_table().size(), 0u);
+  EXPECT_TRUE(p->read_value(*p->resolve("lim.OUT"), &pin)) << "the pins were copied all along";
+}
+
 // The controller blocks of fblocks/motion (SYNC_CONTROLLER with its message
 // estimators, PD_CONTROLLER, PID) on the scan path: no allocation either.
 TEST(ScanPath, MotionControllersDoNotAllocate) {
