@@ -229,5 +229,50 @@ TEST(ModbusClientLink, AnExchangeCutShortByCloseIsNoError) {
   EXPECT_EQ(counter(*cl.driver, "g.errors"), 0.0);
 }
 
+// Two groups on one device: `a` reads register 0 (answered), `b` reads
+// register 1 (answered with a wrong transaction id, which closes the
+// connection). `a` did not even try while its device was closed: it reports
+// "not connected", counted apart, never among its errors.
+TEST(ModbusClientLink, NotConnectedIsNoErrorOfAGroupThatDidNotTry) {
+  FakeDevice dev([](const Bytes& q) {
+    Bytes r = good(q);
+    if (q[9] == 1) r[1] ^= 1;  // register 1: wrong transaction id
+    return r;
+  });
+  ModbusClientConfig cfg;
+  ClientDevice d;
+  d.name = "dev";
+  d.port = dev.port;
+  d.response_timeout_ns = 100'000'000;
+  d.reconnect_min_ns = d.reconnect_max_ns = 20'000'000;
+  cfg.devices.push_back(d);
+  for (const char* name : {"a", "b"}) {
+    RequestGroup g;
+    g.name = name;
+    g.function = ModbusFunction::ReadHoldingRegisters;
+    g.address = name[0] == 'a' ? 0 : 1;
+    g.interval_ns = 5'000'000;
+    cfg.groups.push_back(g);
+  }
+  ModbusClientDriver driver(cfg);
+  driver.set_name("io");
+  std::vector<Cell> cells(driver.channels().size());
+  std::vector<Cell*> ptrs;
+  for (auto& c : cells) ptrs.push_back(&c);
+  driver.bind(ptrs);
+  std::string err;
+  ASSERT_TRUE(driver.open(&err)) << err;
+  for (int i = 0; i < 400 && counter(driver, "a.not_connected") < 3; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  driver.close();
+  EXPECT_GE(counter(driver, "a.not_connected"), 3.0);
+  EXPECT_EQ(counter(driver, "a.errors"), 0.0);  // every exchange `a` sent succeeded
+  EXPECT_GE(counter(driver, "b.errors"), 3.0);
+  EXPECT_EQ(counter(driver, "b.not_connected"), 0.0);
+  ScanContext ctx;
+  driver.latch_inputs(ctx);
+  EXPECT_EQ(cells[static_cast<std::size_t>(driver.channel_index("a_errors"))].get<std::uint32_t>(), 0u);
+}
+
 }  // namespace
 }  // namespace syncplc

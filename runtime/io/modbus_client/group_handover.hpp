@@ -52,7 +52,11 @@ struct GroupHandover {
     if (!error) reply.record(stamp - sent);
     if (values && !read.empty()) std::copy(values, values + read.size(), b + kValues);
     results.publish();
-    if (error) errors.fetch_add(1, std::memory_order_relaxed);
+    // errors: exchanges and connection attempts that failed; a group that
+    // did not even try (another group's failure closed the connection) is
+    // counted apart, in not_connected.
+    if (error == code(ClientError::NotConnected)) not_connected.fetch_add(1, std::memory_order_relaxed);
+    else if (error) errors.fetch_add(1, std::memory_order_relaxed);
     if (error == code(ClientError::Timeout)) timeouts.fetch_add(1, std::memory_order_relaxed);
   }
 

@@ -31,7 +31,7 @@ ModbusClientDriver::ModbusClientDriver(ModbusClientConfig cfg) : cfg_(std::move(
     c.error = add(g.name + "_error", PinDir::In, IecType::UINT, 1, "", "last error code, 0 when ok");
     c.reaction = add(g.name + "_reaction", PinDir::In, IecType::BOOL, 1, "", "stale past stale_after: the reaction applies");
     c.requests = add(g.name + "_requests", PinDir::In, IecType::UDINT, 1, "", "requests sent");
-    c.errors = add(g.name + "_errors", PinDir::In, IecType::UDINT, 1, "", "failed exchanges and connection attempts");
+    c.errors = add(g.name + "_errors", PinDir::In, IecType::UDINT, 1, "", "failed exchanges and connection attempts (not: not connected)");
     c.timeouts = add(g.name + "_timeouts", PinDir::In, IecType::UDINT, 1, "", "requests without a reply in time");
     c.reconnects = add(g.name + "_reconnects", PinDir::In, IecType::UDINT, 1, "", "the device's reconnections");
     gch_.push_back(c);
@@ -245,6 +245,7 @@ std::vector<std::pair<std::string, double>> ModbusClientDriver::counters() const
     out.emplace_back(g + ".requests", static_cast<double>(requests));
     out.emplace_back(g + ".errors", static_cast<double>(h.errors.load(std::memory_order_relaxed)));
     out.emplace_back(g + ".timeouts", static_cast<double>(h.timeouts.load(std::memory_order_relaxed)));
+    out.emplace_back(g + ".not_connected", static_cast<double>(h.not_connected.load(std::memory_order_relaxed)));
     out.emplace_back(g + ".requests_per_s", rate(requests));
     for (const auto& [what, hist] : {std::pair{"reply", &h.reply}, std::pair{"latched", &h.latched}}) {
       const Histogram::Summary s = hist->summary();
