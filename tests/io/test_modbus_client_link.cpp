@@ -274,5 +274,60 @@ TEST(ModbusClientLink, NotConnectedIsNoErrorOfAGroupThatDidNotTry) {
   EXPECT_EQ(cells[static_cast<std::size_t>(driver.channel_index("a_errors"))].get<std::uint32_t>(), 0u);
 }
 
+// A group that writes only on change still finds out that its device died:
+// it writes its unchanged values again every alive_every, so a mute device
+// shows as a timeout within alive_every + response_timeout, and the group
+// goes stale. Without it the group would send once and stay ok for ever.
+TEST(ModbusClientLink, AnOnChangeGroupWritesAgainEveryAliveEvery) {
+  std::atomic<bool> mute{false};
+  FakeDevice dev([&](const Bytes& q) { return mute ? Bytes{} : q; });  // FC 6: the reply echoes the request
+  ModbusClientConfig cfg;
+  ClientDevice d;
+  d.name = "dev";
+  d.port = dev.port;
+  d.response_timeout_ns = 50'000'000;
+  cfg.devices.push_back(d);
+  RequestGroup g;
+  g.name = "w";
+  g.function = ModbusFunction::WriteSingleRegister;
+  g.address = 4;
+  g.on_change = true;
+  g.interval_ns = 2'000'000;
+  g.alive_every_ns = 40'000'000;
+  cfg.groups.push_back(g);
+  ModbusClientDriver driver(cfg);
+  driver.set_name("io");
+  std::vector<Cell> cells(driver.channels().size());
+  std::vector<Cell*> ptrs;
+  for (auto& c : cells) ptrs.push_back(&c);
+  driver.bind(ptrs);
+  auto ch = [&](const char* name) -> Cell& { return cells[static_cast<std::size_t>(driver.channel_index(name))]; };
+  std::string err;
+  ASSERT_TRUE(driver.open(&err)) << err;
+  ScanContext ctx;
+  ch("w").set<std::int16_t>(7);  // the same value every scan
+  for (int i = 0; i < 400; ++i) {  // 0.4 s or more: about 10 writes at 40 ms, where on_change alone makes 1
+    driver.latch_inputs(ctx);
+    driver.write_outputs(ctx);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  driver.latch_inputs(ctx);
+  EXPECT_TRUE(ch("w_ok").get<bool>());
+  const auto writes = ch("w_requests").get<std::uint32_t>();
+  EXPECT_GE(writes, 4u);
+  EXPECT_LE(writes, 30u);  // not every 2 ms: the values did not change
+  mute = true;
+  bool stale = false;
+  for (int i = 0; i < 1000 && !stale; ++i) {
+    driver.latch_inputs(ctx);
+    driver.write_outputs(ctx);
+    stale = !ch("w_ok").get<bool>();
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  EXPECT_TRUE(stale);
+  EXPECT_EQ(ch("w_error").get<std::uint16_t>(), code(ClientError::Timeout));
+  driver.close();
+}
+
 }  // namespace
 }  // namespace syncplc

@@ -64,6 +64,7 @@ bool DeviceLink::exchange(GroupHandover& h, std::uint16_t* error) {
                                                     [](const Cell& a, const Cell& b) { return a.raw == b.raw; }))
       return false;
     std::copy(v, v + n, h.written.begin());  // what this request writes; acknowledged below
+    h.written_ns = monotonic_ns();
     if (g.format.wire == IecType::BOOL) {
       values_to_bits(v, n, h.bits.data());
       r.bits = h.bits.data();

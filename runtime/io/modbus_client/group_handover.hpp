@@ -73,6 +73,7 @@ struct GroupHandover {
   std::vector<Cell> read;            // decoded read values
   std::vector<Cell> written;         // the values last acknowledged by the device
   bool have_written = false;
+  std::int64_t written_ns = 0;      // monotonic: the last write was sent (on_change's alive_every)
   std::vector<std::uint16_t> regs;   // encoded registers to write
   std::vector<std::uint8_t> bits;    // coils to write
 };
