@@ -154,6 +154,25 @@ drivers:
   EXPECT_EQ(e.size(), 2u);
 }
 
+TEST(ModbusClientConfig, AtStopIsKeepOrSafe) {
+  const std::string head = R"(
+tasks: [{name: main, period: 10ms}]
+drivers:
+  - name: io
+    type: modbus_client
+    devices: [{name: a, port: 5020}]
+    groups: [{name: w, function: 6, address: 0}]
+)";
+  auto keep = loadertest::load(head.c_str());
+  ASSERT_LOADS(keep);
+  EXPECT_FALSE(static_cast<ModbusClientDriver&>(*keep.program->drivers[0].driver).config().safe_at_stop);  // the default
+  auto safe = loadertest::load((head + "    at_stop: safe\n").c_str());
+  ASSERT_LOADS(safe);
+  EXPECT_TRUE(static_cast<ModbusClientDriver&>(*safe.program->drivers[0].driver).config().safe_at_stop);
+  auto e = loadertest::errors((head + "    at_stop: zero\n").c_str());
+  EXPECT_THAT(e, has_error("p.yaml:7:14", "at_stop must be one of keep, safe, not 'zero'"));
+}
+
 TEST(ModbusClientConfig, SetReachesADeviceOrAGroupByItsName) {
   // A launcher that starts the devices on free ports passes them in:
   // --set io.devices.d2.port=P (scripts/four_axis_network.py).

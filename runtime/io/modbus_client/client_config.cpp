@@ -240,8 +240,9 @@ std::string_view stale_reaction_key(StaleReaction r) {
 }
 
 std::optional<ModbusClientConfig> read_modbus_client_config(const ConfigNode& entry, DriverSetup& setup) {
-  DriverConfig c(entry, setup, "modbus_client", {"devices", "groups"});
+  DriverConfig c(entry, setup, "modbus_client", {"devices", "groups", "at_stop"});
   ModbusClientConfig cfg;
+  cfg.safe_at_stop = c.choice("at_stop", {"keep", "safe"}, "keep") == "safe";
   bool ok = c.ok();
   const ConfigNode* devs = entry.find("devices");
   if (!devs || !devs->is_list() || devs->items.empty()) {

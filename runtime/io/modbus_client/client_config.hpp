@@ -78,6 +78,10 @@ struct RequestGroup {
 struct ModbusClientConfig {
   std::vector<ClientDevice> devices;
   std::vector<RequestGroup> groups;
+  // at_stop: at a clean stop of the PLC the write groups send their outputs'
+  // safe values once more and the driver waits for the devices to take them
+  // (true, `safe`), or the devices keep the last values written (`keep`).
+  bool safe_at_stop = false;
 };
 
 std::optional<ModbusClientConfig> read_modbus_client_config(const ConfigNode& entry, DriverSetup& setup);

@@ -63,7 +63,8 @@ struct GroupHandover {
   const RequestGroup* group;
   TripleBuffer results;
   TripleBuffer outputs;
-  std::atomic<std::uint64_t> requests{0}, errors{0}, timeouts{0};
+  std::atomic<std::uint64_t> requests{0}, errors{0}, timeouts{0}, not_connected{0};
+  std::atomic<std::uint64_t> acked{0};  // seq of the newest outputs the device has (acknowledged, or equal to those it acknowledged)
   Histogram reply;    // ns, successful exchanges: request sent -> reply in (device thread)
   Histogram latched;  // ns, request sent -> reply latched by a scan (latch_inputs)
 
