@@ -109,7 +109,9 @@ struct Client {
     driver->set_name("io");
     driver->bind(ptrs);
     std::string err;
-    if (o.open) EXPECT_TRUE(driver->open(&err)) << err;
+    if (o.open) {
+      EXPECT_TRUE(driver->open(&err)) << err;
+    }
   }
   ~Client() { driver->close(); }
   Cell& ch(const char* name) { return cells[static_cast<std::size_t>(driver->channel_index(name))]; }
