@@ -286,7 +286,7 @@ int cmd_run(const RunOptions& options) {
   const bool joined = supervisor.stop();
   if (joined) {
     runner->join();
-    program->close_drivers();
+    program->stop_drivers();  // a clean stop: the drivers' at_stop (keep or safe outputs), then closed
     plc_store->tasks_ended(*program);  // the historian's buckets in progress, stored by the final run
   }
   for_each_event(*program, supervisor, run_events, [](const std::string& line) { std::cerr << line << "\n"; });

@@ -79,7 +79,7 @@ int cmd_sim(const std::string& project, const std::string& duration, std::option
     }
   }
   if (progress) std::cerr << "\r" << std::string(78, ' ') << "\r";
-  p.close_drivers();
+  p.stop_drivers();  // the end of the run is a clean stop: the drivers' at_stop
   double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
   print_events(std::cerr, p);
   std::cout << fmt::format("Simulated {} of {} in {:.3f}s wall time (seed {})\n", format_duration(*d), p.name, wall, p.seed);

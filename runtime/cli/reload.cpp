@@ -21,14 +21,32 @@ void sleep_ms(int ms) {
   nanosleep(&ts, nullptr);
 }
 
+// A driver the change replaces and one of the same type that replaces it:
+// the new one may take over what the old one holds open (IoDriver::will_take_over).
+std::vector<std::pair<std::size_t, std::size_t>> takeovers(const Program& old, const Program& next,
+                                                           const ProgramChange& change) {
+  std::vector<std::pair<std::size_t, std::size_t>> out;  // (old binding, new binding)
+  for (std::size_t b : change.new_drivers)
+    for (std::size_t a : change.old_drivers)
+      if (old.drivers[a].type == next.drivers[b].type) out.emplace_back(a, b);
+  return out;
+}
+
+// After the switch, before the old drivers close.
+void hand_over(Program& old, Program& next, const std::vector<std::pair<std::size_t, std::size_t>>& pairs) {
+  for (const auto& [a, b] : pairs) next.drivers[b].driver->take_over(*old.drivers[a].driver);
+}
+
 }  // namespace
 
 Reloader::~Reloader() {
   // `run` destroys the reloader after every task thread has been joined (a
   // thread stuck in a scan ends the process before this): nothing runs in a
   // pending change's old program any more.
-  if (pending_ && pending_old_)
+  if (pending_ && pending_old_) {
+    hand_over(*pending_old_, *pending_->to, pending_takeovers_);
     for (std::size_t a : pending_->old_drivers) pending_old_->drivers[a].driver->close();
+  }
 }
 
 void Reloader::poll(RealtimeRunner& runner, std::ostream& events, PlcStore* store) {
@@ -36,6 +54,7 @@ void Reloader::poll(RealtimeRunner& runner, std::ostream& events, PlcStore* stor
   runner.finish_change();
   drain_task_events(events, *pending_old_, log_);
   if (store) store->tasks_ended(*pending_old_);  // the historian's last buckets of the old tasks
+  hand_over(*pending_old_, *pending_->to, pending_takeovers_);
   for (std::size_t a : pending_->old_drivers) pending_old_->drivers[a].driver->close();
   pending_.reset();
   pending_old_.reset();
@@ -71,6 +90,12 @@ ReloadResult Reloader::reload(std::unique_ptr<Program>& program, RealtimeRunner&
   Program& old = *program;
   auto change = plan_change(old, *next.program);
 
+  // A changed driver takes over its predecessor's open connections at the
+  // switch rather than opening its own beside them (a device that takes one
+  // connection would refuse it, and the old one would write on until the
+  // switch); modbus_client.hpp.
+  const auto pairs = takeovers(old, *next.program, *change);
+  for (const auto& [a, b] : pairs) next.program->drivers[b].driver->will_take_over(*old.drivers[a].driver);
   // The new program's own drivers open before anything switches: one that
   // fails leaves everything as it was.
   for (std::size_t i = 0; i < change->new_drivers.size(); ++i) {
@@ -134,12 +159,14 @@ ReloadResult Reloader::reload(std::unique_ptr<Program>& program, RealtimeRunner&
     // Its thread is still inside the old program: that stays until it switches.
     pending_ = std::move(change);
     pending_old_ = std::move(program);
+    pending_takeovers_ = pairs;
     program = std::move(next.program);
     return r;
   }
   runner.finish_change();
   drain_task_events(events, old, log_);
   if (store) store->tasks_ended(old);  // the historian's last buckets of the old tasks
+  hand_over(old, *next.program, pairs);
   for (std::size_t a : change->old_drivers) old.drivers[a].driver->close();
   change.reset();
   program = std::move(next.program);  // the old program (and the fresh blocks swapped into it) goes

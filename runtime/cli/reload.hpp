@@ -65,6 +65,7 @@ class Reloader {
   // old program stays until it does (poll), never destroyed under its thread.
   std::unique_ptr<ProgramChange> pending_;
   std::unique_ptr<Program> pending_old_;
+  std::vector<std::pair<std::size_t, std::size_t>> pending_takeovers_;  // (old, new) driver bindings (IoDriver::take_over)
 };
 
 }  // namespace syncplc::cli

@@ -62,6 +62,22 @@ class IoDriver {
   // write_outputs already under way (bounded, never for the scan itself) and
   // never blocks the scan thread. False when the outputs could not be reached.
   virtual bool write_safe_outputs(const SafeOutput* outputs, std::size_t n) noexcept = 0;
+  // A clean stop of the PLC (a signal, --duration's end; not an online
+  // change), after the last scan and before close(): `outputs` are the
+  // `safe:` values of the tags bound to the driver's outputs, as for
+  // write_safe_outputs. A driver whose settings ask for it (modbus_client's
+  // `at_stop: safe`) drives its outputs to them and waits, bounded, until its
+  // devices have taken them. The default keeps the outputs at their last
+  // values (CODESYS's "keep current values").
+  virtual void stop_outputs(const SafeOutput* /*outputs*/, std::size_t /*n*/) noexcept {}
+  // Online change (runtime/cli/reload.cpp): this driver replaces `previous`
+  // (a driver of the running program, closed after the switch). Before
+  // open(), will_take_over says so: a driver that can take over what
+  // `previous` holds open (modbus_client: the TCP connection of a device at
+  // the same address and port) waits for it instead of opening its own;
+  // after the switch and before previous.close(), take_over hands it over.
+  virtual void will_take_over(IoDriver& /*previous*/) {}
+  virtual void take_over(IoDriver& /*previous*/) noexcept {}
 
   // Tests and simulations: set an input channel from outside the scan (taken
   // at the next latch). Returns false when the driver does not support it.

@@ -1,5 +1,7 @@
 #include "runtime/core/program.hpp"
 
+#include <algorithm>
+
 #include "runtime/core/reference.hpp"
 
 namespace syncplc {
@@ -99,6 +101,29 @@ bool Program::open_drivers(std::string* error) {
 
 void Program::close_drivers() {
   for (auto& d : drivers) d.driver->close();
+}
+
+void Program::stop_drivers() {
+  for (auto& d : drivers) {
+    const std::vector<SafeOutput> outputs = safe_outputs(d);
+    d.driver->stop_outputs(outputs.data(), outputs.size());
+    d.driver->close();
+  }
+}
+
+std::vector<SafeOutput> Program::safe_outputs(const DriverBinding& b) const {
+  std::vector<SafeOutput> out;
+  if (!b.driver) return out;
+  const auto& channels = b.driver->channels();
+  for (std::size_t ch = 0; ch < channels.size() && ch < b.bound_tags.size(); ++ch) {
+    if (channels[ch].dir != PinDir::Out || b.bound_tags[ch].empty()) continue;
+    const Tag* tag = find_tag(b.bound_tags[ch]);
+    if (!tag) continue;
+    const std::size_t n = std::min<std::size_t>(tag->safe.size(), channels[ch].length);
+    for (std::size_t k = 0; k < n; ++k)
+      out.push_back(SafeOutput{static_cast<int>(ch), static_cast<std::uint32_t>(k), tag->safe[k]});
+  }
+  return out;
 }
 
 }  // namespace syncplc

@@ -226,6 +226,10 @@ class Program {
 
   bool open_drivers(std::string* error);
   void close_drivers();
+  // A clean stop: each driver's stop_outputs with its safe outputs, then close().
+  void stop_drivers();
+  // The `safe:` values of the tags bound to a driver's output channels.
+  std::vector<SafeOutput> safe_outputs(const DriverBinding& d) const;
   // Virtual-time tools (single thread): the live value in a task's image.
   Cell* live_cell(const CellRef& r) const { return &tasks[r.task]->image[r.cell]; }
 

@@ -14,17 +14,7 @@ void Supervisor::attach(Program& program, RealtimeRunner& runner) {
   watch_.assign(program.tasks.size(), Watch{});
   for (const auto& b : program.drivers) {
     if (b.task >= watch_.size() || !b.driver) continue;
-    DriverSafeState s{b.driver.get(), {}};
-    const auto& channels = b.driver->channels();
-    for (std::size_t ch = 0; ch < channels.size() && ch < b.bound_tags.size(); ++ch) {
-      if (channels[ch].dir != PinDir::Out || b.bound_tags[ch].empty()) continue;
-      const Tag* tag = program.find_tag(b.bound_tags[ch]);
-      if (!tag) continue;
-      const std::size_t n = std::min<std::size_t>(tag->safe.size(), channels[ch].length);
-      for (std::size_t k = 0; k < n; ++k)
-        s.outputs.push_back(SafeOutput{static_cast<int>(ch), static_cast<std::uint32_t>(k), tag->safe[k]});
-    }
-    watch_[b.task].drivers.push_back(std::move(s));
+    watch_[b.task].drivers.push_back(DriverSafeState{b.driver.get(), program.safe_outputs(b)});
   }
 }
 

@@ -122,6 +122,57 @@ drivers:
   EXPECT_EQ(e.size(), 28u);
 }
 
+TEST(ModbusClientConfig, AliveEveryIsAnOnChangeGroupsLivenessCheck) {
+  auto r = loadertest::load(R"(
+tasks: [{name: main, period: 10ms}]
+drivers:
+  - name: io
+    type: modbus_client
+    devices: [{name: a, port: 5020}]
+    groups:
+      - {name: w1, function: 6, address: 0, on_change: true}
+      - {name: w2, function: 6, address: 1, on_change: true, alive_every: 250ms}
+      - {name: w3, function: 6, address: 2, on_change: true, alive_every: 0s}
+)");
+  ASSERT_LOADS(r);
+  const auto& c = static_cast<ModbusClientDriver&>(*r.program->drivers[0].driver).config();
+  EXPECT_EQ(c.groups[0].alive_every_ns, 1'000'000'000);  // the default
+  EXPECT_EQ(c.groups[1].alive_every_ns, 250'000'000);
+  EXPECT_EQ(c.groups[2].alive_every_ns, 0);  // never
+  auto e = loadertest::errors(R"(
+tasks: [{name: main, period: 10ms}]
+drivers:
+  - name: io
+    type: modbus_client
+    devices: [{name: a, port: 5020}]
+    groups:
+      - {name: w1, function: 6, address: 0, alive_every: 1s}
+      - {name: w2, function: 6, address: 1, on_change: true, alive_every: 2h}
+)");
+  EXPECT_THAT(e, has_error("p.yaml:7:58", "alive_every is for on_change groups"));
+  EXPECT_THAT(e, has_error("p.yaml:8:75", "alive_every 2h is outside 0ms .. 1h"));
+  EXPECT_EQ(e.size(), 2u);
+}
+
+TEST(ModbusClientConfig, AtStopIsKeepOrSafe) {
+  const std::string head = R"(
+tasks: [{name: main, period: 10ms}]
+drivers:
+  - name: io
+    type: modbus_client
+    devices: [{name: a, port: 5020}]
+    groups: [{name: w, function: 6, address: 0}]
+)";
+  auto keep = loadertest::load(head.c_str());
+  ASSERT_LOADS(keep);
+  EXPECT_FALSE(static_cast<ModbusClientDriver&>(*keep.program->drivers[0].driver).config().safe_at_stop);  // the default
+  auto safe = loadertest::load((head + "    at_stop: safe\n").c_str());
+  ASSERT_LOADS(safe);
+  EXPECT_TRUE(static_cast<ModbusClientDriver&>(*safe.program->drivers[0].driver).config().safe_at_stop);
+  auto e = loadertest::errors((head + "    at_stop: zero\n").c_str());
+  EXPECT_THAT(e, has_error("p.yaml:7:14", "at_stop must be one of keep, safe, not 'zero'"));
+}
+
 TEST(ModbusClientConfig, SetReachesADeviceOrAGroupByItsName) {
   // A launcher that starts the devices on free ports passes them in:
   // --set io.devices.d2.port=P (scripts/four_axis_network.py).

@@ -80,20 +80,27 @@ class FakeDevice {
 Bytes good(const Bytes& req) { return {req[0], req[1], 0, 0, 0, 5, req[6], 3, 2, 0x01, 0x02}; }
 
 struct Client {
-  explicit Client(std::uint16_t port, std::int64_t reconnect_min = 10'000'000, std::int64_t reconnect_max = 20'000'000) {
+  struct Options {
+    std::int64_t reconnect_min = 10'000'000, reconnect_max = 20'000'000;
+    std::int64_t interval_ns = 5'000'000;
+    bool open = true;
+  };
+  explicit Client(std::uint16_t port, std::int64_t reconnect_min = 10'000'000, std::int64_t reconnect_max = 20'000'000)
+      : Client(port, Options{reconnect_min, reconnect_max}) {}
+  Client(std::uint16_t port, const Options& o) {
     ModbusClientConfig cfg;
     ClientDevice d;
     d.name = "dev";
     d.port = port;
     d.response_timeout_ns = 100'000'000;
-    d.reconnect_min_ns = reconnect_min;
-    d.reconnect_max_ns = reconnect_max;
+    d.reconnect_min_ns = o.reconnect_min;
+    d.reconnect_max_ns = o.reconnect_max;
     cfg.devices.push_back(d);
     RequestGroup g;
     g.name = "g";
     g.function = ModbusFunction::ReadHoldingRegisters;
     g.count = 1;
-    g.interval_ns = 5'000'000;
+    g.interval_ns = o.interval_ns;
     cfg.groups.push_back(g);
     driver = std::make_unique<ModbusClientDriver>(cfg);
     cells.assign(driver->channels().size(), Cell{});
@@ -102,7 +109,9 @@ struct Client {
     driver->set_name("io");
     driver->bind(ptrs);
     std::string err;
-    EXPECT_TRUE(driver->open(&err)) << err;
+    if (o.open) {
+      EXPECT_TRUE(driver->open(&err)) << err;
+    }
   }
   ~Client() { driver->close(); }
   Cell& ch(const char* name) { return cells[static_cast<std::size_t>(driver->channel_index(name))]; }
@@ -227,6 +236,257 @@ TEST(ModbusClientLink, AnExchangeCutShortByCloseIsNoError) {
   ASSERT_GE(counter(*cl.driver, "g.requests"), 1.0);
   cl.driver->close();
   EXPECT_EQ(counter(*cl.driver, "g.errors"), 0.0);
+}
+
+// Two groups on one device: `a` reads register 0 (answered), `b` reads
+// register 1 (answered with a wrong transaction id, which closes the
+// connection). `a` did not even try while its device was closed: it reports
+// "not connected", counted apart, never among its errors.
+TEST(ModbusClientLink, NotConnectedIsNoErrorOfAGroupThatDidNotTry) {
+  FakeDevice dev([](const Bytes& q) {
+    Bytes r = good(q);
+    if (q[9] == 1) r[1] ^= 1;  // register 1: wrong transaction id
+    return r;
+  });
+  ModbusClientConfig cfg;
+  ClientDevice d;
+  d.name = "dev";
+  d.port = dev.port;
+  d.response_timeout_ns = 100'000'000;
+  d.reconnect_min_ns = d.reconnect_max_ns = 20'000'000;
+  cfg.devices.push_back(d);
+  for (const char* name : {"a", "b"}) {
+    RequestGroup g;
+    g.name = name;
+    g.function = ModbusFunction::ReadHoldingRegisters;
+    g.address = name[0] == 'a' ? 0 : 1;
+    g.interval_ns = 5'000'000;
+    cfg.groups.push_back(g);
+  }
+  ModbusClientDriver driver(cfg);
+  driver.set_name("io");
+  std::vector<Cell> cells(driver.channels().size());
+  std::vector<Cell*> ptrs;
+  for (auto& c : cells) ptrs.push_back(&c);
+  driver.bind(ptrs);
+  std::string err;
+  ASSERT_TRUE(driver.open(&err)) << err;
+  for (int i = 0; i < 400 && counter(driver, "a.not_connected") < 3; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  driver.close();
+  EXPECT_GE(counter(driver, "a.not_connected"), 3.0);
+  EXPECT_EQ(counter(driver, "a.errors"), 0.0);  // every exchange `a` sent succeeded
+  EXPECT_GE(counter(driver, "b.errors"), 3.0);
+  EXPECT_EQ(counter(driver, "b.not_connected"), 0.0);
+  ScanContext ctx;
+  driver.latch_inputs(ctx);
+  EXPECT_EQ(cells[static_cast<std::size_t>(driver.channel_index("a_errors"))].get<std::uint32_t>(), 0u);
+}
+
+// A group that writes only on change still finds out that its device died:
+// it writes its unchanged values again every alive_every, so a mute device
+// shows as a timeout within alive_every + response_timeout, and the group
+// goes stale. Without it the group would send once and stay ok for ever.
+TEST(ModbusClientLink, AnOnChangeGroupWritesAgainEveryAliveEvery) {
+  std::atomic<bool> mute{false};
+  FakeDevice dev([&](const Bytes& q) { return mute ? Bytes{} : q; });  // FC 6: the reply echoes the request
+  ModbusClientConfig cfg;
+  ClientDevice d;
+  d.name = "dev";
+  d.port = dev.port;
+  d.response_timeout_ns = 50'000'000;
+  cfg.devices.push_back(d);
+  RequestGroup g;
+  g.name = "w";
+  g.function = ModbusFunction::WriteSingleRegister;
+  g.address = 4;
+  g.on_change = true;
+  g.interval_ns = 2'000'000;
+  g.alive_every_ns = 40'000'000;
+  cfg.groups.push_back(g);
+  ModbusClientDriver driver(cfg);
+  driver.set_name("io");
+  std::vector<Cell> cells(driver.channels().size());
+  std::vector<Cell*> ptrs;
+  for (auto& c : cells) ptrs.push_back(&c);
+  driver.bind(ptrs);
+  auto ch = [&](const char* name) -> Cell& { return cells[static_cast<std::size_t>(driver.channel_index(name))]; };
+  std::string err;
+  ASSERT_TRUE(driver.open(&err)) << err;
+  ScanContext ctx;
+  ch("w").set<std::int16_t>(7);  // the same value every scan
+  for (int i = 0; i < 400; ++i) {  // 0.4 s or more: about 10 writes at 40 ms, where on_change alone makes 1
+    driver.latch_inputs(ctx);
+    driver.write_outputs(ctx);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  driver.latch_inputs(ctx);
+  EXPECT_TRUE(ch("w_ok").get<bool>());
+  const auto writes = ch("w_requests").get<std::uint32_t>();
+  EXPECT_GE(writes, 4u);
+  EXPECT_LE(writes, 30u);  // not every 2 ms: the values did not change
+  mute = true;
+  bool stale = false;
+  for (int i = 0; i < 1000 && !stale; ++i) {
+    driver.latch_inputs(ctx);
+    driver.write_outputs(ctx);
+    stale = !ch("w_ok").get<bool>();
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  EXPECT_TRUE(stale);
+  EXPECT_EQ(ch("w_error").get<std::uint16_t>(), code(ClientError::Timeout));
+  driver.close();
+}
+
+// A driver with one FC 6 group writing register 4 every 20 ms, against
+// `dev`. The scans write 7; only at_stop writes the safe value.
+struct StopRig {
+  StopRig(std::uint16_t port, bool safe_at_stop) {
+    ModbusClientConfig cfg;
+    cfg.safe_at_stop = safe_at_stop;
+    ClientDevice d;
+    d.name = "dev";
+    d.port = port;
+    d.response_timeout_ns = 50'000'000;
+    d.connect_timeout_ns = 50'000'000;
+    cfg.devices.push_back(d);
+    RequestGroup g;
+    g.name = "w";
+    g.function = ModbusFunction::WriteSingleRegister;
+    g.address = 4;
+    g.interval_ns = 20'000'000;
+    cfg.groups.push_back(g);
+    driver = std::make_unique<ModbusClientDriver>(cfg);
+    driver->set_name("io");
+    cells.assign(driver->channels().size(), Cell{});
+    std::vector<Cell*> ptrs;
+    for (auto& c : cells) ptrs.push_back(&c);
+    driver->bind(ptrs);
+    std::string err;
+    EXPECT_TRUE(driver->open(&err)) << err;
+  }
+  // One scan writing v; waits until the device acknowledged it.
+  bool write(std::int16_t v) {
+    ScanContext ctx;
+    cells[static_cast<std::size_t>(driver->channel_index("w"))].set<std::int16_t>(v);
+    driver->write_outputs(ctx);
+    for (int i = 0; i < 1000; ++i) {
+      driver->latch_inputs(ctx);
+      if (cells[static_cast<std::size_t>(driver->channel_index("w_ok"))].get<bool>()) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    return false;
+  }
+  void stop(std::int16_t safe) {
+    SafeOutput o{driver->channel_index("w"), 0, Cell{}};
+    o.value.set<std::int16_t>(safe);
+    driver->stop_outputs(&o, 1);
+    driver->close();
+  }
+  std::unique_ptr<ModbusClientDriver> driver;
+  std::vector<Cell> cells;
+};
+
+// A device that takes FC 6 writes and remembers the last value written.
+struct Register4 {
+  std::atomic<int> value{-1000};
+  std::atomic<bool> mute{false};
+  std::function<Bytes(const Bytes&)> answer() {
+    return [this](const Bytes& q) {
+      if (mute) return Bytes{};
+      if (q.size() >= 12 && q[7] == 6) value = static_cast<std::int16_t>((q[10] << 8) | q[11]);
+      return q;  // FC 6: the reply echoes the request
+    };
+  }
+};
+
+TEST(ModbusClientAtStop, SafeSendsTheSafeValuesOnceMoreAndWaitsForTheDevice) {
+  Register4 reg;
+  FakeDevice dev(reg.answer());
+  StopRig rig(dev.port, true);
+  ASSERT_TRUE(rig.write(7));
+  EXPECT_EQ(reg.value.load(), 7);
+  rig.stop(-3);
+  EXPECT_EQ(reg.value.load(), -3);  // acknowledged before close() returned
+  EXPECT_EQ(counter(*rig.driver, "w.safe_at_stop"), 1.0);
+}
+
+TEST(ModbusClientAtStop, KeepLeavesTheLastValuesInTheDevice) {
+  Register4 reg;
+  FakeDevice dev(reg.answer());
+  StopRig rig(dev.port, false);
+  ASSERT_TRUE(rig.write(7));
+  rig.stop(-3);
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  EXPECT_EQ(reg.value.load(), 7);
+  for (const auto& [k, v] : rig.driver->counters()) EXPECT_NE(k, "w.safe_at_stop");
+}
+
+// A device that stopped answering: the stop waits no longer than its bound
+// (connect_timeout + 2 x response_timeout here: 150 ms) and says the safe
+// values were not acknowledged.
+TEST(ModbusClientAtStop, AMuteDeviceDelaysTheStopByABoundedTime) {
+  Register4 reg;
+  FakeDevice dev(reg.answer());
+  StopRig rig(dev.port, true);
+  ASSERT_TRUE(rig.write(7));
+  reg.mute = true;
+  const auto t0 = std::chrono::steady_clock::now();
+  rig.stop(-3);
+  const auto took = std::chrono::steady_clock::now() - t0;
+  EXPECT_LT(took, std::chrono::seconds(2));  // 150 ms nominal; generous for a loaded machine
+  EXPECT_GE(took, std::chrono::milliseconds(50));  // it did wait for the device
+  EXPECT_EQ(counter(*rig.driver, "w.safe_at_stop"), 0.0);
+}
+
+// Online change of a changed driver (IoDriver::will_take_over, take_over):
+// the new driver does not connect beside the old one (this fake device
+// serves one connection at a time: a second would wait unanswered) but takes
+// the old one's socket at the switch; the device sees one connection.
+TEST(ModbusClientTakeOver, TheNewDriverTakesTheOldOnesConnection) {
+  FakeDevice dev(good);
+  Client old_driver(dev.port);
+  ASSERT_TRUE(old_driver.wait_error(0));
+  Client::Options changed;
+  changed.interval_ns = 7'000'000;  // a changed setting: a new driver at an online change
+  changed.open = false;
+  Client next(dev.port, changed);
+  next.driver->will_take_over(*old_driver.driver);
+  std::string err;
+  ASSERT_TRUE(next.driver->open(&err)) << err;
+  std::this_thread::sleep_for(std::chrono::milliseconds(150));  // longer than a response timeout
+  ScanContext ctx;
+  next.driver->latch_inputs(ctx);
+  EXPECT_EQ(next.ch("g_error").get<std::uint16_t>(), code(ClientError::NoReply));  // waiting, not stale
+  EXPECT_EQ(next.ch("g_requests").get<std::uint32_t>(), 0u);
+  next.driver->take_over(*old_driver.driver);  // the switch
+  old_driver.driver->close();
+  EXPECT_TRUE(next.wait_error(0));
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  next.driver->latch_inputs(ctx);
+  EXPECT_TRUE(next.ch("g_ok").get<bool>());
+  EXPECT_EQ(next.ch("g_errors").get<std::uint32_t>(), 0u);
+  EXPECT_EQ(next.ch("g_reconnects").get<std::uint32_t>(), 0u);
+  EXPECT_EQ(dev.connections.load(), 1);
+}
+
+// A device of the new driver at another port is no take-over: it connects
+// at open(), as a new driver does.
+TEST(ModbusClientTakeOver, AnotherDeviceConnectsAtOnce) {
+  FakeDevice a(good), b(good);
+  Client old_driver(a.port);
+  ASSERT_TRUE(old_driver.wait_error(0));
+  Client::Options other;
+  other.open = false;
+  Client next(b.port, other);
+  next.driver->will_take_over(*old_driver.driver);
+  std::string err;
+  ASSERT_TRUE(next.driver->open(&err)) << err;
+  EXPECT_TRUE(next.wait_error(0));  // before any take_over
+  next.driver->take_over(*old_driver.driver);
+  old_driver.driver->close();
+  EXPECT_EQ(a.connections.load(), 1);
+  EXPECT_EQ(b.connections.load(), 1);
 }
 
 }  // namespace

@@ -59,7 +59,7 @@ const std::vector<std::string> kDeviceKeys = {"name",          "host",          
                                               "word_order",    "reaction",      "stale_after"};
 const std::vector<std::string> kGroupKeys = {"name",  "device",    "function", "address",  "count",  "write_address",
                                              "write_count", "type", "word_order", "scale", "offset", "unit",
-                                             "every", "on_change", "reaction", "stale_after", "safe"};
+                                             "every", "on_change", "alive_every", "reaction", "stale_after", "safe"};
 
 WordOrder word_order(DriverConfig& c, WordOrder def) {
   const std::string d = def == WordOrder::HighFirst ? "high_first" : "low_first";
@@ -208,6 +208,10 @@ std::optional<RequestGroup> read_group(const ConfigNode& n, const std::vector<Cl
     g.interval_ns = c.duration_ns("every", period_ns, 100'000, 3600 * kS);
   g.on_change = c.boolean("on_change", false);
   if (g.on_change && !g.writes()) c.error(n.find("on_change")->loc, "on_change is for groups that write");
+  // A group that writes only on change would never find out that its device
+  // died: it writes its values again after alive_every without a write.
+  g.alive_every_ns = c.duration_ns("alive_every", g.alive_every_ns, 0, 3600 * kS);
+  if (n.find("alive_every") && !g.on_change) c.error(n.find("alive_every")->loc, "alive_every is for on_change groups (the others exchange every `every`)");
 
   // A device's reaction safe is its read groups' (safe values are inputs); its write groups hold.
   g.reaction = reaction(c, dev.reaction == StaleReaction::Safe && !g.reads() ? StaleReaction::Hold : dev.reaction);
@@ -236,8 +240,9 @@ std::string_view stale_reaction_key(StaleReaction r) {
 }
 
 std::optional<ModbusClientConfig> read_modbus_client_config(const ConfigNode& entry, DriverSetup& setup) {
-  DriverConfig c(entry, setup, "modbus_client", {"devices", "groups"});
+  DriverConfig c(entry, setup, "modbus_client", {"devices", "groups", "at_stop"});
   ModbusClientConfig cfg;
+  cfg.safe_at_stop = c.choice("at_stop", {"keep", "safe"}, "keep") == "safe";
   bool ok = c.ok();
   const ConfigNode* devs = entry.find("devices");
   if (!devs || !devs->is_list() || devs->items.empty()) {

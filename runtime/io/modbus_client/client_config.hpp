@@ -62,6 +62,7 @@ struct RequestGroup {
   std::string unit;
   std::int64_t interval_ns = 0;    // every: scan (the task's period) or a duration
   bool on_change = false;          // writes: only when the values differ from the last acknowledged write
+  std::int64_t alive_every_ns = 1'000'000'000;  // on_change: the same values again after this long without a write (0: never)
   StaleReaction reaction = StaleReaction::Hold;
   std::int64_t stale_after_ns = 0;
   std::vector<Cell> safe;          // read values on reaction safe, one per element (channel type)
@@ -77,6 +78,10 @@ struct RequestGroup {
 struct ModbusClientConfig {
   std::vector<ClientDevice> devices;
   std::vector<RequestGroup> groups;
+  // at_stop: at a clean stop of the PLC the write groups send their outputs'
+  // safe values once more and the driver waits for the devices to take them
+  // (true, `safe`), or the devices keep the last values written (`keep`).
+  bool safe_at_stop = false;
 };
 
 std::optional<ModbusClientConfig> read_modbus_client_config(const ConfigNode& entry, DriverSetup& setup);

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <limits>
 
 #include "runtime/core/monotonic_clock.hpp"
 #include "runtime/io/modbus_client/wire_values.hpp"
@@ -23,6 +24,14 @@ bool DeviceLink::start(std::string* error) {
     return false;
   }
   link_.set_stop_fd(stop_fd_);
+  wake_fd_ = eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK);
+  if (wake_fd_ < 0) {
+    if (error) *error = std::string("modbus_client: eventfd: ") + std::strerror(errno);
+    ::close(stop_fd_);
+    stop_fd_ = -1;
+    return false;
+  }
+  link_.set_wake_fd(wake_fd_);
   stopping_.store(false, std::memory_order_release);
   thread_ = std::thread([this] { run(); });
   // Names show in top -H and gdb; at most 15 characters.
@@ -38,7 +47,40 @@ void DeviceLink::stop() noexcept {
   [[maybe_unused]] ssize_t n = ::write(stop_fd_, &one, sizeof one);
   thread_.join();
   ::close(stop_fd_);
-  stop_fd_ = -1;
+  ::close(wake_fd_);
+  stop_fd_ = wake_fd_ = -1;
+  link_.set_wake_fd(-1);
+}
+
+int DeviceLink::release() noexcept {
+  if (!thread_.joinable()) return -1;
+  releasing_.store(true, std::memory_order_release);
+  const std::uint64_t one = 1;
+  [[maybe_unused]] ssize_t n = ::write(wake_fd_, &one, sizeof one);
+  thread_.join();
+  ::close(stop_fd_);
+  ::close(wake_fd_);
+  stop_fd_ = wake_fd_ = -1;
+  link_.set_stop_fd(-1);
+  link_.set_wake_fd(-1);
+  return link_.release();
+}
+
+void DeviceLink::adopt(int fd) noexcept {
+  if (!thread_.joinable()) {
+    if (fd >= 0) ::close(fd);
+    return;
+  }
+  adopted_.store(fd, std::memory_order_release);
+  const std::uint64_t one = 1;
+  [[maybe_unused]] ssize_t n = ::write(wake_fd_, &one, sizeof one);
+}
+
+void DeviceLink::flush() noexcept {
+  if (!thread_.joinable()) return;
+  flush_.store(true, std::memory_order_release);
+  const std::uint64_t one = 1;
+  [[maybe_unused]] ssize_t n = ::write(wake_fd_, &one, sizeof one);
 }
 
 void DeviceLink::fail_others(const GroupHandover* except, ClientError e) {
@@ -50,6 +92,7 @@ void DeviceLink::fail_others(const GroupHandover* except, ClientError e) {
 bool DeviceLink::exchange(GroupHandover& h, std::uint16_t* error) {
   const RequestGroup& g = *h.group;
   const std::uint32_t w = g.format.width();
+  std::uint64_t seq = 0;  // writes: the outputs' sequence number this request writes
   ClientRequest r;
   r.function = g.function;
   r.unit = device_->unit;
@@ -57,13 +100,20 @@ bool DeviceLink::exchange(GroupHandover& h, std::uint16_t* error) {
   r.quantity = static_cast<std::uint16_t>(g.count * w);
   if (g.writes()) {
     const Cell* out = h.outputs.acquire();
-    if (out[GroupHandover::kSeq].get<std::uint64_t>() == 0) return false;  // no scan has handed outputs over yet
+    seq = out[GroupHandover::kSeq].get<std::uint64_t>();
+    if (seq == 0) return false;  // no scan has handed outputs over yet
     const Cell* v = out + GroupHandover::kOutValues;
     const std::uint32_t n = g.written_values();
-    if (g.on_change && h.have_written && std::equal(v, v + n, h.written.begin(),
-                                                    [](const Cell& a, const Cell& b) { return a.raw == b.raw; }))
+    // on_change: nothing new to write, unless alive_every has passed since
+    // the last write (the same values again: the device's liveness check).
+    if (g.on_change && h.have_written &&
+        std::equal(v, v + n, h.written.begin(), [](const Cell& a, const Cell& b) { return a.raw == b.raw; }) &&
+        (g.alive_every_ns == 0 || monotonic_ns() - h.written_ns < g.alive_every_ns)) {
+      h.acked.store(seq, std::memory_order_release);  // the device has these values already
       return false;
+    }
     std::copy(v, v + n, h.written.begin());  // what this request writes; acknowledged below
+    h.written_ns = monotonic_ns();
     if (g.format.wire == IecType::BOOL) {
       values_to_bits(v, n, h.bits.data());
       r.bits = h.bits.data();
@@ -105,7 +155,10 @@ bool DeviceLink::exchange(GroupHandover& h, std::uint16_t* error) {
   }
   // An exchange cut short by stop() is the driver closing, not the device failing: not a result.
   if (stopping_.load(std::memory_order_acquire)) return true;
-  if (e == ClientError::None && g.writes()) h.have_written = true;
+  if (e == ClientError::None && g.writes()) {
+    h.have_written = true;
+    h.acked.store(seq, std::memory_order_release);
+  }
   if (e != ClientError::None && g.writes()) h.have_written = false;  // write again, whatever on_change says
   *error = code(e);
   h.publish(code(e), clock_(), e == ClientError::None ? h.read.data() : nullptr, sent);
@@ -116,8 +169,27 @@ void DeviceLink::run() {
   std::int64_t backoff = device_->reconnect_min_ns;
   std::int64_t next_connect = monotonic_ns();
   bool ever = false;
+  if (inherit_) {
+    // Online change: the predecessor's connection, or none (connect below).
+    while (!stopping_.load(std::memory_order_acquire) && !releasing_.load(std::memory_order_acquire) &&
+           adopted_.load(std::memory_order_acquire) == kAwaiting)
+      link_.wait_until(std::numeric_limits<std::int64_t>::max());
+    const int fd = adopted_.exchange(kAwaiting, std::memory_order_acq_rel);
+    if (fd >= 0) {
+      link_.adopt(fd);
+      connects.fetch_add(1, std::memory_order_relaxed);
+      ever = true;  // the device's connection goes on: a later one is a reconnection
+    }
+    next_connect = monotonic_ns();
+  }
   for (auto* g : groups_) g->next_due = next_connect;
-  while (!stopping_.load(std::memory_order_acquire)) {
+  while (!stopping_.load(std::memory_order_acquire) && !releasing_.load(std::memory_order_acquire)) {
+    if (flush_.exchange(false, std::memory_order_acq_rel)) {
+      const std::int64_t now = monotonic_ns();
+      next_connect = std::min(next_connect, now);
+      for (auto* g : groups_)
+        if (g->group->writes()) g->next_due = now;
+    }
     if (!link_.connected()) {
       if (monotonic_ns() < next_connect) {
         link_.wait_until(next_connect);
@@ -163,7 +235,7 @@ void DeviceLink::run() {
       backoff = device_->reconnect_min_ns;
     }
   }
-  link_.close();
+  if (!releasing_.load(std::memory_order_acquire)) link_.close();  // released: the successor takes the socket
 }
 
 }  // namespace syncplc

@@ -33,6 +33,22 @@ class DeviceLink {
 
   bool start(std::string* error);
   void stop() noexcept;  // wakes the thread and joins it
+  // at_stop safe: the write groups due at once (after the exchange under way),
+  // and a connection attempt at once when there is none.
+  void flush() noexcept;
+
+  // Online change (modbus_client.hpp, take_over): the connection handed from
+  // the running driver's link to its successor's, never closed in between
+  // (a device that takes one connection, or treats a closed one as a lost
+  // master, sees nothing). A link made with `inherit` does not connect until
+  // adopt(): adopt(fd) takes an open socket, adopt(-1) connects itself.
+  // release() ends the thread after the exchange under way (at most one
+  // response_timeout, or connect_timeout while connecting) and gives away
+  // its socket (-1 when not connected).
+  void set_inherit() { inherit_ = true; }
+  bool inherits() const { return inherit_; }
+  int release() noexcept;
+  void adopt(int fd) noexcept;
 
   const ClientDevice& device() const { return *device_; }
   std::atomic<std::uint64_t> reconnects{0};
@@ -51,7 +67,13 @@ class DeviceLink {
   TcpLink link_;
   std::uint16_t transaction_ = 0;
   int stop_fd_ = -1;
+  int wake_fd_ = -1;
   std::atomic<bool> stopping_{false};
+  std::atomic<bool> flush_{false};
+  std::atomic<bool> releasing_{false};
+  static constexpr int kAwaiting = -2;
+  std::atomic<int> adopted_{kAwaiting};
+  bool inherit_ = false;
   std::thread thread_;
 };
 

@@ -52,14 +52,19 @@ struct GroupHandover {
     if (!error) reply.record(stamp - sent);
     if (values && !read.empty()) std::copy(values, values + read.size(), b + kValues);
     results.publish();
-    if (error) errors.fetch_add(1, std::memory_order_relaxed);
+    // errors: exchanges and connection attempts that failed; a group that
+    // did not even try (another group's failure closed the connection) is
+    // counted apart, in not_connected.
+    if (error == code(ClientError::NotConnected)) not_connected.fetch_add(1, std::memory_order_relaxed);
+    else if (error) errors.fetch_add(1, std::memory_order_relaxed);
     if (error == code(ClientError::Timeout)) timeouts.fetch_add(1, std::memory_order_relaxed);
   }
 
   const RequestGroup* group;
   TripleBuffer results;
   TripleBuffer outputs;
-  std::atomic<std::uint64_t> requests{0}, errors{0}, timeouts{0};
+  std::atomic<std::uint64_t> requests{0}, errors{0}, timeouts{0}, not_connected{0};
+  std::atomic<std::uint64_t> acked{0};  // seq of the newest outputs the device has (acknowledged, or equal to those it acknowledged)
   Histogram reply;    // ns, successful exchanges: request sent -> reply in (device thread)
   Histogram latched;  // ns, request sent -> reply latched by a scan (latch_inputs)
 
@@ -69,6 +74,7 @@ struct GroupHandover {
   std::vector<Cell> read;            // decoded read values
   std::vector<Cell> written;         // the values last acknowledged by the device
   bool have_written = false;
+  std::int64_t written_ns = 0;      // monotonic: the last write was sent (on_change's alive_every)
   std::vector<std::uint16_t> regs;   // encoded registers to write
   std::vector<std::uint8_t> bits;    // coils to write
 };

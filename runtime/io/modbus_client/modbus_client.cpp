@@ -1,6 +1,9 @@
 #include "runtime/io/modbus_client/modbus_client.hpp"
 
+#include <time.h>
+
 #include <algorithm>
+#include <utility>
 
 #include "runtime/core/monotonic_clock.hpp"
 
@@ -31,13 +34,15 @@ ModbusClientDriver::ModbusClientDriver(ModbusClientConfig cfg) : cfg_(std::move(
     c.error = add(g.name + "_error", PinDir::In, IecType::UINT, 1, "", "last error code, 0 when ok");
     c.reaction = add(g.name + "_reaction", PinDir::In, IecType::BOOL, 1, "", "stale past stale_after: the reaction applies");
     c.requests = add(g.name + "_requests", PinDir::In, IecType::UDINT, 1, "", "requests sent");
-    c.errors = add(g.name + "_errors", PinDir::In, IecType::UDINT, 1, "", "failed exchanges and connection attempts");
+    c.errors = add(g.name + "_errors", PinDir::In, IecType::UDINT, 1, "", "failed exchanges and connection attempts (not: not connected)");
     c.timeouts = add(g.name + "_timeouts", PinDir::In, IecType::UDINT, 1, "", "requests without a reply in time");
     c.reconnects = add(g.name + "_reconnects", PinDir::In, IecType::UDINT, 1, "", "the device's reconnections");
     gch_.push_back(c);
   }
   bound_.assign(channels_.size(), nullptr);
   closed_reconnects_.assign(cfg_.devices.size(), 0);
+  at_stop_.assign(cfg_.groups.size(), -1);
+  inherit_.assign(cfg_.devices.size(), false);
   reset_exchange();
 }
 
@@ -62,6 +67,8 @@ int ModbusClientDriver::channel_index(const std::string& name) const {
 }
 
 bool ModbusClientDriver::open(std::string* error) {
+  // will_take_over's marks are for this open only: a reopened driver connects itself.
+  const std::vector<bool> inherit = std::exchange(inherit_, std::vector<bool>(cfg_.devices.size(), false));
   close();
   // A reopened driver starts as a new one: nothing of the previous run's
   // replies is latched as fresh, nothing of its outputs is written.
@@ -76,6 +83,7 @@ bool ModbusClientDriver::open(std::string* error) {
       return false;
     }
   safe_.reset();
+  std::fill(at_stop_.begin(), at_stop_.end(), std::int8_t{-1});
   latch_.clear();
   const std::int64_t now = clock_();
   for (const auto& g : cfg_.groups) {
@@ -101,6 +109,7 @@ bool ModbusClientDriver::open(std::string* error) {
       return false;
     }
     links_.push_back(std::make_unique<DeviceLink>(dev, std::move(mine), clock_));
+    if (inherit[d]) links_.back()->set_inherit();
     for (std::size_t i = 0; i < cfg_.groups.size(); ++i)
       if (cfg_.groups[i].device == d) group_link_[i] = links_.back().get();
     if (!links_.back()->start(error)) {
@@ -195,6 +204,73 @@ bool ModbusClientDriver::write_safe_outputs(const SafeOutput* outputs, std::size
   return true;
 }
 
+void ModbusClientDriver::stop_outputs(const SafeOutput* outputs, std::size_t n) noexcept {
+  if (!cfg_.safe_at_stop || !open_) return;
+  // After the last scan: engage() finds no write_outputs under way.
+  std::vector<std::uint64_t> before(out_seq_);
+  if (!write_safe_outputs(outputs, n)) return;
+  std::int64_t wait_ns = 0;
+  for (const auto& l : links_) {
+    std::int64_t groups = 1;  // the exchange under way
+    for (std::size_t i = 0; i < cfg_.groups.size(); ++i)
+      if (group_link_[i] == l.get()) ++groups;
+    wait_ns = std::max(wait_ns, l->device().connect_timeout_ns + groups * l->device().response_timeout_ns);
+    l->flush();
+  }
+  // The groups write_safe_outputs handed values over to (those with a safe
+  // value, or written before), until their devices have them or the time is up.
+  auto acknowledged = [&](std::size_t i) {
+    return handover_[i]->acked.load(std::memory_order_acquire) >= out_seq_[i];
+  };
+  const std::int64_t until = monotonic_ns() + wait_ns;
+  for (;;) {
+    bool all = true;
+    for (std::size_t i = 0; i < cfg_.groups.size(); ++i)
+      if (out_seq_[i] != before[i] && group_link_[i] && !acknowledged(i)) all = false;
+    if (all || monotonic_ns() >= until) break;
+    timespec ts{0, 1'000'000};
+    nanosleep(&ts, nullptr);
+  }
+  for (std::size_t i = 0; i < cfg_.groups.size(); ++i)
+    if (out_seq_[i] != before[i]) at_stop_[i] = acknowledged(i) ? 1 : 0;
+}
+
+namespace {
+
+// The endpoint a device connects to: its address (resolved when the
+// driver opened) and port.
+bool same_endpoint(const ClientDevice& a, const ClientDevice& b) {
+  std::string ea = a.address, eb = b.address;
+  if (ea.empty() && !resolve_ipv4(a.host, &ea)) return false;
+  if (eb.empty() && !resolve_ipv4(b.host, &eb)) return false;
+  return ea == eb && a.port == b.port;
+}
+
+}  // namespace
+
+void ModbusClientDriver::will_take_over(IoDriver& previous) {
+  auto* prev = dynamic_cast<ModbusClientDriver*>(&previous);
+  if (!prev || !network_) return;
+  for (std::size_t d = 0; d < cfg_.devices.size(); ++d)
+    for (const auto& l : prev->links_)
+      if (same_endpoint(cfg_.devices[d], l->device())) inherit_[d] = true;
+}
+
+void ModbusClientDriver::take_over(IoDriver& previous) noexcept {
+  auto* prev = dynamic_cast<ModbusClientDriver*>(&previous);
+  for (auto& mine : links_) {
+    if (!mine->inherits()) continue;
+    int fd = -1;
+    if (prev)
+      for (auto& old : prev->links_)
+        if (same_endpoint(mine->device(), old->device())) {
+          fd = old->release();  // -1 when it was not connected (or already given away)
+          break;
+        }
+    mine->adopt(fd);  // -1: it connects itself (the old link's socket closes with prev)
+  }
+}
+
 bool ModbusClientDriver::read_output(int channel, Cell* values) const {
   for (std::size_t i = 0; i < cfg_.groups.size(); ++i) {
     const RequestGroup& g = cfg_.groups[i];
@@ -245,7 +321,9 @@ std::vector<std::pair<std::string, double>> ModbusClientDriver::counters() const
     out.emplace_back(g + ".requests", static_cast<double>(requests));
     out.emplace_back(g + ".errors", static_cast<double>(h.errors.load(std::memory_order_relaxed)));
     out.emplace_back(g + ".timeouts", static_cast<double>(h.timeouts.load(std::memory_order_relaxed)));
+    out.emplace_back(g + ".not_connected", static_cast<double>(h.not_connected.load(std::memory_order_relaxed)));
     out.emplace_back(g + ".requests_per_s", rate(requests));
+    if (at_stop_[i] >= 0) out.emplace_back(g + ".safe_at_stop", at_stop_[i]);
     for (const auto& [what, hist] : {std::pair{"reply", &h.reply}, std::pair{"latched", &h.latched}}) {
       const Histogram::Summary s = hist->summary();
       if (s.count == 0) continue;
@@ -269,10 +347,10 @@ DriverTypeInfo modbus_client_driver_type() {
   DriverTypeInfo t;
   t.name = "modbus_client";
   t.doc =
-      "Modbus TCP client: remote devices {name, host (default 127.0.0.1), port, unit, response_timeout, "
+      "Modbus TCP client: at_stop (keep, safe); remote devices {name, host (default 127.0.0.1), port, unit, response_timeout, "
       "connect_timeout, reconnect_min, reconnect_max, word_order, reaction, stale_after} and cyclic request groups "
       "{name, device, function (1, 2, 3, 4, 5, 6, 15, 16, 23), address, count, write_address, write_count (23), "
-      "type, word_order, scale, offset, unit, every (scan or a duration), on_change, reaction (hold, safe, stop), "
+      "type, word_order, scale, offset, unit, every (scan or a duration), on_change, alive_every, reaction (hold, safe, stop), "
       "stale_after, safe}. Channels per group g: g (values), g_write (FC 23), g_ok, g_age (ms), g_error, "
       "g_reaction, g_requests, g_errors, g_timeouts, g_reconnects. One thread per device; docs/modbus-client.md.";
   t.create = [](const ConfigNode& node, DriverSetup& setup) -> std::unique_ptr<IoDriver> {

@@ -47,6 +47,17 @@ class ModbusClientDriver final : public IoDriver {
   void write_outputs(const ScanContext& ctx) noexcept override;
   void close() noexcept override;
   bool write_safe_outputs(const SafeOutput* outputs, std::size_t n) noexcept override;
+  // at_stop safe: the safe outputs sent once more, waiting for every write
+  // group's device to acknowledge them, at most connect_timeout + (its
+  // groups + 1) x response_timeout per device (devices in parallel).
+  void stop_outputs(const SafeOutput* outputs, std::size_t n) noexcept override;
+  // Online change: a device of `previous` at the same address and port (the
+  // unit id is per request, not per connection) hands its open connection
+  // over: this driver's link for it does not connect at open() but waits,
+  // and take_over() moves the socket after the switch. Its groups show "no
+  // reply yet" (268, not stale) until then.
+  void will_take_over(IoDriver& previous) override;
+  void take_over(IoDriver& previous) noexcept override;
   bool read_output(int channel, Cell* values) const override;
   std::string summary() const override;
   std::vector<std::pair<std::string, double>> counters() const override;
@@ -85,6 +96,8 @@ class ModbusClientDriver final : public IoDriver {
   std::vector<std::uint64_t> out_seq_;
   std::vector<const DeviceLink*> group_link_;     // per group: its device's link (null without network), set by open()
   std::vector<std::uint64_t> closed_reconnects_;  // per device: its reconnections when the links were closed
+  std::vector<std::int8_t> at_stop_;  // per group: -1 nothing sent at stop, 0 sent but not acknowledged, 1 acknowledged
+  std::vector<bool> inherit_;  // per device: its connection comes from the driver this one replaces (will_take_over)
   Clock clock_;
   bool network_ = true;
   bool open_ = false;

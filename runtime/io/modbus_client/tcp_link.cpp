@@ -68,11 +68,15 @@ int TcpLink::wait(short events, std::int64_t deadline) const {
 }
 
 bool TcpLink::wait_until(std::int64_t deadline) const {
-  pollfd p{stop_fd_, POLLIN, 0};
+  pollfd p[2] = {{stop_fd_, POLLIN, 0}, {wake_fd_, POLLIN, 0}};  // poll ignores a negative fd
   for (;;) {
     if (monotonic_ns() >= deadline) return false;
     timespec ts = remaining(deadline);
-    int rc = ppoll(&p, stop_fd_ >= 0 ? 1 : 0, &ts, nullptr);
+    int rc = ppoll(p, 2, &ts, nullptr);
+    if (rc > 0 && (p[1].revents & POLLIN)) {
+      std::uint64_t n;
+      [[maybe_unused]] ssize_t k = ::read(wake_fd_, &n, sizeof n);
+    }
     if (rc > 0) return true;
     if (rc == 0) return false;
     if (errno != EINTR) return false;

@@ -24,10 +24,22 @@ class TcpLink {
   ~TcpLink() { close(); }
 
   void set_stop_fd(int fd) { stop_fd_ = fd; }
+  // An eventfd that ends wait_until early (and is drained by it), never an exchange's wait.
+  void set_wake_fd(int fd) { wake_fd_ = fd; }
   // ConnectFailed (refused, unreachable, not within timeout_ns, host unknown) or None.
   ClientError connect(const std::string& host, std::uint16_t port, std::int64_t timeout_ns);
   bool connected() const { return fd_ >= 0; }
   void close() noexcept;
+  // Online change: the open socket given away (-1 when none), and taken.
+  int release() noexcept {
+    const int fd = fd_;
+    fd_ = -1;
+    return fd;
+  }
+  void adopt(int fd) noexcept {
+    close();
+    fd_ = fd;
+  }
 
   // deadline: the driver's clock (monotonic ns). ConnectionLost when the
   // peer closed or the send failed, Timeout at the deadline.
@@ -35,7 +47,7 @@ class TcpLink {
   // Exactly n bytes: Timeout at the deadline, ConnectionLost when the peer
   // closed before the first byte, Short when it closed after some.
   ClientError receive(std::uint8_t* p, std::size_t n, std::int64_t deadline);
-  // Sleeps until `deadline` or until the stop fd is signalled (returns true then).
+  // Sleeps until `deadline` or until the stop or wake fd is signalled (returns true then).
   bool wait_until(std::int64_t deadline) const;
 
  private:
@@ -43,6 +55,7 @@ class TcpLink {
   int wait(short events, std::int64_t deadline) const;
   int fd_ = -1;
   int stop_fd_ = -1;
+  int wake_fd_ = -1;
 };
 
 }  // namespace syncplc

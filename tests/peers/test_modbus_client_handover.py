@@ -1,0 +1,148 @@
+"""Online change of a changed modbus_client driver against a device that
+takes one connection at a time (as many drives do): a second connection is
+accepted and closed at once ("refused" below). `syncplc run` starts with a
+driver writing register 0; the project file then gains a second write group
+(the driver's settings change, so the change replaces it) and SIGHUP
+reloads it. The new driver must take over the old one's connection at the
+switch: the device sees one connection for the whole run, none refused and
+none closed, and the new group's value arrives through it.
+
+  /usr/bin/python3 tests/peers/test_modbus_client_handover.py build/syncplc
+"""
+import os
+import signal
+import socket
+import struct
+import sys
+import tempfile
+import threading
+import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import peerlib as P  # noqa: E402
+
+PROJECT = """
+project: {{name: handover, version: "{version}"}}
+tasks: [{{name: main, period: 10ms}}]
+tags:
+  - {{name: cmd, type: INT, init: 5}}
+  - {{name: cmd2, type: INT, init: 9}}
+  - {{name: w_ok, type: BOOL}}
+drivers:
+  - name: io
+    type: modbus_client
+    devices: [{{name: dev, port: {port}, response_timeout: 200ms, connect_timeout: 200ms, reconnect_min: 20ms}}]
+    groups:
+      - {{name: w, function: write_single_register, address: 0, every: 20ms}}
+{extra}    bind: {{w: cmd, w_ok: w_ok{extra_bind}}}
+"""
+
+
+class OneConnectionDevice:
+    """FC 6 only: echoes the request and keeps the register's value."""
+
+    def __init__(self):
+        self.sock = socket.socket()
+        self.sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+        self.sock.bind(("127.0.0.1", 0))
+        self.sock.listen(8)
+        self.port = self.sock.getsockname()[1]
+        self.registers = [0] * 16
+        self.accepted = 0
+        self.refused = 0
+        self.closed = 0  # the active connection ended (closed by the client)
+        self.active = None
+        self.lock = threading.Lock()
+        threading.Thread(target=self._accept, daemon=True).start()
+
+    def _accept(self):
+        while True:
+            try:
+                c, _ = self.sock.accept()
+            except OSError:
+                return
+            with self.lock:
+                if self.active is not None:
+                    self.refused += 1
+                    c.close()
+                    continue
+                self.accepted += 1
+                self.active = c
+            threading.Thread(target=self._serve, args=(c,), daemon=True).start()
+
+    def _serve(self, c):
+        try:
+            while True:
+                head = self._exact(c, 7)
+                if head is None:
+                    break
+                tid, proto, length, unit = struct.unpack(">HHHB", head)
+                pdu = self._exact(c, length - 1)
+                if pdu is None:
+                    break
+                if pdu[0] == 6:
+                    address, value = struct.unpack(">HH", pdu[1:5])
+                    self.registers[address % 16] = value
+                    c.sendall(head + pdu)
+                else:
+                    c.sendall(struct.pack(">HHHBBB", tid, 0, 3, unit, pdu[0] | 0x80, 1))
+        except OSError:
+            pass
+        with self.lock:
+            self.closed += 1
+            self.active = None
+        c.close()
+
+    @staticmethod
+    def _exact(c, n):
+        b = b""
+        while len(b) < n:
+            k = c.recv(n - len(b))
+            if not k:
+                return None
+            b += k
+        return b
+
+    def wait_register(self, address, value, timeout=20):
+        deadline = time.monotonic() + timeout
+        while self.registers[address] != value:
+            if time.monotonic() > deadline:
+                raise AssertionError("register %d is %d, not %d, after %d s" % (address, self.registers[address], value, timeout))
+            time.sleep(0.01)
+
+
+def main():
+    binary = P.syncplc_binary()
+    dev = OneConnectionDevice()
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "handover.yaml")
+
+        def write(version, extra="", extra_bind=""):
+            with open(path, "w") as f:
+                f.write(PROJECT.format(version=version, port=dev.port, extra=extra, extra_bind=extra_bind))
+
+        write("1")
+        server = P.Server(binary, path)
+        try:
+            dev.wait_register(0, 5)
+            write("2", extra="      - {name: w2, function: 6, address: 1, every: 20ms}\n", extra_bind=", w2: cmd2")
+            server.proc.send_signal(signal.SIGHUP)
+            P.wait_until(lambda: (any("reloaded" in l for l in server.stderr_lines), None), "the reload message",
+                         timeout=20)
+            dev.wait_register(1, 9)  # the new driver's new group, through the connection it took over
+            time.sleep(0.3)
+            stderr = "".join(server.stderr_lines)
+            P.check_true("restarted" in stderr, "the change did not replace the driver:\n" + stderr)
+            P.check_true(dev.accepted == 1 and dev.refused == 0 and dev.closed == 0,
+                         "the device saw %d connections, refused %d, %d closed: the connection was not handed over\n%s"
+                         % (dev.accepted, dev.refused, dev.closed, stderr))
+            P.check_true("connect failed" not in stderr and "connection lost" not in stderr,
+                         "a fault event across the change:\n" + stderr)
+        finally:
+            server.stop()
+    print("one connection across the online change; the new group written through it")
+    print("test_modbus_client_handover: OK")
+
+
+if __name__ == "__main__":
+    sys.exit(main())
