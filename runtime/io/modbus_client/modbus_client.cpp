@@ -100,7 +100,7 @@ bool ModbusClientDriver::open(std::string* error) {
       close();
       return false;
     }
-    links_.push_back(std::make_unique<DeviceLink>(dev, std::move(mine), clock_));
+    links_.push_back(std::make_unique<DeviceLink>(dev, std::move(mine), clock_, &cycle_));
     for (std::size_t i = 0; i < cfg_.groups.size(); ++i)
       if (cfg_.groups[i].device == d) group_link_[i] = links_.back().get();
     if (!links_.back()->start(error)) {
@@ -155,7 +155,10 @@ void ModbusClientDriver::latch_inputs(const ScanContext& ctx) noexcept {
 }
 
 void ModbusClientDriver::write_outputs(const ScanContext&) noexcept {
-  if (!safe_.begin_write()) return;  // held in the safe state by the supervisor
+  if (!safe_.begin_write()) {  // held in the safe state by the supervisor: the reads still follow the scan
+    hand_over_to_devices();
+    return;
+  }
   for (std::size_t i = 0; i < cfg_.groups.size(); ++i) {
     const RequestGroup& g = cfg_.groups[i];
     if (!g.writes()) continue;
@@ -169,6 +172,14 @@ void ModbusClientDriver::write_outputs(const ScanContext&) noexcept {
     handover_[i]->outputs.publish();
   }
   safe_.end_write();
+  hand_over_to_devices();
+}
+
+void ModbusClientDriver::hand_over_to_devices() noexcept {
+  // timing cycle: the device threads run this scan's exchanges now (one
+  // atomic increment; one futex wake for all when any sleeps; cycle_signal.hpp).
+  // Free-running devices never wait on it.
+  cycle_.hand_over();
 }
 
 bool ModbusClientDriver::write_safe_outputs(const SafeOutput* outputs, std::size_t n) noexcept {
@@ -192,6 +203,7 @@ bool ModbusClientDriver::write_safe_outputs(const SafeOutput* outputs, std::size
     std::copy(out_[i].begin(), out_[i].end(), b + GroupHandover::kOutValues);
     handover_[i]->outputs.publish();
   }
+  hand_over_to_devices();  // the safe values go out now, not at the fallback's next exchange
   return true;
 }
 
