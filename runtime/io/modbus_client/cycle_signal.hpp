@@ -2,18 +2,20 @@
 // (timing cycle, docs/modbus-client.md "Threads and timing"): a 32-bit
 // hand-over count the scan increments, and a Linux futex on that word the
 // device threads sleep on, each with an absolute CLOCK_MONOTONIC deadline
-// for the fallback when no scan hands over. One word per driver: one
-// FUTEX_WAKE wakes every sleeping device thread of the driver.
+// for the fallback when no scan hands over. One word per driver.
 //
 // The scan side (hand_over) never waits, allocates or takes a lock: one
-// atomic increment, and a FUTEX_WAKE only when a device thread sleeps on
-// the word (device threads still busy with the previous burst cost the scan
-// no system call). Why a futex and not an eventfd per device or polling
-// (measured by bench/cycle_wake.cpp, docs/benchmarks.md section 10): the
-// wake is the kernel's least work to wake a thread, one call for all the
-// driver's devices, without an eventfd's file layer; polling the count with
-// short sleeps costs the device threads thousands of wake-ups a second and
-// still adds up to the poll interval to every exchange.
+// atomic increment, and a FUTEX_WAKE of ONE device thread only when one
+// sleeps on the word (device threads still busy with the previous burst
+// cost the scan no system call). The first device thread woken wakes the
+// others (relay in wait()): a wake-up costs the waker a few µs and up to
+// tens under load (IPIs in a VM), and the scan pays for one, not one per
+// device. Why a futex and not an eventfd per device or polling (measured by
+// bench/cycle_wake.cpp, docs/benchmarks.md section 10): the wake is the
+// kernel's least work to wake a thread, without an eventfd's file layer;
+// polling the count with short sleeps costs the scan nothing but the device
+// threads thousands of wake-ups a second, and adds up to the poll interval
+// to every exchange.
 //
 // The futex protocol (futex(2)): a waiter counts itself in `sleepers_`
 // (sequentially consistent) and then re-checks the count inside FUTEX_WAIT,
@@ -40,12 +42,11 @@ class CycleSignal {
   static_assert(std::atomic<std::uint32_t>::is_always_lock_free && sizeof(std::atomic<std::uint32_t>) == 4,
                 "the futex word is the atomic itself");
 
-  // The scan (write_outputs), or any thread: one more hand-over; wakes every
-  // sleeping waiter.
+  // The scan (write_outputs), or any thread: one more hand-over; wakes one
+  // sleeping waiter, which wakes the rest.
   void hand_over() noexcept {
     count_.fetch_add(1, std::memory_order_seq_cst);
-    if (sleepers_.load(std::memory_order_seq_cst) > 0)
-      syscall(SYS_futex, &count_, FUTEX_WAKE_PRIVATE, INT_MAX, nullptr, nullptr, 0);
+    if (sleepers_.load(std::memory_order_seq_cst) > 0) wake(1);
   }
 
   std::uint32_t count() const noexcept { return count_.load(std::memory_order_acquire); }
@@ -62,11 +63,16 @@ class CycleSignal {
       // (the count moved), EINTR and ETIMEDOUT all just look again.
       syscall(SYS_futex, &count_, FUTEX_WAIT_BITSET_PRIVATE, seen, &at, nullptr, FUTEX_BITSET_MATCH_ANY);
     }
-    sleepers_.fetch_sub(1, std::memory_order_seq_cst);
-    return count_.load(std::memory_order_acquire);
+    // The relay: a waiter that leaves on a new count wakes those still
+    // asleep on it (off the scan's thread).
+    const std::uint32_t now = count_.load(std::memory_order_seq_cst);
+    if (sleepers_.fetch_sub(1, std::memory_order_seq_cst) > 1 && now != seen) wake(INT_MAX);
+    return now;
   }
 
  private:
+  void wake(int n) noexcept { syscall(SYS_futex, &count_, FUTEX_WAKE_PRIVATE, n, nullptr, nullptr, 0); }
+
   std::atomic<std::uint32_t> count_{0};
   std::atomic<int> sleepers_{0};
 };
