@@ -156,7 +156,7 @@ counter() {  # $1: file, $2: "<what>: " line prefix, $3: key -> value
 median() { sort -g | awk '{ v[NR] = $1 } END { if (NR % 2) print v[(NR + 1) / 2]; else print (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
 
 echo "== machine: $(nproc) CPUs, kernel $(uname -r); load before: $(cat /proc/loadavg)"
-echo "== four devices polled every 1 ms scan; ${run_s} s per run, $rounds round(s) of off/on per series; series: $series"
+echo "== four devices polled every 1 ms scan; ${run_s} s per run, $rounds round(s) of off and $timings per series; series: $series"
 window=$((run_s - 7))
 for s in $series; do
   port=$base_port
