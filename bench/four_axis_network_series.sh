@@ -7,8 +7,14 @@
 # Sync-RSME (rad), the mean share of repeated position samples and the mean
 # data age over the four drives, the load average at the end.
 #
+# PRIO=N runs each launcher, so the four drive processes and all of
+# syncplc's threads but the servo task (SCHED_FIFO 80), under SCHED_FIFO N
+# (chrt, as root): on a machine loaded by others, the drives (in reality
+# hardware of their own) and the device threads then do not wait behind the
+# load, and the runs measure the bus's timing rather than the load.
+#
 # Builds nothing: expects BUILD_DIR/syncplc (default build).
-# Environment: BUILD_DIR, ROUNDS (6), TIMING.
+# Environment: BUILD_DIR, ROUNDS (6), TIMING, PRIO.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${BUILD_DIR:-build}
@@ -16,9 +22,11 @@ rounds=${ROUNDS:-6}
 timings=${TIMING:-cycle free}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
+prefix=()
+[ -n "${PRIO:-}" ] && prefix=(chrt -f "$PRIO")
 off_sets=(--set ax2.compensation=FALSE --set ax3.compensation=FALSE --set ax4.compensation=FALSE)
 
-echo "== machine: $(nproc) CPUs, kernel $(uname -r); load before: $(cat /proc/loadavg)"
+echo "== machine: $(nproc) CPUs, kernel $(uname -r); load before: $(cat /proc/loadavg); ${PRIO:+SCHED_FIFO $PRIO}"
 printf "%-6s %-6s %-4s %10s %10s %9s %9s  %s\n" round timing comp track sync repeated age_ms load
 for ((r = 1; r <= rounds; r++)); do
   combos=()
@@ -34,7 +42,7 @@ for ((r = 1; r <= rounds; r++)); do
     sets=()
     for k in 1 2 3 4; do sets+=(--set "bus.devices.d$k.timing=$t"); done
     [ "$comp" = off ] && sets+=("${off_sets[@]}")
-    if ! /usr/bin/python3 scripts/four_axis_network.py --syncplc "$build/syncplc" "${sets[@]}" \
+    if ! "${prefix[@]}" /usr/bin/python3 scripts/four_axis_network.py --syncplc "$build/syncplc" "${sets[@]}" \
         --metrics "$tmp/m.json" >"$tmp/out" 2>&1; then
       echo "run failed:"; tail -20 "$tmp/out"; exit 1
     fi
@@ -62,7 +70,7 @@ for comp in on off; do
   sets=()
   [ "$comp" = off ] && sets+=("${off_sets[@]}")
   "$build/syncplc" sim projects/four_axis_table/sync.yaml -d 6.283185s --metrics "$tmp/sim.json" "${sets[@]}" >/dev/null
-  /usr/bin/python3 -c 'import json, sys; m = json.load(open(sys.argv[1]));
+  /usr/bin/python3 -c 'import json, sys; m = json.load(open(sys.argv[1]))["metrics"];
 print("sim_table comp %-3s  Track-RSME %.4f  Sync-RSME %.4f" % (sys.argv[2], m["track_rsme"], m["sync_rsme"]))' \
     "$tmp/sim.json" "$comp"
 done
