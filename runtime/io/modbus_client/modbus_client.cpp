@@ -282,7 +282,7 @@ DriverTypeInfo modbus_client_driver_type() {
   t.name = "modbus_client";
   t.doc =
       "Modbus TCP client: remote devices {name, host (default 127.0.0.1), port, unit, response_timeout, "
-      "connect_timeout, reconnect_min, reconnect_max, word_order, reaction, stale_after} and cyclic request groups "
+      "connect_timeout, reconnect_min, reconnect_max, word_order, reaction, stale_after, timing (cycle, free)} and cyclic request groups "
       "{name, device, function (1, 2, 3, 4, 5, 6, 15, 16, 23), address, count, write_address, write_count (23), "
       "type, word_order, scale, offset, unit, every (scan or a duration), on_change, reaction (hold, safe, stop), "
       "stale_after, safe}. Channels per group g: g (values), g_write (FC 23), g_ok, g_age (ms), g_error, "
