@@ -2,10 +2,12 @@
 # The Modbus TCP client driver at 1 ms (docs/benchmarks.md, "Modbus TCP
 # client"): four devices on 127.0.0.1, a project with a 1 ms SCHED_FIFO task
 # (priority 80) whose modbus_client driver polls every device every scan, run
-# with the driver ("on") and the same project without it ("off"),
-# alternately (off, on, then on, off, ...), RUN_S seconds each, in one
-# invocation. The devices run through the whole series, so "off" differs from
-# "on" only by the client traffic.
+# with the driver in each of the TIMING modes (default "cycle free": the
+# devices' `timing:`, docs/modbus-client.md) and the same project without it
+# ("off"), alternately (off, cycle, free, then free, cycle, off, ...), RUN_S
+# seconds each, in one invocation. The devices run through the whole series,
+# so "off" differs from the others only by the client traffic, and cycle from
+# free only by when the exchanges run.
 #
 # Per run: the 1 ms task's start jitter p99 and max (`run`'s own statistics),
 # and with the driver, per device (`run`'s driver counters at exit): requests/s,
@@ -26,13 +28,14 @@
 #             docs/modbus.md, which would measure the device's scan period).
 #
 # Builds nothing: expects BUILD_DIR/syncplc (default build).
-# Environment: BUILD_DIR, RUN_S (30), ROUNDS (2), SERIES, BASE_PORT (15800).
+# Environment: BUILD_DIR, RUN_S (30), ROUNDS (2), SERIES, TIMING, BASE_PORT (15800).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${BUILD_DIR:-build}
 run_s=${RUN_S:-30}
 rounds=${ROUNDS:-2}
 series=${SERIES:-pymodbus syncplc}
+timings=${TIMING:-cycle free}
 base_port=${BASE_PORT:-15800}
 syncplc=$build/syncplc
 py=/usr/bin/python3
@@ -46,7 +49,7 @@ stop_devices() {
 }
 trap 'stop_devices; rm -rf "$tmp"' EXIT
 
-# The client project. $1: on|off, $2: the series, $3: first device port.
+# The client project. $1: off or a timing (cycle, free), $2: the series, $3: first device port.
 project() {
   echo "project: {name: modbus_client_bench}"
   echo "tasks:"
@@ -61,13 +64,13 @@ project() {
   echo "  - {name: ref, type: COSINE_TRAJECTORY, task: main, params: {amplitude: 10, omega: 3, cycles: 0}, inputs: {enable: TRUE}}"
   echo "connections:"
   echo "  - ref.x -> pos"
-  [ "$1" = on ] || return 0
+  [ "$1" != off ] || return 0
   echo "drivers:"
   echo "  - name: io"
   echo "    type: modbus_client"
   echo "    devices:"
   for i in 1 2 3 4; do
-    echo "      - {name: d$i, port: $(($3 + i - 1)), response_timeout: 100ms, reconnect_min: 50ms, reconnect_max: 500ms}"
+    echo "      - {name: d$i, port: $(($3 + i - 1)), response_timeout: 100ms, reconnect_min: 50ms, reconnect_max: 500ms, timing: $1}"
   done
   echo "    groups:"
   local bind=""
@@ -153,19 +156,20 @@ counter() {  # $1: file, $2: "<what>: " line prefix, $3: key -> value
 median() { sort -g | awk '{ v[NR] = $1 } END { if (NR % 2) print v[(NR + 1) / 2]; else print (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
 
 echo "== machine: $(nproc) CPUs, kernel $(uname -r); load before: $(cat /proc/loadavg)"
-echo "== four devices polled every 1 ms scan; ${run_s} s per run, $rounds round(s) of off/on per series; series: $series"
+echo "== four devices polled every 1 ms scan; ${run_s} s per run, $rounds round(s) of off and $timings per series; series: $series"
 window=$((run_s - 7))
 for s in $series; do
   port=$base_port
   [ "$s" = syncplc ] && port=$((base_port + 10))
-  project on "$s" "$port" >"$tmp/on.yaml"
+  for t in $timings; do project "$t" "$s" "$port" >"$tmp/$t.yaml"; done
   project off "$s" "$port" >"$tmp/off.yaml"
   start_devices "$s" "$port"
   echo
   echo "== series $s (devices on ports $port..$((port + 3)); load now: $(cut -d' ' -f1-3 /proc/loadavg))"
   : >"$tmp/res.txt"
   for ((r = 0; r < rounds; r++)); do
-    order="off on"; [ $((r % 2)) = 1 ] && order="on off"
+    order="off $timings"
+    [ $((r % 2)) = 1 ] && order=$(tr ' ' '\n' <<<"$order" | tac | tr '\n' ' ')
     for mode in $order; do
       "$syncplc" run "$tmp/$mode.yaml" --no-status -d "${run_s}s" --db "$tmp/client-$s-$r-$mode.db" >"$tmp/out" 2>"$tmp/err" &
       pid=$!
@@ -180,8 +184,8 @@ for s in $series; do
       dev_cpu=$(awk -v c=$((d1 - d0)) -v s="$window" 'BEGIN { printf "%.1f", 100 * c / (s * 1e9) }')
       echo "  round $((r + 1)) $mode: scans $scans, 1 ms task jitter p99 $((p99 / 1000)) us, max $((mx / 1000)) us, exec mean $exec_mean p99 $exec_p99; mb:* threads CPU $mb_cpu %, devices CPU $dev_cpu %"
       echo "jitter $mode $p99 $mx" >>"$tmp/res.txt"
-      [ "$mode" = on ] || continue
-      echo "cpu on $mb_cpu $dev_cpu" >>"$tmp/res.txt"
+      [ "$mode" != off ] || continue
+      echo "cpu $mode $mb_cpu $dev_cpu" >>"$tmp/res.txt"
       if [ "$s" = pymodbus ]; then groups="x1 x2 x3 x4"; else groups="r1 w1 r2 w2 r3 w3 r4 w4"; fi
       for g in $groups; do
         line=""
@@ -191,23 +195,26 @@ for s in $series; do
         read -r rps lp50 lp99 lmax rp50 rp99 rmax errs <<<"$line"
         printf "    %-3s %7.1f req/s  latched p50/p99/max %6s / %6s / %7s us  reply p50/p99/max %6s / %6s / %7s us  errors %s\n" \
           "$g" "$rps" "$lp50" "$lp99" "$lmax" "$rp50" "$rp99" "$rmax" "$errs"
-        echo "group $g $rps $lp50 $lp99 $lmax $rp50 $rp99 $rmax $errs" >>"$tmp/res.txt"
+        echo "group $mode:$g $rps $lp50 $lp99 $lmax $rp50 $rp99 $rmax $errs" >>"$tmp/res.txt"
       done
       grep -m3 "modbus_client" "$tmp/err" | sed 's/^/    event: /' || true
     done
   done
   stop_devices
   echo "  -- medians over $rounds round(s), series $s"
-  for mode in off on; do
+  for mode in off $timings; do
     col() { awk -v m="$mode" -v c="$1" '$1 == "jitter" && $2 == m { print $c }' "$tmp/res.txt" | median; }
-    printf "  %-4s 1 ms task jitter p99 %7.1f us  max %9.1f us\n" "$mode" \
+    printf "  %-5s 1 ms task jitter p99 %7.1f us  max %9.1f us\n" "$mode" \
       "$(awk -v v="$(col 3)" 'BEGIN { print v / 1000 }')" "$(awk -v v="$(col 4)" 'BEGIN { print v / 1000 }')"
   done
-  printf "  on   mb:* threads CPU %s %%, devices CPU %s %% (of one core)\n" \
-    "$(awk '$1 == "cpu" { print $3 }' "$tmp/res.txt" | median)" "$(awk '$1 == "cpu" { print $4 }' "$tmp/res.txt" | median)"
+  for t in $timings; do
+    printf "  %-5s mb:* threads CPU %s %%, devices CPU %s %% (of one core)\n" "$t" \
+      "$(awk -v m="$t" '$1 == "cpu" && $2 == m { print $3 }' "$tmp/res.txt" | median)" \
+      "$(awk -v m="$t" '$1 == "cpu" && $2 == m { print $4 }' "$tmp/res.txt" | median)"
+  done
   for g in $(awk '$1 == "group" { print $2 }' "$tmp/res.txt" | sort -u); do
     gcol() { awk -v g="$g" -v c="$1" '$1 == "group" && $2 == g { print $c }' "$tmp/res.txt" | median; }
-    printf "  %-3s %7.1f req/s  latched p50/p99/max %s / %s / %s us  reply p50/p99/max %s / %s / %s us\n" \
+    printf "  %-9s %7.1f req/s  latched p50/p99/max %s / %s / %s us  reply p50/p99/max %s / %s / %s us\n" \
       "$g" "$(gcol 3)" "$(gcol 4)" "$(gcol 5)" "$(gcol 6)" "$(gcol 7)" "$(gcol 8)" "$(gcol 9)"
   done
 done

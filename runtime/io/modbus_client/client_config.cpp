@@ -56,7 +56,7 @@ std::optional<StaleReaction> parse_reaction(const std::string& s) {
 
 const std::vector<std::string> kDeviceKeys = {"name",          "host",          "port",         "unit",
                                               "response_timeout", "connect_timeout", "reconnect_min", "reconnect_max",
-                                              "word_order",    "reaction",      "stale_after"};
+                                              "word_order",    "reaction",      "stale_after",   "timing"};
 const std::vector<std::string> kGroupKeys = {"name",  "device",    "function", "address",  "count",  "write_address",
                                              "write_count", "type", "word_order", "scale", "offset", "unit",
                                              "every", "on_change", "alive_every", "reaction", "stale_after", "safe"};
@@ -95,6 +95,8 @@ ClientDevice read_device(const ConfigNode& n, DriverSetup& setup, bool& ok) {
   d.word_order = word_order(c, WordOrder::HighFirst);
   d.reaction = reaction(c, StaleReaction::Hold);
   d.stale_after_ns = c.duration_ns("stale_after", 0, 0, 3600 * kS);
+  d.timing = c.choice("timing", {"cycle", "free"}, "cycle") == "free" ? ExchangeTiming::Free : ExchangeTiming::Cycle;
+  d.task_period_ns = setup.task_period_ns();
   if (!c.ok()) ok = false;
   return d;
 }
@@ -204,8 +206,10 @@ std::optional<RequestGroup> read_group(const ConfigNode& n, const std::vector<Cl
 
   // When: every scan (the task's period) or every n ms.
   g.interval_ns = period_ns;
-  if (const ConfigNode* ev = n.find("every"); ev && ev->scalar != "scan")
+  if (const ConfigNode* ev = n.find("every"); ev && ev->scalar != "scan") {
+    g.every_scan = false;
     g.interval_ns = c.duration_ns("every", period_ns, 100'000, 3600 * kS);
+  }
   g.on_change = c.boolean("on_change", false);
   if (g.on_change && !g.writes()) c.error(n.find("on_change")->loc, "on_change is for groups that write");
   // A group that writes only on change would never find out that its device

@@ -25,6 +25,12 @@ enum class StaleReaction : std::uint8_t {
 };
 std::string_view stale_reaction_key(StaleReaction r);  // hold, safe, stop
 
+// When a device's exchanges run (docs/modbus-client.md, "Threads and timing").
+enum class ExchangeTiming : std::uint8_t {
+  Cycle,  // right after each scan's hand-over of its outputs: writes, then reads, in one burst
+  Free,   // on the device thread's own grid, free-running against the task's scans
+};
+
 struct ClientDevice {
   std::string name;
   std::string host = "127.0.0.1";
@@ -38,6 +44,8 @@ struct ClientDevice {
   WordOrder word_order = WordOrder::HighFirst;
   StaleReaction reaction = StaleReaction::Hold;
   std::int64_t stale_after_ns = 0;
+  ExchangeTiming timing = ExchangeTiming::Cycle;
+  std::int64_t task_period_ns = 0;  // the driver's task's period (timing cycle: the hand-overs' rate)
 };
 
 // How a group's values map to registers or coils.
@@ -61,6 +69,7 @@ struct RequestGroup {
   ValueFormat format;
   std::string unit;
   std::int64_t interval_ns = 0;    // every: scan (the task's period) or a duration
+  bool every_scan = true;          // every: scan (timing cycle: at every hand-over)
   bool on_change = false;          // writes: only when the values differ from the last acknowledged write
   std::int64_t alive_every_ns = 1'000'000'000;  // on_change: the same values again after this long without a write (0: never)
   StaleReaction reaction = StaleReaction::Hold;

@@ -14,8 +14,14 @@
 
 namespace syncplc {
 
-DeviceLink::DeviceLink(const ClientDevice& d, std::vector<GroupHandover*> groups, Clock clock)
-    : device_(&d), groups_(std::move(groups)), clock_(clock) {}
+DeviceLink::DeviceLink(const ClientDevice& d, std::vector<GroupHandover*> groups, Clock clock, CycleSignal* signal)
+    : device_(&d), groups_(std::move(groups)), clock_(clock), signal_(signal) {
+  // Writes, then read/writes (FC 23), then reads: a burst's reads see the
+  // device after this scan's writes.
+  auto rank = [](const GroupHandover* g) { return g->group->reads() ? (g->group->writes() ? 1 : 2) : 0; };
+  std::stable_sort(groups_.begin(), groups_.end(),
+                   [&](const GroupHandover* a, const GroupHandover* b) { return rank(a) < rank(b); });
+}
 
 bool DeviceLink::start(std::string* error) {
   stop_fd_ = eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK);
@@ -42,9 +48,10 @@ bool DeviceLink::start(std::string* error) {
 
 void DeviceLink::stop() noexcept {
   if (!thread_.joinable()) return;
-  stopping_.store(true, std::memory_order_release);
+  stopping_.store(true, std::memory_order_seq_cst);
   const std::uint64_t one = 1;
   [[maybe_unused]] ssize_t n = ::write(stop_fd_, &one, sizeof one);
+  signal_->hand_over();  // ends a wait for the scan (the other devices see one more hand-over: a burst, harmless)
   thread_.join();
   ::close(stop_fd_);
   ::close(wake_fd_);
@@ -57,6 +64,7 @@ int DeviceLink::release() noexcept {
   releasing_.store(true, std::memory_order_release);
   const std::uint64_t one = 1;
   [[maybe_unused]] ssize_t n = ::write(wake_fd_, &one, sizeof one);
+  signal_->hand_over();  // ends a wait for the scan (timing cycle), as stop() does
   thread_.join();
   ::close(stop_fd_);
   ::close(wake_fd_);
@@ -74,6 +82,7 @@ void DeviceLink::adopt(int fd) noexcept {
   adopted_.store(fd, std::memory_order_release);
   const std::uint64_t one = 1;
   [[maybe_unused]] ssize_t n = ::write(wake_fd_, &one, sizeof one);
+  signal_->hand_over();
 }
 
 void DeviceLink::flush() noexcept {
@@ -81,6 +90,7 @@ void DeviceLink::flush() noexcept {
   flush_.store(true, std::memory_order_release);
   const std::uint64_t one = 1;
   [[maybe_unused]] ssize_t n = ::write(wake_fd_, &one, sizeof one);
+  signal_->hand_over();
 }
 
 void DeviceLink::fail_others(const GroupHandover* except, ClientError e) {
@@ -165,9 +175,58 @@ bool DeviceLink::exchange(GroupHandover& h, std::uint16_t* error) {
   return true;
 }
 
+void DeviceLink::backoff_after_failure() {
+  next_connect_ = monotonic_ns() + backoff_;
+  backoff_ = std::min(2 * backoff_, device_->reconnect_max_ns);
+}
+
+bool DeviceLink::settle(GroupHandover& g, std::uint16_t err) {
+  if (!keeps_connection(err)) {
+    link_.close();
+    fail_others(&g, ClientError::NotConnected);
+    backoff_after_failure();
+    return false;
+  }
+  if (err == 0) backoff_ = device_->reconnect_min_ns;
+  return true;
+}
+
+void DeviceLink::run_free() {
+  GroupHandover* due = *std::min_element(groups_.begin(), groups_.end(),
+                                         [](const GroupHandover* a, const GroupHandover* b) { return a->next_due < b->next_due; });
+  const std::int64_t now = monotonic_ns();
+  if (due->next_due > now) {
+    // timing cycle (the fallback): a hand-over ends the wait too.
+    if (follows_scan_) signal_->wait(seen_, due->next_due, stopping_);
+    else link_.wait_until(due->next_due);
+    return;
+  }
+  // The next exchange on the group's own grid; never a burst to catch up.
+  due->next_due = std::max(due->next_due + due->group->interval_ns, now);
+  std::uint16_t err = 0;
+  if (!exchange(*due, &err) || stopping_.load(std::memory_order_acquire)) return;
+  settle(*due, err);
+}
+
+void DeviceLink::run_burst(std::int64_t now) {
+  // A duration group is due at the hand-over nearest its time on its grid.
+  const std::int64_t half = device_->task_period_ns / 2;
+  for (auto* g : groups_) {  // writes first (the constructor's order), so a read sees this scan's writes done
+    if (stopping_.load(std::memory_order_acquire)) return;
+    const RequestGroup& rg = *g->group;
+    if (!rg.every_scan && g->next_due > now + half) continue;
+    // Where the fallback (the group's own grid) would exchange it next.
+    g->next_due = rg.every_scan ? now + rg.interval_ns : std::max(g->next_due + rg.interval_ns, now);
+    std::uint16_t err = 0;
+    if (!exchange(*g, &err)) continue;
+    if (stopping_.load(std::memory_order_acquire)) return;
+    if (!settle(*g, err)) return;  // closed: the others failed with it, reconnect first
+  }
+}
+
 void DeviceLink::run() {
-  std::int64_t backoff = device_->reconnect_min_ns;
-  std::int64_t next_connect = monotonic_ns();
+  backoff_ = device_->reconnect_min_ns;
+  next_connect_ = monotonic_ns();
   bool ever = false;
   if (inherit_) {
     // Online change: the predecessor's connection, or none (connect below).
@@ -180,19 +239,26 @@ void DeviceLink::run() {
       connects.fetch_add(1, std::memory_order_relaxed);
       ever = true;  // the device's connection goes on: a later one is a reconnection
     }
-    next_connect = monotonic_ns();
+    next_connect_ = monotonic_ns();
   }
-  for (auto* g : groups_) g->next_due = next_connect;
+  for (auto* g : groups_) g->next_due = next_connect_;
+  // A driver built without a task (period 0) has no hand-overs to follow.
+  follows_scan_ = device_->timing == ExchangeTiming::Cycle && device_->task_period_ns > 0;
+  const std::int64_t fallback = kFallbackPeriods * device_->task_period_ns;
+  seen_ = signal_->count();
+  last_hand_over_ = monotonic_ns();
   while (!stopping_.load(std::memory_order_acquire) && !releasing_.load(std::memory_order_acquire)) {
     if (flush_.exchange(false, std::memory_order_acq_rel)) {
+      // at_stop: the write groups at once (timing cycle: flush() also hands
+      // over, so the burst below takes them).
       const std::int64_t now = monotonic_ns();
-      next_connect = std::min(next_connect, now);
+      next_connect_ = std::min(next_connect_, now);
       for (auto* g : groups_)
         if (g->group->writes()) g->next_due = now;
     }
     if (!link_.connected()) {
-      if (monotonic_ns() < next_connect) {
-        link_.wait_until(next_connect);
+      if (monotonic_ns() < next_connect_) {
+        link_.wait_until(next_connect_);
         continue;
       }
       // The address open() resolved: no name lookup here, where stop() must end every wait at once.
@@ -201,8 +267,7 @@ void DeviceLink::run() {
       if (stopping_.load(std::memory_order_acquire)) break;
       if (e != ClientError::None) {
         fail_others(nullptr, e);
-        next_connect = monotonic_ns() + backoff;
-        backoff = std::min(2 * backoff, device_->reconnect_max_ns);
+        backoff_after_failure();
         continue;
       }
       connects.fetch_add(1, std::memory_order_relaxed);
@@ -213,27 +278,25 @@ void DeviceLink::run() {
         g->next_due = std::min(g->next_due, now);  // exchange at once after a reconnect
         g->have_written = false;  // a restarted device may have lost them: write again, on_change or not
       }
+      // timing cycle: a scan that handed over while the link was down is
+      // served at once (count != seen_ below), as `free` exchanges at once.
     }
-    GroupHandover* due = *std::min_element(groups_.begin(), groups_.end(),
-                                           [](const GroupHandover* a, const GroupHandover* b) { return a->next_due < b->next_due; });
-    const std::int64_t now = monotonic_ns();
-    if (due->next_due > now) {
-      link_.wait_until(due->next_due);
+    if (!follows_scan_) {
+      run_free();
       continue;
     }
-    // The next exchange on the group's own grid; never a burst to catch up.
-    due->next_due = std::max(due->next_due + due->group->interval_ns, now);
-    std::uint16_t err = 0;
-    if (!exchange(*due, &err)) continue;
-    if (stopping_.load(std::memory_order_acquire)) break;
-    if (!keeps_connection(err)) {
-      link_.close();
-      fail_others(due, ClientError::NotConnected);
-      next_connect = monotonic_ns() + backoff;
-      backoff = std::min(2 * backoff, device_->reconnect_max_ns);
-    } else if (err == 0) {
-      backoff = device_->reconnect_min_ns;
+    const std::uint32_t count = signal_->count();
+    if (count != seen_) {
+      seen_ = count;
+      last_hand_over_ = monotonic_ns();
+      run_burst(last_hand_over_);
+      continue;
     }
+    if (monotonic_ns() - last_hand_over_ < fallback) {
+      signal_->wait(seen_, last_hand_over_ + fallback, stopping_);
+      continue;
+    }
+    run_free();  // no scan for a while: the groups' own grid until the next hand-over
   }
   if (!releasing_.load(std::memory_order_acquire)) link_.close();  // released: the successor takes the socket
 }

@@ -108,7 +108,7 @@ bool ModbusClientDriver::open(std::string* error) {
       close();
       return false;
     }
-    links_.push_back(std::make_unique<DeviceLink>(dev, std::move(mine), clock_));
+    links_.push_back(std::make_unique<DeviceLink>(dev, std::move(mine), clock_, &cycle_));
     if (inherit[d]) links_.back()->set_inherit();
     for (std::size_t i = 0; i < cfg_.groups.size(); ++i)
       if (cfg_.groups[i].device == d) group_link_[i] = links_.back().get();
@@ -164,7 +164,10 @@ void ModbusClientDriver::latch_inputs(const ScanContext& ctx) noexcept {
 }
 
 void ModbusClientDriver::write_outputs(const ScanContext&) noexcept {
-  if (!safe_.begin_write()) return;  // held in the safe state by the supervisor
+  if (!safe_.begin_write()) {  // held in the safe state by the supervisor: the reads still follow the scan
+    hand_over_to_devices();
+    return;
+  }
   for (std::size_t i = 0; i < cfg_.groups.size(); ++i) {
     const RequestGroup& g = cfg_.groups[i];
     if (!g.writes()) continue;
@@ -178,6 +181,14 @@ void ModbusClientDriver::write_outputs(const ScanContext&) noexcept {
     handover_[i]->outputs.publish();
   }
   safe_.end_write();
+  hand_over_to_devices();
+}
+
+void ModbusClientDriver::hand_over_to_devices() noexcept {
+  // timing cycle: the device threads run this scan's exchanges now (one
+  // atomic increment; one futex wake for all when any sleeps; cycle_signal.hpp).
+  // Free-running devices never wait on it.
+  cycle_.hand_over();
 }
 
 bool ModbusClientDriver::write_safe_outputs(const SafeOutput* outputs, std::size_t n) noexcept {
@@ -201,6 +212,7 @@ bool ModbusClientDriver::write_safe_outputs(const SafeOutput* outputs, std::size
     std::copy(out_[i].begin(), out_[i].end(), b + GroupHandover::kOutValues);
     handover_[i]->outputs.publish();
   }
+  hand_over_to_devices();  // the safe values go out now, not at the fallback's next exchange
   return true;
 }
 
@@ -348,7 +360,7 @@ DriverTypeInfo modbus_client_driver_type() {
   t.name = "modbus_client";
   t.doc =
       "Modbus TCP client: at_stop (keep, safe); remote devices {name, host (default 127.0.0.1), port, unit, response_timeout, "
-      "connect_timeout, reconnect_min, reconnect_max, word_order, reaction, stale_after} and cyclic request groups "
+      "connect_timeout, reconnect_min, reconnect_max, word_order, reaction, stale_after, timing (cycle, free)} and cyclic request groups "
       "{name, device, function (1, 2, 3, 4, 5, 6, 15, 16, 23), address, count, write_address, write_count (23), "
       "type, word_order, scale, offset, unit, every (scan or a duration), on_change, alive_every, reaction (hold, safe, stop), "
       "stale_after, safe}. Channels per group g: g (values), g_write (FC 23), g_ok, g_age (ms), g_error, "

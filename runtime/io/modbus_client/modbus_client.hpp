@@ -80,6 +80,7 @@ class ModbusClientDriver final : public IoDriver {
   const Cell* handed_over(std::size_t g);
 
  private:
+  void hand_over_to_devices() noexcept;
   struct GroupChannels {
     int values = -1, write = -1, ok = -1, age = -1, error = -1, reaction = -1;
     int requests = -1, errors = -1, timeouts = -1, reconnects = -1;
@@ -89,6 +90,7 @@ class ModbusClientDriver final : public IoDriver {
   std::vector<GroupChannels> gch_;
   std::vector<Cell*> bound_;
   std::vector<std::unique_ptr<GroupHandover>> handover_;
+  CycleSignal cycle_;  // the scans' hand-overs to the device threads (timing cycle); declared before links_, which use it
   std::vector<std::unique_ptr<DeviceLink>> links_;
   std::vector<GroupLatch> latch_;
   std::vector<std::vector<Cell>> values_;  // per group: the read values the scan shows (last good)
