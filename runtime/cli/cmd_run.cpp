@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <filesystem>
 #include <set>
 
 #include "runtime/cli/commands.hpp"
@@ -22,6 +23,8 @@
 #include "runtime/cli/run_events.hpp"
 #include "runtime/cli/store_status.hpp"
 #include "runtime/cli/serve_modbus.hpp"
+#include "runtime/cli/web_host.hpp"
+#include "runtime/web/server.hpp"
 #include "runtime/project/report.hpp"
 
 namespace syncplc::cli {
@@ -85,6 +88,46 @@ void write_reload_result(const std::string& pid_file, const ReloadResult& r) {
   std::rename(tmp.c_str(), path.c_str());
 }
 
+// What the HTTP API's /status says of the runtime, taken each main loop turn.
+nlohmann::json runtime_json(const std::string& project, double uptime_s, const PlcStore& store,
+                            const modbus::Server* modbus, const web::Server* http, const std::string& hash,
+                            const Program& p, const Supervisor& supervisor) {
+  const StoreStatus st = store_status(store);
+  nlohmann::json states = nlohmann::json::object();
+  for (std::size_t i = 0; i < p.tasks.size(); ++i) {
+    const Task& t = *p.tasks[i];
+    if (supervisor.hung(i))
+      states[t.config().name] = {{"state", "hung"}, {"stop_reason", "a scan did not end: its outputs are safe, its thread given up"}};
+    else if (t.stopped())
+      states[t.config().name] = {{"state", "stopped"},
+                                 {"stop_reason", t.stats.watchdog_trips.load() > 0 ? "its watchdog stopped it"
+                                                                                   : "a driver's reaction stopped it"}};
+  }
+  return {{"version", "0.1.0"},
+          {"project_file", project},
+          {"project_hash", hash},
+          {"uptime_s", uptime_s},
+          {"store", {{"state", st.state == StoreStatus::State::Ok ? "ok" : st.state == StoreStatus::State::Fault ? "FAULT" : "off"},
+                     {"detail", st.error.empty() ? nlohmann::json(store.path()) : nlohmann::json(st.error)}}},
+          {"modbus", modbus ? nlohmann::json(modbus->endpoint()) : nlohmann::json()},
+          {"http", http ? nlohmann::json(http->url()) : nlohmann::json()},
+          {"task_states", states}};
+}
+
+// A reload's result as the HTTP API answers it.
+web::ChangeOutcome change_outcome(const ReloadResult& rr) {
+  web::ChangeOutcome o;
+  o.accepted = rr.accepted;
+  o.summary = rr.summary;
+  o.lines = rr.lines;
+  o.status = rr.accepted ? 200 : (rr.summary.find("rejected (") != std::string::npos ? 400 : 409);
+  nlohmann::json report{{"kept", nlohmann::json::array()}, {"retuned", nlohmann::json::array()},
+                        {"new", nlohmann::json::array()}, {"removed", nlohmann::json::array()}};
+  for (const auto& i : rr.instances) report[std::string(instance_fate_name(i.fate))].push_back(i.name);
+  o.report = report;
+  return o;
+}
+
 }  // namespace
 
 int cmd_run(const RunOptions& options) {
@@ -129,6 +172,7 @@ int cmd_run(const RunOptions& options) {
     return kExitInvalid;
   }
   store::ProjectLoad start = project_load(r, project, origin, source);  // before the program moves out of r
+  const std::string start_hash = start.content.hash;
   std::unique_ptr<Program> program = std::move(r.program);
 
   // The PLC's database first: a second instance on it stops here, before
@@ -154,6 +198,7 @@ int cmd_run(const RunOptions& options) {
   sigaddset(&sigs, SIGTERM);
   sigaddset(&sigs, SIGHUP);
   sigaddset(&sigs, SIGUSR1);
+  sigaddset(&sigs, SIGUSR2);  // an online change asked for over HTTP (web_host.hpp)
   pthread_sigmask(SIG_BLOCK, &sigs, nullptr);
   signal(SIGPIPE, SIG_IGN);  // a Modbus client that goes away must not end the PLC
 
@@ -178,6 +223,29 @@ int cmd_run(const RunOptions& options) {
     program->close_drivers();
     const ModbusConfig cfg = server_config(r.modbus.server, modbus_port);
     return start_failed("the Modbus server could not listen on " + cfg.bind + ":" + std::to_string(cfg.port), kExitInvalid);
+  }
+  // The HTTP API and the HMI, bound before any task runs. A port given
+  // with --http that is taken stops here; the default one only warns (the
+  // machine keeps its control program when another service holds 8080).
+  std::string project_hash = start_hash;
+  RunWebHost web_host(program.get(), *plc_store, o,
+                      (std::filesystem::path(default_database_path()).parent_path() / "uploads").string());
+  std::unique_ptr<web::Server> web_server;
+  if (options.http.enabled) {
+    web_server = std::make_unique<web::Server>(options.http, web_host);
+    std::string why;
+    if (!web_server->start(&why)) {
+      web_server.reset();
+      if (options.http.explicit_address || options.http.tls()) {
+        std::cerr << "syncplc: " << why << "\n";
+        if (modbus_server) modbus_server->stop();
+        program->close_drivers();
+        return start_failed(why, kExitInvalid);
+      }
+      std::cerr << "syncplc: warning: " << why << "; running without the HTTP API and the HMI\n";
+    } else {
+      std::cerr << "syncplc: HMI and HTTP API on " << web_server->url() << "\n";
+    }
   }
   // `syncplc reload` finds this instance through its pid file.
   const std::string pid_file = pid_file_option.empty() ? default_pid_file(project) : pid_file_option;
@@ -223,8 +291,30 @@ int cmd_run(const RunOptions& options) {
       write_reload_result(pid_file, rr);
       continue;
     }
+    // Online change: load and check the file first; only a good project
+    // replaces the running one. The HTTP threads wait meanwhile (hold()).
+    auto apply_reload = [&](const ReloadFrom& from) {
+      ReloadResult rr;
+      {
+        auto hold = web_host.hold();
+        rr = reloader.reload(program, *runner, modbus_server, plc_store.get(), std::cerr, from);
+        web_host.set_program(program.get());
+      }
+      if (rr.accepted) project_hash = rr.hash;
+      for (const auto& line : rr.lines) std::cerr << line << "\n";
+      run_events.reloaded(rr.accepted, rr.summary, rr.lines);
+      // An event like the tasks' (the time on the tasks' axis), kept on the
+      // live screen with the other events; the result stays apart until the next.
+      const std::string event = fmt::format("[{:.6f}s] {:<14} {}", static_cast<double>(runner->now_ns()) * 1e-9,
+                                            rr.accepted ? "reload" : "reload-failed", rr.summary);
+      if (live) screen.add_event(event);
+      else std::cerr << event << "\n";
+      if (rr.accepted) screen.set_reload_result(true, rr.summary);
+      else screen.set_reload_result(false, rr.summary, rr.lines);
+      supervisor.attach(*program, *runner);
+      return rr;
+    };
     if (sig == SIGHUP || sig == SIGUSR1) {
-      // Online change: load and check the file first; only a good project replaces the running one.
       // `syncplc reload --version N`: that stored version, extracted, by online change.
       ReloadFrom from;
       if (const std::int64_t version = sig == SIGUSR1 ? take_reload_request(pid_file) : 0) {
@@ -239,22 +329,42 @@ int cmd_run(const RunOptions& options) {
         }
         from = {v->project_file, "rollback", "version " + std::to_string(v->number)};
       }
-      ReloadResult rr = reloader.reload(program, *runner, modbus_server, plc_store.get(), std::cerr, from);
-      for (const auto& line : rr.lines) std::cerr << line << "\n";
-      run_events.reloaded(rr.accepted, rr.summary, rr.lines);
-      // An event like the tasks' (the time on the tasks' axis), kept on the
-      // live screen with the other events; the result stays apart until the next.
-      const std::string event = fmt::format("[{:.6f}s] {:<14} {}", static_cast<double>(runner->now_ns()) * 1e-9,
-                                            rr.accepted ? "reload" : "reload-failed", rr.summary);
-      if (live) screen.add_event(event);
-      else std::cerr << event << "\n";
-      if (rr.accepted) screen.set_reload_result(true, rr.summary);
-      else screen.set_reload_result(false, rr.summary, rr.lines);
-      write_reload_result(pid_file, rr);
-      supervisor.attach(*program, *runner);
+      write_reload_result(pid_file, apply_reload(from));
       continue;
     }
-    reloader.poll(*runner, std::cerr, plc_store.get());
+    // Online changes asked for over HTTP (load, reload, rollback), one at a time.
+    bool changed = false;
+    for (web::ChangeRequest req; web_host.take_change(req); changed = true) {
+      if (supervisor.any_hung()) {
+        web::ChangeOutcome o;
+        o.status = 409;
+        o.summary = "reload refused: a task's scan did not end and its thread cannot be stopped; restart syncplc";
+        web_host.finish_change(o);
+        continue;
+      }
+      ReloadFrom from;
+      const std::string by = " by " + req.user + " from " + req.client;
+      if (req.kind == web::ChangeRequest::Kind::Load) {
+        from = {req.project_file, "upload", "uploaded" + by};
+      } else if (req.kind == web::ChangeRequest::Kind::Rollback) {
+        std::string why;
+        auto v = extract_version(plc_store->path(), req.version, &why);
+        if (!v) {
+          web::ChangeOutcome o;
+          o.status = 409;
+          o.summary = "rollback refused: " + why + "; the running program continues unchanged";
+          web_host.finish_change(o);
+          continue;
+        }
+        from = {v->project_file, "rollback", "version " + std::to_string(v->number) + by};
+      }
+      web_host.finish_change(change_outcome(apply_reload(from)));
+    }
+    if (changed) continue;  // `p` was the program before the change
+    {
+      auto hold = web_host.hold();  // a late task's old program may go here
+      reloader.poll(*runner, std::cerr, plc_store.get());
+    }
     if (!warned) {
       for (const auto& w : runner->warnings()) {
         if (live) screen.add_event("warning: " + w);
@@ -271,6 +381,9 @@ int cmd_run(const RunOptions& options) {
     double elapsed = static_cast<double>(std::max<std::int64_t>(0, RealtimeRunner::monotonic_ns() - t0)) * 1e-9;
     if (live) screen.set_store(store_status_line(store_status(*plc_store), plc_store->path()));
     screen.draw(p, elapsed, modbus_server.get(), &supervisor);
+    if (web_server)
+      web_host.set_status(runtime_json(project, elapsed, *plc_store, modbus_server.get(), web_server.get(), project_hash,
+                                       p, supervisor));
     if (limit && RealtimeRunner::monotonic_ns() - t0 >= *limit) break;
     if (supervisor.all_stopped()) {  // by their watchdogs, or given up on by the supervisor
       std::cerr << "syncplc: every task has stopped\n";
@@ -280,6 +393,8 @@ int cmd_run(const RunOptions& options) {
     if (!runner->threads_alive()) break;  // the threads end by themselves after the --duration's last release
   }
   screen.leave();  // the statistics go to the normal screen
+  web_host.close();  // HTTP requests waiting for a change are answered: none comes now
+  if (web_server) web_server->stop();
   if (modbus_server) modbus_server->stop();
   // A thread stuck in a scan cannot be joined: its task's outputs are safe
   // (the supervisor), the others are stopped, and the process ends without it.

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "runtime/project/loader.hpp"
+#include "runtime/web/web_config.hpp"
 
 namespace syncplc::cli {
 
@@ -41,6 +42,7 @@ struct RunOptions {
   std::string pid_file;  // "" : default_pid_file(project)
   std::string db;        // --db: the PLC's database ("" : the project's store: path, else the default; docs/store.md)
   std::string start = "warm";  // --start warm|cold|origin: which retained values come back (docs/store.md)
+  web::WebConfig http;         // --http ...: the HTTP API and the HMI (docs/http-api.md)
 };
 int cmd_run(const RunOptions& options);
 int cmd_reload(const std::string& project, const std::string& pid_file, std::int64_t version);

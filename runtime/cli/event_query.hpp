@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "runtime/store/database.hpp"
+#include "runtime/store/log_queries.hpp"
 
 namespace syncplc::cli {
 
@@ -17,22 +17,10 @@ namespace syncplc::cli {
 // since 1970; nullopt with `error` when it is neither.
 std::optional<std::int64_t> parse_since(const std::string& text, std::int64_t wall_now_ns, std::string* error);
 
-struct LoggedEvent {
-  std::int64_t id = 0;
-  std::int64_t time_ns = 0;
-  std::string kind, task, source, message, client;
-  std::optional<std::int64_t> scan;
-};
-
-struct EventFilter {
-  std::int64_t after_id = 0;                         // only ids above this
-  std::optional<std::int64_t> since_ns;              // wall time
-  std::vector<std::string> kinds;                    // empty: every kind
-};
-
-// The events the filter selects, oldest first. Throws SQLite::Exception; a
-// database without an event log gives a clear std::runtime_error.
-std::vector<LoggedEvent> read_events(store::Database& db, const EventFilter& f);
+// The events themselves: runtime/store/log_queries.hpp.
+using store::EventFilter;
+using store::LoggedEvent;
+using store::read_events;
 
 // "2026-11-25 10:00:00.123  hmi-write      main     scan -  speed := 12.5  client 127.0.0.1:40512",
 // local time; a message of several lines continues indented.

@@ -53,6 +53,18 @@ int main(int argc, char** argv) {
   run->add_option("--pid-file", pid_file, "where `syncplc reload` finds this instance (default: one per project file in "
                                           "$XDG_RUNTIME_DIR/syncplc or /tmp/syncplc-UID)");
 
+  syncplc::web::WebConfig http;
+  std::string http_address, http_anonymous;
+  run->add_option("--http", http_address, "serve the HTTP API and the HMI on ADDR:PORT or PORT (default 127.0.0.1:8080; "
+                                          "off: no HTTP server)");
+  run->add_option("--http-cert", http.tls_cert, "HTTPS: the certificate (PEM)");
+  run->add_option("--http-key", http.tls_key, "HTTPS: the certificate's private key (PEM)");
+  run->add_flag("--http-insecure", http.allow_plain_remote, "allow plain HTTP on an address beyond this machine");
+  run->add_option("--http-anonymous-read", http_anonymous, "reads without a login: on or off (default: on for a loopback "
+                                                           "address, off otherwise)")
+      ->check(CLI::IsMember({"on", "off"}));
+  run->add_option("--hmi-dir", http.hmi_dir, "serve the HMI from this directory (default: the build's hmi_web/dist)");
+
   auto* reload = app.add_subcommand("reload", "online change: the running `syncplc run` of PROJECT loads its file again "
                                               "and switches to it without a stop; prints what changed");
   reload->add_option("PROJECT", project, "the project file the instance runs (default: the only one running)");
@@ -120,6 +132,15 @@ int main(int argc, char** argv) {
       o.pid_file = pid_file;
       o.db = db;
       o.start = start;
+      o.http = http;
+      if (!http_address.empty()) {
+        std::string why;
+        if (!syncplc::web::parse_http_address(http_address, o.http, &why)) {
+          std::cerr << "syncplc: " << why << "\n";
+          return kExitInvalid;
+        }
+      }
+      if (!http_anonymous.empty()) o.http.anonymous_read = http_anonymous == "on";
       return cmd_run(o);
     }
     if (*reload) return cmd_reload(project, pid_file, version);

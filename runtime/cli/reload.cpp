@@ -138,6 +138,8 @@ ReloadResult Reloader::reload(std::unique_ptr<Program>& program, RealtimeRunner&
 
   r.accepted = true;
   r.lines = change_report(*change);
+  r.instances = change->instances;
+  r.hash = store::make_content(next.sources).hash;
   // What the switch cost: how late each task's first new scan started (a
   // complete change has them all: a handover is finished after that scan).
   std::int64_t late = 0;

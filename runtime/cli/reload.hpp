@@ -21,6 +21,8 @@ struct ReloadResult {
   bool accepted = false;
   std::string summary;             // one line
   std::vector<std::string> lines;  // the errors (rejected) or the change report (accepted)
+  std::vector<InstanceChange> instances;  // accepted: what became of each block instance
+  std::string hash;                // accepted: the project store's content hash of the new program's files
 };
 
 // What a reload loads: the instance's project file (path ""), or another

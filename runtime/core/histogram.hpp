@@ -68,6 +68,9 @@ class Histogram {
     max_.store(o.max_.load(std::memory_order_relaxed), std::memory_order_relaxed);
   }
 
+  // Bucket i's count (readers that draw the distribution: the HTTP API).
+  std::uint64_t bucket(int i) const noexcept { return buckets_[i].load(std::memory_order_relaxed); }
+
   static int index(std::uint64_t u) noexcept {
     if (u < kSub) return static_cast<int>(u);
     int msb = 63 - __builtin_clzll(u);

@@ -1,0 +1,97 @@
+// Projects over HTTP (docs/http-api.md): check without loading, load by
+// online change, reload the instance's file, roll back to a stored version.
+// The change itself is `run`'s main thread's (PlcHost::change), exactly as
+// `syncplc reload` asks for it.
+#include "runtime/web/api.hpp"
+#include "runtime/web/project_upload.hpp"
+
+namespace syncplc::web {
+namespace {
+
+void answer_change(const ChangeOutcome& o, httplib::Response& res, const std::string& dir) {
+  nlohmann::json errors = nlohmann::json::array();
+  if (!o.accepted)
+    for (const auto& l : o.lines) errors.push_back(error_json(l, dir));
+  nlohmann::json report = o.report;
+  report["summary"] = o.summary;
+  nlohmann::json body{{"ok", o.accepted}, {"summary", o.summary}, {"errors", errors}, {"lines", o.lines}};
+  if (o.accepted) body["report"] = report;
+  else body["error"] = o.summary;
+  send_json(res, o.accepted ? 200 : o.status, body);
+}
+
+}  // namespace
+
+void add_project_routes(httplib::Server& s, ApiContext& c) {
+  // One handler for check and load: both check first.
+  auto upload = [&c](bool load) {
+    return [&c, load](const httplib::Request& req, httplib::Response& res) {
+      auto who = c.need(req, res, Role::Engineer);
+      if (!who) return;
+      auto body = c.json_body(req, res, c.config.max_upload);
+      if (!body) return;
+      std::string why;
+      auto u = parse_upload(*body, c.config.max_upload_files, &why);
+      if (!u) {
+        send_error(res, 400, why);
+        return;
+      }
+      const std::string root = c.host.upload_dir();
+      const UploadCheck check = check_upload(*u, root, c.host.load_options());
+      if (!check.ok) {
+        send_json(res, 400, {{"ok", false},
+                             {"error", "the project has " + std::to_string(check.errors.size()) + " error" +
+                                           (check.errors.size() == 1 ? "" : "s") + "; nothing was changed"},
+                             {"errors", check.errors}});
+        return;
+      }
+      if (!load) {
+        send_json(res, 200, {{"ok", true}, {"errors", nlohmann::json::array()}, {"hash", check.hash}});
+        return;
+      }
+      const std::string main = keep_upload(*u, root, check.hash, &why);
+      if (main.empty()) {
+        send_error(res, 500, why);
+        return;
+      }
+      ChangeRequest r;
+      r.kind = ChangeRequest::Kind::Load;
+      r.project_file = main;
+      r.user = who->user;
+      r.client = ApiContext::client(req);
+      answer_change(c.host.change(r), res, root + "/" + check.hash);
+    };
+  };
+  s.Post("/api/v1/projects/check", upload(false));
+  s.Post("/api/v1/projects/load", upload(true));
+
+  s.Post("/api/v1/projects/reload", [&c](const httplib::Request& req, httplib::Response& res) {
+    auto who = c.need(req, res, Role::Engineer);
+    if (!who) return;
+    ChangeRequest r;
+    r.kind = ChangeRequest::Kind::Reload;
+    r.user = who->user;
+    r.client = ApiContext::client(req);
+    answer_change(c.host.change(r), res, "");
+  });
+
+  s.Post("/api/v1/projects/rollback", [&c](const httplib::Request& req, httplib::Response& res) {
+    auto who = c.need(req, res, Role::Engineer);
+    if (!who) return;
+    auto body = c.json_body(req, res);
+    if (!body) return;
+    const auto v = body->find("version");
+    if (v == body->end() || !v->is_number_integer() || v->get<std::int64_t>() < 1) {
+      send_error(res, 400, R"(expected {"version": N}, N a stored version (GET /api/v1/projects))");
+      return;
+    }
+    ChangeRequest r;
+    r.kind = ChangeRequest::Kind::Rollback;
+    r.version = v->get<std::int64_t>();
+    r.user = who->user;
+    r.client = ApiContext::client(req);
+    answer_change(c.host.change(r), res, "");
+  });
+}
+
+}  // namespace syncplc::web

@@ -1,0 +1,130 @@
+#include "runtime/web/project_upload.hpp"
+
+#include <stdlib.h>
+#include <sys/stat.h>
+
+#include <filesystem>
+
+#include "runtime/store/project_store.hpp"
+
+namespace syncplc::web {
+namespace fs = std::filesystem;
+
+namespace {
+
+// Plain relative names only: letters, digits, _ - . and / between parts,
+// no part "." or "..", at most 255 bytes; .yaml, .yml or .csv.
+bool good_name(const std::string& n, std::string* why) {
+  if (n.empty() || n.size() > 255) {
+    *why = "a file name must be 1..255 bytes";
+    return false;
+  }
+  for (char ch : n)
+    if (!(std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '-' || ch == '.' || ch == '/')) {
+      *why = "'" + n + "': file names may hold letters, digits, _ - . and / only";
+      return false;
+    }
+  if (n.front() == '/') {
+    *why = "'" + n + "': name files relative to the project's directory";
+    return false;
+  }
+  for (const auto& part : fs::path(n))
+    if (part == ".." || part == "." || part.empty()) {
+      *why = "'" + n + "': a name may not leave the project's directory or hold '.' or '..'";
+      return false;
+    }
+  const std::string ext = fs::path(n).extension().string();
+  if (ext != ".yaml" && ext != ".yml" && ext != ".csv") {
+    *why = "'" + n + "': a project holds .yaml, .yml and .csv files only";
+    return false;
+  }
+  return true;
+}
+
+std::string strip_dir(const std::string& text, const std::string& dir) {
+  std::string out = text;
+  const std::string prefix = dir + "/";
+  for (std::size_t at = out.find(prefix); at != std::string::npos; at = out.find(prefix, at)) out.erase(at, prefix.size());
+  return out;
+}
+
+}  // namespace
+
+std::optional<Upload> parse_upload(const nlohmann::json& body, std::size_t max_files, std::string* error) {
+  const auto main = body.find("main"), files = body.find("files");
+  if (main == body.end() || !main->is_string() || files == body.end() || !files->is_object() || files->empty()) {
+    *error = R"(expected {"main": "project.yaml", "files": {"project.yaml": "...", "include.yaml": "..."}})";
+    return std::nullopt;
+  }
+  if (files->size() > max_files) {
+    *error = "the upload holds " + std::to_string(files->size()) + " files; at most " + std::to_string(max_files) + " are taken";
+    return std::nullopt;
+  }
+  const std::string main_name = main->get<std::string>();
+  if (!files->contains(main_name)) {
+    *error = "the main file '" + main_name + "' is not among the files sent";
+    return std::nullopt;
+  }
+  Upload u;
+  for (const auto& [name, text] : files->items()) {
+    if (!good_name(name, error)) return std::nullopt;
+    if (!text.is_string()) {
+      *error = "'" + name + "': a file's content must be a JSON string";
+      return std::nullopt;
+    }
+    store::SourceFile f{fs::path(name).lexically_normal().string(), text.get<std::string>()};
+    if (name == main_name) u.files.insert(u.files.begin(), std::move(f));
+    else u.files.push_back(std::move(f));
+  }
+  return u;
+}
+
+nlohmann::json error_json(const std::string& line, const std::string& dir) {
+  const std::string text = strip_dir(line, dir);
+  // "file:line:col: message"
+  const auto a = text.find(':');
+  const auto b = a == std::string::npos ? a : text.find(':', a + 1);
+  const auto c = b == std::string::npos ? b : text.find(':', b + 1);
+  if (c != std::string::npos && c + 1 < text.size() && text[c + 1] == ' ')
+    return {{"where", text.substr(0, c)}, {"message", text.substr(c + 2)}};
+  return {{"where", nullptr}, {"message", text}};
+}
+
+UploadCheck check_upload(const Upload& u, const std::string& root, const LoadOptions& options) {
+  UploadCheck out;
+  std::error_code ec;
+  fs::create_directories(root, ec);
+  chmod(root.c_str(), 0700);
+  std::string tmpl = root + "/check-XXXXXX";
+  if (!mkdtemp(tmpl.data())) {
+    out.errors.push_back({{"where", nullptr}, {"message", "cannot make a directory under " + root + " to check the upload"}});
+    return out;
+  }
+  const std::string dir = tmpl;
+  std::string error;
+  const std::string main = store::extract_files(u.files, dir, &error);
+  if (main.empty()) {
+    out.errors.push_back({{"where", nullptr}, {"message", strip_dir(error, dir)}});
+    fs::remove_all(dir, ec);
+    return out;
+  }
+  const LoadResult r = load_project(main, options);
+  for (const auto& d : r.diagnostics.sorted()) out.errors.push_back(error_json(d.text(), dir));
+  const std::string inside = fs::weakly_canonical(dir, ec).string() + "/";
+  for (const auto& s : r.sources) {
+    const std::string p = fs::weakly_canonical(s.path, ec).string();
+    if (p.rfind(inside, 0) != 0)
+      out.errors.push_back({{"where", nullptr},
+                            {"message", "the project reads " + p + ", outside the upload: send every file it includes"}});
+  }
+  out.ok = out.errors.empty();
+  if (out.ok) out.hash = store::make_content(r.sources).hash;
+  fs::remove_all(dir, ec);
+  return out;
+}
+
+std::string keep_upload(const Upload& u, const std::string& root, const std::string& hash, std::string* error) {
+  return store::extract_files(u.files, root + "/" + hash, error);
+}
+
+}  // namespace syncplc::web
