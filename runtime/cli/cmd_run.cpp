@@ -272,6 +272,7 @@ int cmd_run(const RunOptions& options) {
   Supervisor supervisor(*program, *runner);
   const bool live = !no_status && isatty(STDOUT_FILENO);
   LiveScreen screen(std::cout, live);  // the alternate screen, given back on every way out (live_screen.hpp)
+  if (live && web_server) screen.add_event("HMI and HTTP API on " + web_server->url());
   const std::int64_t t0 = runner->epoch_ns();  // the first release: --duration counts from here
   bool warned = false;
   int stop_signal = 0;
@@ -358,7 +359,11 @@ int cmd_run(const RunOptions& options) {
         }
         from = {v->project_file, "rollback", "version " + std::to_string(v->number) + by};
       }
-      web_host.finish_change(change_outcome(apply_reload(from)));
+      const ReloadResult rr = apply_reload(from);
+      // The status shows the new program before the HTTP client hears the change is done.
+      web_host.set_status(runtime_json(project, static_cast<double>(RealtimeRunner::monotonic_ns() - t0) * 1e-9,
+                                       *plc_store, modbus_server.get(), web_server.get(), *program, supervisor));
+      web_host.finish_change(change_outcome(rr));
     }
     if (changed) continue;  // `p` was the program before the change
     reloader.poll(*runner, std::cerr, plc_store.get());

@@ -186,14 +186,17 @@ def main():
     newer = main_text.replace("version: 1.0.0", "version: 1.0.1")
     j = api.expect(200, "POST", "/projects/load", {"main": "main.yaml", "files": {"main.yaml": newer, "tags.yaml": common}})
     assert j["ok"] and "k_iw" in j["report"]["kept"] and not j["report"]["new"], j
+    loaded = j["version"]
+    assert isinstance(loaded, int) and loaded >= 2, j
     assert api.expect(200, "GET", "/status")["runtime"]["program_version"] == "1.0.1"
     assert values(api, "mw_arr_r")["mw_arr_r"] == [9, 8, 7, 6], "tag values carried over the load"
     versions = peerlib.wait_until(lambda: (lambda v: (len(v) >= 2, v))(api.expect(200, "GET", "/projects")["versions"]),
                                   "the upload in the project store")[0]
     assert [v["origin"] for v in versions][:1] == ["run"] and versions[-1]["origin"] == "upload", versions
     assert versions[-1]["running"] and versions[-1]["outcome"] == "accepted", versions[-1]
+    assert versions[-1]["version"] == loaded, (versions[-1], loaded)
     j = api.expect(200, "POST", "/projects/rollback", {"version": versions[0]["version"]})
-    assert j["ok"], j
+    assert j["ok"] and j["version"] == loaded + 1, (j, loaded)
     assert api.expect(200, "GET", "/status")["runtime"]["program_version"] == "1.0.0"
     api.expect(409, "POST", "/projects/rollback", {"version": 999}, what="rollback to a version that is not there")
     api.expect(200, "POST", "/projects/reload", {})
