@@ -66,5 +66,16 @@ struct TrendOptions {
 };
 int cmd_trend(const TrendOptions& options);
 int cmd_test(const std::string& project, const std::string& tests, const std::string& junit);
+// `syncplc user add|passwd|role|remove|list`: the users of the HTTP API and
+// the HMI in the PLC's database (docs/user-guide.md).
+struct UserOptions {
+  std::string action;           // add, passwd, role, remove, list
+  std::string name;             // NAME (all but list)
+  std::string role;             // add: --role; role: ROLE
+  bool password_stdin = false;  // add, passwd: one line of stdin instead of asking on the terminal
+  std::string db;               // --db; "" : the project's store: path, else the default (docs/store.md)
+  std::string project;          // PROJECT: whose store: path names the database
+};
+int cmd_user(const UserOptions& options);
 
 }  // namespace syncplc::cli

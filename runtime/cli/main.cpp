@@ -111,6 +111,35 @@ int main(int argc, char** argv) {
   trend->add_option("--until", trend_options.until, "before this time (same forms as --since)");
   trend->add_flag("--csv", trend_options.csv, "CSV: time,tag,min,max,mean,count");
 
+  UserOptions user_options;
+  auto* user = app.add_subcommand("user", "the users of the HTTP API and the HMI: add, passwd, role, remove, list "
+                                          "(also while the PLC runs)");
+  user->require_subcommand(1);
+  // Every action names the database as run does: --db, else PROJECT's store: path, else the default.
+  auto database_options = [&](CLI::App* a) {
+    a->add_option("PROJECT", user_options.project, "the project whose store: path names the database");
+    a->add_option("--db", user_options.db, "the PLC's database (default: as for run)");
+  };
+  auto* user_add = user->add_subcommand("add", "add a user; the password is asked twice (or --password-stdin)");
+  user_add->add_option("NAME", user_options.name, "1 to 64 of A-Z a-z 0-9 _ . @ -")->required();
+  user_add->add_option("--role", user_options.role, "viewer, operator or engineer")->required();
+  user_add->add_flag("--password-stdin", user_options.password_stdin, "read the password as one line of standard input");
+  database_options(user_add);
+  auto* user_passwd = user->add_subcommand("passwd", "give a user a new password");
+  user_passwd->add_option("NAME", user_options.name, "the user")->required();
+  user_passwd->add_flag("--password-stdin", user_options.password_stdin,
+                        "read the password as one line of standard input");
+  database_options(user_passwd);
+  auto* user_role = user->add_subcommand("role", "give a user another role");
+  user_role->add_option("NAME", user_options.name, "the user")->required();
+  user_role->add_option("ROLE", user_options.role, "viewer, operator or engineer")->required();
+  database_options(user_role);
+  auto* user_remove = user->add_subcommand("remove", "remove a user");
+  user_remove->add_option("NAME", user_options.name, "the user")->required();
+  database_options(user_remove);
+  auto* user_list = user->add_subcommand("list", "list the users with their roles");
+  database_options(user_list);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -149,6 +178,10 @@ int main(int argc, char** argv) {
     if (*events) return cmd_events(events_options);
     if (*reset) return cmd_reset(reset_kind, project, db);
     if (*trend) return cmd_trend(trend_options);
+    if (*user) {
+      user_options.action = user->get_subcommands().front()->get_name();
+      return cmd_user(user_options);
+    }
   } catch (const std::exception& e) {
     std::cerr << "syncplc: " << e.what() << "\n";
     return kExitInvalid;

@@ -39,18 +39,28 @@ inline std::string slurp(const std::string& path) {
   return ss.str();
 }
 
-// `args` after the program name, shell-quoted by the caller where needed.
-inline CliResult run_cli(const std::string& args) {
+// `args` after the program name, shell-quoted by the caller where needed;
+// standard input from `stdin_path`.
+inline CliResult run_cli_from(const std::string& args, const std::string& stdin_path) {
   static int n = 0;
   std::string o = write_temp_file("cli" + std::to_string(++n) + ".out", "");
   std::string e = o + ".err";
-  std::string cmd = std::string(SYNCPLC_BINARY) + " " + args + " >" + o + " 2>" + e + " </dev/null";
+  std::string cmd = std::string(SYNCPLC_BINARY) + " " + args + " >" + o + " 2>" + e + " <" + stdin_path;
   int status = std::system(cmd.c_str());
   CliResult r;
   r.rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   r.out = slurp(o);
   r.err = slurp(e);
   return r;
+}
+
+// Standard input empty (/dev/null: not a terminal).
+inline CliResult run_cli(const std::string& args) { return run_cli_from(args, "/dev/null"); }
+
+// Standard input `input`, through a temporary file.
+inline CliResult run_cli_input(const std::string& args, const std::string& input) {
+  static int n = 0;
+  return run_cli_from(args, write_temp_file("cli-stdin" + std::to_string(++n), input));
 }
 
 // A TCP port of 127.0.0.1 held by a listening socket for the object's life:
