@@ -24,6 +24,10 @@ bool good_name(const std::string& n, std::string* why) {
       *why = "'" + n + "': file names may hold letters, digits, _ - . and / only";
       return false;
     }
+  if (n.find("//") != std::string::npos || n.back() == '/') {
+    *why = "'" + n + "': an empty part in a file name";
+    return false;
+  }
   if (n.front() == '/') {
     *why = "'" + n + "': name files relative to the project's directory";
     return false;

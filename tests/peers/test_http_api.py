@@ -1,0 +1,264 @@
+"""The HTTP API (docs/http-api.md) of a real `syncplc run`, from Python's own
+http.client and Debian's python3-pymodbus: logins and roles, a write read
+back over Modbus, a force that holds against the program, project check,
+load and rollback, events, the live stream, and hostile requests.
+
+    /usr/bin/python3 tests/peers/test_http_api.py build/syncplc
+"""
+
+import http.client
+import json
+import os
+import re
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+
+import peerlib
+
+BINARY = peerlib.syncplc_binary()
+DB = os.path.join(peerlib.STATE_DIR, "plc.db")
+USERS = {"vera": ("viewer", "vera-secret-1"), "olga": ("operator", "olga-secret-2"), "erik": ("engineer", "erik-secret-3")}
+
+
+def add_user(name, role, password):
+    p = subprocess.run([BINARY, "user", "add", name, "--role", role, "--password-stdin", "--db", DB],
+                       input=password + "\n", text=True, capture_output=True, timeout=60)
+    if p.returncode != 0:
+        raise AssertionError("syncplc user add %s: %d\n%s%s" % (name, p.returncode, p.stdout, p.stderr))
+
+
+class Api:
+    def __init__(self, port):
+        self.port = port
+        self.token = None
+
+    def call(self, method, path, body=None, headers=None, raw=None, content_type="application/json", absolute=False):
+        c = http.client.HTTPConnection("127.0.0.1", self.port, timeout=30)
+        h = dict(headers or {})
+        if self.token:
+            h["Authorization"] = "Bearer " + self.token
+        data = raw
+        if body is not None:
+            data = json.dumps(body).encode()
+        if data is not None:
+            h.setdefault("Content-Type", content_type)
+        c.request(method, path if absolute else "/api/v1" + path, body=data, headers=h)
+        r = c.getresponse()
+        text = r.read().decode("utf-8", "replace")
+        c.close()
+        try:
+            j = json.loads(text) if text else None
+        except ValueError:
+            j = None
+        return r.status, j, r
+
+    def expect(self, status, method, path, body=None, what="", **kw):
+        got, j, r = self.call(method, path, body, **kw)
+        if got != status:
+            raise AssertionError("%s %s %s: expected HTTP %d, got %d %r" % (what, method, path, status, got, j))
+        return j
+
+    def login(self, user):
+        self.token = None
+        j = self.expect(200, "POST", "/login", {"user": user, "password": USERS[user][1]}, what="login " + user)
+        assert j["role"] == USERS[user][0] and j["user"] == user and j["expires_in_s"] > 0, j
+        self.token = j["token"]
+
+
+def values(api, *refs):
+    return api.expect(200, "GET", "/values?refs=" + ",".join(refs))["values"]
+
+
+def main():
+    for name, (role, password) in USERS.items():
+        add_user(name, role, password)
+    srv = peerlib.Server(BINARY, peerlib.project("peers.yaml"), extra=["--http", "127.0.0.1:0", "--db", DB])
+    port = None
+    deadline = time.monotonic() + 30
+    while port is None and time.monotonic() < deadline:
+        for line in list(srv.stderr_lines):
+            m = re.search(r"HTTP API on http://127\.0\.0\.1:(\d+)/", line)
+            if m:
+                port = int(m.group(1))
+        time.sleep(0.05)
+    assert port, "no HTTP address on stderr:\n" + "".join(srv.stderr_lines)
+    api = Api(port)
+
+    # --- reads, anonymous on loopback
+    st = api.expect(200, "GET", "/status")
+    assert st["runtime"]["program"] == "peers", st["runtime"]
+    names = [t["name"] for t in st["tasks"]]
+    assert names == ["main", "slow"], names
+    main_task = st["tasks"][0]
+    assert main_task["period_ns"] == 2_000_000 and main_task["state"] == "running", main_task
+    assert sum(main_task["jitter"]["histogram"]["counts"]) > 0, main_task["jitter"]
+    tags = api.expect(200, "GET", "/tags?filter=mw_arr")["tags"]
+    assert [t["name"] for t in tags] == ["mw_arr", "mw_arr_r"], tags
+    assert tags[0]["is_array"] and tags[0]["length"] == 4 and tags[0]["value"] == [1, 2, 3, 4], tags[0]
+    assert values(api, "iw_const")["iw_const"] == -1234
+    api.expect(404, "GET", "/values?refs=no_such_tag", what="unknown ref")
+    blocks = api.expect(200, "GET", "/blocks")["blocks"]
+    k_iw = [b for b in blocks if b["name"] == "k_iw"][0]
+    assert k_iw["type"].startswith("MOVE") and [p["name"] for p in k_iw["pins"]][:2] == ["IN", "OUT"], k_iw
+
+    # --- nothing that changes the PLC without a login
+    for method, path, body in [("PUT", "/tags/qw_int", {"value": 5}), ("POST", "/forces", {"ref": "iw_const", "value": 1}),
+                               ("DELETE", "/forces/iw_const", None), ("DELETE", "/forces", None),
+                               ("POST", "/projects/check", {"main": "a.yaml", "files": {"a.yaml": "x: 1"}}),
+                               ("POST", "/projects/load", {"main": "a.yaml", "files": {"a.yaml": "x: 1"}}),
+                               ("POST", "/projects/reload", {}), ("POST", "/projects/rollback", {"version": 1})]:
+        api.expect(401, method, path, body, what="anonymous")
+    api.expect(401, "POST", "/login", {"user": "olga", "password": "wrong-password"}, what="wrong password")
+    api.expect(401, "POST", "/login", {"user": "nobody", "password": "whatever-pw"}, what="unknown user")
+    api.expect(400, "POST", "/login", {"user": "olga"}, what="no password")
+
+    # --- a viewer reads only
+    api.login("vera")
+    api.expect(403, "PUT", "/tags/qw_int", {"value": 5}, what="viewer write")
+    assert api.expect(200, "GET", "/me") == {"user": "vera", "role": "viewer"}
+
+    # --- an operator's write reaches the program and comes back over Modbus
+    api.login("olga")
+    j = api.expect(200, "PUT", "/tags/qw_int", {"value": 1234})
+    assert j["ok"] and j["task"] == "main", j
+    mb = peerlib.pymodbus_client(srv.port)
+    peerlib.wait_until(lambda: (lambda r: (not r.isError() and r.registers == [1234], r))(mb.read_holding_registers(10, 1, slave=1)),
+                       "qw_int_r over Modbus after the HTTP write")
+    api.expect(200, "PUT", "/tags/mw_arr[2]", {"value": 7})
+    peerlib.wait_until(lambda: (values(api, "mw_arr_r")["mw_arr_r"] == [1, 2, 7, 4], values(api, "mw_arr_r")), "mw_arr_r")
+    api.expect(200, "PUT", "/tags/mw_arr", {"value": [9, 8, 7, 6]})
+    peerlib.wait_until(lambda: (values(api, "mw_arr_r")["mw_arr_r"] == [9, 8, 7, 6], values(api, "mw_arr_r")), "whole array")
+    e = api.expect(400, "PUT", "/tags/qw_int", {"value": "twelve"})
+    assert "qw_int" in e["error"], e
+    api.expect(400, "PUT", "/tags/qw_int", {"value": 70000}, what="out of INT's range")
+    api.expect(400, "PUT", "/tags/mw_arr", {"value": [1, 2]}, what="array of the wrong length")
+    api.expect(404, "PUT", "/tags/mw_arr[9]", {"value": 1}, what="index out of bounds")
+    api.expect(403, "PUT", "/tags/qw_int_r", {"value": 1}, what="hmi: read")
+    api.expect(404, "PUT", "/tags/nope", {"value": 1})
+    api.expect(403, "POST", "/forces", {"ref": "iw_const", "value": 77}, what="operator force")
+
+    # --- an engineer's force holds against the program (k_iw writes -1234 every scan)
+    api.login("erik")
+    j = api.expect(200, "POST", "/forces", {"ref": "iw_const", "value": 77})
+    assert j["ref"] == "iw_const" and j["value"] == "77", j
+    peerlib.wait_until(lambda: (lambda r: (not r.isError() and r.registers == [77], r))(mb.read_input_registers(4, 1, slave=1)),
+                       "the forced input register")
+    for _ in range(20):
+        r = mb.read_input_registers(4, 1, slave=1)
+        assert not r.isError() and r.registers == [77], r
+        time.sleep(0.01)
+    t = api.expect(200, "GET", "/tags/iw_const")
+    assert t["forced"] is True and t["value"] == 77, t
+    assert api.expect(200, "GET", "/forces")["forces"] == [{"ref": "iw_const", "value": "77", "task": "main"}]
+    assert api.expect(200, "GET", "/status")["forces"] == 1
+    api.expect(400, "POST", "/forces", {"ref": "iw_const", "value": "lots"}, what="bad force value")
+    api.expect(404, "POST", "/forces", {"ref": "nope", "value": 1}, what="force of nothing")
+    api.expect(200, "DELETE", "/forces/iw_const")
+    api.expect(404, "DELETE", "/forces/iw_const", what="unforce of what is not forced")
+    peerlib.wait_until(lambda: (lambda r: (not r.isError() and r.registers == [0x10000 - 1234], r))(mb.read_input_registers(4, 1, slave=1)),
+                       "the program's value back after unforce")
+    mb.close()
+
+    # --- projects: a check with an error at its line, nothing changed; a load; a rollback
+    here = os.path.dirname(os.path.abspath(__file__))
+    main_text = open(os.path.join(here, "peers.yaml")).read()
+    common = open(os.path.join(here, "peers_common.yaml")).read()
+    bad = common.replace("period: 2ms", "period: 10xs", 1)
+    line = bad[:bad.index("10xs")].count("\n") + 1
+    col = bad.index("10xs") - bad.rfind("\n", 0, bad.index("10xs"))
+    before = api.expect(200, "GET", "/status")["tasks"][0]["scans"]
+    j = api.expect(400, "POST", "/projects/check", {"main": "peers.yaml", "files": {"peers.yaml": main_text, "peers_common.yaml": bad}})
+    assert j["ok"] is False and len(j["errors"]) == 1, j
+    assert j["errors"][0]["where"] == "peers_common.yaml:%d:%d" % (line, col), (j, line, col)
+    assert "10xs" in j["errors"][0]["message"], j
+    j = api.expect(400, "POST", "/projects/load", {"main": "peers.yaml", "files": {"peers.yaml": main_text, "peers_common.yaml": bad}})
+    assert j["errors"][0]["where"].startswith("peers_common.yaml:"), j
+    peerlib.wait_until(lambda: (api.expect(200, "GET", "/status")["tasks"][0]["scans"] > before + 10, None), "scans go on")
+    assert api.expect(200, "GET", "/status")["runtime"]["program_version"] == "1.0.0"
+    api.expect(200, "POST", "/projects/check", {"main": "peers.yaml", "files": {"peers.yaml": main_text, "peers_common.yaml": common}})
+    newer = main_text.replace("version: 1.0.0", "version: 1.0.1")
+    j = api.expect(200, "POST", "/projects/load", {"main": "peers.yaml", "files": {"peers.yaml": newer, "peers_common.yaml": common}})
+    assert j["ok"] and "k_iw" in j["report"]["kept"] and not j["report"]["new"], j
+    assert api.expect(200, "GET", "/status")["runtime"]["program_version"] == "1.0.1"
+    assert values(api, "mw_arr_r")["mw_arr_r"] == [9, 8, 7, 6], "tag values carried over the load"
+    versions = peerlib.wait_until(lambda: (lambda v: (len(v) >= 3, v))(api.expect(200, "GET", "/projects")["versions"]),
+                                  "the upload in the project store")[0]
+    assert [v["origin"] for v in versions][:1] == ["run"] and versions[-1]["origin"] == "upload", versions
+    assert versions[-1]["running"] and versions[-1]["outcome"] == "accepted", versions[-1]
+    j = api.expect(200, "POST", "/projects/rollback", {"version": versions[0]["version"]})
+    assert j["ok"], j
+    assert api.expect(200, "GET", "/status")["runtime"]["program_version"] == "1.0.0"
+    rejected = [v for v in versions if v["outcome"] == "rejected"]
+    if rejected:
+        api.expect(409, "POST", "/projects/rollback", {"version": rejected[0]["version"]}, what="rollback to a rejected version")
+    api.expect(200, "POST", "/projects/reload", {})
+
+    # --- the event log names the user and the client
+    def logged(kind, text):
+        ev = api.expect(200, "GET", "/events?kind=" + kind + "&limit=50")["events"]
+        return any(text in e["message"] and e["client"].startswith("127.0.0.1:") for e in ev), ev
+    for kind, text in [("hmi-write", "qw_int := 1234 (by olga)"), ("force", "forced iw_const to 77 (by erik)"),
+                       ("unforce", "unforced iw_const"), ("login", "erik logged in (engineer)"), ("login-failed", "'olga'")]:
+        peerlib.wait_until(lambda: logged(kind, text), "event %s %r" % (kind, text))
+    peerlib.wait_until(lambda: (lambda ev: (any(e["source"].startswith("uploaded by erik") or "upload" in e["message"]
+                                                for e in ev), ev))(api.expect(200, "GET", "/events?kind=reload")["events"]),
+                       "the load's reload event")
+
+    # --- the live stream: newest values at the asked rate; an unknown ref ends it with its reason
+    c = http.client.HTTPConnection("127.0.0.1", port, timeout=10)
+    c.request("GET", "/api/v1/stream?refs=qw_int_r,mw_arr&rate=20")
+    r = c.getresponse()
+    assert r.status == 200 and r.getheader("Content-Type").startswith("text/event-stream"), r.status
+    got, t0 = [], time.monotonic()
+    while len(got) < 5:
+        ln = r.fp.readline().decode()
+        if ln.startswith("data: "):
+            got.append(json.loads(ln[6:]))
+    elapsed = time.monotonic() - t0
+    c.close()
+    assert all(g["values"]["qw_int_r"] == 1234 and g["values"]["mw_arr"] == [9, 8, 7, 6] for g in got), got
+    assert 0.1 < elapsed < 5, elapsed  # 4 periods of 50 ms after the first
+    c = http.client.HTTPConnection("127.0.0.1", port, timeout=10)
+    c.request("GET", "/api/v1/stream?refs=nope")
+    text = c.getresponse().read().decode()
+    assert "event: error" in text and "nope" in text, text
+    api.expect(400, "GET", "/stream?refs=qw_int_r&rate=500", what="rate beyond 50")
+
+    # --- hostile requests
+    api.expect(400, "PUT", "/tags/qw_int", raw=b"{not json", what="malformed JSON")
+    api.expect(415, "PUT", "/tags/qw_int", raw=b"value=5", content_type="application/x-www-form-urlencoded", what="a form")
+    api.expect(413, "PUT", "/tags/qw_int", raw=b"{\"value\": \"" + b"x" * (2 << 20) + b"\"}", what="2 MiB body")
+    api.expect(403, "GET", "/status", headers={"Host": "evil.example:%d" % port}, what="DNS rebinding")
+    api.expect(403, "PUT", "/tags/qw_int", {"value": 1}, headers={"Origin": "http://evil.example"}, what="cross-site")
+    for path in ["/../../../../etc/passwd", "/%2e%2e/%2e%2e/%2e%2e/etc/passwd", "/..%2f..%2f..%2fetc/passwd"]:
+        s, j, resp = api.call("GET", path, absolute=True)
+        assert s in (400, 404), (path, s)
+    # A slow client that never finishes its request holds nobody up.
+    slow = socket.create_connection(("127.0.0.1", port))
+    slow.sendall(b"GET /api/v1/status HTTP/1.1\r\nHost: 127.0.0.1\r\n")
+    t0 = time.monotonic()
+    api.expect(200, "GET", "/status", what="beside a slow client")
+    assert time.monotonic() - t0 < 2, "a request waited for a slow client"
+    slow.close()
+    raw = socket.create_connection(("127.0.0.1", port))
+    raw.sendall(b"GARBAGE\r\n\r\n")
+    raw.settimeout(10)
+    assert raw.recv(100).startswith(b"HTTP/1.1 400"), "a malformed request line"
+    raw.close()
+
+    # --- failed logins are limited (last: the address stays refused for a minute)
+    api.token = None
+    for _ in range(5):
+        api.expect(401, "POST", "/login", {"user": "erik", "password": "guess-guess"})
+    s, j, resp = api.call("POST", "/login", {"user": "erik", "password": USERS["erik"][1]})
+    assert s == 429 and int(resp.getheader("Retry-After")) > 0, (s, j)
+
+    srv.stop()
+    print("1 passed, 0 failed")
+
+
+if __name__ == "__main__":
+    main()
