@@ -90,8 +90,7 @@ void write_reload_result(const std::string& pid_file, const ReloadResult& r) {
 
 // What the HTTP API's /status says of the runtime, taken each main loop turn.
 nlohmann::json runtime_json(const std::string& project, double uptime_s, const PlcStore& store,
-                            const modbus::Server* modbus, const web::Server* http, const std::string& hash,
-                            const Program& p, const Supervisor& supervisor) {
+                            const modbus::Server* modbus, const web::Server* http, const Program& p, const Supervisor& supervisor) {
   const StoreStatus st = store_status(store);
   nlohmann::json states = nlohmann::json::object();
   for (std::size_t i = 0; i < p.tasks.size(); ++i) {
@@ -105,7 +104,6 @@ nlohmann::json runtime_json(const std::string& project, double uptime_s, const P
   }
   return {{"version", "0.1.0"},
           {"project_file", project},
-          {"project_hash", hash},
           {"uptime_s", uptime_s},
           {"store", {{"state", st.state == StoreStatus::State::Ok ? "ok" : st.state == StoreStatus::State::Fault ? "FAULT" : "off"},
                      {"detail", st.error.empty() ? nlohmann::json(store.path()) : nlohmann::json(st.error)}}},
@@ -227,9 +225,9 @@ int cmd_run(const RunOptions& options) {
   // The HTTP API and the HMI, bound before any task runs. A port given
   // with --http that is taken stops here; the default one only warns (the
   // machine keeps its control program when another service holds 8080).
-  std::string project_hash = start_hash;
   RunWebHost web_host(program.get(), *plc_store, o,
                       (std::filesystem::path(default_database_path()).parent_path() / "uploads").string());
+  web_host.set_project_hash(start_hash);
   std::unique_ptr<web::Server> web_server;
   if (options.http.enabled) {
     web_server = std::make_unique<web::Server>(options.http, web_host);
@@ -265,6 +263,12 @@ int cmd_run(const RunOptions& options) {
   Reloader reloader(project, o, modbus_port);
   reloader.set_event_log(&run_events);
   reloader.set_store_status(&store_registers);
+  // The HTTP threads go over to the new program when the change begins, as
+  // the Modbus server does; the old one is never theirs again.
+  reloader.set_switch_hook([&web_host](Program& next) {
+    auto hold = web_host.hold();
+    web_host.set_program(&next);
+  });
   Supervisor supervisor(*program, *runner);
   const bool live = !no_status && isatty(STDOUT_FILENO);
   LiveScreen screen(std::cout, live);  // the alternate screen, given back on every way out (live_screen.hpp)
@@ -292,15 +296,11 @@ int cmd_run(const RunOptions& options) {
       continue;
     }
     // Online change: load and check the file first; only a good project
-    // replaces the running one. The HTTP threads wait meanwhile (hold()).
+    // replaces the running one.
     auto apply_reload = [&](const ReloadFrom& from) {
       ReloadResult rr;
-      {
-        auto hold = web_host.hold();
-        rr = reloader.reload(program, *runner, modbus_server, plc_store.get(), std::cerr, from);
-        web_host.set_program(program.get());
-      }
-      if (rr.accepted) project_hash = rr.hash;
+      rr = reloader.reload(program, *runner, modbus_server, plc_store.get(), std::cerr, from);
+      if (rr.accepted) web_host.set_project_hash(rr.hash);
       for (const auto& line : rr.lines) std::cerr << line << "\n";
       run_events.reloaded(rr.accepted, rr.summary, rr.lines);
       // An event like the tasks' (the time on the tasks' axis), kept on the
@@ -361,10 +361,7 @@ int cmd_run(const RunOptions& options) {
       web_host.finish_change(change_outcome(apply_reload(from)));
     }
     if (changed) continue;  // `p` was the program before the change
-    {
-      auto hold = web_host.hold();  // a late task's old program may go here
-      reloader.poll(*runner, std::cerr, plc_store.get());
-    }
+    reloader.poll(*runner, std::cerr, plc_store.get());
     if (!warned) {
       for (const auto& w : runner->warnings()) {
         if (live) screen.add_event("warning: " + w);
@@ -382,8 +379,7 @@ int cmd_run(const RunOptions& options) {
     if (live) screen.set_store(store_status_line(store_status(*plc_store), plc_store->path()));
     screen.draw(p, elapsed, modbus_server.get(), &supervisor);
     if (web_server)
-      web_host.set_status(runtime_json(project, elapsed, *plc_store, modbus_server.get(), web_server.get(), project_hash,
-                                       p, supervisor));
+      web_host.set_status(runtime_json(project, elapsed, *plc_store, modbus_server.get(), web_server.get(), p, supervisor));
     if (limit && RealtimeRunner::monotonic_ns() - t0 >= *limit) break;
     if (supervisor.all_stopped()) {  // by their watchdogs, or given up on by the supervisor
       std::cerr << "syncplc: every task has stopped\n";

@@ -126,6 +126,7 @@ ReloadResult Reloader::reload(std::unique_ptr<Program>& program, RealtimeRunner&
     server.reset();  // changed settings: a new server (its clients reconnect)
     server = start_modbus(*next.program, next.modbus, modbus_port_, log_, store_status_);
   }
+  if (on_switch_) on_switch_(*next.program);
   // The store's jobs read the new program's snapshots from now on (the old
   // tasks mirror theirs into it until they switch), before the old one goes.
   if (store) store->switch_program(*next.program, next);

@@ -3,6 +3,7 @@
 // Asked for by `syncplc reload` (control socket) or SIGHUP (a service).
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -54,6 +55,10 @@ class Reloader {
   // The event log: the old program's last events, and the audit trail of a
   // Modbus server the change restarts.
   void set_event_log(RunEvents* log) { log_ = log; }
+  // Told the new program right after the change began, when the Modbus
+  // server serves it too: from then on other threads use the new program
+  // (the HTTP API, web_host.hpp), never the old one, which goes later.
+  void set_switch_hook(std::function<void(Program&)> hook) { on_switch_ = std::move(hook); }
   // What a server started anew shows in its store status registers.
   void set_store_status(const modbus::StoreStatusSource* s) { store_status_ = s; }
 
@@ -63,6 +68,7 @@ class Reloader {
   std::optional<int> modbus_port_;
   RunEvents* log_ = nullptr;
   const modbus::StoreStatusSource* store_status_ = nullptr;
+  std::function<void(Program&)> on_switch_;
   // A change one task has not reached yet (a scan that does not end): the
   // old program stays until it does (poll), never destroyed under its thread.
   std::unique_ptr<ProgramChange> pending_;

@@ -32,7 +32,14 @@ void RunWebHost::set_program(Program* p) {
 
 nlohmann::json RunWebHost::runtime_status() {
   std::lock_guard lock(status_mutex_);
-  return status_;
+  nlohmann::json j = status_;
+  j["project_hash"] = project_hash_;
+  return j;
+}
+
+void RunWebHost::set_project_hash(std::string hash) {
+  std::lock_guard lock(status_mutex_);
+  project_hash_ = std::move(hash);
 }
 
 void RunWebHost::set_status(nlohmann::json status) {

@@ -34,12 +34,14 @@ class RunWebHost final : public web::PlcHost {
   LoadOptions load_options() const override { return options_; }
 
   // --- the main thread
-  // Held while the program is replaced or destroyed (online change, poll).
+  // Held while the program is replaced (the online change's switch hook).
   std::unique_lock<std::mutex> hold() { return std::unique_lock(program_mutex_); }
   // With hold(): the program now running.
   void set_program(Program* p);
   // The status readers see (taken every main loop turn).
   void set_status(nlohmann::json status);
+  // The project store's hash of the running program's files (GET /projects' "running").
+  void set_project_hash(std::string hash);
   // The next change asked for over HTTP; false when none waits.
   bool take_change(web::ChangeRequest& r);
   // Its outcome, for the HTTP thread that waits for it.
@@ -57,6 +59,7 @@ class RunWebHost final : public web::PlcHost {
 
   std::mutex status_mutex_;
   nlohmann::json status_ = nlohmann::json::object();
+  std::string project_hash_;
 
   std::mutex changes_mutex_;
   struct Pending {

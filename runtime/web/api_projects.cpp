@@ -39,6 +39,13 @@ void add_project_routes(httplib::Server& s, ApiContext& c) {
       const std::string root = c.host.upload_dir();
       const UploadCheck check = check_upload(*u, root, c.host.load_options());
       if (!check.ok) {
+        if (load) {
+          // A load refused before it reached the PLC: on record as an event.
+          std::string text = "upload of " + u->files.front().path + " by " + who->user + " rejected:";
+          for (const auto& e : check.errors)
+            text += "\n" + (e["where"].is_string() ? e["where"].get<std::string>() + ": " : "") + e["message"].get<std::string>();
+          c.host.record_event("reload-failed", "", text, ApiContext::client(req));
+        }
         send_json(res, 400, {{"ok", false},
                              {"error", "the project has " + std::to_string(check.errors.size()) + " error" +
                                            (check.errors.size() == 1 ? "" : "s") + "; nothing was changed"},
