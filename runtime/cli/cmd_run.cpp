@@ -229,6 +229,7 @@ int cmd_run(const RunOptions& options) {
                       (std::filesystem::path(default_database_path()).parent_path() / "uploads").string());
   web_host.set_project_hash(start_hash);
   std::unique_ptr<web::Server> web_server;
+  std::string web_notice;  // where it listens, or why not: shown once the screen is up
   if (options.http.enabled) {
     web_server = std::make_unique<web::Server>(options.http, web_host);
     std::string why;
@@ -240,9 +241,9 @@ int cmd_run(const RunOptions& options) {
         program->close_drivers();
         return start_failed(why, kExitInvalid);
       }
-      std::cerr << "syncplc: warning: " << why << "; running without the HTTP API and the HMI\n";
+      web_notice = "warning: " + why + "; running without the HTTP API and the HMI";
     } else {
-      std::cerr << "syncplc: HMI and HTTP API on " << web_server->url() << "\n";
+      web_notice = "HMI and HTTP API on " + web_server->url();
     }
   }
   // `syncplc reload` finds this instance through its pid file.
@@ -272,7 +273,10 @@ int cmd_run(const RunOptions& options) {
   Supervisor supervisor(*program, *runner);
   const bool live = !no_status && isatty(STDOUT_FILENO);
   LiveScreen screen(std::cout, live);  // the alternate screen, given back on every way out (live_screen.hpp)
-  if (live && web_server) screen.add_event("HMI and HTTP API on " + web_server->url());
+  if (!web_notice.empty()) {
+    if (live) screen.add_event(web_notice);
+    else std::cerr << "syncplc: " << web_notice << "\n";
+  }
   const std::int64_t t0 = runner->epoch_ns();  // the first release: --duration counts from here
   bool warned = false;
   int stop_signal = 0;

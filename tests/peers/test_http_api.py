@@ -212,6 +212,17 @@ def main():
                                                 for e in ev), ev))(api.expect(200, "GET", "/events?kind=reload")["events"]),
                        "the load's reload event")
 
+    # --- the historian: qw_int_r every 100 ms, its points as the page plots them
+    def trend():
+        j = api.expect(200, "GET", "/trends?tag=qw_int_r&points=50")
+        return len(j["points"]) >= 3 and j["points"][-1]["max"] == 1234, j
+    j = peerlib.wait_until(trend, "trend points of qw_int_r", timeout=30)[0]
+    assert len(j["points"]) <= 50 and all(p["min"] <= p["mean"] <= p["max"] and p["count"] > 0 for p in j["points"]), j
+    ts = [p["t_ns"] for p in j["points"]]
+    assert ts == sorted(ts), ts
+    api.expect(404, "GET", "/trends?tag=speed", what="a tag that is not trended")
+    api.expect(400, "GET", "/trends?tag=qw_int_r&since=yesterday", what="a time that is not a number")
+
     # --- the live stream: newest values at the asked rate; an unknown ref ends it with its reason
     c = http.client.HTTPConnection("127.0.0.1", port, timeout=10)
     c.request("GET", "/api/v1/stream?refs=qw_int_r,mw_arr&rate=20")
