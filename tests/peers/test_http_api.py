@@ -237,6 +237,24 @@ def main():
     c.close()
     assert all(g["values"]["qw_int_r"] == 1234 and g["values"]["mw_arr"] == [9, 8, 7, 6] for g in got), got
     assert 0.1 < elapsed < 5, elapsed  # 4 periods of 50 ms after the first
+    # A client that stops reading its stream costs the others nothing: its
+    # events are not queued (each tick takes the newest values), and its
+    # worker is cut by the write timeout, not another client's.
+    stalled = socket.create_connection(("127.0.0.1", port))
+    stalled.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
+    stalled.sendall(b"GET /api/v1/stream?refs=mw_arr,qw_int_r,iw_const,speed,pos&rate=50 HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n")
+    time.sleep(1.0)
+    c = http.client.HTTPConnection("127.0.0.1", port, timeout=10)
+    c.request("GET", "/api/v1/stream?refs=qw_int_r&rate=20")
+    r = c.getresponse()
+    t0, n = time.monotonic(), 0
+    while n < 40:
+        if r.fp.readline().startswith(b"data: "):
+            n += 1
+    took = time.monotonic() - t0
+    c.close()
+    stalled.close()
+    assert took < 4.0, "40 events at 20 Hz took %.2f s beside a stalled client" % took
     c = http.client.HTTPConnection("127.0.0.1", port, timeout=10)
     c.request("GET", "/api/v1/stream?refs=nope")
     text = c.getresponse().read().decode()
