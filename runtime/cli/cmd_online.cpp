@@ -62,7 +62,7 @@ void print_status(const json& s, const std::string& url) {
   std::string program = text(rt, "program");
   if (!text(rt, "program_version").empty()) program += " " + text(rt, "program_version");
   if (!text(rt, "project_file").empty()) program += " (" + text(rt, "project_file") + ")";
-  std::cout << "program  " << program << "\n";
+  if (!program.empty()) std::cout << "program  " << program << "\n";
   if (rt.contains("store") && rt["store"].is_object()) {
     std::string store = text(rt["store"], "state");
     if (!text(rt["store"], "detail").empty()) store += ": " + text(rt["store"], "detail");

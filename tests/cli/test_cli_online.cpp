@@ -466,6 +466,54 @@ TEST(OnlineCliUnreachable, NothingListens) {
   }
 }
 
+// https with a self-signed certificate: refused as untrusted (the PLC
+// cannot be reached safely: status 6) until --cacert names it. The server
+// is a few lines of node's https module, whatever PLC the other tests use.
+TEST(OnlineCliTls, CacertTrustsASelfSignedServer) {
+  unsetenv("SYNCPLC_URL");
+  if (!OnlinePlc::unavailable().empty() || std::system("command -v openssl >/dev/null 2>&1") != 0)
+    GTEST_SKIP() << "needs node and openssl";
+  const fs::path d = project_dir("tls");
+  const std::string make_cert = "cd " + d.string() +
+                                " && openssl req -x509 -newkey rsa:2048 -nodes -keyout key.pem -out cert.pem -days 2 "
+                                "-subj /CN=127.0.0.1 -addext subjectAltName=IP:127.0.0.1 >openssl.log 2>&1";
+  ASSERT_EQ(std::system(make_cert.c_str()), 0) << slurp((d / "openssl.log").string());
+  put(d / "server.mjs",
+      "import { createServer } from 'node:https';\n"
+      "import { readFileSync } from 'node:fs';\n"
+      "const s = createServer({ key: readFileSync('key.pem'), cert: readFileSync('cert.pem') }, (req, res) => {\n"
+      "  res.writeHead(200, { 'Content-Type': 'application/json' });\n"
+      "  res.end(JSON.stringify({ runtime: { version: 'tls-test' }, tasks: [], forces: 0 }));\n"
+      "});\n"
+      "s.listen(0, '127.0.0.1', () => console.log(`at https://127.0.0.1:${s.address().port}`));\n");
+  const std::string log = (d / "server.log").string();
+  const pid_t pid = fork();
+  if (pid == 0) {
+    if (chdir(d.c_str()) != 0 || !std::freopen(log.c_str(), "w", stdout)) _exit(126);
+    execlp("node", "node", "server.mjs", static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  std::string url;
+  for (int i = 0; i < 200 && url.empty(); ++i) {
+    std::smatch m;
+    const std::string text = slurp(log);
+    if (std::regex_search(text, m, std::regex(R"(at (https://127\.0\.0\.1:\d+))"))) url = m[1];
+    else std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  EXPECT_FALSE(url.empty()) << slurp(log);
+  if (!url.empty()) {
+    auto r = run_cli("status --url " + url);
+    EXPECT_EQ(r.rc, kUnreachable) << r.out;
+    EXPECT_NE(r.err.find("certificate is not trusted (give its certificate with --cacert FILE)"), std::string::npos)
+        << r.err;
+    r = run_cli("status --url " + url + " --cacert " + (d / "cert.pem").string());
+    EXPECT_EQ(r.rc, kOk) << r.err;
+    EXPECT_NE(r.out.find("syncplc tls-test at " + url), std::string::npos) << r.out;
+  }
+  kill(pid, SIGTERM);
+  waitpid(pid, nullptr, 0);
+}
+
 TEST(OnlineCliUnreachable, BadUrlIsInvalidInput) {
   auto r = run_cli("status --url ftp://x");
   EXPECT_EQ(r.rc, kRefused);
