@@ -141,7 +141,9 @@ int cmd_force(const std::string& ref, const std::string& value, const OnlineOpti
     const json body = {{"ref", ref}, {"value", value_from_command_line(value)}};
     const ApiAnswer a = api->call("POST", "/forces", &body);
     std::cout << ref << " forced to " << format_value(field(a.json, "value", body["value"]));
-    if (!field(a.json, "previous", nullptr).is_null())
+    // "previous": the value it was forced to before; "" when it was not forced.
+    const auto previous = field(a.json, "previous", nullptr);
+    if (!previous.is_null() && !(previous.is_string() && previous.get<std::string>().empty()))
       std::cout << " (was " << format_value(a.json["previous"]) << ")";
     std::cout << "\n";
     return kExitOk;

@@ -350,7 +350,7 @@ int cmd_run(const RunOptions& options) {
       ReloadFrom from;
       const std::string by = " by " + req.user + " from " + req.client;
       if (req.kind == web::ChangeRequest::Kind::Load) {
-        from = {req.project_file, "upload", "uploaded" + by};
+        from = {req.project_file, "upload", "an upload" + by};
       } else if (req.kind == web::ChangeRequest::Kind::Rollback) {
         std::string why;
         auto v = extract_version(plc_store->path(), req.version, &why);
