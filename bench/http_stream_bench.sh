@@ -18,7 +18,8 @@
 # else ran there) and the load average; with the load, the generator's
 # events/s and latencies (bench_http_stream_load: scan release -> client,
 # release -> server t_ns, t_ns -> client) over its own window, which starts
-# WARMUP s after it connects (the status snapshots are taken then too).
+# 2 s after its last client has connected (the status snapshots are taken
+# then too), and the listen queue overflows (/proc/net/netstat) of the round.
 #
 # Builds nothing: expects BUILD_DIR/syncplc and BUILD_DIR/bench/bench_http_stream_load.
 # Environment: BUILD_DIR (build), RUN_S (20), PAIRS (3), CLIENTS (50), RATE (20),
@@ -74,6 +75,9 @@ grep -i warning "$tmp/run.err" | sed 's/^/   /' || true
 sleep 3
 
 tck=$(getconf CLK_TCK)
+listen_overflows() {  # TcpExt ListenOverflows of this network namespace: SYNs dropped by full accept queues
+  awk '$1 == "TcpExt:" { if (!h) { for (i = 2; i <= NF; i++) k[i] = $i; h = 1 } else for (i = 2; i <= NF; i++) if (k[i] == "ListenOverflows") print $i }' /proc/net/netstat
+}
 snapshot() {  # $1: file prefix
   curl -sf "$status_url" >"$1.json"
   echo "$(date +%s%N) $(awk -v t="$tck" '{ sub(/^.*\) /, ""); printf "%.0f", ($12 + $13) * 1e9 / t }' /proc/"$pid"/stat)" \
@@ -90,10 +94,16 @@ for ((r = 0; r < rounds; r++)); do
   mode=${modes[$((r % 2))]}
   gen=""
   if [ "$mode" = on ]; then
+    lo0=$(listen_overflows)
     taskset -c "$load_cpu" "$load" --port "$port" --clients "$clients" --rate "$rate" --refs "$refs" \
-      --release-ref release_ms --warmup "$warmup" --duration "$((run_s + warmup + 1))" >"$tmp/gen$r.out" 2>&1 &
+      --release-ref release_ms --warmup "$warmup" --duration "$((run_s + 1))" >"$tmp/gen$r.out" 2>&1 &
     gen=$!
-    sleep "$warmup"
+    # Until every client is connected and the generator's warm-up is over.
+    for _ in $(seq 1200); do
+      grep -q '^bench_http_stream_load: measuring' "$tmp/gen$r.out" && break
+      kill -0 "$gen" 2>/dev/null || break
+      sleep 0.05
+    done
   else
     sleep 1
   fi
@@ -102,10 +112,11 @@ for ((r = 0; r < rounds; r++)); do
   snapshot "$tmp/r$r.b"
   if [ -n "$gen" ]; then
     wait "$gen" || { echo "round $((r + 1)): the load generator failed:"; cat "$tmp/gen$r.out"; }
+    echo "listen queue overflows during the round: $(($(listen_overflows) - lo0))" >>"$tmp/gen$r.out"
   fi
   echo "$mode" >"$tmp/r$r.mode"
   echo "-- round $((r + 1)) ($mode) done: load $(cut -d' ' -f1-3 "$tmp/r$r.b.load")"
-  [ "$mode" = on ] && grep -v '^RESULT' "$tmp/gen$r.out" | sed 's/^/   /'
+  [ "$mode" = on ] && grep -v '^RESULT\|measuring$' "$tmp/gen$r.out" | sed 's/^/   /'
 done
 kill "$pid"
 wait "$pid" || true

@@ -22,11 +22,20 @@
 // end, and a step of the wall clock in between is reported (it would shift
 // every number by the step).
 //
-// Events received in the first --warmup seconds (connecting, the first event
-// of each stream) are counted apart and left out of the statistics.
+// Events received in the first --warmup seconds after the last client has
+// connected (the first event of each stream, anything queued while
+// connecting) are counted apart and left out of the statistics; then it
+// prints "bench_http_stream_load: measuring" and measures for --duration
+// seconds. The time each connect() took is reported: the server's listen
+// backlog drops SYNs when many clients connect at once, and a dropped SYN is
+// retried after 1 s, then 3 s.
+//
+// A "repeated" event carries the same scan as the stream's previous one: the
+// server sent two ticks back to back (a tick more than a period late is
+// followed at once by the next).
 //
 // Usage: bench_http_stream_load --port P --refs a,b,... [--clients 50] [--rate 20]
-//          [--duration 22] [--warmup 2] [--release-ref release_ms] [--host 127.0.0.1] [--no-stagger]
+//          [--duration 20] [--warmup 2] [--release-ref release_ms] [--host 127.0.0.1] [--no-stagger]
 //
 // The clients connect one after the other, evenly spread over one period
 // (1/rate): each stream's server-side ticks keep the phase of its connection,
@@ -66,7 +75,7 @@ struct Options {
   double rate = 20;
   std::string refs;
   std::string release_ref = "release_ms";
-  double duration_s = 22;
+  double duration_s = 20;
   double warmup_s = 2;
   bool stagger = true;  // connect the clients evenly over one period (independent pages), not all at once
 };
@@ -99,7 +108,7 @@ Options parse(int argc, char** argv) {
     else usage("unknown argument " + a);
   }
   if (o.refs.empty()) usage("--refs is required");
-  if (o.clients < 1 || o.duration_s <= o.warmup_s || o.warmup_s < 0) usage("bad --clients, --duration or --warmup");
+  if (o.clients < 1 || o.duration_s <= 0 || o.warmup_s < 0 || o.rate <= 0) usage("bad --clients, --rate, --duration or --warmup");
   return o;
 }
 
@@ -329,6 +338,8 @@ int main(int argc, char** argv) {
   const std::string req = request(o, "/api/v1/stream?refs=" + o.refs + "&rate=" + rate, false);
   const std::int64_t t0 = mono_ns();
   const auto spacing_ns = static_cast<std::int64_t>(1e9 / o.rate / o.clients);
+  std::int64_t connect_max_ns = 0;
+  int connects_over_1s = 0;
   for (int i = 0; i < o.clients; ++i) {
     Conn& c = conns[static_cast<std::size_t>(i)];
     c.index = i;
@@ -338,7 +349,11 @@ int main(int argc, char** argv) {
       while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
       }
     }
+    const std::int64_t c0 = mono_ns();
     c.fd = connect_to(o);
+    const std::int64_t took = mono_ns() - c0;
+    connect_max_ns = std::max(connect_max_ns, took);
+    connects_over_1s += took >= 1'000'000'000;
     if (c.fd < 0 || !send_all(c.fd, req)) {
       std::cerr << "bench_http_stream_load: client " << i << ": cannot connect or send: " << std::strerror(errno) << "\n";
       return 1;
@@ -356,8 +371,8 @@ int main(int argc, char** argv) {
   t.age.reserve(t.latency.capacity());
   t.transport.reserve(t.latency.capacity());
   std::vector<double> last_release(conns.size(), -1.0);
-  const std::int64_t warm_end = t0 + static_cast<std::int64_t>(o.warmup_s * 1e9);
-  const std::int64_t end = t0 + static_cast<std::int64_t>(o.duration_s * 1e9);
+  const std::int64_t warm_end = t0 + connected_ns + static_cast<std::int64_t>(o.warmup_s * 1e9);
+  const std::int64_t end = warm_end + static_cast<std::int64_t>(o.duration_s * 1e9);
   double cpu_at_warm = -1;
   std::int64_t warm_mono = 0;
   std::vector<epoll_event> ready(conns.size());
@@ -368,6 +383,7 @@ int main(int argc, char** argv) {
     if (cpu_at_warm < 0 && m >= warm_end) {
       cpu_at_warm = cpu_s();
       warm_mono = m;
+      std::cout << "bench_http_stream_load: measuring" << std::endl;
     }
     const int timeout_ms = static_cast<int>(std::max<std::int64_t>(1, std::min<std::int64_t>(end - m, warm_end > m ? warm_end - m : end - m) / 1'000'000));
     const int n = epoll_wait(ep, ready.data(), static_cast<int>(ready.size()), timeout_ms);
@@ -413,10 +429,10 @@ int main(int argc, char** argv) {
   const double eps = static_cast<double>(t.events) / window_s;
   std::cout << "bench_http_stream_load: " << o.clients << " streams x " << want_values << " refs at " << o.rate
             << "/s, connected in " << us(connected_ns) << " us (" << (o.stagger ? "staggered" : "all at once")
-            << "); measured " << window_s << " s after " << o.warmup_s
+            << "; slowest connect() " << us(connect_max_ns) << " us, " << connects_over_1s << " took >= 1 s); measured " << window_s << " s after " << o.warmup_s
             << " s warm-up\n";
   std::cout << "bench_http_stream_load: events " << t.events << " (" << eps << "/s; per stream " << per_min << ".."
-            << per_max << "), warm-up events " << t.warmup_events << ", repeated releases " << t.repeated
+            << per_max << "), warm-up events " << t.warmup_events << ", repeated (same scan as the stream's previous event) " << t.repeated
             << ", bytes " << t.bytes << "\n";
   std::cout << "bench_http_stream_load: scan release -> client  p50 " << us(lat.p50) << "  p99 " << us(lat.p99)
             << "  max " << us(lat.max) << " us (min " << us(lat.min) << ")\n";
@@ -437,6 +453,7 @@ int main(int argc, char** argv) {
             << " tr_p99_ns=" << tr.p99 << " tr_max_ns=" << tr.max << " bad=" << t.bad_events
             << " errors=" << t.error_events << " missing=" << t.missing_values << " disconnects=" << t.disconnects
             << " repeated=" << t.repeated << " cpu_pct=" << 100 * cpu / window_s
-            << " clock_step_ns=" << (offset1 - offset0) << "\n";
+            << " clock_step_ns=" << (offset1 - offset0) << " connect_max_ns=" << connect_max_ns
+            << " connects_over_1s=" << connects_over_1s << "\n";
   return (t.disconnects || t.bad_events || t.error_events) ? 3 : 0;
 }
