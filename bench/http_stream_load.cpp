@@ -37,11 +37,15 @@
 // Usage: bench_http_stream_load --port P --refs a,b,... [--clients 50] [--rate 20]
 //          [--duration 20] [--warmup 2] [--release-ref release_ms] [--host 127.0.0.1] [--no-stagger]
 //
-// The clients connect one after the other, evenly spread over one period
-// (1/rate): each stream's server-side ticks keep the phase of its connection,
-// so the streams' events are spread over the period as those of independent
-// HMI pages would be. --no-stagger connects them all at once (their events
-// then come in bursts of N).
+// The clients connect one after the other, spread over one period (1/rate):
+// client i at a random instant of the i-th N-th of it (a fixed seed). Each
+// stream's server-side ticks keep the phase of its connection, so the
+// streams' events are spread over the period as those of independent HMI
+// pages would be, and their phases against the task's scan grid are random
+// (evenly spaced connections 1/(rate N) apart would all have the same phase
+// against a 1 ms grid when 1/(rate N) is a multiple of 1 ms, and the age of
+// the data would be the same for all). --no-stagger connects them all at
+// once (their events then come in bursts of N).
 // The last line is machine-readable: "RESULT key=value ...", times in ns.
 #include <arpa/inet.h>
 #include <fcntl.h>
@@ -63,6 +67,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <iostream>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -337,14 +342,15 @@ int main(int argc, char** argv) {
   std::snprintf(rate, sizeof rate, "%g", o.rate);
   const std::string req = request(o, "/api/v1/stream?refs=" + o.refs + "&rate=" + rate, false);
   const std::int64_t t0 = mono_ns();
-  const auto spacing_ns = static_cast<std::int64_t>(1e9 / o.rate / o.clients);
+  const auto spacing_ns = std::max<std::int64_t>(1, static_cast<std::int64_t>(1e9 / o.rate / o.clients));
+  std::mt19937_64 rng(14);
   std::int64_t connect_max_ns = 0;
   int connects_over_1s = 0;
   for (int i = 0; i < o.clients; ++i) {
     Conn& c = conns[static_cast<std::size_t>(i)];
     c.index = i;
-    if (o.stagger && i > 0) {
-      const std::int64_t at = t0 + i * spacing_ns;
+    if (o.stagger) {
+      const std::int64_t at = t0 + i * spacing_ns + static_cast<std::int64_t>(rng() % static_cast<std::uint64_t>(spacing_ns));
       timespec ts{static_cast<time_t>(at / 1'000'000'000), static_cast<long>(at % 1'000'000'000)};
       while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
       }
