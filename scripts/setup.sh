@@ -12,6 +12,8 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   python3-pymodbus python3-serial-asyncio mbpoll  # Modbus peer tests; pymodbus's client needs serial-asyncio
   rt-tests
+  openssl  # tests/peers/test_http_tls.py makes a certificate
+  curl  # the HTTP API's examples (docs/http-api.md) run as written
   clang libclang-rt-14-dev
 )
 missing=()

@@ -3,7 +3,7 @@
 #   1. the release build (RelWithDebInfo), all tests;
 #   2. AddressSanitizer + UndefinedBehaviorSanitizer, all tests;
 #   3. ThreadSanitizer, the tests of threaded parts (label "threaded": the real-time
-#      runner, the store, the modbus_client driver's device threads), the CLI
+#      runner, the store, the modbus_client driver's device threads, the HTTP server), the CLI
 #      tests and the peer tests (label "peers": pymodbus, mbpoll and the
 #      simulated drives against the real `syncplc run`);
 #   4. the libFuzzer harnesses of the Modbus server's request path and the
@@ -27,7 +27,7 @@ bash scripts/build.sh build-asan -DSYNCPLC_SANITIZE=address,undefined -DSYNCPLC_
 
 echo "== ThreadSanitizer"
 # Only what the threaded and CLI tests need: the other suites do not run here.
-SYNCPLC_TARGETS="syncplc test_realtime test_cli test_store test_io" \
+SYNCPLC_TARGETS="syncplc test_realtime test_cli test_store test_io test_web" \
   bash scripts/build.sh build-tsan -DSYNCPLC_SANITIZE=thread -DSYNCPLC_BENCH=OFF
 (cd build-tsan && TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
    ctest --output-on-failure -j "$jobs" -L 'threaded|cli|peers')

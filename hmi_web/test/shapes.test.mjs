@@ -63,6 +63,14 @@ test('the server as runtime/web writes it: _ns keys, jitter, element type with i
   const s = normalizeStatus({ runtime: { program: 'demo', program_version: '1.0.0', store: 'ok' },
     tasks: [{ name: 't', exec: { count: 3, min_ns: 1, max_ns: 9, mean_ns: 4, p99_ns: 8, last_ns: 5, histogram: { bounds_ns: [2000, 4000], counts: [1, 2] } }, jitter: { min_ns: 2, max_ns: 7, p99_ns: 6, histogram: { bounds_ns: [1000], counts: [3] } } }] });
   assert.equal(s.runtime.projectName, 'demo 1.0.0');
+  // What it leaves out is null, never undefined (the overview showed "(version undefined)").
+  assert.equal(s.runtime.projectVersion, null);
+  assert.equal(s.tasks[0].cpu, null);
+  assert.equal(s.tasks[0].stopReason, null);
+  // A load's answer without "version" (runtime/web/api_projects.cpp sends none): null, shown as "Loaded."
+  const load = normalizeProjectReport({ ok: true, summary: 's', errors: [], lines: [], report: { kept: ['a'], retuned: ['b'], new: [], removed: [] } });
+  assert.equal(load.version, null);
+  assert.deepEqual(load.report, { kept: ['a'], retuned: ['b'], new: [], removed: [], summary: 's' });
   assert.deepEqual(s.tasks[0].exec, { last: 5, min: 1, max: 9, mean: 4, p99: 8, histogram: { boundsNs: [2000, 4000], counts: [1, 2] } });
   assert.equal(s.tasks[0].jitter.p99, 6);
   assert.deepEqual(s.tasks[0].jitter.histogram.counts, [3]);

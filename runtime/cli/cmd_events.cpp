@@ -19,6 +19,11 @@ constexpr auto kFollowPoll = std::chrono::milliseconds(250);
 }  // namespace
 
 int cmd_events(const EventsOptions& o) {
+  if (!o.online.url.empty() && !o.db.empty()) {
+    std::cerr << "syncplc: events: give --url (a running PLC) or --db (its database), not both\n";
+    return kExitInvalid;
+  }
+  if (o.db.empty() && api_url_given(o.online.url)) return events_through_api(o);
   EventFilter f;
   f.kinds = o.kinds;
   if (!o.since.empty()) {

@@ -2,7 +2,9 @@
 // `syncplc run` of PROJECT to load its project file again (online change),
 // or with --version a version from its project store (rollback), waits for
 // the outcome and prints it. Exit 0: accepted; 1: rejected (the running program
-// goes on unchanged); 2: no such instance.
+// goes on unchanged); 2: no such instance. With an API URL (--url, or
+// $SYNCPLC_URL when no PROJECT or --pid-file names a local instance) it
+// asks the PLC at that URL instead (cmd_load.cpp), with the same statuses.
 #include <signal.h>
 
 #include <chrono>
@@ -18,7 +20,15 @@
 
 namespace syncplc::cli {
 
-int cmd_reload(const std::string& project, const std::string& pid_file, std::int64_t version) {
+int cmd_reload(const std::string& project, const std::string& pid_file, std::int64_t version,
+               const OnlineOptions& online) {
+  if (!online.url.empty() && (!project.empty() || !pid_file.empty())) {
+    std::cerr << "syncplc: reload: --url reloads the project file of the PLC at that URL; name no PROJECT or "
+                 "--pid-file with it (syncplc load PROJECT sends another file)\n";
+    return kExitInvalid;
+  }
+  if (!online.url.empty() || (project.empty() && pid_file.empty() && api_url_given("")))
+    return reload_through_api(version, online);
   std::string path = pid_file;
   if (path.empty() && !project.empty()) path = default_pid_file(project);
   if (path.empty()) {

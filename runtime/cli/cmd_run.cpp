@@ -231,6 +231,7 @@ int cmd_run(const RunOptions& options) {
                       (std::filesystem::path(default_database_path()).parent_path() / "uploads").string());
   web_host.set_project_hash(start_hash);
   std::unique_ptr<web::Server> web_server;
+  std::string web_notice;  // where it listens, or why not: shown once the screen is up
   if (options.http.enabled) {
     web_server = std::make_unique<web::Server>(options.http, web_host);
     std::string why;
@@ -242,9 +243,9 @@ int cmd_run(const RunOptions& options) {
         program->close_drivers();
         return start_failed(why, kExitInvalid);
       }
-      std::cerr << "syncplc: warning: " << why << "; running without the HTTP API and the HMI\n";
+      web_notice = "warning: " + why + "; running without the HTTP API and the HMI";
     } else {
-      std::cerr << "syncplc: HMI and HTTP API on " << web_server->url() << "\n";
+      web_notice = "HMI and HTTP API on " + web_server->url();
     }
   }
   // `syncplc reload` finds this instance through its pid file.
@@ -274,6 +275,10 @@ int cmd_run(const RunOptions& options) {
   Supervisor supervisor(*program, *runner);
   const bool live = !no_status && isatty(STDOUT_FILENO);
   LiveScreen screen(std::cout, live);  // the alternate screen, given back on every way out (live_screen.hpp)
+  if (!web_notice.empty()) {
+    if (live) screen.add_event(web_notice);
+    else std::cerr << "syncplc: " << web_notice << "\n";
+  }
   const std::int64_t t0 = runner->epoch_ns();  // the first release: --duration counts from here
   bool warned = false;
   int stop_signal = 0;
@@ -347,7 +352,7 @@ int cmd_run(const RunOptions& options) {
       ReloadFrom from;
       const std::string by = " by " + req.user + " from " + req.client;
       if (req.kind == web::ChangeRequest::Kind::Load) {
-        from = {req.project_file, "upload", "uploaded" + by};
+        from = {req.project_file, "upload", "an upload" + by};
       } else if (req.kind == web::ChangeRequest::Kind::Rollback) {
         std::string why;
         auto v = extract_version(plc_store->path(), req.version, &why);
@@ -360,7 +365,11 @@ int cmd_run(const RunOptions& options) {
         }
         from = {v->project_file, "rollback", "version " + std::to_string(v->number) + by};
       }
-      web_host.finish_change(change_outcome(apply_reload(from)));
+      const ReloadResult rr = apply_reload(from);
+      // The status shows the new program before the HTTP client hears the change is done.
+      web_host.set_status(runtime_json(project, static_cast<double>(RealtimeRunner::monotonic_ns() - t0) * 1e-9,
+                                       *plc_store, modbus_server.get(), web_server.get(), *program, supervisor));
+      web_host.finish_change(change_outcome(rr));
     }
     if (changed) continue;  // `p` was the program before the change
     reloader.poll(*runner, std::cerr, plc_store.get());

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "runtime/cli/api_client.hpp"
 #include "runtime/project/loader.hpp"
 #include "runtime/web/web_config.hpp"
 
@@ -23,6 +24,9 @@ constexpr int kExitWatchdogStopped = 3;
 constexpr int kExitHungScan = 4;
 // An I/O driver failed (it could not be opened).
 constexpr int kExitDriverFailed = 5;
+// An online command found no `syncplc run` answering at its URL, or lost
+// it (a script tells "the PLC is down" from "the PLC said no", which is 2).
+constexpr int kExitUnreachable = 6;
 
 // Loads a project, printing every diagnostic to stderr on failure.
 LoadResult load_or_report(const std::string& path, const LoadOptions& options);
@@ -45,7 +49,11 @@ struct RunOptions {
   web::WebConfig http;         // --http ...: the HTTP API and the HMI (docs/http-api.md)
 };
 int cmd_run(const RunOptions& options);
-int cmd_reload(const std::string& project, const std::string& pid_file, std::int64_t version);
+// With an API URL (--url or $SYNCPLC_URL in `online`), through the API:
+// POST /projects/reload, or /projects/rollback for a version.
+int cmd_reload(const std::string& project, const std::string& pid_file, std::int64_t version,
+               const OnlineOptions& online);
+int reload_through_api(std::int64_t version, const OnlineOptions& online);
 // `syncplc projects`: the project store's versions; with `show`, version
 // `show`'s files (all, or the one named `file`).
 int cmd_projects(const std::string& db, std::int64_t show, const std::string& file);
@@ -54,6 +62,7 @@ struct EventsOptions {
   std::string since;               // --since: "10m", "2026-11-25T10:00:00"; "" : all
   bool follow = false;             // keep printing new events until Ctrl-C
   std::vector<std::string> kinds;  // --kind (repeatable); empty: all
+  OnlineOptions online;            // with a URL (--url or $SYNCPLC_URL) and no --db: GET /events
 };
 int cmd_events(const EventsOptions& options);
 // `syncplc reset cold|origin [PROJECT] [--db PATH]`: deletes stored retain values (docs/store.md).
@@ -77,5 +86,25 @@ struct UserOptions {
   std::string project;          // PROJECT: whose store: path names the database
 };
 int cmd_user(const UserOptions& options);
+
+// The online commands: a running `syncplc run` through its HTTP API
+// (docs/http-api.md; docs/user-guide.md, "Online commands").
+int cmd_status(const OnlineOptions& o);
+int cmd_read(const std::vector<std::string>& refs, const OnlineOptions& o);
+int cmd_write(const std::string& tag, const std::string& value, const OnlineOptions& o);
+int cmd_force(const std::string& ref, const std::string& value, const OnlineOptions& o);
+int cmd_unforce(const std::string& ref, bool all, const OnlineOptions& o);
+struct WatchOptions {
+  std::vector<std::string> refs;
+  int rate = 10;            // updates per second, 1..50
+  std::optional<int> count; // stop after this many updates
+};
+int cmd_watch(const WatchOptions& w, const OnlineOptions& o);
+// `syncplc load PROJECT [--check]`: the project's files uploaded and
+// loaded by online change (or only checked).
+int cmd_load(const std::string& project, bool check_only, const OnlineOptions& o);
+int cmd_rollback(std::int64_t version, const OnlineOptions& o);
+// `syncplc events --url`: the event log through GET /events.
+int events_through_api(const EventsOptions& options);
 
 }  // namespace syncplc::cli

@@ -5,6 +5,19 @@
 
 #include "runtime/cli/commands.hpp"
 
+namespace {
+
+// What every online command takes: where the PLC is and who asks.
+void add_online_options(CLI::App* cmd, syncplc::cli::OnlineOptions& o) {
+  cmd->add_option("--url", o.url, "the PLC's HTTP API (default: $SYNCPLC_URL, else http://127.0.0.1:8080)");
+  cmd->add_option("--cacert", o.cacert, "the certificate that signs an https URL's (a self-signed one itself)");
+  cmd->add_option("--user", o.user, "log in as this user (default: $SYNCPLC_USER; none: anonymous reads)");
+  cmd->add_flag("--password-stdin", o.password_stdin,
+                "read the password from stdin's first line (else $SYNCPLC_PASSWORD, else asked on the terminal)");
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   using namespace syncplc::cli;
   CLI::App app{"syncplc - an IEC 61131-3 function-block soft-PLC for synchronized multi-axis motion"};
@@ -72,6 +85,8 @@ int main(int argc, char** argv) {
   std::int64_t version = 0;
   reload->add_option("--version", version, "load this version of the project store instead (rollback; see syncplc projects)")
       ->check(CLI::PositiveNumber);
+  OnlineOptions reload_online;
+  add_online_options(reload, reload_online);
 
   auto* projects = app.add_subcommand("projects", "the projects loaded onto the PLC: every version, its origin and outcome");
   projects->add_option("--db", db, "the PLC's database (default: $XDG_STATE_HOME/syncplc/plc.db)");
@@ -91,6 +106,7 @@ int main(int argc, char** argv) {
   events->add_flag("--follow,-f", events_options.follow, "keep printing new events until Ctrl-C");
   events->add_option("--kind", events_options.kinds, "only events of this kind (repeatable): start, stop, reload, "
                                                      "reload-failed, hmi-write, modbus-refused, watchdog, ...");
+  add_online_options(events, events_options.online);
 
   auto* reset = app.add_subcommand("reset", "delete stored retain values while the PLC is stopped: cold (retain "
                                             "values; persistent ones stay) or origin (every stored value)");
@@ -140,6 +156,55 @@ int main(int argc, char** argv) {
   auto* user_list = user->add_subcommand("list", "list the users with their roles");
   database_options(user_list);
 
+  // The online commands: a running `syncplc run` through its HTTP API.
+  OnlineOptions online;
+  std::vector<std::string> refs;
+  std::string ref, value;
+  auto* status = app.add_subcommand("status", "a running PLC's state: its program, tasks and their timing, forces");
+  add_online_options(status, online);
+  status->add_flag("--json", online.json, "print the API's answer (GET /status) as it comes");
+
+  auto* read = app.add_subcommand("read", "read tags, elements (pos[2]) and block pins (pid.out) of a running PLC");
+  read->add_option("REF", refs, "a tag, an element or instance.pin")->required();
+  add_online_options(read, online);
+  read->add_flag("--json", online.json, "print the API's answer (GET /values) as it comes");
+
+  auto* write = app.add_subcommand("write", "write a tag (with hmi: readwrite) of a running PLC; needs the operator role");
+  write->add_option("TAG", ref, "a tag or an element, e.g. speed, levels[2]")->required();
+  write->add_option("VALUE", value, "a number, TRUE/FALSE, or IEC text: T#5ms, 16#FF, \"1500 mm\"")->required();
+  add_online_options(write, online);
+
+  auto* force = app.add_subcommand("force", "hold a tag, element or pin at a value until unforced; needs the engineer role");
+  force->add_option("REF", ref, "a tag element or instance.pin")->required();
+  force->add_option("VALUE", value, "a number, TRUE/FALSE, or IEC text: T#5ms, 16#FF, \"1500 mm\"")->required();
+  add_online_options(force, online);
+
+  bool unforce_all = false;
+  auto* unforce = app.add_subcommand("unforce", "release a force, or every force (--all); needs the engineer role");
+  unforce->add_option("REF", ref, "the forced element");
+  unforce->add_flag("--all", unforce_all, "release every force");
+  add_online_options(unforce, online);
+
+  WatchOptions watch_options;
+  auto* watch = app.add_subcommand("watch", "live values of a running PLC until Ctrl-C (GET /stream)");
+  watch->add_option("REF", watch_options.refs, "a tag, an element or instance.pin")->required();
+  watch->add_option("--rate", watch_options.rate, "updates per second (1..50, default 10)")->check(CLI::Range(1, 50));
+  watch->add_option("--count", watch_options.count, "stop after this many updates")->check(CLI::PositiveNumber);
+  add_online_options(watch, online);
+
+  bool check_only = false;
+  auto* load = app.add_subcommand("load", "send a project (its file and every file it includes) to a running PLC and "
+                                          "switch to it by online change; needs the engineer role");
+  load->add_option("PROJECT", project, "the project's main file (YAML)")->required();
+  load->add_flag("--check", check_only, "only check it on the PLC: nothing changes");
+  add_online_options(load, online);
+
+  std::int64_t rollback_version = 0;
+  auto* rollback = app.add_subcommand("rollback", "switch a running PLC back to a stored project version by online "
+                                                  "change (see syncplc projects); needs the engineer role");
+  rollback->add_option("N", rollback_version, "the version number")->required()->check(CLI::PositiveNumber);
+  add_online_options(rollback, online);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -172,7 +237,7 @@ int main(int argc, char** argv) {
       if (!http_anonymous.empty()) o.http.anonymous_read = http_anonymous == "on";
       return cmd_run(o);
     }
-    if (*reload) return cmd_reload(project, pid_file, version);
+    if (*reload) return cmd_reload(project, pid_file, version, reload_online);
     if (*projects) return cmd_projects(db, *projects_show ? show : 0, show_file);
     if (*test) return cmd_test(project, tests, junit);
     if (*events) return cmd_events(events_options);
@@ -182,6 +247,15 @@ int main(int argc, char** argv) {
       user_options.action = user->get_subcommands().front()->get_name();
       return cmd_user(user_options);
     }
+
+    if (*status) return cmd_status(online);
+    if (*read) return cmd_read(refs, online);
+    if (*write) return cmd_write(ref, value, online);
+    if (*force) return cmd_force(ref, value, online);
+    if (*unforce) return cmd_unforce(ref, unforce_all, online);
+    if (*watch) return cmd_watch(watch_options, online);
+    if (*load) return cmd_load(project, check_only, online);
+    if (*rollback) return cmd_rollback(rollback_version, online);
   } catch (const std::exception& e) {
     std::cerr << "syncplc: " << e.what() << "\n";
     return kExitInvalid;

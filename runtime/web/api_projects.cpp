@@ -2,21 +2,51 @@
 // online change, reload the instance's file, roll back to a stored version.
 // The change itself is `run`'s main thread's (PlcHost::change), exactly as
 // `syncplc reload` asks for it.
+#include <thread>
+
+#include "runtime/store/database.hpp"
+#include "runtime/store/event_log.hpp"
+#include "runtime/store/project_store.hpp"
 #include "runtime/web/api.hpp"
 #include "runtime/web/project_upload.hpp"
 
 namespace syncplc::web {
 namespace {
 
-void answer_change(const ChangeOutcome& o, httplib::Response& res, const std::string& dir) {
+// The project store's number of the version a change made: the newest
+// version recorded since `since_ns` with the running program's files. The
+// store thread writes it shortly after the change; null when it does not
+// appear within two seconds (a store that is off or in FAULT).
+nlohmann::json stored_version(ApiContext& c, std::int64_t since_ns) {
+  const std::string path = c.host.database_path();
+  if (path.empty() || path == store::kMemoryDatabase) return nullptr;
+  const std::string hash = c.host.runtime_status().value("project_hash", "");
+  for (int i = 0; i < 40; ++i) {
+    std::string why;
+    if (auto db = store::Database::open_read_only(path, &why); db && db->sql().tableExists("project_versions")) {
+      const auto versions = store::list_versions(db->sql());
+      for (auto it = versions.rbegin(); it != versions.rend() && it->time_ns >= since_ns; ++it)
+        if (it->accepted && it->hash == hash) return it->number;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  return nullptr;
+}
+
+void answer_change(ApiContext& c, const ChangeOutcome& o, httplib::Response& res, const std::string& dir,
+                   std::int64_t since_ns) {
   nlohmann::json errors = nlohmann::json::array();
   if (!o.accepted)
     for (const auto& l : o.lines) errors.push_back(error_json(l, dir));
   nlohmann::json report = o.report;
   report["summary"] = o.summary;
   nlohmann::json body{{"ok", o.accepted}, {"summary", o.summary}, {"errors", errors}, {"lines", o.lines}};
-  if (o.accepted) body["report"] = report;
-  else body["error"] = o.summary;
+  if (o.accepted) {
+    body["report"] = report;
+    body["version"] = stored_version(c, since_ns);
+  } else {
+    body["error"] = o.summary;
+  }
   send_json(res, o.accepted ? 200 : o.status, body);
 }
 
@@ -66,7 +96,8 @@ void add_project_routes(httplib::Server& s, ApiContext& c) {
       r.project_file = main;
       r.user = who->user;
       r.client = ApiContext::client(req);
-      answer_change(c.host.change(r), res, root + "/" + check.hash);
+      const std::int64_t since = store::wall_now_ns();
+      answer_change(c, c.host.change(r), res, root + "/" + check.hash, since);
     };
   };
   s.Post("/api/v1/projects/check", upload(false));
@@ -79,7 +110,8 @@ void add_project_routes(httplib::Server& s, ApiContext& c) {
     r.kind = ChangeRequest::Kind::Reload;
     r.user = who->user;
     r.client = ApiContext::client(req);
-    answer_change(c.host.change(r), res, "");
+    const std::int64_t since = store::wall_now_ns();
+    answer_change(c, c.host.change(r), res, "", since);
   });
 
   s.Post("/api/v1/projects/rollback", [&c](const httplib::Request& req, httplib::Response& res) {
@@ -97,7 +129,8 @@ void add_project_routes(httplib::Server& s, ApiContext& c) {
     r.version = v->get<std::int64_t>();
     r.user = who->user;
     r.client = ApiContext::client(req);
-    answer_change(c.host.change(r), res, "");
+    const std::int64_t since = store::wall_now_ns();
+    answer_change(c, c.host.change(r), res, "", since);
   });
 }
 

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <charconv>
 #include <limits>
+#include <thread>
 
 #include "runtime/store/event_log.hpp"
 #include "runtime/store/log_queries.hpp"
@@ -110,21 +111,30 @@ void add_read_routes(httplib::Server& s, ApiContext& c) {
     }
     nlohmann::json values = nlohmann::json::object(), forced = nlohmann::json::object();
     bool ok = true;
-    c.host.with_program([&](Program& p) {
-      const ForcedCells fc = forced_cells(p);
-      for (const auto& ref : refs) {
-        std::string why;
-        auto r = p.resolve(ref, &why);
-        if (!r) {
-          send_error(res, 404, why.empty() ? "no tag or pin '" + ref + "'" : why);
-          ok = false;
-          return;
+    // A pin nobody watched has no copy until its task's next publication
+    // (pin_monitor.hpp): ask again a little later, without holding the
+    // program meanwhile, rather than answer null.
+    for (int attempt = 0; attempt < 25 && ok; ++attempt) {
+      bool starting = false;
+      c.host.with_program([&](Program& p) {
+        const ForcedCells fc = forced_cells(p);
+        for (const auto& ref : refs) {
+          std::string why;
+          auto r = p.resolve(ref, &why);
+          if (!r) {
+            send_error(res, 404, why.empty() ? "no tag or pin '" + ref + "'" : why);
+            ok = false;
+            return;
+          }
+          const RefValue v = ref_value(p, *r, fc);
+          starting = starting || v.value.is_null();
+          values[ref] = v.value;
+          forced[ref] = v.forced;
         }
-        const RefValue v = ref_value(p, *r, fc);
-        values[ref] = v.value;
-        forced[ref] = v.forced;
-      }
-    });
+      });
+      if (!starting) break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(4));
+    }
     if (ok) send_json(res, 200, {{"t_ns", store::wall_now_ns()}, {"values", values}, {"forced", forced}});
   });
 

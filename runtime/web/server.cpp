@@ -40,7 +40,24 @@ std::optional<Session> ApiContext::session(const httplib::Request& req) {
   const std::string h = req.get_header_value("Authorization");
   static constexpr std::string_view kBearer = "Bearer ";
   if (h.size() <= kBearer.size() || h.compare(0, kBearer.size(), kBearer) != 0) return std::nullopt;
-  return sessions.check(h.substr(kBearer.size()), steady_now_ns());
+  auto s = sessions.check(h.substr(kBearer.size()), steady_now_ns());
+  if (!s) return s;
+  // `syncplc user remove` or `role` may have changed the user since the
+  // login (another process): the table decides, at every request.
+  std::lock_guard lock(users_mutex);
+  std::string why;
+  UserStore* users = user_store(&why);
+  std::optional<User> now;
+  try {
+    if (users) now = users->find(s->user);
+  } catch (const std::exception&) {
+    now.reset();  // a table that cannot be read grants nothing
+  }
+  if (!now || now->role != s->role) {
+    sessions.revoke_user(s->user);
+    return std::nullopt;
+  }
+  return s;
 }
 
 bool ApiContext::may_read(const httplib::Request& req, httplib::Response& res) {

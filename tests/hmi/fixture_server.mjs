@@ -169,6 +169,21 @@ export async function startFixture({ port = 0, users = {}, distDir = DIST } = {}
       send(res, 200, { tags: TAGS.filter((t) => t.name.includes(f)).map((t) => ({ ...info(t), forced: t.length > 1 ? Array.from({ length: t.length }, (_, i) => `${t.name}[${i + 1}]` in st.forces) : t.name in st.forces })) });
       return;
     }
+    if (req.method === 'GET' && path.startsWith('/tags/')) {
+      const name = decodeURIComponent(path.slice('/tags/'.length));
+      const t = TAGS.find((x) => x.name === name);
+      if (!t) { send(res, 404, { error: `no tag '${name}'` }); return; }
+      const { lower, ...rest } = t;
+      send(res, 200, { ...rest, value: vals[name], forced: name in st.forces });
+      return;
+    }
+    if (req.method === 'GET' && path.startsWith('/blocks/')) {
+      const name = decodeURIComponent(path.slice('/blocks/'.length));
+      const b = BLOCKS.find((x) => x.name === name);
+      if (!b) { send(res, 404, { error: `no block instance '${name}'` }); return; }
+      send(res, 200, { ...b, pins: b.pins.map((p) => ({ ...p, ...readRef(`${b.name}.${p.name}`, vals, st.forces) })) });
+      return;
+    }
     if (req.method === 'GET' && path === '/blocks') {
       send(res, 200, { blocks: BLOCKS.map((b) => ({ ...b, pins: b.pins.map((p) => ({ ...p, ...readRef(`${b.name}.${p.name}`, vals, st.forces) })) })) });
       return;
@@ -249,6 +264,19 @@ export async function startFixture({ port = 0, users = {}, distDir = DIST } = {}
       delete st.forces[ref];
       event('unforce', `${ref} unforced by ${s.user}`);
       send(res, 200, { ok: true });
+      return;
+    }
+    if (req.method === 'DELETE' && path === '/forces') {
+      const s = need(req, res, 'engineer'); if (!s) return;
+      const released = Object.keys(st.forces);
+      st.forces = {};
+      released.forEach((ref) => event('unforce', `${ref} unforced by ${s.user}`));
+      send(res, 200, { ok: true, released });
+      return;
+    }
+    if (req.method === 'POST' && path === '/projects/reload') {
+      if (!need(req, res, 'engineer')) return;
+      send(res, 200, { ok: true, version: st.versions.length, summary: 'instances: 5 kept, 0 retuned, 0 new, 0 removed', report: { kept: [], retuned: [], new: [], removed: [] } });
       return;
     }
     if (req.method === 'GET' && path === '/projects') { send(res, 200, { versions: st.versions }); return; }

@@ -1,14 +1,29 @@
-// Screenshots of every HMI page at desktop and phone size into docs/hmi/
-// (PNG), taken in Debian's chromium. Until runtime/web is merged they are
-// taken against the test fixture (canned values after the API outline).
+// Screenshots of every HMI page into docs/hmi/ (PNG), taken in Debian's
+// chromium:
 //   node tests/hmi/screenshots.mjs [OUT_DIR]
+//     against the test fixture (canned values after the API outline), desktop
+//     and phone size: <page>-desktop.png, <page>-phone.png, and three dialogs;
+//   node tests/hmi/screenshots.mjs --real build/syncplc [OUT_DIR]
+//     against a real `syncplc run` of tests/hmi/projects/hmi_cell at desktop
+//     size (real-<page>-desktop.png), the Axes page against the demo
+//     projects/four_axis_table/sync.yaml.
 import { mkdir } from 'node:fs/promises';
 import { join } from 'node:path';
 import { requireBrowser, launch, DESKTOP, PHONE, ROOT } from './browser.mjs';
 import { startFixture } from './fixture_server.mjs';
 
 requireBrowser();
-const out = process.argv[2] || join(ROOT, 'docs', 'hmi');
+const args = process.argv.slice(2);
+const realAt = args.indexOf('--real');
+if (realAt >= 0) {
+  const [, binary] = args.splice(realAt, 2);
+  if (!binary) { console.error('usage: node tests/hmi/screenshots.mjs --real PATH/TO/syncplc [OUT_DIR]'); process.exit(1); }
+  const { realScreenshots } = await import('./screenshots_real.mjs');
+  const taken = await realScreenshots(binary, args[0] || join(ROOT, 'docs', 'hmi'));
+  console.log(taken.join('\n'));
+  process.exit(0);
+}
+const out = args[0] || join(ROOT, 'docs', 'hmi');
 await mkdir(out, { recursive: true });
 const users = { erik: { password: 'eng-secret-2', role: 'engineer' } };
 const fixture = await startFixture({ users });

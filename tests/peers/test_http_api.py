@@ -186,14 +186,17 @@ def main():
     newer = main_text.replace("version: 1.0.0", "version: 1.0.1")
     j = api.expect(200, "POST", "/projects/load", {"main": "main.yaml", "files": {"main.yaml": newer, "tags.yaml": common}})
     assert j["ok"] and "k_iw" in j["report"]["kept"] and not j["report"]["new"], j
+    loaded = j["version"]
+    assert isinstance(loaded, int) and loaded >= 2, j
     assert api.expect(200, "GET", "/status")["runtime"]["program_version"] == "1.0.1"
     assert values(api, "mw_arr_r")["mw_arr_r"] == [9, 8, 7, 6], "tag values carried over the load"
     versions = peerlib.wait_until(lambda: (lambda v: (len(v) >= 2, v))(api.expect(200, "GET", "/projects")["versions"]),
                                   "the upload in the project store")[0]
     assert [v["origin"] for v in versions][:1] == ["run"] and versions[-1]["origin"] == "upload", versions
     assert versions[-1]["running"] and versions[-1]["outcome"] == "accepted", versions[-1]
+    assert versions[-1]["version"] == loaded, (versions[-1], loaded)
     j = api.expect(200, "POST", "/projects/rollback", {"version": versions[0]["version"]})
-    assert j["ok"], j
+    assert j["ok"] and j["version"] == loaded + 1, (j, loaded)
     assert api.expect(200, "GET", "/status")["runtime"]["program_version"] == "1.0.0"
     api.expect(409, "POST", "/projects/rollback", {"version": 999}, what="rollback to a version that is not there")
     api.expect(200, "POST", "/projects/reload", {})
@@ -209,6 +212,17 @@ def main():
                                                 for e in ev), ev))(api.expect(200, "GET", "/events?kind=reload")["events"]),
                        "the load's reload event")
 
+    # --- the historian: qw_int_r every 100 ms, its points as the page plots them
+    def trend():
+        j = api.expect(200, "GET", "/trends?tag=qw_int_r&points=50")
+        return len(j["points"]) >= 3 and j["points"][-1]["max"] == 1234, j
+    j = peerlib.wait_until(trend, "trend points of qw_int_r", timeout=30)[0]
+    assert len(j["points"]) <= 50 and all(p["min"] <= p["mean"] <= p["max"] and p["count"] > 0 for p in j["points"]), j
+    ts = [p["t_ns"] for p in j["points"]]
+    assert ts == sorted(ts), ts
+    api.expect(404, "GET", "/trends?tag=speed", what="a tag that is not trended")
+    api.expect(400, "GET", "/trends?tag=qw_int_r&since=yesterday", what="a time that is not a number")
+
     # --- the live stream: newest values at the asked rate; an unknown ref ends it with its reason
     c = http.client.HTTPConnection("127.0.0.1", port, timeout=10)
     c.request("GET", "/api/v1/stream?refs=qw_int_r,mw_arr&rate=20")
@@ -223,6 +237,24 @@ def main():
     c.close()
     assert all(g["values"]["qw_int_r"] == 1234 and g["values"]["mw_arr"] == [9, 8, 7, 6] for g in got), got
     assert 0.1 < elapsed < 5, elapsed  # 4 periods of 50 ms after the first
+    # A client that stops reading its stream costs the others nothing: its
+    # events are not queued (each tick takes the newest values), and its
+    # worker is cut by the write timeout, not another client's.
+    stalled = socket.create_connection(("127.0.0.1", port))
+    stalled.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
+    stalled.sendall(b"GET /api/v1/stream?refs=mw_arr,qw_int_r,iw_const,speed,pos&rate=50 HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n")
+    time.sleep(1.0)
+    c = http.client.HTTPConnection("127.0.0.1", port, timeout=10)
+    c.request("GET", "/api/v1/stream?refs=qw_int_r&rate=20")
+    r = c.getresponse()
+    t0, n = time.monotonic(), 0
+    while n < 40:
+        if r.fp.readline().startswith(b"data: "):
+            n += 1
+    took = time.monotonic() - t0
+    c.close()
+    stalled.close()
+    assert took < 4.0, "40 events at 20 Hz took %.2f s beside a stalled client" % took
     c = http.client.HTTPConnection("127.0.0.1", port, timeout=10)
     c.request("GET", "/api/v1/stream?refs=nope")
     text = c.getresponse().read().decode()

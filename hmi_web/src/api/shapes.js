@@ -5,7 +5,8 @@
 
 const num = (v) => (typeof v === 'number' && Number.isFinite(v) ? v : (v === null || v === undefined || v === '' ? null : (Number.isFinite(Number(v)) ? Number(v) : null)));
 const list = (data, key) => (Array.isArray(data) ? data : (data && Array.isArray(data[key]) ? data[key] : []));
-const first = (...vs) => vs.find((v) => v !== undefined && v !== null);
+// The first value given that is neither undefined nor null; null when none is.
+const first = (...vs) => { const v = vs.find((x) => x !== undefined && x !== null); return v === undefined ? null : v; };
 
 // {last, min, max, mean, p99} from either plain or _ns-suffixed keys.
 function stats(s) {

@@ -6,6 +6,7 @@ import { checkProject, getProjects, loadProject, rollback } from '../api/endpoin
 import { can, hint } from '../auth/session.js';
 import { errorsByLine, guessMain, projectBody, relativeNames, sameFile } from '../lib/project_files.js';
 import { formatWallNs } from '../lib/format.js';
+import { usePoll } from '../lib/poll.js';
 import { ErrorNote, Modal } from '../components/common.jsx';
 
 function SourceView({ file, errors, focusLine }) {
@@ -56,14 +57,18 @@ function ChangeReport({ report }) {
 }
 
 function Versions({ session, reloadKey, onRolledBack }) {
-  const [versions, setVersions] = useState(null);
-  const [error, setError] = useState(null);
+  // Read again every few seconds: the PLC marks the new version running a
+  // moment after it answers a load, and a change may come from elsewhere
+  // (`syncplc reload`, another browser).
+  const { data: versions, error: readError } = usePoll(getProjects, 3000, [reloadKey]);
+  const [actionError, setError] = useState(null);
+  const error = actionError || (versions ? null : readError);
   const [confirm, setConfirm] = useState(null);
   const [busy, setBusy] = useState(false);
-  useEffect(() => { getProjects().then((v) => { setVersions(v); setError(null); }).catch(setError); }, [reloadKey]);
 
   async function doRollback() {
     setBusy(true);
+    setError(null);
     try {
       const r = await rollback(confirm.version);
       setConfirm(null);
