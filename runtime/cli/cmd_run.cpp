@@ -90,7 +90,8 @@ void write_reload_result(const std::string& pid_file, const ReloadResult& r) {
 
 // What the HTTP API's /status says of the runtime, taken each main loop turn.
 nlohmann::json runtime_json(const std::string& project, double uptime_s, const PlcStore& store,
-                            const modbus::Server* modbus, const web::Server* http, const Program& p, const Supervisor& supervisor) {
+                            const modbus::Server* modbus, const web::Server* http, std::int64_t epoch_wall_ns,
+                            const Program& p, const Supervisor& supervisor) {
   const StoreStatus st = store_status(store);
   nlohmann::json states = nlohmann::json::object();
   for (std::size_t i = 0; i < p.tasks.size(); ++i) {
@@ -105,6 +106,7 @@ nlohmann::json runtime_json(const std::string& project, double uptime_s, const P
   return {{"version", "0.1.0"},
           {"project_file", project},
           {"uptime_s", uptime_s},
+          {"epoch_wall_ns", epoch_wall_ns},
           {"store", {{"state", st.state == StoreStatus::State::Ok ? "ok" : st.state == StoreStatus::State::Fault ? "FAULT" : "off"},
                      {"detail", st.error.empty() ? nlohmann::json(store.path()) : nlohmann::json(st.error)}}},
           {"modbus", modbus ? nlohmann::json(modbus->endpoint()) : nlohmann::json()},
@@ -388,7 +390,8 @@ int cmd_run(const RunOptions& options) {
     if (live) screen.set_store(store_status_line(store_status(*plc_store), plc_store->path()));
     screen.draw(p, elapsed, modbus_server.get(), &supervisor);
     if (web_server)
-      web_host.set_status(runtime_json(project, elapsed, *plc_store, modbus_server.get(), web_server.get(), p, supervisor));
+      web_host.set_status(runtime_json(project, elapsed, *plc_store, modbus_server.get(), web_server.get(),
+                                       run_events.wall_at_epoch_ns(), p, supervisor));
     if (limit && RealtimeRunner::monotonic_ns() - t0 >= *limit) break;
     if (supervisor.all_stopped()) {  // by their watchdogs, or given up on by the supervisor
       std::cerr << "syncplc: every task has stopped\n";

@@ -25,6 +25,9 @@ class RunEvents : public modbus::ServerAudit {
   // The tasks' time axis starts at `epoch_monotonic_ns` (RealtimeRunner::
   // epoch_ns): from then on events' times convert to wall time.
   void set_epoch(std::int64_t epoch_monotonic_ns);
+  // CLOCK_REALTIME at the tasks' time 0 (0 before set_epoch): a scan's
+  // planned release in wall time is this plus its logical time.
+  std::int64_t wall_at_epoch_ns() const { return wall_at_epoch_ns_; }
 
   void started(const std::string& project, const std::string& database);
   void stopped(const std::string& why);

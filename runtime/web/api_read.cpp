@@ -63,12 +63,18 @@ void add_read_routes(httplib::Server& s, ApiContext& c) {
     nlohmann::json runtime = c.host.runtime_status();
     const nlohmann::json states = runtime.value("task_states", nlohmann::json::object());
     runtime.erase("task_states");
+    const std::string histograms = req.get_param_value("histograms");
+    if (!histograms.empty() && histograms != "full") {
+      send_error(res, 400, "histograms='" + histograms + "': the only choice is histograms=full");
+      return;
+    }
     nlohmann::json j{{"runtime", runtime}};
     c.host.with_program([&](Program& p) {
       j["runtime"]["program"] = p.name;
       j["runtime"]["program_version"] = p.version;
       nlohmann::json tasks = nlohmann::json::array();
-      for (const auto& t : p.tasks) tasks.push_back(task_json(*t, states.value(t->config().name, nlohmann::json())));
+      for (const auto& t : p.tasks)
+        tasks.push_back(task_json(*t, states.value(t->config().name, nlohmann::json()), !histograms.empty()));
       j["tasks"] = tasks;
       j["forces"] = p.force_count();
     });

@@ -32,13 +32,26 @@ nlohmann::json histogram_json(const Histogram& h) {
   return {{"bounds_ns", kBounds}, {"counts", counts}};
 }
 
-nlohmann::json statistics_json(const Histogram& h) {
-  const auto s = h.summary();
-  return {{"count", s.count}, {"min_ns", s.min}, {"max_ns", s.max}, {"mean_ns", s.mean},
-          {"p50_ns", s.p50},  {"p99_ns", s.p99}, {"histogram", histogram_json(h)}};
+nlohmann::json full_histogram_json(const Histogram& h) {
+  nlohmann::json upper = nlohmann::json::array(), counts = nlohmann::json::array();
+  for (int i = 0; i < Histogram::kBuckets; ++i) {
+    const std::uint64_t n = h.bucket(i);
+    if (n == 0) continue;
+    upper.push_back(Histogram::upper(i));
+    counts.push_back(n);
+  }
+  return {{"upper_ns", upper}, {"counts", counts}};
 }
 
-nlohmann::json task_json(const Task& t, const nlohmann::json& state) {
+nlohmann::json statistics_json(const Histogram& h, bool full) {
+  const auto s = h.summary();
+  nlohmann::json j{{"count", s.count}, {"min_ns", s.min}, {"max_ns", s.max}, {"mean_ns", s.mean},
+                   {"p50_ns", s.p50},  {"p99_ns", s.p99}, {"histogram", histogram_json(h)}};
+  if (full) j["full"] = full_histogram_json(h);
+  return j;
+}
+
+nlohmann::json task_json(const Task& t, const nlohmann::json& state, bool full_histograms) {
   const TaskConfig& c = t.config();
   const TaskStats& st = t.stats;
   nlohmann::json j{{"name", c.name},
@@ -52,8 +65,8 @@ nlohmann::json task_json(const Task& t, const nlohmann::json& state) {
                    {"skipped", st.skipped.load(std::memory_order_relaxed)},
                    {"watchdog_trips", st.watchdog_trips.load(std::memory_order_relaxed)},
                    {"writes_applied", st.writes_applied.load(std::memory_order_relaxed)},
-                   {"exec", statistics_json(st.exec)},
-                   {"jitter", statistics_json(st.jitter)}};
+                   {"exec", statistics_json(st.exec, full_histograms)},
+                   {"jitter", statistics_json(st.jitter, full_histograms)}};
   j["exec"]["last_ns"] = st.last_exec_ns.load(std::memory_order_relaxed);
   if (state.is_object()) {
     if (state.contains("state")) j["state"] = state["state"];

@@ -21,9 +21,14 @@ ForcedCells forced_cells(const Program& p);
 // {"bounds_ns": [1000, 2000, 5000, ...], "counts": [n <= 1 us, ..., n > last]}:
 // the log-linear histogram summed into 1-2-5 steps from 1 us to 1 s.
 nlohmann::json histogram_json(const Histogram& h);
-// {"last_ns"?, "min_ns", "max_ns", "mean_ns", "p50_ns", "p99_ns", "count", "histogram"}
-nlohmann::json statistics_json(const Histogram& h);
-nlohmann::json task_json(const Task& t, const nlohmann::json& state);
+// {"upper_ns": [...], "counts": [...]}: the histogram's own non-empty buckets
+// (32 per power of two: a bucket's upper bound is within 1/32 of its values),
+// each with its largest value. Two snapshots' difference gives the
+// percentiles of the time between them (GET /status?histograms=full).
+nlohmann::json full_histogram_json(const Histogram& h);
+// {"last_ns"?, "min_ns", "max_ns", "mean_ns", "p50_ns", "p99_ns", "count", "histogram", "full"?}
+nlohmann::json statistics_json(const Histogram& h, bool full = false);
+nlohmann::json task_json(const Task& t, const nlohmann::json& state, bool full_histograms = false);
 nlohmann::json tag_json(const Program& p, const Tag& t, const ForcedCells& forced);
 nlohmann::json instance_json(Program& p, const InstanceInfo& b, const ForcedCells& forced);
 
