@@ -368,7 +368,8 @@ int cmd_run(const RunOptions& options) {
       const ReloadResult rr = apply_reload(from);
       // The status shows the new program before the HTTP client hears the change is done.
       web_host.set_status(runtime_json(project, static_cast<double>(RealtimeRunner::monotonic_ns() - t0) * 1e-9,
-                                       *plc_store, modbus_server.get(), web_server.get(), *program, supervisor));
+                                       *plc_store, modbus_server.get(), web_server.get(), run_events.wall_at_epoch_ns(),
+                                       *program, supervisor));
       web_host.finish_change(change_outcome(rr));
     }
     if (changed) continue;  // `p` was the program before the change

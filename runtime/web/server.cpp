@@ -1,9 +1,11 @@
 #include "runtime/web/server.hpp"
 
 #include <httplib.h>
+#include <sys/socket.h>
 #include <sys/stat.h>
 #include <time.h>
 
+#include <functional>
 #include <thread>
 
 #include "runtime/store/database.hpp"
@@ -144,6 +146,17 @@ bool host_allowed(const WebConfig& c, const std::string& host) {
   return name == "localhost" || name == "[::1]" || is_loopback(name);
 }
 
+// cpp-httplib 0.11 listens with a backlog of 5 (compiled into Debian's
+// library): HMI pages that all reconnect at once (after a restart) would
+// have their SYNs dropped and wait seconds for TCP's retries. listen()
+// again on the bound socket widens the queue (docs/benchmarks.md §12).
+constexpr int kListenBacklog = 128;
+template <class S>
+struct WideBacklog : S {
+  using S::S;
+  void widen() { ::listen(this->svr_sock_, kListenBacklog); }
+};
+
 }  // namespace
 
 struct Server::Impl {
@@ -163,15 +176,19 @@ Server::~Server() { stop(); }
 bool Server::start(std::string* error) {
   const WebConfig& c = impl_->config;
   if (!check_config(c, error)) return false;
+  std::function<void()> widen_backlog;
   if (c.tls()) {
-    auto tls = std::make_unique<httplib::SSLServer>(c.tls_cert.c_str(), c.tls_key.c_str());
+    auto tls = std::make_unique<WideBacklog<httplib::SSLServer>>(c.tls_cert.c_str(), c.tls_key.c_str());
     if (!tls->is_valid()) {
       *error = "HTTPS: cannot load the certificate " + c.tls_cert + " with the key " + c.tls_key;
       return false;
     }
+    widen_backlog = [p = tls.get()] { p->widen(); };
     impl_->http = std::move(tls);
   } else {
-    impl_->http = std::make_unique<httplib::Server>();
+    auto plain = std::make_unique<WideBacklog<httplib::Server>>();
+    widen_backlog = [p = plain.get()] { p->widen(); };
+    impl_->http = std::move(plain);
   }
   httplib::Server& s = *impl_->http;
   ApiContext& ctx = impl_->context;
@@ -261,6 +278,7 @@ bool Server::start(std::string* error) {
     }
     impl_->port = c.port;
   }
+  widen_backlog();
   impl_->listener = std::thread([&s] { s.listen_after_bind(); });
   // stop() ends only a server that runs: wait until it does.
   while (!s.is_running()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
