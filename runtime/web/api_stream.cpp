@@ -110,7 +110,8 @@ void add_stream_routes(httplib::Server& s, ApiContext& c) {
             return true;
           }
           // The next tick one period on; ticks a slow client missed are skipped, not caught up.
-          st->next_ns = std::max(st->next_ns + st->period_ns, steady_now_ns());
+          st->next_ns += st->period_ns;
+          if (const std::int64_t t = steady_now_ns(); st->next_ns < t) st->next_ns = t + st->period_ns;
           // A session logged out or expired ends its streams (checked once a second).
           if (!st->token.empty() && st->next_ns - st->session_checked_ns > 1'000'000'000) {
             st->session_checked_ns = st->next_ns;
