@@ -153,6 +153,18 @@ class Server:
         self._drain = threading.Thread(target=self._read_stderr, daemon=True)
         self._drain.start()
 
+    def http_port(self, scheme="http", timeout=30):
+        """The port `run --http 127.0.0.1:0` chose, from the line it prints."""
+        pattern = re.compile(r"HTTP API on %s://127\.0\.0\.1:(\d+)/" % scheme)
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            for line in list(self.stderr_lines):
+                m = pattern.search(line)
+                if m:
+                    return int(m.group(1))
+            time.sleep(0.05)
+        raise AssertionError("no %s address on the stderr of syncplc run:\n%s" % (scheme, "".join(self.stderr_lines)))
+
     def _read_stderr(self):
         for line in self.proc.stderr:
             self.stderr_lines.append(line)

@@ -77,15 +77,7 @@ def main():
     for name, (role, password) in USERS.items():
         add_user(name, role, password)
     srv = peerlib.Server(BINARY, peerlib.project("http_api.yaml"), extra=["--http", "127.0.0.1:0", "--db", DB])
-    port = None
-    deadline = time.monotonic() + 30
-    while port is None and time.monotonic() < deadline:
-        for line in list(srv.stderr_lines):
-            m = re.search(r"HTTP API on http://127\.0\.0\.1:(\d+)/", line)
-            if m:
-                port = int(m.group(1))
-        time.sleep(0.05)
-    assert port, "no HTTP address on stderr:\n" + "".join(srv.stderr_lines)
+    port = srv.http_port()
     api = Api(port)
 
     # --- reads, anonymous on loopback

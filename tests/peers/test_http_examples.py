@@ -42,14 +42,7 @@ def main():
                        input=PASSWORD + "\n", text=True, capture_output=True, timeout=60)
     assert p.returncode == 0, p.stderr
     srv = peerlib.Server(BINARY, peerlib.project("http_api.yaml"), extra=["--http", "127.0.0.1:0", "--db", DB])
-    port, deadline = None, time.monotonic() + 30
-    while port is None and time.monotonic() < deadline:
-        for line in list(srv.stderr_lines):
-            m = re.search(r"HTTP API on http://127\.0\.0\.1:(\d+)/", line)
-            if m:
-                port = int(m.group(1))
-        time.sleep(0.05)
-    assert port, "".join(srv.stderr_lines)
+    port = srv.http_port()
     found = blocks()
     assert len(found) == 4, "expected the four example blocks, found %d" % len(found)
     env = dict(os.environ, PASSWORD=PASSWORD)

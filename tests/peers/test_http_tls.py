@@ -27,14 +27,7 @@ def main():
                    check=True, capture_output=True, timeout=120)
     srv = peerlib.Server(BINARY, peerlib.project("http_api.yaml"),
                          extra=["--http", "127.0.0.1:0", "--http-cert", cert, "--http-key", key, "--db", ":memory:"])
-    port, deadline = None, time.monotonic() + 30
-    while port is None and time.monotonic() < deadline:
-        for line in list(srv.stderr_lines):
-            m = re.search(r"HTTP API on https://127\.0\.0\.1:(\d+)/", line)
-            if m:
-                port = int(m.group(1))
-        time.sleep(0.05)
-    assert port, "no https address on stderr:\n" + "".join(srv.stderr_lines)
+    port = srv.http_port("https")
 
     ctx = ssl.create_default_context(cafile=cert)
     c = http.client.HTTPSConnection("127.0.0.1", port, context=ctx, timeout=30)

@@ -34,14 +34,7 @@ def main():
     for name, role in (("olga", "operator"), ("erik", "engineer")):
         cli("user", "add", name, "--role", role, "--password-stdin", "--db", DB, stdin=PASSWORDS[name] + "\n")
     srv = peerlib.Server(BINARY, peerlib.project("http_api.yaml"), extra=["--http", "127.0.0.1:0", "--db", DB])
-    port, deadline = None, time.monotonic() + 30
-    while port is None and time.monotonic() < deadline:
-        for line in list(srv.stderr_lines):
-            m = re.search(r"HTTP API on http://127\.0\.0\.1:(\d+)/", line)
-            if m:
-                port = int(m.group(1))
-        time.sleep(0.05)
-    assert port, "".join(srv.stderr_lines)
+    port = srv.http_port()
     os.environ["SYNCPLC_URL"] = "http://127.0.0.1:%d" % port
 
     out = cli("status")
