@@ -9,11 +9,8 @@ load and rollback, events, the live stream, and hostile requests.
 import http.client
 import json
 import os
-import re
 import socket
 import subprocess
-import sys
-import tempfile
 import time
 
 import peerlib

@@ -9,10 +9,8 @@ with a key that does not load, refuses to start with the reason.
 import http.client
 import json
 import os
-import re
 import ssl
 import subprocess
-import time
 
 import peerlib
 

@@ -9,7 +9,6 @@ words with their exit statuses; a write read back with pymodbus.
 import os
 import re
 import subprocess
-import time
 
 import peerlib
 
