@@ -18,6 +18,10 @@ namespace {
 // says nothing for this long is as good as gone.
 constexpr int kConnectTimeoutS = 5;
 constexpr int kReadTimeoutS = 30;
+// A load, reload or rollback is answered once every task has switched:
+// three periods of the slowest task ahead (half a minute for a 10 s task),
+// plus the store's record of the version.
+constexpr int kChangeTimeoutS = 300;
 // The live stream sends at least once a second (rate >= 1): a silence this
 // long means the connection is dead even if TCP has not noticed.
 constexpr int kStreamSilenceS = 10;
@@ -158,7 +162,10 @@ ApiAnswer ApiClient::request(const std::string& method, const std::string& path,
     req.body = "{}";  // the API wants JSON on every POST (415 otherwise)
     req.headers.emplace("Content-Type", "application/json");
   }
+  const bool change = path.rfind("/projects/", 0) == 0;
+  if (change) http_->set_read_timeout(kChangeTimeoutS);
   auto res = http_->send(req);
+  if (change) http_->set_read_timeout(kReadTimeoutS);
   if (!res) unreachable(static_cast<int>(res.error()));
   ApiAnswer a;
   a.status = res->status;

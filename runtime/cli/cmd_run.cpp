@@ -91,12 +91,12 @@ void write_reload_result(const std::string& pid_file, const ReloadResult& r) {
 // What the HTTP API's /status says of the runtime, taken each main loop turn.
 nlohmann::json runtime_json(const std::string& project, double uptime_s, const PlcStore& store,
                             const modbus::Server* modbus, const web::Server* http, std::int64_t epoch_wall_ns,
-                            const Program& p, const Supervisor& supervisor) {
+                            const Program& p, const Supervisor* supervisor) {
   const StoreStatus st = store_status(store);
   nlohmann::json states = nlohmann::json::object();
   for (std::size_t i = 0; i < p.tasks.size(); ++i) {
     const Task& t = *p.tasks[i];
-    if (supervisor.hung(i))
+    if (supervisor && supervisor->hung(i))
       states[t.config().name] = {{"state", "hung"}, {"stop_reason", "a scan did not end: its outputs are safe, its thread given up"}};
     else if (t.stopped())
       states[t.config().name] = {{"state", "stopped"},
@@ -227,10 +227,20 @@ int cmd_run(const RunOptions& options) {
   // The HTTP API and the HMI, bound before any task runs. A port given
   // with --http that is taken stops here; the default one only warns (the
   // machine keeps its control program when another service holds 8080).
-  RunWebHost web_host(program.get(), *plc_store, o,
-                      (std::filesystem::path(default_database_path()).parent_path() / "uploads").string());
+  // Uploads beside the PLC's database (the default's directory when it keeps none).
+  const std::string db_dir = plc_store->on() && plc_store->path() != store::kMemoryDatabase
+                                 ? std::filesystem::path(plc_store->path()).parent_path().string()
+                                 : std::filesystem::path(default_database_path()).parent_path().string();
+  RunWebHost web_host(program.get(), *plc_store, o, (std::filesystem::path(db_dir) / "uploads").string());
   web_host.set_project_hash(start_hash);
   std::unique_ptr<web::Server> web_server;
+  // However run ends, HTTP requests that wait for a change are answered
+  // before the server's threads are joined (declared after web_server, so
+  // it runs first).
+  struct CloseWebHost {
+    RunWebHost& host;
+    ~CloseWebHost() { host.close(); }
+  } close_web_host{web_host};
   std::string web_notice;  // where it listens, or why not: shown once the screen is up
   if (options.http.enabled) {
     web_server = std::make_unique<web::Server>(options.http, web_host);
@@ -246,6 +256,8 @@ int cmd_run(const RunOptions& options) {
       web_notice = "warning: " + why + "; running without the HTTP API and the HMI";
     } else {
       web_notice = "HMI and HTTP API on " + web_server->url();
+      // What /status says until the main loop's first turn.
+      web_host.set_status(runtime_json(project, 0, *plc_store, modbus_server.get(), web_server.get(), 0, *program, nullptr));
     }
   }
   // `syncplc reload` finds this instance through its pid file.
@@ -268,10 +280,7 @@ int cmd_run(const RunOptions& options) {
   reloader.set_store_status(&store_registers);
   // The HTTP threads go over to the new program when the change begins, as
   // the Modbus server does; the old one is never theirs again.
-  reloader.set_switch_hook([&web_host](Program& next) {
-    auto hold = web_host.hold();
-    web_host.set_program(&next);
-  });
+  reloader.set_readers([&web_host] { return web_host.hold(); }, [&web_host](Program& next) { web_host.set_program(&next); });
   Supervisor supervisor(*program, *runner);
   const bool live = !no_status && isatty(STDOUT_FILENO);
   LiveScreen screen(std::cout, live);  // the alternate screen, given back on every way out (live_screen.hpp)
@@ -369,7 +378,7 @@ int cmd_run(const RunOptions& options) {
       // The status shows the new program before the HTTP client hears the change is done.
       web_host.set_status(runtime_json(project, static_cast<double>(RealtimeRunner::monotonic_ns() - t0) * 1e-9,
                                        *plc_store, modbus_server.get(), web_server.get(), run_events.wall_at_epoch_ns(),
-                                       *program, supervisor));
+                                       *program, &supervisor));
       web_host.finish_change(change_outcome(rr));
     }
     if (changed) continue;  // `p` was the program before the change
@@ -392,7 +401,7 @@ int cmd_run(const RunOptions& options) {
     screen.draw(p, elapsed, modbus_server.get(), &supervisor);
     if (web_server)
       web_host.set_status(runtime_json(project, elapsed, *plc_store, modbus_server.get(), web_server.get(),
-                                       run_events.wall_at_epoch_ns(), p, supervisor));
+                                       run_events.wall_at_epoch_ns(), p, &supervisor));
     if (limit && RealtimeRunner::monotonic_ns() - t0 >= *limit) break;
     if (supervisor.all_stopped()) {  // by their watchdogs, or given up on by the supervisor
       std::cerr << "syncplc: every task has stopped\n";

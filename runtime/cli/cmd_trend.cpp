@@ -38,11 +38,11 @@ int cmd_trend(const TrendOptions& o) {
   }
   if (o.csv) std::cout << "time,tag,min,max,mean,count\n";
   else std::cout << fmt::format("{:<24}  {:<16} {:>14} {:>14} {:>14} {:>7}\n", "time (UTC)", "tag", "min", "max", "mean", "scans");
-  for (const auto& p : store::read_trend(*db, series, since, until)) {
+  store::for_each_trend_row(*db, series, since, until, [&](const store::TrendRow& p) {
     const std::string when = format_wall(p.t_ns);
     if (o.csv) std::cout << fmt::format("{},{},{},{},{},{}\n", when, p.label, p.min, p.max, p.mean, p.count);
     else std::cout << fmt::format("{:<24}  {:<16} {:>14.6g} {:>14.6g} {:>14.6g} {:>7}\n", when, p.label, p.min, p.max, p.mean, p.count);
-  }
+  });
   return kExitOk;
 }
 

@@ -117,6 +117,8 @@ ReloadResult Reloader::reload(std::unique_ptr<Program>& program, RealtimeRunner&
   // a write and read that waited is answered once its write is published.
   const ModbusConfig next_cfg = server_config(next.modbus.server, modbus_port_);
   const bool keep_server = server && same_server(server->config(), next_cfg);
+  std::unique_lock<std::mutex> readers;
+  if (hold_readers_) readers = hold_readers_();
   if (keep_server) server->hold();
   change->switch_ns = switch_instant(*change, runner.now_ns());
   runner.begin_change(*change);
@@ -127,6 +129,7 @@ ReloadResult Reloader::reload(std::unique_ptr<Program>& program, RealtimeRunner&
     server = start_modbus(*next.program, next.modbus, modbus_port_, log_, store_status_);
   }
   if (on_switch_) on_switch_(*next.program);
+  if (readers.owns_lock()) readers.unlock();
   // The store's jobs read the new program's snapshots from now on (the old
   // tasks mirror theirs into it until they switch), before the old one goes.
   if (store) store->switch_program(*next.program, next);

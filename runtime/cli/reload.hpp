@@ -5,6 +5,7 @@
 
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -55,10 +56,16 @@ class Reloader {
   // The event log: the old program's last events, and the audit trail of a
   // Modbus server the change restarts.
   void set_event_log(RunEvents* log) { log_ = log; }
-  // Told the new program right after the change began, when the Modbus
-  // server serves it too: from then on other threads use the new program
-  // (the HTTP API, web_host.hpp), never the old one, which goes later.
-  void set_switch_hook(std::function<void(Program&)> hook) { on_switch_ = std::move(hook); }
+  // Other threads that use the running program (the HTTP API, web_host.hpp):
+  // `hold` keeps them out from just before the change begins until
+  // `switch_to` has told them the new program (as the Modbus server is held
+  // and given it), so nothing they queue can land in an old task that no
+  // longer takes its queue; from then on they never use the old program,
+  // which goes later.
+  void set_readers(std::function<std::unique_lock<std::mutex>()> hold, std::function<void(Program&)> switch_to) {
+    hold_readers_ = std::move(hold);
+    on_switch_ = std::move(switch_to);
+  }
   // What a server started anew shows in its store status registers.
   void set_store_status(const modbus::StoreStatusSource* s) { store_status_ = s; }
 
@@ -68,6 +75,7 @@ class Reloader {
   std::optional<int> modbus_port_;
   RunEvents* log_ = nullptr;
   const modbus::StoreStatusSource* store_status_ = nullptr;
+  std::function<std::unique_lock<std::mutex>()> hold_readers_;
   std::function<void(Program&)> on_switch_;
   // A change one task has not reached yet (a scan that does not end): the
   // old program stays until it does (poll), never destroyed under its thread.

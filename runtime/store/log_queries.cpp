@@ -18,8 +18,9 @@ std::vector<LoggedEvent> read_events(Database& db, const EventFilter& f) {
     for (std::size_t i = 0; i < f.kinds.size(); ++i) q += i ? ", ?" : "?";
     q += ")";
   }
-  // The newest `limit`, handed out oldest first.
-  q += f.limit > 0 ? " ORDER BY id DESC LIMIT ?" : " ORDER BY id";
+  // The newest `limit`, handed out oldest first; or the oldest `limit`.
+  const bool newest = f.limit > 0 && f.newest;
+  q += newest ? " ORDER BY id DESC LIMIT ?" : f.limit > 0 ? " ORDER BY id LIMIT ?" : " ORDER BY id";
   SQLite::Statement s(sql, q);
   int at = 1;
   s.bind(at++, f.after_id);
@@ -39,7 +40,7 @@ std::vector<LoggedEvent> read_events(Database& db, const EventFilter& f) {
     e.client = s.getColumn(7).getString();
     out.push_back(std::move(e));
   }
-  if (f.limit > 0) std::reverse(out.begin(), out.end());
+  if (newest) std::reverse(out.begin(), out.end());
   return out;
 }
 
@@ -69,21 +70,37 @@ std::vector<TrendSeriesRow> find_trend_series(Database& db, const std::vector<st
   return out;
 }
 
-std::vector<TrendRow> read_trend(Database& db, const std::vector<TrendSeriesRow>& series, std::int64_t since,
-                                 std::int64_t until) {
-  std::vector<TrendRow> out;
-  if (series.empty()) return out;
+namespace {
+
+std::string series_ids(const std::vector<TrendSeriesRow>& series) {
   std::string ids;
   for (const auto& s : series) ids += (ids.empty() ? "" : ",") + std::to_string(s.id);
+  return ids;
+}
+
+}  // namespace
+
+void for_each_trend_row(Database& db, const std::vector<TrendSeriesRow>& series, std::int64_t since,
+                        std::int64_t until, const std::function<void(const TrendRow&)>& f) {
+  if (series.empty()) return;
   SQLite::Statement q(db.sql(), "SELECT s.label, p.t, p.min, p.max, p.mean, p.count FROM trend_point p "
-                                "JOIN trend_series s ON s.id = p.series WHERE p.series IN (" + ids +
+                                "JOIN trend_series s ON s.id = p.series WHERE p.series IN (" + series_ids(series) +
                                     ") AND p.t >= ? AND p.t < ? ORDER BY p.t, s.label");
   q.bind(1, since);
   q.bind(2, until);
   while (q.executeStep())
-    out.push_back({q.getColumn(0).getString(), q.getColumn(1).getInt64(), q.getColumn(2).getDouble(),
-                   q.getColumn(3).getDouble(), q.getColumn(4).getDouble(), q.getColumn(5).getInt64()});
-  return out;
+    f(TrendRow{q.getColumn(0).getString(), q.getColumn(1).getInt64(), q.getColumn(2).getDouble(),
+               q.getColumn(3).getDouble(), q.getColumn(4).getDouble(), q.getColumn(5).getInt64()});
+}
+
+std::int64_t count_trend_rows(Database& db, const std::vector<TrendSeriesRow>& series, std::int64_t since,
+                              std::int64_t until) {
+  if (series.empty()) return 0;
+  SQLite::Statement q(db.sql(), "SELECT COUNT(*) FROM trend_point WHERE series IN (" + series_ids(series) +
+                                    ") AND t >= ? AND t < ?");
+  q.bind(1, since);
+  q.bind(2, until);
+  return q.executeStep() ? q.getColumn(0).getInt64() : 0;
 }
 
 }  // namespace syncplc::store

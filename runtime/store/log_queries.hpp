@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <string>
@@ -24,7 +25,8 @@ struct EventFilter {
   std::int64_t after_id = 0;             // only ids above this
   std::optional<std::int64_t> since_ns;  // wall time
   std::vector<std::string> kinds;        // empty: every kind
-  std::int64_t limit = 0;                // > 0: only the newest `limit` of them
+  std::int64_t limit = 0;                // > 0: at most `limit` of them,
+  bool newest = true;                    // the newest (else the oldest, to page forward from after_id)
 };
 
 // The events the filter selects, oldest first. Throws SQLite::Exception; a
@@ -46,9 +48,12 @@ struct TrendSeriesRow {
   std::string label, unit;
 };
 std::vector<TrendSeriesRow> find_trend_series(Database& db, const std::vector<std::string>& names, std::string* error);
-// Their points with since <= t < until, by time then label.
-std::vector<TrendRow> read_trend(Database& db, const std::vector<TrendSeriesRow>& series,
-                                 std::int64_t since = std::numeric_limits<std::int64_t>::min(),
-                                 std::int64_t until = std::numeric_limits<std::int64_t>::max());
+// Their points with since <= t < until, by time then label, one row at a
+// time, never all in memory (a day of a 1 ms trend is 86 million rows);
+// and how many there are.
+void for_each_trend_row(Database& db, const std::vector<TrendSeriesRow>& series, std::int64_t since,
+                        std::int64_t until, const std::function<void(const TrendRow&)>& f);
+std::int64_t count_trend_rows(Database& db, const std::vector<TrendSeriesRow>& series, std::int64_t since,
+                              std::int64_t until);
 
 }  // namespace syncplc::store

@@ -34,7 +34,7 @@ struct ApiContext {
   LoginLimiter limiter;
   HashGate hashes;
   // The users' table, opened at the first login (its own connection to the
-  // PLC's database); one request at a time uses it.
+  // PLC's database; thread-safe). The mutex guards only the opening.
   std::mutex users_mutex;
   std::unique_ptr<UserStore> users;
 
@@ -46,6 +46,9 @@ struct ApiContext {
 
   // The caller's session from `Authorization: Bearer TOKEN`; nullopt without one.
   std::optional<Session> session(const httplib::Request& req);
+  // The same for a token, checked against the users table (a removed user
+  // or a changed role ends the session).
+  std::optional<Session> session_of(const std::string& token);
   // A read: allowed anonymously when the settings say so, else with any
   // session. Answers 401 itself and returns false otherwise.
   bool may_read(const httplib::Request& req, httplib::Response& res);

@@ -186,8 +186,15 @@ void add_read_routes(httplib::Server& s, ApiContext& c) {
     store::EventFilter f;
     f.after_id = *since;
     f.limit = *limit;
+    // Without `since`: the newest; with it, the next ones after it, so a
+    // reader that follows (since = the last id it has) misses none.
+    f.newest = *since == 0;
     if (req.has_param("kind") && !req.get_param_value("kind").empty()) f.kinds = split_refs(req.get_param_value("kind"));
     nlohmann::json events = nlohmann::json::array();
+    if (!db->sql().tableExists("events")) {
+      send_json(res, 200, {{"events", events}});  // no event recorded yet
+      return;
+    }
     for (const auto& e : store::read_events(*db, f))
       events.push_back({{"id", e.id},
                         {"time_ns", e.time_ns},
@@ -227,23 +234,34 @@ void add_read_routes(httplib::Server& s, ApiContext& c) {
     }
     nlohmann::json out = nlohmann::json::array();
     for (const auto& one : series) {
-      const auto rows = store::read_trend(*db, {one}, *since, *until);
       // At most `points`: consecutive buckets merged evenly (min of mins,
-      // max of maxes, mean weighted by the scans in each).
-      const std::size_t step = (rows.size() + static_cast<std::size_t>(*points) - 1) / static_cast<std::size_t>(*points);
+      // max of maxes, mean weighted by the scans in each), folded as the
+      // rows come, never all of them in memory.
+      const std::int64_t n = store::count_trend_rows(*db, {one}, *since, *until);
+      const std::int64_t step = std::max<std::int64_t>(1, (n + *points - 1) / *points);
       nlohmann::json pts = nlohmann::json::array();
-      for (std::size_t i = 0; i < rows.size(); i += std::max<std::size_t>(step, 1)) {
-        store::TrendRow m = rows[i];
-        double weighted = m.mean * static_cast<double>(m.count);
-        for (std::size_t k = i + 1; k < std::min(rows.size(), i + step); ++k) {
-          m.min = std::min(m.min, rows[k].min);
-          m.max = std::max(m.max, rows[k].max);
-          weighted += rows[k].mean * static_cast<double>(rows[k].count);
-          m.count += rows[k].count;
-        }
+      store::TrendRow m;
+      double weighted = 0;
+      std::int64_t in_point = 0;
+      auto flush = [&] {
+        if (in_point == 0) return;
         if (m.count > 0) m.mean = weighted / static_cast<double>(m.count);
         pts.push_back({{"t_ns", m.t_ns}, {"min", m.min}, {"max", m.max}, {"mean", m.mean}, {"count", m.count}});
-      }
+        in_point = 0;
+      };
+      store::for_each_trend_row(*db, {one}, *since, *until, [&](const store::TrendRow& r) {
+        if (in_point == 0) {
+          m = r;
+          weighted = r.mean * static_cast<double>(r.count);
+        } else {
+          m.min = std::min(m.min, r.min);
+          m.max = std::max(m.max, r.max);
+          weighted += r.mean * static_cast<double>(r.count);
+          m.count += r.count;
+        }
+        if (++in_point == step) flush();
+      });
+      flush();
       out.push_back({{"label", one.label}, {"unit", one.unit}, {"points", pts}});
     }
     if (out.size() == 1) send_json(res, 200, {{"tag", tag}, {"unit", out[0]["unit"]}, {"points", out[0]["points"]}});

@@ -28,22 +28,26 @@ void add_session_routes(httplib::Server& s, ApiContext& c) {
       send_error(res, 503, "the PLC is checking other logins; try again in a moment");
       return;
     }
-    std::optional<User> who;
+    UserStore* users = nullptr;
+    std::string why;
     {
       std::lock_guard lock(c.users_mutex);
-      std::string why;
-      UserStore* users = c.user_store(&why);
-      if (!users) {
-        send_error(res, 503, why);
-        return;
-      }
-      who = users->verify(name, password->get<std::string>());
+      users = c.user_store(&why);
     }
+    if (!users) {
+      send_error(res, 503, why);
+      return;
+    }
+    // Outside any lock of ours: a hash takes a while, other requests go on.
+    const std::optional<User> who = users->verify(name, password->get<std::string>());
     const std::string client = ApiContext::client(req);
     if (!who) {
       c.limiter.failed(address, name, now);
       c.counters.logins_failed.fetch_add(1, std::memory_order_relaxed);
-      c.host.record_event("login-failed", "", "login as '" + name + "' refused: wrong user name or password", client);
+      // The name as sent only when it could name a user: the log gets no
+      // megabyte of escape sequences from a stranger.
+      const std::string shown = check_user_name(name).empty() ? "'" + name + "'" : "a name no user can have";
+      c.host.record_event("login-failed", "", "login as " + shown + " refused: wrong user name or password", client);
       send_error(res, 401, "wrong user name or password");
       return;
     }

@@ -115,7 +115,7 @@ void add_stream_routes(httplib::Server& s, ApiContext& c) {
           // A session logged out or expired ends its streams (checked once a second).
           if (!st->token.empty() && st->next_ns - st->session_checked_ns > 1'000'000'000) {
             st->session_checked_ns = st->next_ns;
-            if (!c.sessions.check(st->token, steady_now_ns()) && !anonymous_reads(c.config)) {
+            if (!c.session_of(st->token) && !anonymous_reads(c.config)) {
               const std::string e = event("error", {{"error", "the session has ended: log in again"}});
               sink.write(e.data(), e.size());
               sink.done();

@@ -3,7 +3,10 @@
 #include <stdlib.h>
 #include <sys/stat.h>
 
+#include <yaml-cpp/yaml.h>
+
 #include <filesystem>
+#include <set>
 
 #include "runtime/store/project_store.hpp"
 
@@ -52,6 +55,44 @@ std::string strip_dir(const std::string& text, const std::string& dir) {
   return out;
 }
 
+// Every include: of every uploaded file names another uploaded file: the
+// loader never opens anything outside the upload (not even to refuse it
+// afterwards: /dev/zero, a FIFO, another project's secrets in its errors).
+// A file that is not YAML is left to the loader, which says where.
+nlohmann::json foreign_includes(const Upload& u) {
+  nlohmann::json errors = nlohmann::json::array();
+  std::set<std::string> names;
+  for (const auto& f : u.files) names.insert(f.path);
+  for (const auto& f : u.files) {
+    const std::string ext = fs::path(f.path).extension().string();
+    if (ext != ".yaml" && ext != ".yml") continue;
+    YAML::Node root;
+    try {
+      root = YAML::Load(f.text);
+    } catch (const YAML::Exception&) {
+      continue;
+    }
+    if (!root.IsMap() || !root["include"]) continue;
+    const YAML::Node inc = root["include"];
+    std::vector<YAML::Node> items;
+    if (inc.IsScalar()) items.push_back(inc);
+    else if (inc.IsSequence())
+      for (const auto& i : inc) items.push_back(i);
+    for (const auto& i : items) {
+      if (!i.IsScalar()) continue;  // the loader's error
+      const std::string name = i.as<std::string>();
+      const fs::path p = fs::path(name).is_absolute() ? fs::path(name)
+                                                      : (fs::path(f.path).parent_path() / name).lexically_normal();
+      if (names.count(p.string())) continue;
+      const auto m = i.Mark();
+      errors.push_back({{"where", f.path + ":" + std::to_string(m.line + 1) + ":" + std::to_string(m.column + 1)},
+                        {"message", "include '" + name + "' is not among the files sent: send every file the project "
+                                    "includes, named relative to the main file's directory"}});
+    }
+  }
+  return errors;
+}
+
 }  // namespace
 
 std::optional<Upload> parse_upload(const nlohmann::json& body, std::size_t max_files, std::string* error) {
@@ -96,6 +137,8 @@ nlohmann::json error_json(const std::string& line, const std::string& dir) {
 
 UploadCheck check_upload(const Upload& u, const std::string& root, const LoadOptions& options) {
   UploadCheck out;
+  out.errors = foreign_includes(u);
+  if (!out.errors.empty()) return out;
   std::error_code ec;
   fs::create_directories(root, ec);
   chmod(root.c_str(), 0700);

@@ -10,6 +10,7 @@
 
 #include "runtime/store/database.hpp"
 #include "runtime/web/api.hpp"
+#include "runtime/web/worker_pool.hpp"
 
 namespace syncplc::web {
 
@@ -42,16 +43,23 @@ std::optional<Session> ApiContext::session(const httplib::Request& req) {
   const std::string h = req.get_header_value("Authorization");
   static constexpr std::string_view kBearer = "Bearer ";
   if (h.size() <= kBearer.size() || h.compare(0, kBearer.size(), kBearer) != 0) return std::nullopt;
-  auto s = sessions.check(h.substr(kBearer.size()), steady_now_ns());
+  return session_of(h.substr(kBearer.size()));
+}
+
+std::optional<Session> ApiContext::session_of(const std::string& token) {
+  auto s = sessions.check(token, steady_now_ns());
   if (!s) return s;
   // `syncplc user remove` or `role` may have changed the user since the
   // login (another process): the table decides, at every request.
-  std::lock_guard lock(users_mutex);
-  std::string why;
-  UserStore* users = user_store(&why);
+  UserStore* users = nullptr;
+  {
+    std::lock_guard lock(users_mutex);
+    std::string why;
+    users = user_store(&why);
+  }
   std::optional<User> now;
   try {
-    if (users) now = users->find(s->user);
+    if (users) now = users->find(s->user);  // UserStore is thread-safe
   } catch (const std::exception&) {
     now.reset();  // a table that cannot be read grants nothing
   }
@@ -195,10 +203,11 @@ bool Server::start(std::string* error) {
   // One worker per live stream and a few for everything else: a stream
   // holds its worker, and a full pool only queues further connections.
   const std::size_t workers = c.max_streams + 8;
-  s.new_task_queue = [workers] { return new httplib::ThreadPool(workers); };
-  s.set_read_timeout(5, 0);   // a client that sends its request slowly is cut after 5 s
+  s.new_task_queue = [workers] { return new WorkerPool(workers); };
+  s.set_read_timeout(5, 0);   // a client whose request stalls for 5 s is cut
   s.set_write_timeout(5, 0);  // one that does not read its answer too
-  s.set_keep_alive_timeout(5);
+  s.set_keep_alive_timeout(2);  // an idle connection gives its worker back soon
+  s.set_keep_alive_max_count(100);
   s.set_payload_max_length(c.max_upload + 64 * 1024);
   s.set_tcp_nodelay(true);
   s.set_default_headers({{"X-Content-Type-Options", "nosniff"},

@@ -75,7 +75,20 @@ TEST(ProjectUpload, AnIncludeOutsideTheUploadIsRefused) {
   const UploadCheck c = check_upload(*u, root.dir, {});
   fs::remove(outside);
   ASSERT_FALSE(c.ok);
-  EXPECT_NE(c.errors.dump().find("outside the upload"), std::string::npos) << c.errors.dump();
+  // Refused before the loader opens it, at the include's place.
+  ASSERT_EQ(c.errors.size(), 1u) << c.errors.dump();
+  EXPECT_EQ(c.errors[0]["where"], "main.yaml:4:11") << c.errors.dump();
+  EXPECT_NE(c.errors[0]["message"].get<std::string>().find("not among the files sent"), std::string::npos);
+  // An absolute include and one the loader would block on are refused the same way.
+  for (const char* target : {"/dev/zero", "/etc/passwd"}) {
+    std::string m = kGood;
+    m.replace(m.find("[tags.yaml]"), 11, std::string("[") + target + "]");
+    auto v = parse({{"main", "main.yaml"}, {"files", {{"main.yaml", m}}}}, &why);
+    ASSERT_TRUE(v) << why;
+    const UploadCheck d = check_upload(*v, root.dir, {});
+    ASSERT_FALSE(d.ok) << target;
+    EXPECT_NE(d.errors.dump().find("not among the files sent"), std::string::npos) << d.errors.dump();
+  }
 }
 
 TEST(ProjectUpload, HostileNamesAndShapesAreRefused) {

@@ -1,0 +1,56 @@
+#include "runtime/web/worker_pool.hpp"
+
+#include <stdexcept>
+#include <string>
+
+namespace syncplc::web {
+
+WorkerPool::WorkerPool(std::size_t workers) {
+  pthread_attr_t attr;
+  pthread_attr_init(&attr);
+  pthread_attr_setstacksize(&attr, kWorkerStackBytes);
+  for (std::size_t i = 0; i < workers; ++i) {
+    pthread_t t;
+    if (pthread_create(&t, &attr, &WorkerPool::run, this) != 0) break;  // fewer workers, still serving
+    threads_.push_back(t);
+  }
+  pthread_attr_destroy(&attr);
+}
+
+WorkerPool::~WorkerPool() { shutdown(); }
+
+void* WorkerPool::run(void* self) {
+  auto& pool = *static_cast<WorkerPool*>(self);
+  for (;;) {
+    std::function<void()> job;
+    {
+      std::unique_lock lock(pool.mutex_);
+      pool.wake_.wait(lock, [&] { return pool.stopping_ || !pool.jobs_.empty(); });
+      if (pool.jobs_.empty()) return nullptr;  // stopping, nothing left: each queued connection is served (and closed) first
+      job = std::move(pool.jobs_.front());
+      pool.jobs_.pop_front();
+    }
+    job();
+  }
+}
+
+void WorkerPool::enqueue(std::function<void()> fn) {
+  {
+    std::lock_guard lock(mutex_);
+    jobs_.push_back(std::move(fn));
+  }
+  wake_.notify_one();
+}
+
+void WorkerPool::shutdown() {
+  {
+    std::lock_guard lock(mutex_);
+    if (stopping_ && threads_.empty()) return;
+    stopping_ = true;
+  }
+  wake_.notify_all();
+  for (pthread_t t : threads_) pthread_join(t, nullptr);
+  threads_.clear();
+}
+
+}  // namespace syncplc::web
