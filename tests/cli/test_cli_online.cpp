@@ -141,14 +141,14 @@ TEST(ProjectUpload, FollowsIncludesRecursivelyRelativeToEachFile) {
   const fs::path d = project_dir("upload_nested");
   put(d / "main.yaml", "project: {name: p}\ninclude: [parts/io.yaml, tasks.yaml]\n");
   put(d / "tasks.yaml", "tasks: [{name: t, period: 1ms}]\n");
-  put(d / "parts/io.yaml", "include: ../shared/tags.yaml\ntags: []\n");  // a single name, up and down again
-  put(d / "shared/tags.yaml", "include: [../tasks.yaml]\ntags: [{name: a, type: BOOL}]\n");  // already taken
+  put(d / "parts/io.yaml", "include: ../common/tags.yaml\ntags: []\n");  // a single name, up and down again
+  put(d / "common/tags.yaml", "include: [../tasks.yaml]\ntags: [{name: a, type: BOOL}]\n");  // already taken
   std::string err;
   auto up = syncplc::cli::collect_project((d / "main.yaml").string(), &err);
   ASSERT_TRUE(up) << err;
   EXPECT_EQ(up->main, "main.yaml");
   ASSERT_EQ(up->files.size(), 4u);
-  EXPECT_EQ(up->files.at("shared/tags.yaml"), "include: [../tasks.yaml]\ntags: [{name: a, type: BOOL}]\n");
+  EXPECT_EQ(up->files.at("common/tags.yaml"), "include: [../tasks.yaml]\ntags: [{name: a, type: BOOL}]\n");
   EXPECT_TRUE(up->files.count("parts/io.yaml"));
   EXPECT_TRUE(up->files.count("tasks.yaml"));
 }
