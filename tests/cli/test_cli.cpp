@@ -26,6 +26,8 @@ using syncplc::testing::write_temp_file;
 using Result = syncplc::testing::CliResult;
 using syncplc::testing::slurp;
 using syncplc::testing::TakenPort;
+using syncplc::testing::drop_realtime_priority;
+using syncplc::testing::run_cli_without_realtime;
 Result run(const std::string& args) { return syncplc::testing::run_cli(args); }
 
 const std::string kSrc = SYNCPLC_SOURCE_DIR;
@@ -292,7 +294,7 @@ TEST(Cli, RunGivesUpOnAScanThatDoesNotEndAndExits4) {
   - {name: stuck, period: 10ms, watchdog: {time: 50ms, sensitivity: 2, action: stop}}
 blocks: [{name: b, type: BURN, inputs: {EXEC: 1h}}]
 )");
-  auto r = run("run " + path + " --duration 5s --no-status");
+  auto r = run_cli_without_realtime("run " + path + " --duration 5s --no-status");
   EXPECT_EQ(r.rc, 4) << r.err;
   EXPECT_NE(r.err.find("scan-hung      stuck: scan did not end: task stopped by the supervisor"), std::string::npos)
       << r.err;
@@ -301,10 +303,12 @@ blocks: [{name: b, type: BURN, inputs: {EXEC: 1h}}]
   EXPECT_NE(r.out.find("STOPPED"), std::string::npos) << r.out;
 }
 
-// Starts `syncplc run ARGS...` with stdout and stderr to files.
+// Starts `syncplc run ARGS...` with stdout and stderr to files, at normal
+// priority (its scans never end: see drop_realtime_priority).
 pid_t spawn_run(const std::vector<std::string>& args, const std::string& out, const std::string& err) {
   pid_t pid = fork();
   if (pid == 0) {
+    drop_realtime_priority();
     FILE* f1 = std::freopen(out.c_str(), "w", stdout);
     FILE* f2 = std::freopen(err.c_str(), "w", stderr);
     (void)f1;

@@ -17,6 +17,7 @@
 #include "runtime/cli/live_screen.hpp"
 #include "runtime/core/virtual_clock.hpp"
 #include "runtime/project/loader.hpp"
+#include "tests/support/cli_runner.hpp"
 #include "tests/support/test_blocks.hpp"
 
 namespace syncplc::cli {
@@ -164,10 +165,13 @@ struct PtyRun {
   pid_t pid = -1;
   int fd = -1;
   std::string out;
-  void start(const std::vector<std::string>& args) {
+  // `realtime` false: at normal priority (a scan that never ends; see
+  // drop_realtime_priority).
+  void start(const std::vector<std::string>& args, bool realtime = true) {
     pid = forkpty(&fd, nullptr, nullptr, nullptr);
     ASSERT_GE(pid, 0);
     if (pid == 0) {
+      if (!realtime) testing::drop_realtime_priority();
       std::vector<char*> argv{const_cast<char*>(SYNCPLC_BINARY), const_cast<char*>("run")};
       for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
       argv.push_back(nullptr);
@@ -223,7 +227,7 @@ TEST(LiveScreenRun, TheAlternateScreenIsGivenBackWhenAHungScanForcesTheExit) {
 blocks: [{name: b, type: BURN, inputs: {EXEC: 1h}}]
 )");
   PtyRun r;
-  r.start({path, "--duration", "5s"});
+  r.start({path, "--duration", "5s"}, false);
   EXPECT_EQ(r.finish(), 4) << r.out;
   const auto back = r.out.find("\x1b[?1049l");
   ASSERT_NE(back, std::string::npos) << r.out;
