@@ -20,7 +20,7 @@ void register_reference_generators(BlockRegistry& r);  // reference_generators.c
 void register_nonlinear_filter(BlockRegistry& r);
 void register_sync_controller(BlockRegistry& r);   // sync_controller.cpp: SYNC_CONTROLLER
 void register_pid_controllers(BlockRegistry& r);   // pid.cpp: PD_CONTROLLER, PID
-// TRANSIENT_SYNC (transient_sync.cpp): paper 004, Section III.
+// TRANSIENT_SYNC (transient_sync_info.cpp, transient_sync.cpp): paper 004, Section III.
 void register_transient_sync(BlockRegistry& r);
 
 }  // namespace syncplc::motion

@@ -1,40 +1,43 @@
 // TRANSIENT_SYNC: n velocity/acceleration-limited nonlinear filters whose
-// velocity bounds are rescaled every scan so that all transients end on the
-// same scan, and the energy index E of their transients. Paper 004
-// (C. Guarino Lo Bianco, "An efficient algorithm for the real-time generation
-// of synchronous reference signals"), Section III, eqs. (23)-(34), with the
-// corrections and the "unified" rule derived in docs/motion/transient-sync.md
-// (sections 1 and 2, "Every scan").
+// velocity bounds are reduced so that all transients end on the same scan,
+// and the energy index E of their transients. Paper 004 (C. Guarino Lo
+// Bianco, "An efficient algorithm for the real-time generation of synchronous
+// reference signals"), Section III, eqs. (23)-(34), with the corrections, the
+// "unified" rule and the lock derived in docs/motion/transient-sync.md
+// (sections 1 and 2).
 //
 // The filters are those of NONLINEAR_FILTER (nonlinear_filter_math.hpp: the
 // controller C and the Table I transient-time prediction); the bound scaling is
 // in transient_sync_math.hpp. Per scan k, T = the task period (the filters'
 // sampling time), for every axis i:
-//   1. n_i = Table I steps from sample k with the nominal bounds (-1: never);
-//      t_M = the largest finite n_i.
+//   1. n_i = Table I steps from sample k with the nominal bounds (-1: never),
+//      or the count of sample k-1 minus one when the axis's inputs are those
+//      sample k-1 expected (reference continued as its ramp, same r_dot,
+//      bounds and T: Table I counts the filter's own samples, section 2.7);
+//      a locked axis counts its planned arrival. t_M = the largest finite n_i.
 //   2. nominal bounds if: rule off, tracking, cannot track, n_i = t_M (the
 //      slowest), or in the final approach of the reduced bound it ran on at
-//      scan k-1 (a simpler reading judges the final approach with the bounds
-//      applied at the previous scan; after nominal bounds that would also
-//      exempt a small transient that starts in the curved layer, which then
-//      arrives early, so only reduced bounds count);
+//      scan k-1 with unchanged inputs (only reduced bounds count: a small
+//      transient that starts in the curved layer is still slowed down; and a
+//      changed reference or bound is a new transient, synchronized afresh);
 //   3./4. otherwise the velocity bound scaled by eq. (33) (ends behind the
 //      reference) or (34) (ends ahead) with tf = t_M T: unified rule, side
 //      from the discrete stopping point (transient_sync_math.hpp), or the
 //      paper's sign-of-rdot rule with zero-bound parking;
-//   5. look-ahead guard: the reduced bound is kept only if the nominal
-//      transient time of the resulting state k+1 is at most t_M - 1 (that
-//      prediction is reused as n_i at scan k+1 when the inputs are exactly the
-//      ones it assumed);
-//   6. outputs at sample k, then state_{k+1} = plant_step(state_k, u_k, T).
+//   5. lock (unified rule): if Table I with the reduced bound, held, ends the
+//      transient at exactly t_M (tf = t_M T, or once more with tf corrected
+//      by the miss), the bound is locked and held, with no rescaling, guard or
+//      prediction, until the axis's inputs change, t_M grows, or an axis that
+//      set t_M changes (then locked axes are predicted afresh);
+//   6. otherwise the look-ahead guard: the reduced bound is kept only if the
+//      nominal transient time of the resulting state k+1 is at most t_M - 1
+//      (that prediction is reused as n_i at scan k+1);
+//   7. outputs at sample k, then state_{k+1} = plant_step(state_k, u_k, T).
 // After skipped releases (an overrun) the scan first runs the missed samples
 // (filters and synchronizer) with its inputs, r taken as a ramp backwards, so
-// x stays on the time grid, as NONLINEAR_FILTER does.
-// Everything is recomputed every scan, except values whose inputs are the
-// same bit for bit (nominal z-bounds, the guard's prediction, next state and
-// reduced z-bounds), which are reused: the outputs are exactly those of the
-// full recomputation (tests/motion/test_motion_output_hash.cpp). execute()
-// allocates nothing.
+// x stays on the time grid, as NONLINEAR_FILTER does. Values whose inputs are
+// the same bit for bit (nominal z-bounds, the guard's prediction, next state,
+// reduced z-bounds) are reused. execute() allocates nothing.
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -46,45 +49,11 @@
 
 #include "fblocks/motion/motion.hpp"
 #include "fblocks/motion/nonlinear_filter_math.hpp"
+#include "fblocks/motion/transient_sync_block.hpp"
 #include "fblocks/motion/transient_sync_math.hpp"
-#include "runtime/core/pin_decl.hpp"
 
 namespace syncplc::motion {
 namespace {
-
-enum : int {
-  // array inputs
-  kR = 0,
-  kRDot,
-  kVMin,
-  kVMax,
-  kAMin,
-  kAMax,
-  kX0,
-  kV0,
-  // scalar input
-  kReset,
-  // array outputs
-  kX,
-  kXDot,
-  kXDDot,
-  kVMinApplied,
-  kVMaxApplied,
-  kTracking,
-  kStepsToGo,
-  kError,
-  // scalar outputs
-  kArrival,
-  kSynchronized,
-  kScaled,
-  kEnergy,
-  kEnergyLast,
-  kWindows,
-  kWindowScans,
-  kSpread,
-};
-
-inline constexpr std::int64_t kMaxAxes = 1024;
 
 class TransientSync final : public Block {
  public:
@@ -95,7 +64,8 @@ class TransientSync final : public Block {
         start_at_r_(s.param<bool>("start_at_r")),
         period_s_(static_cast<double>(s.task_period_ns()) * 1e-9),
         x_(n_), v_(n_), r_prev_(n_), vmin_prev_(n_), vmax_prev_(n_), nom_(n_), last_(n_), rin_(n_), z_(n_),
-        pb_(n_), pb_key_(n_), zs_(n_), zs_key_(n_), ref_(n_), steps_(n_), arrival_(n_), flags_(n_), pred_(n_) {}
+        pb_(n_), pb_key_(n_), zs_(n_), zs_key_(n_), ref_(n_), steps_(n_), count_(n_), arrival_(n_), flags_(n_),
+        next_(n_), pred_(n_) {}
 
   void execute(ScanContext& ctx) noexcept override {
     const double T = period_s_;  // the filters' sampling time
@@ -149,7 +119,10 @@ class TransientSync final : public Block {
       for (int j = missed; j >= 1; --j) sample(T, static_cast<double>(j), false, false);
     }
     if (hold)
-      for (std::uint32_t i = 0; i < n_; ++i) start_from_inputs(i);
+      for (std::uint32_t i = 0; i < n_; ++i) {
+        start_from_inputs(i);  // a state the previous sample did not hand over: nothing carries
+        flags_[i] &= static_cast<std::uint16_t>(~(kSame | kCarry | kLocked | kPredicted));
+      }
     sample(T, 0, true, hold);
     for (std::uint32_t i = 0; i < n_; ++i) flags_[i] &= static_cast<std::uint16_t>(~kValid);
   }
@@ -162,27 +135,31 @@ class TransientSync final : public Block {
     kParticipant = 8,     // not tracking at some sample of the open window
     kFaulting = 16,       // inside a series of invalid scans (one fault per series)
     kHaveLast = 32,       // last_ holds valid bounds
-    kPrevReduced = 64,    // a reduced (scaled or parked) bound was applied at the previous sample
+    kPrevReduced = 64,    // a reduced (scaled, parked or locked) bound was applied at the previous sample
     kReducedNow = 128,    // this sample: a reduced bound is applied
     kPredicted = 256,     // pred_ holds the nominal transient time of the present state
     kPredictedNow = 512,  // this sample: pred_ set for the next state
+    kSame = 1024,         // this sample's inputs are those the previous sample expected (next_)
+    kCarry = 2048,        // count_ holds this axis's count at the previous sample, to be carried
+    kLocked = 4096,       // on a locked bound: the reduced bound of the previous sample, held (vmin_prev_, vmax_prev_)
   };
 
-  // The look-ahead guard's nominal transient time of the next state, with the
-  // reference, bounds and period it assumed. Reused by the next sample when its
-  // inputs are exactly those (the same function on the same inputs). Also the
-  // next state and its z-coordinates: reused when the state is still that one
-  // (bit for bit; a reset replaces it).
+  // The inputs a sample expects of the next one: the reference continued as a
+  // ramp over the sample (r + T r_dot, exactly as the filters extrapolate it),
+  // the same r_dot, bounds and period. Compared bit for bit (same_bits).
+  struct Inputs {
+    double r = kNaN, r_dot = kNaN, T = kNaN;
+    FilterBounds b{kNaN, kNaN, kNaN, kNaN};
+  };
+
+  // The look-ahead guard's nominal transient time of the next state, and that
+  // state with its z-coordinates. Reused by the next sample when its inputs
+  // are those expected (kSame) and the state is this one, bit for bit (the
+  // same function on the same inputs).
   struct Prediction {
-    double r = 0, r_dot = 0, T = 0;
-    FilterBounds b{};
     std::int64_t n = 0;
     FilterState s{};
     ZState z{};
-    bool matches(double r_, double r_dot_, const FilterBounds& b_, double T_) const noexcept {
-      return r == r_ && r_dot == r_dot_ && T == T_ && b.v_min == b_.v_min && b.v_max == b_.v_max &&
-             b.a_min == b_.a_min && b.a_max == b_.a_max;
-    }
   };
 
   // The inputs of z_bounds(b, r_dot, T); compared bit for bit (same_bits), so
@@ -203,50 +180,89 @@ class TransientSync final : public Block {
     return diff == 0;
   }
 
+  // z_bounds of the velocity bounds applied at the previous sample (a reduced
+  // or locked bound) with this sample's acceleration bounds, r_dot and T: the
+  // cached ones when their inputs are the same bit for bit.
+  const ZBounds& previous_z_bounds(std::uint32_t i, const FilterBounds& b, double r_dot, double T) noexcept {
+    const BoundsKey key{FilterBounds{vmin_prev_[i], vmax_prev_[i], b.a_min, b.a_max}, r_dot, T};
+    if (!same_bits(zs_key_[i], key)) {
+      zs_[i] = z_bounds(key.b, r_dot, T);
+      zs_key_[i] = key;
+    }
+    return zs_[i];
+  }
+
+  // Pass 1 for one valid axis: z, tracking, and its count n_i (step 1 of the
+  // header): 0 tracking; the count of the previous sample minus one when it
+  // carries (section 2.7 of docs/motion/transient-sync.md); the look-ahead
+  // guard's prediction of this very state; else Table I afresh. Returns n_i;
+  // `f` gets kTrackingNow and kSame, loses kLocked/kCarry where they no longer hold.
+  std::int64_t count_axis(std::uint32_t i, double T, double back, std::uint16_t& f) noexcept {
+    const Reference ref{rin_[i].r - back * T * rin_[i].v, rin_[i].v};
+    const FilterBounds& b = nom_[i];
+    // z_bounds(b, rdot, T) and the prediction's constants, kept while their
+    // inputs stay the same bit for bit.
+    const BoundsKey key{b, ref.v, T};
+    if (!same_bits(pb_key_[i], key)) {
+      pb_[i] = prepare_bounds(z_bounds(b, ref.v, T));
+      pb_key_[i] = key;
+    }
+    const PreparedBounds& pb = pb_[i];
+    if ((f & kSame) == 0 || !same_bits(next_[i], Inputs{ref.r, ref.v, T, b}))
+      f &= static_cast<std::uint16_t>(~(kSame | kCarry | kLocked | kPredicted));
+    const FilterState s{x_[i], v_[i]};
+    const Prediction& p = pred_[i];
+    // The guard computed to_z of this very state for these very inputs.
+    const bool predicted = (f & kPredicted) && same_bits(p.s, s);
+    const ZState z = predicted ? p.z : to_z(s, ref, T);
+    ref_[i] = ref;
+    z_[i] = z;
+    if (is_tracking(z, pb.zb)) {
+      f = static_cast<std::uint16_t>((f | kTrackingNow) & ~kLocked);
+      return 0;
+    }
+    if ((f & kCarry) && count_[i] >= 2) return count_[i] - 1;
+    f &= static_cast<std::uint16_t>(~kLocked);  // a count that does not carry ends a lock
+    if (predicted) return p.n;  // the look-ahead guard of the previous sample computed it for this very state
+    return transient_steps(z, pb);
+  }
+
   // One sample of all filters and of the synchronizer. `back`: the sample lies
   // back * T before this scan (catch-up), r taken as a ramp backwards.
   // publish: write the outputs. hold: reset is TRUE (u = 0, state kept).
   void sample(double T, double back, bool publish, bool hold) {
-    // Pass 1: z, nominal transient times, t_M.
+    // Pass 1: z, counts, t_M.
     std::int64_t t_max = 0;
     bool all_tracking = true;
+    bool release = false;  // an axis that set t_M at the previous sample on its nominal bounds changed
     for (std::uint32_t i = 0; i < n_; ++i) {
       std::uint16_t f = static_cast<std::uint16_t>(flags_[i] & ~kTrackingNow);
+      const bool was_slowest = (f & kCarry) && !(f & kLocked) && count_[i] == t_prev_;
       std::int64_t n = kNever;
       if (f & kValid) {
-        const Reference ref{rin_[i].r - back * T * rin_[i].v, rin_[i].v};
-        const FilterBounds& b = nom_[i];
-        // z_bounds(b, rdot, T) and the prediction's constants, kept while
-        // their inputs stay the same bit for bit.
-        const BoundsKey key{b, ref.v, T};
-        if (!same_bits(pb_key_[i], key)) {
-          pb_[i] = prepare_bounds(z_bounds(b, ref.v, T));
-          pb_key_[i] = key;
-        }
-        const PreparedBounds& pb = pb_[i];
-        const FilterState s{x_[i], v_[i]};
-        const bool predicted = (f & kPredicted) && pred_[i].matches(ref.r, ref.v, b, T);
-        // The guard computed to_z of this very state, reference and period.
-        const Prediction& p = pred_[i];
-        const ZState z = predicted && same_bits(p.s, s) && same_bits(p.r, ref.r) && same_bits(p.r_dot, ref.v) &&
-                                 same_bits(p.T, T)
-                             ? p.z
-                             : to_z(s, ref, T);
-        ref_[i] = ref;
-        z_[i] = z;
-        if (is_tracking(z, pb.zb)) {
-          f |= kTrackingNow;
-          n = 0;
-        } else if (predicted) {
-          n = pred_[i].n;  // the look-ahead guard of the previous sample computed it for this very state
-        } else {
-          n = transient_steps(z, pb);
-        }
+        n = count_axis(i, T, back, f);
+      } else {
+        f &= static_cast<std::uint16_t>(~(kSame | kCarry | kLocked | kPredicted));
       }
+      if (was_slowest && !(f & kSame)) release = true;
       if (!(f & kTrackingNow)) all_tracking = false;
       if (n > t_max) t_max = n;
       steps_[i] = n;
       flags_[i] = f;
+    }
+    if (release) {
+      // The common arrival was set by an axis whose inputs changed: it may come
+      // earlier now. A locked axis's count is its planned arrival, not its own
+      // time: it is predicted afresh, and t_M is again the largest own time.
+      t_max = 0;
+      for (std::uint32_t i = 0; i < n_; ++i) {
+        std::uint16_t& f = flags_[i];
+        if (f & kLocked) {
+          steps_[i] = transient_steps(z_[i], pb_[i]);
+          f &= static_cast<std::uint16_t>(~(kLocked | kCarry));
+        }
+        if (steps_[i] > t_max) t_max = steps_[i];
+      }
     }
 
     // Transient window bookkeeping (before this sample's contribution).
@@ -260,7 +276,7 @@ class TransientSync final : public Block {
       }
     }
 
-    // Pass 2: bounds, look-ahead guard, control, outputs, state update.
+    // Pass 2: bounds, look-ahead guard, lock, control, outputs, state update.
     const double tf = static_cast<double>(t_max) * T;
     std::int64_t scaled = 0;
     double e_sample = 0;
@@ -268,6 +284,7 @@ class TransientSync final : public Block {
       std::uint16_t f = flags_[i];
       const FilterState s{x_[i], v_[i]};
       double u = 0, vmin_applied = 0, vmax_applied = 0;
+      bool reduced = false;
       if (f & kValid) {
         const FilterBounds& b = nom_[i];
         const Reference& ref = ref_[i];
@@ -280,49 +297,33 @@ class TransientSync final : public Block {
         // Controller C's target, common to all bounds below (computed only
         // where a clamp needs it).
         ControllerTarget w(z.z1, zb);
-        bool reduced = false;
-        bool nominal = rule_ == SyncRule::Off || (f & kTrackingNow) || n == kNever || n >= t_max;
-        // Final approach under the reduced bound applied at the previous sample:
-        // the filter has committed to its arrival, leave it alone. (Not after
-        // nominal bounds: a small transient can start in the curved layer and
-        // must still be slowed down.)
-        if (!nominal && (f & kPrevReduced)) {
-          // z_bounds of the previous sample's bounds: that sample's reduced
-          // z-bounds when their inputs are the same bit for bit.
-          const BoundsKey key{FilterBounds{vmin_prev_[i], vmax_prev_[i], b.a_min, b.a_max}, ref.v, T};
-          if (!same_bits(zs_key_[i], key)) {
-            zs_[i] = z_bounds(key.b, ref.v, T);
-            zs_key_[i] = key;
-          }
-          nominal = w.final_approach(z, zs_[i]);
-        }
-        if (!nominal) {
-          const ScaledBounds sb =
-              scale_bounds(rule_, s.x, s.v, ref.r, ref.v, tf, b.v_min, b.v_max, b.a_min, b.a_max, T, z);
-          if (sb.action != BoundAction::Nominal) {
-            const BoundsKey key{FilterBounds{sb.v_min, sb.v_max, b.a_min, b.a_max}, ref.v, T};
-            const ZBounds zs = z_bounds(key.b, ref.v, T);
-            const double us = w.control(z, zs);
-            // Look-ahead guard: the state after this sample must still make
-            // t_M - 1 with the nominal bounds.
-            const Reference ref_next{ref.r + T * ref.v, ref.v};
-            const FilterState sn = plant_step(s, us, T);
-            const ZState zn = to_z(sn, ref_next, T);
-            const std::int64_t n_next = is_tracking(zn, zb) ? 0 : transient_steps(zn, pb);
-            if (n_next != kNever && n_next <= t_max - 1) {
-              pred_[i] = Prediction{ref_next.r, ref_next.v, T, b, n_next, sn, zn};
-              zs_[i] = zs;  // the previous sample's bounds at the next sample
-              zs_key_[i] = key;
-              f |= kPredictedNow | kReducedNow;
-              u = us;
-              reduced = true;
-              vmin_applied = sb.v_min;
-              vmax_applied = sb.v_max;
-              ++scaled;
-            }
+        bool nominal = rule_ == SyncRule::Off || (f & kTrackingNow) || n == kNever;
+        if (!nominal && (f & kLocked)) {
+          if (n == t_max) {
+            // On its plan: the locked bound, which ends the transient with
+            // the slowest axis's (section 2.7).
+            u = w.control(z, previous_z_bounds(i, b, ref.v, T));
+            reduced = true;
+            vmin_applied = vmin_prev_[i];
+            vmax_applied = vmax_prev_[i];
+          } else {
+            f &= static_cast<std::uint16_t>(~kLocked);  // t_M grew: synchronized afresh
           }
         }
-        if (!reduced) u = w.control(z, zb);
+        if (!reduced) {
+          f &= static_cast<std::uint16_t>(~kLocked);
+          nominal = nominal || n >= t_max;
+          // Final approach under the reduced bound applied at the previous
+          // sample, with the inputs that sample expected: the filter has
+          // committed to its arrival, leave it alone. (Not after nominal
+          // bounds: a small transient can start in the curved layer and must
+          // still be slowed down. Not after a change of its reference or
+          // bounds: that is a new transient, which arrives with the others.)
+          if (!nominal && (f & kPrevReduced) && (f & kSame))
+            nominal = w.final_approach(z, previous_z_bounds(i, b, ref.v, T));
+          if (!nominal) reduced = reduce(i, s, z, ref, b, pb, w, t_max, tf, T, f, u, vmin_applied, vmax_applied);
+          if (!reduced) u = w.control(z, zb);
+        }
       } else {
         // Invalid bounds or reference: controlled stop with the last valid
         // acceleration bounds (at once if there never were any).
@@ -331,9 +332,22 @@ class TransientSync final : public Block {
         vmin_applied = (f & kHaveLast) ? last_[i].v_min : 0;
         vmax_applied = (f & kHaveLast) ? last_[i].v_max : 0;
       }
+      if (reduced) {
+        f |= kReducedNow;
+        ++scaled;
+      }
+      // The count this sample hands to the next: the planned one on a locked
+      // bound, the own one on the nominal bounds; none on a scaled bound
+      // (pred_ then holds the next state's) or without valid inputs.
+      if ((f & kValid) && !hold && steps_[i] >= 1 && (!reduced || (f & kLocked))) {
+        count_[i] = (f & kLocked) ? t_max : steps_[i];
+        f |= kCarry;
+      } else {
+        f &= static_cast<std::uint16_t>(~kCarry);
+      }
       if (hold) {
         u = 0;
-        f &= static_cast<std::uint16_t>(~kPredictedNow);
+        f &= static_cast<std::uint16_t>(~(kPredictedNow | kLocked));
       }
       const bool tracking = (f & kTrackingNow) != 0;
       if (publish) {
@@ -343,13 +357,23 @@ class TransientSync final : public Block {
         out<double>(kVMinApplied, i, vmin_applied);
         out<double>(kVMaxApplied, i, vmax_applied);
         out<bool>(kTracking, i, tracking);
-        out<std::int64_t>(kStepsToGo, i, steps_[i]);
+        // Scans until the axis tracks: under the unified rule an axis on a
+        // reduced bound arrives with the slowest.
+        out<std::int64_t>(kStepsToGo, i, reduced && rule_ == SyncRule::Unified ? t_max : steps_[i]);
         out<bool>(kError, i, !(f & kValid));
       }
       e_sample += s.v * s.v;
       if (window_open_) {
         if (!tracking) f |= kParticipant;
         else if (!(f & kWasTracking)) arrival_[i] = window_scans_;  // (re)arrived at this sample
+      }
+      // The inputs the next sample is expected to have.
+      if ((f & kValid) && !hold) {
+        const Reference& ref = ref_[i];
+        next_[i] = Inputs{ref.r + T * ref.v, ref.v, T, nom_[i]};
+        f |= kSame;
+      } else {
+        f &= static_cast<std::uint16_t>(~kSame);
       }
       f = static_cast<std::uint16_t>(
           (f & ~(kTrackingNow | kWasTracking | kPrevReduced | kReducedNow | kPredicted | kPredictedNow)) |
@@ -364,6 +388,7 @@ class TransientSync final : public Block {
         v_[i] = nx.v;
       }
     }
+    t_prev_ = t_max;
 
     if (window_open_) {
       if (all_tracking) {  // the window closes at its first all-tracking sample
@@ -395,6 +420,72 @@ class TransientSync final : public Block {
     out<std::int64_t>(kSpread, spread_);
   }
 
+  // Steps 3-5 and the lock for one axis that is neither tracking, nor the
+  // slowest, nor in its committed final approach: the scaled bound of
+  // eq. (33)/(34) (or the paper's parking); under the unified rule locked when
+  // holding it (or the one-correction bound, see lock()) ends the transient
+  // exactly at t_M, else kept for this sample only if the look-ahead guard
+  // passes. True when a reduced bound is applied (u and the applied bounds set).
+  bool reduce(std::uint32_t i, const FilterState& s, const ZState& z, const Reference& ref, const FilterBounds& b,
+              const PreparedBounds& pb, ControllerTarget& w, std::int64_t t_max, double tf, double T,
+              std::uint16_t& f, double& u, double& vmin_applied, double& vmax_applied) noexcept {
+    const ScaledBounds sb = scale_bounds(rule_, s.x, s.v, ref.r, ref.v, tf, b.v_min, b.v_max, b.a_min, b.a_max, T, z);
+    if (sb.action == BoundAction::Nominal) return false;
+    if (rule_ == SyncRule::Unified && lock(i, s, z, ref, b, w, sb, t_max, T, f, u, vmin_applied, vmax_applied))
+      return true;
+    const BoundsKey key{FilterBounds{sb.v_min, sb.v_max, b.a_min, b.a_max}, ref.v, T};
+    const ZBounds zs = z_bounds(key.b, ref.v, T);
+    const double us = w.control(z, zs);
+    // Look-ahead guard: the state after this sample must still make t_M - 1
+    // with the nominal bounds.
+    const Reference ref_next{ref.r + T * ref.v, ref.v};
+    const FilterState sn = plant_step(s, us, T);
+    const ZState zn = to_z(sn, ref_next, T);
+    const std::int64_t n_next = is_tracking(zn, pb.zb) ? 0 : transient_steps(zn, pb);
+    if (n_next == kNever || n_next > t_max - 1) return false;
+    zs_[i] = zs;  // the previous sample's bounds at the next sample
+    zs_key_[i] = key;
+    u = us;
+    vmin_applied = sb.v_min;
+    vmax_applied = sb.v_max;
+    pred_[i] = Prediction{n_next, sn, zn};
+    f |= kPredictedNow;
+    return true;
+  }
+
+  // The lock (docs/motion/transient-sync.md, section 2.7): a reduced bound that,
+  // held from this sample on, ends the transient exactly t_M samples from now
+  // by Table I with that bound. The scaled bound sb of eq. (33)/(34) with
+  // tf = t_M T is tried first; the continuous model usually misses the
+  // discrete count by a sample (the filter's output lags its input by one), so
+  // when Table I gives t_M + d instead, the bound for tf = (t_M - d) T of the
+  // same side is tried once. True and applied when one of them ends at t_M.
+  bool lock(std::uint32_t i, const FilterState& s, const ZState& z, const Reference& ref, const FilterBounds& b,
+            ControllerTarget& w, const ScaledBounds& sb, std::int64_t t_max, double T, std::uint16_t& f, double& u,
+            double& vmin_applied, double& vmax_applied) noexcept {
+    ScaledBounds cand = sb;
+    for (int attempt = 0; attempt < 2; ++attempt) {
+      const BoundsKey key{FilterBounds{cand.v_min, cand.v_max, b.a_min, b.a_max}, ref.v, T};
+      const ZBounds zs = z_bounds(key.b, ref.v, T);
+      const std::int64_t n_red = transient_steps(z, prepare_bounds(zs));
+      if (n_red == t_max) {
+        zs_[i] = zs;
+        zs_key_[i] = key;
+        u = w.control(z, zs);
+        vmin_applied = cand.v_min;
+        vmax_applied = cand.v_max;
+        f |= kLocked;
+        return true;
+      }
+      const std::int64_t aim = 2 * t_max - n_red;
+      if (n_red == kNever || attempt == 1 || aim < 1) return false;
+      cand = scale_bounds(rule_, s.x, s.v, ref.r, ref.v, static_cast<double>(aim) * T, b.v_min, b.v_max, b.a_min,
+                          b.a_max, T, z);
+      if (cand.action != sb.action) return false;
+    }
+    return false;
+  }
+
   void start_from_inputs(std::uint32_t i) {
     const double x0 = in<double>(kX0, i), v0 = in<double>(kV0, i);
     if (std::isfinite(x0) && std::isfinite(v0)) {
@@ -420,139 +511,20 @@ class TransientSync final : public Block {
   std::vector<BoundsKey> zs_key_;   // the inputs zs_ was computed from
   std::vector<Reference> ref_;      // reference of this sample
   std::vector<std::int64_t> steps_;    // n_i of this sample (kNever: cannot track or invalid)
+  std::vector<std::int64_t> count_;    // the count handed to the next sample (kCarry)
   std::vector<std::int64_t> arrival_;  // sample of the window at which the axis last began tracking
   std::vector<std::uint16_t> flags_;
+  std::vector<Inputs> next_;        // the inputs the next sample is expected to have (kSame)
   std::vector<Prediction> pred_;
   bool first_ = true;
   bool window_open_ = false;
+  std::int64_t t_prev_ = -1;  // t_M of the previous sample
   double energy_ = 0, energy_last_ = 0;
   std::int64_t windows_ = 0, window_scans_ = 0, window_scans_last_ = 0, spread_ = 0;
 };
 
 }  // namespace
 
-void register_transient_sync(BlockRegistry& r) {
-  BlockTypeInfo t;
-  t.name = "TRANSIENT_SYNC";
-  t.category = kCategory;
-  t.doc =
-      "Synchronizer of n nonlinear filters (paper 004, Section III): n velocity/acceleration-limited filters "
-      "(those of NONLINEAR_FILTER, Section II) turn n rough references r[i] (steps and ramps) into smooth "
-      "x[i]; every scan the velocity bound of each filter that is faster than the slowest is reduced so that "
-      "all transients end on the same scan, which also lowers the viscous-friction energy index "
-      "E = integral of x_dot^2 dt (24).\n\n"
-      "Every scan k, T the task period, for every axis: (1) n_i = transient time with the "
-      "nominal bounds (Table I; -1 when r_dot is outside [v_min, v_max]); t_M = the largest finite n_i "
-      "(output arrival). (2) The nominal bounds stay for axes that track, cannot track, have n_i = t_M, or "
-      "ran on a reduced bound at the previous scan and are in the final approach (curved part of the "
-      "boundary layer) of that bound. (3) The others get, with tf = t_M T, dU = a_min - a_max, "
-      "dv = x_dot - r_dot, dx = x - r: behind the reference, v_max := v^ = (a_min a_max tf + a_min x_dot - "
-      "a_max r_dot + G1)/dU, G1 = sqrt(a_min a_max (tf a_min (tf a_max + 2 dv) + 2 dx dU + dv^2)) (33), the "
-      "smaller root (both can be positive); ahead of it, v_min := v^ = -(a_min a_max tf + a_max x_dot - "
-      "a_min r_dot + G2)/dU, G2 = sqrt(a_min a_max (tf a_max (tf a_min + 2 dv) - 2 dx dU + dv^2)) (34). These "
-      "make the continuous profile (reach v^ at full acceleration, cruise, brake to r_dot; eqs. 25-32 with "
-      "(31) read as s_f2 = r_dot tf) meet the reference at tf. A negative radicand, or v^ not strictly "
-      "between r_dot and the nominal bound, keeps the nominal bounds. rule 0 (unified, default): (33) or (34) "
-      "by the side on which the discrete filter comes to rest if it brakes at full acceleration now (dx is "
-      "shifted so that the continuous model has the same stopping point), whatever the sign of r_dot; when "
-      "x_dot already exceeds the solution the first phase brakes with a_min (linear in v^). rule 1 (paper): "
-      "(33) only with r > x and r_dot >= 0, (34) only with r < x and r_dot <= 0, as printed; otherwise the "
-      "filter is parked with v_max := min(0, v_max) (r > x) or v_min := max(0, v_min) (r < x) as in Fig. 7. "
-      "rule 2 (off): never scales, n independent filters. (5) look-ahead guard: a reduced bound is applied "
-      "only if the nominal transient time of the state it leads to at k+1 is at most t_M - 1; otherwise the "
-      "nominal bounds are used this scan. All of it is recomputed every scan.\n\n"
-      "Outputs at scan k are the filter states at sample k and the accelerations u_k applied from them (as "
-      "NONLINEAR_FILTER). Transient window: opens at the first scan at which some axis does not track "
-      "(synchronized FALSE) and closes at the next scan at which all track; its scans are those from the "
-      "opening one to the last non-tracking one (window_scans of them). energy = T * sum over the window's "
-      "scans and over all n axes of x_dot^2 (eq. 24, left rectangle rule), running while the window is open "
-      "and held once it closes; energy_last = the value of the last closed window; windows counts closed "
-      "windows; spread = in the last closed window, the latest minus the earliest scan at which an axis "
-      "that did not track during it (last) began tracking (0: all arrived together). r_dot, when not "
-      "connected, is (r_k - r_(k-1)) divided by the time between the scans (0 on the first scan; a step then "
-      "looks like a one-scan ramp: give r_dot for references made of steps). A scan that follows skipped "
-      "releases first runs the missed samples (up to 10000; filters, synchronizer and window, which count "
-      "samples) with its inputs, r taken as a ramp backwards. Start and reset as NONLINEAR_FILTER "
-      "A NaN or infinite input on any axis is the finite-input rule's (see ENO): the block does not execute, "
-      "every output holds. Inconsistent bounds (v_min >= v_max, a_min >= 0 or a_max <= 0) on an axis set its error, "
-      "exclude it from the synchronization (steps_to_go -1, so synchronized stays FALSE) and stop it with "
-      "its last valid acceleration bounds; one block-fault event per scan at which axes start a series of "
-      "invalid scans (value: their count).";
-  t.reference =
-      "C. Guarino Lo Bianco, \"An efficient algorithm for the real-time generation of synchronous reference "
-      "signals\" (paper 004), Section III, eqs. (23)-(34), Figs. 6-8, Tables II-IV; corrections (eq. 31, "
-      "roots of eqs. 33-34, the unified rule, the look-ahead guard) in "
-      "docs/motion/transient-sync.md";
-  t.pins = {
-      input("r", IecType::LREAL).unit("m").array("n").required().doc("reference positions (steps and ramps)"),
-      input("r_dot", IecType::LREAL).unit("m/s").array("n")
-          .doc("reference velocities; when not connected, derived as (r_k - r_(k-1)) / (time between the scans), 0 on "
-               "the first scan"),
-      input("v_min", IecType::LREAL).unit("m/s").array("n").required()
-          .doc("nominal lower velocity bounds (xdot-), below v_max"),
-      input("v_max", IecType::LREAL).unit("m/s").array("n").required()
-          .doc("nominal upper velocity bounds (xdot+), above v_min"),
-      input("a_min", IecType::LREAL).unit("m/s^2").array("n").required()
-          .doc("lower acceleration bounds (U-), negative"),
-      input("a_max", IecType::LREAL).unit("m/s^2").array("n").required()
-          .doc("upper acceleration bounds (U+), positive"),
-      input("x0", IecType::LREAL).unit("m").array("n")
-          .doc("start positions for reset (and the first scan when start_at_r is FALSE)"),
-      input("v0", IecType::LREAL).unit("m/s").array("n")
-          .doc("start velocities for reset (and the first scan when start_at_r is FALSE)"),
-      input("reset", IecType::BOOL).doc("while TRUE every filter is held at x = x0, x_dot = v0 (x_ddot = 0)"),
-      output("x", IecType::LREAL).unit("m").array("n").doc("filtered positions at this scan"),
-      output("x_dot", IecType::LREAL).unit("m/s").array("n").doc("filtered velocities at this scan"),
-      output("x_ddot", IecType::LREAL).unit("m/s^2").array("n").doc("accelerations applied from this scan to the next"),
-      output("v_min_applied", IecType::LREAL).unit("m/s").array("n")
-          .doc("lower velocity bounds applied this scan (v_min, or the scaled/parked bound)"),
-      output("v_max_applied", IecType::LREAL).unit("m/s").array("n")
-          .doc("upper velocity bounds applied this scan (v_max, or the scaled/parked bound)"),
-      output("tracking", IecType::BOOL).array("n")
-          .doc("TRUE when x and x_dot equal r and r_dot (within the tolerance)"),
-      output("steps_to_go", IecType::LINT).array("n")
-          .doc("each axis's own transient time with its nominal bounds (Table I): scans until tracking if it were not "
-               "synchronized (0 tracking, -1 never)"),
-      output("error", IecType::BOOL).array("n").doc("TRUE while the axis's bounds or reference are invalid"),
-      output("arrival", IecType::LINT)
-          .doc("t_M: scans until the common arrival, the largest finite steps_to_go (0 when all track)"),
-      output("synchronized", IecType::BOOL).doc("TRUE when every axis tracks its reference"),
-      output("scaled", IecType::LINT).doc("number of axes running on a reduced velocity bound this scan"),
-      output("energy", IecType::LREAL).unit("m^2/s")
-          .doc("E of eq. (24) of the open transient window (held after it closes): T * sum of x_dot^2 over its scans "
-               "and all axes"),
-      output("energy_last", IecType::LREAL).unit("m^2/s").doc("E of the last closed transient window"),
-      output("windows", IecType::LINT).doc("number of closed transient windows"),
-      output("window_scans", IecType::LINT)
-          .doc("scans in the open transient window so far (held after it closes: its length)"),
-      output("spread", IecType::LINT)
-          .doc("arrival spread of the last closed window: latest minus earliest arrival scan of the axes that moved "
-               "(0 = synchronous)"),
-  };
-  t.params = {
-      parameter("n", IecType::DINT).min(1).max(static_cast<double>(kMaxAxes))
-          .doc("number of axes (sets the array pin lengths)"),
-      parameter("rule", IecType::DINT).init("0").min(0).max(2)
-          .doc("bound-scaling rule: 0 unified (eq. 33 or 34 by the side on which the filter comes to rest, any sign of "
-               "r_dot), 1 the paper's (by the signs of r - x and r_dot, zero-bound parking otherwise), 2 off "
-               "(independent filters)"),
-      parameter("start_at_r", IecType::BOOL).init("TRUE")
-          .doc("TRUE: the first scan starts every filter at x = r, x_dot = r_dot; FALSE: at (x0, v0)"),
-  };
-  t.create = [](BlockSetup& s) -> std::unique_ptr<Block> {
-    const auto n = s.param<std::int32_t>("n");
-    const auto rule = s.param<std::int32_t>("rule");
-    if (n < 1 || n > kMaxAxes) {
-      s.error("TRANSIENT_SYNC: n must be 1.." + std::to_string(kMaxAxes));
-      return nullptr;
-    }
-    if (rule < 0 || rule > 2) {
-      s.error("TRANSIENT_SYNC: rule must be 0 (unified), 1 (paper) or 2 (off)");
-      return nullptr;
-    }
-    return std::make_unique<TransientSync>(s);
-  };
-  r.add(std::move(t));
-}
+std::unique_ptr<Block> make_transient_sync(BlockSetup& s) { return std::make_unique<TransientSync>(s); }
 
 }  // namespace syncplc::motion

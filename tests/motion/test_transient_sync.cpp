@@ -71,6 +71,8 @@ void expect_unified(const LockstepRig& rig, const char* label) {
   EXPECT_EQ(rig.bounds_test().violations, 0) << rig.bounds_test().first;
   EXPECT_EQ(rig.bounds_off().violations, 0) << rig.bounds_off().first;
   EXPECT_EQ(rig.output_mismatches, 0) << rig.first_mismatch;
+  EXPECT_EQ(rig.countdown_test().mismatches, 0) << rig.countdown_test().first;
+  EXPECT_EQ(rig.countdown_off().mismatches, 0) << rig.countdown_off().first;
   // The unsynchronized windows end at t_M too (Table I is exact).
   for (const auto& w : rig.windows_off()) EXPECT_EQ(w.length, w.predicted) << "window at scan " << w.start;
 }
@@ -227,6 +229,14 @@ TEST(TransientSync, OverlappingIndependentChanges) {
                 e_off, 100 * (1 - e_test / e_off));
     EXPECT_EQ(rig.bounds_test().violations, 0) << rig.bounds_test().first;
     EXPECT_EQ(rig.bounds_off().violations, 0) << rig.bounds_off().first;
+    // Under the unified rule one axis of this run cannot be delayed: when its
+    // reference ramp changes it is braking at full acceleration onto the
+    // ramp and lands on it exactly, 52 scans before the t_M its steps_to_go
+    // names (no cruise bound slows a braking that ends on the reference:
+    // docs/motion/transient-sync.md, section 7). Every other axis arrives on
+    // the scan it names; Table I is exact for every independent filter.
+    EXPECT_LE(rig.countdown_test().mismatches, rule == kUnified ? 1 : 0) << rig.countdown_test().first;
+    EXPECT_EQ(rig.countdown_off().mismatches, 0) << rig.countdown_off().first;
     EXPECT_LT(e_test, e_off);
   }
 }
@@ -251,7 +261,10 @@ TEST(TransientSync, SmallTransientStartingInTheFinalApproach) {
     in.set_ref(1, tiny, 0);
     in.scan();
     const std::int64_t t_m = in.scalar<std::int64_t>("arrival");
-    EXPECT_LE(in.steps_to_go(1), 3);
+    EXPECT_LE(transient_steps(FilterState{0, 0}, Reference{tiny, 0}, fb, T), 3);  // its own time
+    // Synchronized (unified rule) it arrives with axis 0; the paper's rule
+    // shows its own time.
+    EXPECT_EQ(in.steps_to_go(1), rule == kUnified ? t_m : transient_steps(FilterState{0, 0}, Reference{tiny, 0}, fb, T));
     EXPECT_GT(t_m, 50);
     for (std::int64_t k = 1; k < t_m; ++k) {
       in.scan();
@@ -282,7 +295,10 @@ TEST(TransientSync, WindowOutputs) {
   in.scan();
   const std::int64_t t_m = in.scalar<std::int64_t>("arrival");
   EXPECT_EQ(t_m, in.steps_to_go(0));
-  EXPECT_LT(in.steps_to_go(1), t_m - 10);
+  const AxisBounds b1 = table2()[1];  // axis 1 alone would be much faster; synchronized it arrives at t_M
+  EXPECT_LT(transient_steps(FilterState{0, 0}, Reference{0.5, 0}, FilterBounds{b1.v_min, b1.v_max, b1.a_min, b1.a_max}, T),
+            t_m - 10);
+  EXPECT_EQ(in.steps_to_go(1), t_m);
   EXPECT_FALSE(in.scalar<bool>("synchronized"));
   EXPECT_EQ(in.scalar<std::int64_t>("scaled"), 1);
   EXPECT_LT(in.v_max_applied(1), table2()[1].v_max);

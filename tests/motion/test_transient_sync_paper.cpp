@@ -81,11 +81,14 @@ TEST(TransientSyncPaper, TablesThreeAndFourSetting) {
         rig.set_segment(static_cast<int>(i), level[i], 0);
       }
       rig.scan();
-      // At the event scan each moving signal's own time is its Table III value.
+      // At the event scan each moving signal's own time (unsynchronized) is
+      // its Table III value; synchronized, every moving signal arrives with
+      // the slowest.
+      const int slowest = *std::max_element(kEvents[next].steps_ms.begin(), kEvents[next].steps_ms.end());
       for (std::size_t i = 0; i < 3; ++i)
         if (kEvents[next].steps_ms[i] != 0) {
           EXPECT_EQ(rig.off().steps_to_go(static_cast<int>(i)), kEvents[next].steps_ms[i]);
-          EXPECT_EQ(rig.test().steps_to_go(static_cast<int>(i)), kEvents[next].steps_ms[i]);
+          EXPECT_EQ(rig.test().steps_to_go(static_cast<int>(i)), slowest);
         }
       ++next;
       continue;

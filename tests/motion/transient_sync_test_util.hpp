@@ -209,6 +209,33 @@ struct BoundChecker {
   }
 };
 
+// steps_to_go is exact: between two changes of the references or bounds (of
+// any axis), an axis's steps_to_go falls by one per scan and the axis begins
+// tracking on the scan it named. This holds for every axis of independent
+// filters (Table I) and, under the unified rule, for the synchronized axes,
+// whose steps_to_go is the common arrival t_M. Mismatches are counted.
+struct CountdownChecker {
+  std::int64_t mismatches = 0;
+  std::string first;
+  std::vector<std::int64_t> expect;  // per axis: the scan it should begin tracking on (-1: none)
+  void reset(int n) { expect.assign(static_cast<std::size_t>(n), -1); }
+  void check(Instance& in, int n, std::int64_t scan) {
+    if (expect.size() != static_cast<std::size_t>(n)) reset(n);
+    for (int i = 0; i < n; ++i) {
+      std::int64_t& e = expect[static_cast<std::size_t>(i)];
+      const std::int64_t st = in.steps_to_go(i);
+      const std::int64_t named = in.tracking(i) ? scan : (st < 0 ? -1 : scan + st);
+      if (e >= 0 && named != e && mismatches++ == 0) {
+        std::ostringstream os;
+        os << "scan " << scan << " axis " << i << ": steps_to_go " << st << " tracking " << in.tracking(i)
+           << ", expected to begin tracking on scan " << e;
+        first = os.str();
+      }
+      e = in.tracking(i) ? -1 : named;
+    }
+  }
+};
+
 // Random steps and ramps for n axes, references changed at common events; the
 // instance under test and the unsynchronized one see the same sequence. The
 // next event comes once both have synchronized and held for a random time, so
@@ -216,7 +243,7 @@ struct BoundChecker {
 class LockstepRig {
  public:
   LockstepRig(int n, int rule, double T, std::vector<AxisBounds> bounds, std::uint64_t seed)
-      : n_(n), T_(T), bounds_(std::move(bounds)), rng_(seed),
+      : n_(n), rule_(rule), T_(T), bounds_(std::move(bounds)), rng_(seed),
         test_(n, rule, static_cast<std::int64_t>(std::llround(T * 1e9))),
         off_(n, kOff, static_cast<std::int64_t>(std::llround(T * 1e9))), meter_test_(n), meter_off_(n),
         r_(static_cast<std::size_t>(n), 0.0), s_(static_cast<std::size_t>(n), 0.0) {
@@ -233,6 +260,7 @@ class LockstepRig {
   // of at most ramp_frac of the velocity bound on its side (40 % constant).
   void random_segment(int i, double max_step, double ramp_frac) {
     const auto k = static_cast<std::size_t>(i);
+    changed_ = true;
     const double sign = chance(0.5) ? 1 : -1;
     const double mag = chance(0.1) ? uni(0.0005, 0.02) : uni(0.05, max_step);
     r_[k] += sign * mag;
@@ -241,12 +269,14 @@ class LockstepRig {
   }
   // New nominal bounds for axis i (both instances), from this scan on.
   void set_axis_bounds(int i, const AxisBounds& b) {
+    changed_ = true;
     bounds_[static_cast<std::size_t>(i)] = b;
     test_.set_bounds(bounds_);
     off_.set_bounds(bounds_);
   }
   const AxisBounds& axis_bounds(int i) const { return bounds_[static_cast<std::size_t>(i)]; }
   void set_segment(int i, double r, double s) {
+    changed_ = true;
     r_[static_cast<std::size_t>(i)] = r;
     s_[static_cast<std::size_t>(i)] = s;
   }
@@ -262,6 +292,13 @@ class LockstepRig {
     off_.scan();
     check_test_.check(test_, bounds_, scan_, T_);
     check_off_.check(off_, bounds_, scan_, T_);
+    if (changed_) {
+      countdown_test_.reset(n_);
+      countdown_off_.reset(n_);
+      changed_ = false;
+    }
+    if (rule_ == kUnified) countdown_test_.check(test_, n_, scan_);
+    countdown_off_.check(off_, n_, scan_);
     meter_test_.observe(test_, scan_, T_);
     meter_off_.observe(off_, scan_, T_);
     if (meter_test_.windows.size() > compared_) compare_block_outputs();
@@ -285,6 +322,10 @@ class LockstepRig {
   const std::vector<Window>& windows_off() const { return meter_off_.windows; }
   const BoundChecker& bounds_test() const { return check_test_; }
   const BoundChecker& bounds_off() const { return check_off_; }
+  // steps_to_go against the scans the axes began tracking on (the unified
+  // rule's instance; the paper's parked axes arrive when they do).
+  const CountdownChecker& countdown_test() const { return countdown_test_; }
+  const CountdownChecker& countdown_off() const { return countdown_off_; }
   std::int64_t scans() const { return scan_; }
   // Block outputs disagreeing with the measured window (count, first message).
   std::int64_t output_mismatches = 0;
@@ -310,12 +351,15 @@ class LockstepRig {
   }
 
   int n_;
+  int rule_;
   double T_;
   std::vector<AxisBounds> bounds_;
   std::mt19937_64 rng_;
   Instance test_, off_;
   WindowMeter meter_test_, meter_off_;
   BoundChecker check_test_, check_off_;
+  CountdownChecker countdown_test_, countdown_off_;
+  bool changed_ = true;
   std::vector<double> r_, s_;
   std::int64_t scan_ = 0;
   std::size_t compared_ = 0;
@@ -361,8 +405,11 @@ inline Summary summarize(const LockstepRig& rig) {
     s.max_spread = std::max(s.max_spread, a.spread);
     if (a.length > b.length) ++s.slower_than_off;
     if (a.length != a.predicted) ++s.not_predicted;
-    for (std::size_t i = 0; i < a.own.size(); ++i)
-      if (a.own[i] == a.predicted && a.arrival[i] != a.own[i]) ++s.slowest_delayed;
+    // The slowest: the largest own time, read from the unsynchronized instance
+    // (the same states at the opening; the synchronized one shows t_M on
+    // every reduced axis).
+    for (std::size_t i = 0; i < b.own.size(); ++i)
+      if (b.own[i] == a.predicted && a.arrival[i] != b.own[i]) ++s.slowest_delayed;
     if (a.energy > b.energy * (1 + 1e-9) + 1e-12) ++s.energy_higher;
     s.e_test += a.energy;
     s.e_off += b.energy;
