@@ -9,9 +9,13 @@
 // For each N the block runs through the block harness (the execute() a task
 // calls, with the finite-input check a task makes) for --seconds of cycles,
 // twice on the same sequence:
-//   1. untimed: total time / cycles = the mean per scan;
+//   1. untimed: total time / cycles = the mean per scan, by the wall clock
+//      and by the thread's CPU time (the latter leaves out time the CPU spent
+//      on other processes);
 //   2. every scan timed with clock_gettime (about 20 ns added to each scan):
-//      p50, p99 and max per scan.
+//      p50, p99 and max per scan, and the mean of the scans at which the
+//      targets change (every axis starts a new move: Table I afresh, scaling
+//      and lock for each).
 // Then, from a third run that reads the outputs: how many times an axis began
 // tracking its target ahead of the common arrival (an axis that reached its
 // target while others of the same move were still on their way, the
@@ -46,11 +50,15 @@ using namespace syncplc;
 using bench::kMoveEvery;
 using Workload = bench::SyncWorkload;
 
-std::int64_t now_ns() {
+std::int64_t clock_ns(clockid_t id) {
   timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
+  clock_gettime(id, &ts);
   return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
 }
+std::int64_t now_ns() { return clock_ns(CLOCK_MONOTONIC); }
+// The thread's CPU time: what the scans cost, without the time other
+// processes held the CPU (a loaded machine).
+std::int64_t cpu_ns() { return clock_ns(CLOCK_THREAD_CPUTIME_ID); }
 
 // One TRANSIENT_SYNC instance fed with the workload.
 class Rig {
@@ -101,8 +109,10 @@ class Rig {
 };
 
 struct Timing {
-  double mean_ns = 0;  // untimed pass
+  double mean_ns = 0;      // untimed pass, wall clock
+  double mean_cpu_ns = 0;  // untimed pass, the thread's CPU time
   double p50_ns = 0, p99_ns = 0, max_ns = 0;  // timed pass
+  double move_mean_ns = 0, move_max_ns = 0;     // timed pass, the scans at which the targets change
 };
 
 Timing time_rule(const Workload& w, int rule, int cycles) {
@@ -113,11 +123,12 @@ Timing time_rule(const Workload& w, int rule, int cycles) {
       std::fprintf(stderr, "TRANSIENT_SYNC did not build: %s\n", rig.errors().c_str());
       std::exit(1);
     }
-    const std::int64_t t0 = now_ns();
+    const std::int64_t t0 = now_ns(), c0 = cpu_ns();
     for (int c = 0; c < cycles; ++c) {
       rig.targets_for(c);
       rig.scan();
     }
+    t.mean_cpu_ns = static_cast<double>(cpu_ns() - c0) / cycles;
     t.mean_ns = static_cast<double>(now_ns() - t0) / cycles;
   }
   {
@@ -129,6 +140,14 @@ Timing time_rule(const Workload& w, int rule, int cycles) {
       rig.scan();
       d[static_cast<std::size_t>(c)] = now_ns() - a;
     }
+    double sum = 0;
+    int moves = 0;
+    for (int c = 0; c < cycles; c += kMoveEvery, ++moves) {
+      const auto v = static_cast<double>(d[static_cast<std::size_t>(c)]);
+      sum += v;
+      t.move_max_ns = std::max(t.move_max_ns, v);
+    }
+    t.move_mean_ns = moves > 0 ? sum / moves : 0;
     std::sort(d.begin(), d.end());
     auto pct = [&](double p) {
       return static_cast<double>(d[std::min(d.size() - 1, static_cast<std::size_t>(p * static_cast<double>(d.size())))]);
@@ -220,8 +239,8 @@ int main(int argc, char** argv) {
   std::printf("TRANSIENT_SYNC, issue 15 workload: 1 ms cycle, new step targets every %d ms, %d cycles, seed %llu, "
               "cpu %d\n",
               kMoveEvery, cycles, static_cast<unsigned long long>(seed), cpu);
-  std::printf("%-6s %-5s %12s %12s %12s %12s %12s %10s %10s %10s\n", "axes", "rule", "mean us", "p50 us", "p99 us",
-              "max us", "mean ns/axis", "arrivals", "early", "max early");
+  std::printf("%-6s %-5s %10s %10s %10s %10s %10s %12s %12s %9s %7s %9s\n", "axes", "rule", "mean us", "cpu us",
+              "p50 us", "p99 us", "max us", "move mean us", "cpu ns/axis", "arrivals", "early", "max early");
   std::vector<int> rules{rule};
   if (floor && rule != 2) rules.push_back(2);
   for (int n : axes) {
@@ -229,13 +248,15 @@ int main(int argc, char** argv) {
     for (int r : rules) {
       const Timing t = time_rule(w, r, cycles);
       const Quality q = measure_quality(w, r, cycles);
-      std::printf("%-6d %-5d %12.3f %12.3f %12.3f %12.3f %12.1f %10lld %10lld %10lld\n", n, r, t.mean_ns / 1e3,
-                  t.p50_ns / 1e3, t.p99_ns / 1e3, t.max_ns / 1e3, t.mean_ns / n,
+      std::printf("%-6d %-5d %10.3f %10.3f %10.3f %10.3f %10.1f %12.1f %12.1f %9lld %7lld %9lld\n", n, r,
+                  t.mean_ns / 1e3, t.mean_cpu_ns / 1e3, t.p50_ns / 1e3, t.p99_ns / 1e3, t.max_ns / 1e3,
+                  t.move_mean_ns / 1e3, t.mean_cpu_ns / n,
                   static_cast<long long>(q.arrivals), static_cast<long long>(q.early),
                   static_cast<long long>(q.latest));
-      std::printf("RESULT axes=%d rule=%d mean_ns=%.1f p50_ns=%.0f p99_ns=%.0f max_ns=%.0f arrivals=%lld early=%lld "
+      std::printf("RESULT axes=%d rule=%d mean_ns=%.1f cpu_ns=%.1f p50_ns=%.0f p99_ns=%.0f max_ns=%.0f move_mean_ns=%.0f move_max_ns=%.0f arrivals=%lld early=%lld "
                   "max_early=%lld moves=%d\n",
-                  n, r, t.mean_ns, t.p50_ns, t.p99_ns, t.max_ns, static_cast<long long>(q.arrivals),
+                  n, r, t.mean_ns, t.mean_cpu_ns, t.p50_ns, t.p99_ns, t.max_ns, t.move_mean_ns, t.move_max_ns,
+                  static_cast<long long>(q.arrivals),
                   static_cast<long long>(q.early), static_cast<long long>(q.latest), w.moves);
       std::fflush(stdout);
     }

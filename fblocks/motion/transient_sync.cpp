@@ -13,7 +13,7 @@
 //   1. n_i = Table I steps from sample k with the nominal bounds (-1: never),
 //      or the count of sample k-1 minus one when the axis's inputs are those
 //      sample k-1 expected (reference continued as its ramp, same r_dot,
-//      bounds and T: Table I counts the filter's own samples, section 2.7);
+//      bounds and T: Table I counts the filter's own samples; section 2 of the doc, "What carries");
 //      a locked axis counts its planned arrival. t_M = the largest finite n_i.
 //   2. nominal bounds if: rule off, tracking, cannot track, n_i = t_M (the
 //      slowest), or in the final approach of the reduced bound it ran on at
@@ -146,9 +146,10 @@ class TransientSync final : public Block {
 
   // The inputs a sample expects of the next one: the reference continued as a
   // ramp over the sample (r + T r_dot, exactly as the filters extrapolate it),
-  // the same r_dot, bounds and period. Compared bit for bit (same_bits).
+  // the same r_dot and bounds (T, the task period, is the instance's own).
+  // Compared bit for bit (same_bits).
   struct Inputs {
-    double r = kNaN, r_dot = kNaN, T = kNaN;
+    double r = kNaN, r_dot = kNaN;
     FilterBounds b{kNaN, kNaN, kNaN, kNaN};
   };
 
@@ -184,6 +185,9 @@ class TransientSync final : public Block {
   // or locked bound) with this sample's acceleration bounds, r_dot and T: the
   // cached ones when their inputs are the same bit for bit.
   const ZBounds& previous_z_bounds(std::uint32_t i, const FilterBounds& b, double r_dot, double T) noexcept {
+    // On a locked bound with the inputs the previous sample expected, the key
+    // is the one that sample used (the bound it applied, the same b, r_dot, T).
+    if ((flags_[i] & (kLocked | kSame)) == (kLocked | kSame)) return zs_[i];
     const BoundsKey key{FilterBounds{vmin_prev_[i], vmax_prev_[i], b.a_min, b.a_max}, r_dot, T};
     if (!same_bits(zs_key_[i], key)) {
       zs_[i] = z_bounds(key.b, r_dot, T);
@@ -194,22 +198,24 @@ class TransientSync final : public Block {
 
   // Pass 1 for one valid axis: z, tracking, and its count n_i (step 1 of the
   // header): 0 tracking; the count of the previous sample minus one when it
-  // carries (section 2.7 of docs/motion/transient-sync.md); the look-ahead
+  // carries (docs/motion/transient-sync.md, section 2, "What carries"); the look-ahead
   // guard's prediction of this very state; else Table I afresh. Returns n_i;
   // `f` gets kTrackingNow and kSame, loses kLocked/kCarry where they no longer hold.
   std::int64_t count_axis(std::uint32_t i, double T, double back, std::uint16_t& f) noexcept {
     const Reference ref{rin_[i].r - back * T * rin_[i].v, rin_[i].v};
     const FilterBounds& b = nom_[i];
-    // z_bounds(b, rdot, T) and the prediction's constants, kept while their
-    // inputs stay the same bit for bit.
-    const BoundsKey key{b, ref.v, T};
-    if (!same_bits(pb_key_[i], key)) {
-      pb_[i] = prepare_bounds(z_bounds(b, ref.v, T));
-      pb_key_[i] = key;
+    if ((f & kSame) == 0 || !same_bits(next_[i], Inputs{ref.r, ref.v, b})) {
+      f &= static_cast<std::uint16_t>(~(kSame | kCarry | kLocked | kPredicted));
+      // z_bounds(b, rdot, T) and the prediction's constants, kept while their
+      // inputs stay the same bit for bit (with kSame they are those of the
+      // previous sample, which set them).
+      const BoundsKey key{b, ref.v, T};
+      if (!same_bits(pb_key_[i], key)) {
+        pb_[i] = prepare_bounds(z_bounds(b, ref.v, T));
+        pb_key_[i] = key;
+      }
     }
     const PreparedBounds& pb = pb_[i];
-    if ((f & kSame) == 0 || !same_bits(next_[i], Inputs{ref.r, ref.v, T, b}))
-      f &= static_cast<std::uint16_t>(~(kSame | kCarry | kLocked | kPredicted));
     const FilterState s{x_[i], v_[i]};
     const Prediction& p = pred_[i];
     // The guard computed to_z of this very state for these very inputs.
@@ -301,7 +307,7 @@ class TransientSync final : public Block {
         if (!nominal && (f & kLocked)) {
           if (n == t_max) {
             // On its plan: the locked bound, which ends the transient with
-            // the slowest axis's (section 2.7).
+            // the slowest axis's (doc section 2, "What carries").
             u = w.control(z, previous_z_bounds(i, b, ref.v, T));
             reduced = true;
             vmin_applied = vmin_prev_[i];
@@ -370,7 +376,7 @@ class TransientSync final : public Block {
       // The inputs the next sample is expected to have.
       if ((f & kValid) && !hold) {
         const Reference& ref = ref_[i];
-        next_[i] = Inputs{ref.r + T * ref.v, ref.v, T, nom_[i]};
+        next_[i] = Inputs{ref.r + T * ref.v, ref.v, nom_[i]};
         f |= kSame;
       } else {
         f &= static_cast<std::uint16_t>(~kSame);
@@ -453,7 +459,7 @@ class TransientSync final : public Block {
     return true;
   }
 
-  // The lock (docs/motion/transient-sync.md, section 2.7): a reduced bound that,
+  // The lock (docs/motion/transient-sync.md, section 2, "What carries"): a reduced bound that,
   // held from this sample on, ends the transient exactly t_M samples from now
   // by Table I with that bound. The scaled bound sb of eq. (33)/(34) with
   // tf = t_M T is tried first; the continuous model usually misses the

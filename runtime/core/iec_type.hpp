@@ -2,6 +2,7 @@
 // in a task's process image.
 #pragma once
 
+#include <bit>
 #include <cstdint>
 #include <cstring>
 #include <optional>
@@ -55,8 +56,22 @@ struct Cell {
   template <class T>
   void set(T v) noexcept {
     static_assert(sizeof(T) <= 8 && std::is_trivially_copyable_v<T>);
-    raw = 0;
-    std::memcpy(&raw, &v, sizeof(T));
+    // A plain integer store where the layout allows: a memcpy into raw may, to
+    // the compiler, alias any object, so a block writing its outputs would
+    // reload its own members after each write. The bits are those the memcpy
+    // gives (whole cell, or the low bytes of a little-endian cell).
+    if constexpr (sizeof(T) == 8) {
+      raw = std::bit_cast<std::uint64_t>(v);
+    } else if constexpr (std::endian::native == std::endian::little && sizeof(T) == 4) {
+      raw = std::bit_cast<std::uint32_t>(v);
+    } else if constexpr (std::endian::native == std::endian::little && sizeof(T) == 2) {
+      raw = std::bit_cast<std::uint16_t>(v);
+    } else if constexpr (std::endian::native == std::endian::little && sizeof(T) == 1) {
+      raw = std::bit_cast<std::uint8_t>(v);
+    } else {
+      raw = 0;
+      std::memcpy(&raw, &v, sizeof(T));
+    }
   }
 };
 static_assert(sizeof(Cell) == 8);

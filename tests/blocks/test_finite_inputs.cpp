@@ -6,6 +6,8 @@
 // same finite inputs that skipped the burst scans, and ENO is TRUE.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -14,12 +16,54 @@
 
 #include "fblocks/library.hpp"
 #include "runtime/core/block_harness.hpp"
+#include "runtime/core/finite_guard.hpp"
 
 namespace syncplc {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// cells_finite (the branch-free check of an array input) against std::isfinite
+// for every special value of LREAL and REAL at every position of arrays of 0
+// to 6 elements, and on random bit patterns.
+TEST(FiniteGuard, CellsFiniteIsIsfiniteOfEveryElement) {
+  const double dspecial[] = {0.0, -0.0, 1.0, -2.5, std::numeric_limits<double>::max(),
+                             -std::numeric_limits<double>::max(), std::numeric_limits<double>::min(),
+                             std::numeric_limits<double>::denorm_min(), kInf, -kInf, kNaN, -kNaN,
+                             std::numeric_limits<double>::signaling_NaN()};
+  const float fspecial[] = {0.0f, -0.0f, 1.0f, std::numeric_limits<float>::max(), std::numeric_limits<float>::min(),
+                            std::numeric_limits<float>::denorm_min(), std::numeric_limits<float>::infinity(),
+                            -std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN(),
+                            std::numeric_limits<float>::signaling_NaN()};
+  for (std::uint32_t n = 0; n <= 6; ++n)
+    for (std::uint32_t at = 0; at < std::max<std::uint32_t>(n, 1); ++at) {
+      for (double v : dspecial) {
+        std::vector<Cell> c(n);
+        for (auto& x : c) x.set<double>(1.5);
+        if (n > 0) c[at].set<double>(v);
+        EXPECT_EQ(cells_finite(c.data(), n, false), n == 0 || std::isfinite(v)) << n << " " << at << " " << v;
+      }
+      for (float v : fspecial) {
+        std::vector<Cell> c(n);
+        for (auto& x : c) x.set<float>(1.5f);
+        if (n > 0) c[at].set<float>(v);
+        EXPECT_EQ(cells_finite(c.data(), n, true), n == 0 || std::isfinite(v)) << n << " " << at << " " << v;
+      }
+    }
+  std::mt19937_64 g(61131);
+  for (int k = 0; k < 100000; ++k) {
+    Cell c[3];
+    for (auto& x : c) x.raw = g();
+    const bool d = std::isfinite(c[0].get<double>()) && std::isfinite(c[1].get<double>()) &&
+                   std::isfinite(c[2].get<double>());
+    EXPECT_EQ(cells_finite(c, 3, false), d);
+    for (auto& x : c) x.set<float>(std::bit_cast<float>(static_cast<std::uint32_t>(g())));
+    const bool f = std::isfinite(c[0].get<float>()) && std::isfinite(c[1].get<float>()) &&
+                   std::isfinite(c[2].get<float>());
+    EXPECT_EQ(cells_finite(c, 3, true), f);
+  }
+}
 
 // Mandatory parameters get 1 (within their range): a value every block accepts.
 BlockHarness::Options options_for(const BlockTypeInfo& t, std::optional<IecType> dt) {

@@ -220,6 +220,7 @@ TEST(Cli, RunStopsCleanlyOnSigterm) {
     execl(SYNCPLC_BINARY, SYNCPLC_BINARY, "run", kDemo.c_str(), "--no-status", "--modbus-port", "0", static_cast<char*>(nullptr));
     _exit(127);
   }
+  ASSERT_TRUE(syncplc::testing::wait_until_run_takes_signals(pid));
   std::this_thread::sleep_for(std::chrono::milliseconds(700));
   kill(pid, SIGTERM);
   int status = 0;
@@ -264,7 +265,7 @@ connections: [level -> m.IN, m.OUT -> out]
     }
     return false;
   };
-  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  ASSERT_TRUE(syncplc::testing::wait_until_run_takes_signals(pid)) << slurp(e);
   write_temp_file("reload.yaml", "tasks: [{name: t, period: 1ms}]\nblocks: [{name: m, type: NOPE}]\n");
   kill(pid, SIGHUP);
   EXPECT_TRUE(wait_for("rejected (1 error); the running program continues unchanged")) << slurp(e);
@@ -344,6 +345,7 @@ drivers:
   const std::string o = path + ".out", e = path + ".err";
   pid_t pid = spawn_run({path, "--no-status"}, o, e);
   ASSERT_GT(pid, 0);
+  ASSERT_TRUE(syncplc::testing::wait_until_run_takes_signals(pid)) << slurp(e);
   std::this_thread::sleep_for(std::chrono::milliseconds(700));
   ASSERT_EQ(waitpid(pid, nullptr, WNOHANG), 0) << "still running: the healthy task keeps it up\n" << slurp(e);
   const auto t0 = std::chrono::steady_clock::now();
@@ -380,6 +382,7 @@ blocks: [{name: b, type: BURN, task: stuck, inputs: {EXEC: 1h}}]
     return false;
   };
   EXPECT_TRUE(wait_for("stuck: scan did not end: task stopped by the supervisor")) << slurp(e);
+  ASSERT_TRUE(syncplc::testing::wait_until_run_takes_signals(pid)) << slurp(e);
   kill(pid, SIGHUP);
   EXPECT_TRUE(wait_for("syncplc: reload refused: a task's scan did not end")) << slurp(e);
   kill(pid, SIGTERM);

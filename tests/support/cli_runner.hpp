@@ -3,6 +3,7 @@
 #pragma once
 
 #include <arpa/inet.h>
+#include <dirent.h>
 #include <netinet/in.h>
 #include <sys/prctl.h>
 #include <sys/socket.h>
@@ -10,6 +11,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <csignal>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -41,6 +43,35 @@ inline void drop_realtime_priority() { prctl(PR_CAPBSET_DROP, CAP_SYS_NICE, 0, 0
 // The same for a command line run by the shell (util-linux's setpriv).
 inline std::string without_realtime_priority(const std::string& command) {
   return "setpriv --bounding-set -sys_nice " + command;
+}
+
+// Waits (up to 30 s) until `syncplc run` in process `pid` takes SIGHUP, SIGINT
+// and SIGTERM itself (they are blocked in its main thread and read with
+// sigwait), so that a signal the test sends reloads or stops it instead of
+// killing it with the default action. A fixed sleep is not enough: a
+// sanitizer build on a loaded machine can take seconds to get there.
+// Any thread is looked at: the main thread blocks them before it starts the
+// others, which inherit the mask, and while it waits in sigwait the kernel
+// shows the waited signals as unblocked in its own status.
+inline bool wait_until_run_takes_signals(pid_t pid) {
+  const unsigned long want = (1ul << (SIGHUP - 1)) | (1ul << (SIGINT - 1)) | (1ul << (SIGTERM - 1));
+  const std::string tasks = "/proc/" + std::to_string(pid) + "/task";
+  for (int i = 0; i < 1500; ++i) {
+    if (DIR* d = opendir(tasks.c_str())) {
+      bool taken = false;
+      while (dirent* t = readdir(d)) {
+        if (t->d_name[0] == '.') continue;
+        std::ifstream in(tasks + "/" + t->d_name + "/status");
+        std::string line;
+        while (std::getline(in, line))
+          if (line.rfind("SigBlk:", 0) == 0 && (std::stoul(line.substr(7), nullptr, 16) & want) == want) taken = true;
+      }
+      closedir(d);
+      if (taken) return true;
+    }
+    usleep(20'000);
+  }
+  return false;
 }
 
 struct CliResult {
