@@ -216,11 +216,14 @@ TEST(Cli, RunStopsCleanlyOnSigterm) {
   ASSERT_GE(pid, 0);
   if (pid == 0) {
     FILE* f = std::freopen(o.c_str(), "w", stdout);
+    FILE* g = std::freopen((o + ".err").c_str(), "w", stderr);
     (void)f;
-    execl(SYNCPLC_BINARY, SYNCPLC_BINARY, "run", kDemo.c_str(), "--no-status", "--modbus-port", "0", static_cast<char*>(nullptr));
+    (void)g;
+    execl(SYNCPLC_BINARY, SYNCPLC_BINARY, "run", kDemo.c_str(), "--no-status", "--modbus-port", "0", "--http",
+          "127.0.0.1:0", static_cast<char*>(nullptr));
     _exit(127);
   }
-  ASSERT_TRUE(syncplc::testing::wait_until_run_takes_signals(pid));
+  ASSERT_TRUE(syncplc::testing::wait_for_text(o + ".err", syncplc::testing::kRunTakesSignals)) << slurp(o + ".err");
   std::this_thread::sleep_for(std::chrono::milliseconds(700));
   kill(pid, SIGTERM);
   int status = 0;
@@ -255,7 +258,8 @@ connections: [level -> m.IN, m.OUT -> out]
     FILE* f2 = std::freopen(e.c_str(), "w", stderr);
     (void)f1;
     (void)f2;
-    execl(SYNCPLC_BINARY, SYNCPLC_BINARY, "run", path.c_str(), "--no-status", static_cast<char*>(nullptr));
+    execl(SYNCPLC_BINARY, SYNCPLC_BINARY, "run", path.c_str(), "--no-status", "--http", "127.0.0.1:0",
+          static_cast<char*>(nullptr));
     _exit(127);
   }
   auto wait_for = [&](const std::string& text) {
@@ -265,7 +269,7 @@ connections: [level -> m.IN, m.OUT -> out]
     }
     return false;
   };
-  ASSERT_TRUE(syncplc::testing::wait_until_run_takes_signals(pid)) << slurp(e);
+  ASSERT_TRUE(syncplc::testing::wait_for_text(e, syncplc::testing::kRunTakesSignals)) << slurp(e);
   write_temp_file("reload.yaml", "tasks: [{name: t, period: 1ms}]\nblocks: [{name: m, type: NOPE}]\n");
   kill(pid, SIGHUP);
   EXPECT_TRUE(wait_for("rejected (1 error); the running program continues unchanged")) << slurp(e);
@@ -343,9 +347,9 @@ drivers:
   - {name: io, type: memory, task: stuck, channels: [{name: motor, dir: out, type: BOOL}], bind: {motor: motor}}
 )");
   const std::string o = path + ".out", e = path + ".err";
-  pid_t pid = spawn_run({path, "--no-status"}, o, e);
+  pid_t pid = spawn_run({path, "--no-status", "--http", "127.0.0.1:0"}, o, e);
   ASSERT_GT(pid, 0);
-  ASSERT_TRUE(syncplc::testing::wait_until_run_takes_signals(pid)) << slurp(e);
+  ASSERT_TRUE(syncplc::testing::wait_for_text(e, syncplc::testing::kRunTakesSignals)) << slurp(e);
   std::this_thread::sleep_for(std::chrono::milliseconds(700));
   ASSERT_EQ(waitpid(pid, nullptr, WNOHANG), 0) << "still running: the healthy task keeps it up\n" << slurp(e);
   const auto t0 = std::chrono::steady_clock::now();
@@ -372,7 +376,7 @@ TEST(Cli, AReloadIsRefusedWhileAScanThatDidNotEndHoldsItsThread) {
 blocks: [{name: b, type: BURN, task: stuck, inputs: {EXEC: 1h}}]
 )");
   const std::string o = path + ".out", e = path + ".err";
-  pid_t pid = spawn_run({path, "--no-status", "--duration", "20s"}, o, e);
+  pid_t pid = spawn_run({path, "--no-status", "--duration", "20s", "--http", "127.0.0.1:0"}, o, e);
   ASSERT_GT(pid, 0);
   auto wait_for = [&](const std::string& text) {
     for (int i = 0; i < 100; ++i) {
@@ -382,7 +386,7 @@ blocks: [{name: b, type: BURN, task: stuck, inputs: {EXEC: 1h}}]
     return false;
   };
   EXPECT_TRUE(wait_for("stuck: scan did not end: task stopped by the supervisor")) << slurp(e);
-  ASSERT_TRUE(syncplc::testing::wait_until_run_takes_signals(pid)) << slurp(e);
+  ASSERT_TRUE(syncplc::testing::wait_for_text(e, syncplc::testing::kRunTakesSignals)) << slurp(e);
   kill(pid, SIGHUP);
   EXPECT_TRUE(wait_for("syncplc: reload refused: a task's scan did not end")) << slurp(e);
   kill(pid, SIGTERM);

@@ -3,7 +3,6 @@
 #pragma once
 
 #include <arpa/inet.h>
-#include <dirent.h>
 #include <netinet/in.h>
 #include <sys/prctl.h>
 #include <sys/socket.h>
@@ -11,7 +10,6 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <csignal>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -45,30 +43,24 @@ inline std::string without_realtime_priority(const std::string& command) {
   return "setpriv --bounding-set -sys_nice " + command;
 }
 
-// Waits (up to 30 s) until `syncplc run` in process `pid` takes SIGHUP, SIGINT
-// and SIGTERM itself (they are blocked in its main thread and read with
-// sigwait), so that a signal the test sends reloads or stops it instead of
-// killing it with the default action. A fixed sleep is not enough: a
-// sanitizer build on a loaded machine can take seconds to get there.
-// Any thread is looked at: the main thread blocks them before it starts the
-// others, which inherit the mask, and while it waits in sigwait the kernel
-// shows the waited signals as unblocked in its own status.
-inline bool wait_until_run_takes_signals(pid_t pid) {
-  const unsigned long want = (1ul << (SIGHUP - 1)) | (1ul << (SIGINT - 1)) | (1ul << (SIGTERM - 1));
-  const std::string tasks = "/proc/" + std::to_string(pid) + "/task";
-  for (int i = 0; i < 1500; ++i) {
-    if (DIR* d = opendir(tasks.c_str())) {
-      bool taken = false;
-      while (dirent* t = readdir(d)) {
-        if (t->d_name[0] == '.') continue;
-        std::ifstream in(tasks + "/" + t->d_name + "/status");
-        std::string line;
-        while (std::getline(in, line))
-          if (line.rfind("SigBlk:", 0) == 0 && (std::stoul(line.substr(7), nullptr, 16) & want) == want) taken = true;
-      }
-      closedir(d);
-      if (taken) return true;
-    }
+// Before a test sends SIGHUP, SIGINT or SIGTERM to `syncplc run`, it waits
+// until the run takes them itself (they are blocked and read with sigwait),
+// or the default action kills it: a fixed sleep is not enough for a sanitizer
+// build on a loaded machine. The run blocks them before it starts its HTTP
+// server, whose address it then prints: started with `--http 127.0.0.1:0` (a
+// free port, so the line is the same whatever other tests hold), the line
+// kRunTakesSignals in its standard error says it is ready. (The signal masks
+// in /proc cannot tell: ThreadSanitizer's own thread blocks every signal from
+// the start, and a thread waiting in sigwait shows them unblocked.)
+inline constexpr const char* kRunTakesSignals = "syncplc: HMI and HTTP API on http://127.0.0.1:";
+
+// Waits up to `seconds` for `text` in the file `path`.
+inline bool wait_for_text(const std::string& path, const std::string& text, int seconds = 60) {
+  for (int i = 0; i < seconds * 50; ++i) {
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    if (ss.str().find(text) != std::string::npos) return true;
     usleep(20'000);
   }
   return false;
