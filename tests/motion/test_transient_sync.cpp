@@ -73,6 +73,8 @@ void expect_unified(const LockstepRig& rig, const char* label) {
   EXPECT_EQ(rig.output_mismatches, 0) << rig.first_mismatch;
   EXPECT_EQ(rig.countdown_test().mismatches, 0) << rig.countdown_test().first;
   EXPECT_EQ(rig.countdown_off().mismatches, 0) << rig.countdown_off().first;
+  EXPECT_EQ(rig.overshoot_test().violations, 0) << rig.overshoot_test().first;
+  EXPECT_EQ(rig.overshoot_off().violations, 0) << rig.overshoot_off().first;
   // The unsynchronized windows end at t_M too (Table I is exact).
   for (const auto& w : rig.windows_off()) EXPECT_EQ(w.length, w.predicted) << "window at scan " << w.start;
 }

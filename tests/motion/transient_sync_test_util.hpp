@@ -11,6 +11,7 @@
 #include <set>
 
 #include <cmath>
+#include <limits>
 #include <cstdint>
 #include <random>
 #include <sstream>
@@ -236,6 +237,40 @@ struct CountdownChecker {
   }
 };
 
+// No overshoot: an axis that meets a step (a segment of slope 0) from rest
+// approaches it from one side and never comes back out: x - r keeps its sign
+// (or is 0) and |x - r| never grows, up to 1e-12 m of rounding, until the
+// next change. Violations are counted.
+struct OvershootChecker {
+  std::int64_t violations = 0;
+  std::string first;
+  std::vector<double> last;  // per axis: |x - r| at the previous scan, NaN: not watched
+  std::vector<int> side;     // per axis: sign of x - r when the step came
+  void reset(int n) {
+    last.assign(static_cast<std::size_t>(n), std::numeric_limits<double>::quiet_NaN());
+    side.assign(static_cast<std::size_t>(n), 0);
+  }
+  // At the scan of a change: watch axis i if it meets a step from rest.
+  void watch(int i, bool from_rest, bool step, double y) {
+    const auto k = static_cast<std::size_t>(i);
+    last[k] = from_rest && step ? std::fabs(y) : std::numeric_limits<double>::quiet_NaN();
+    side[k] = y > 0 ? 1 : (y < 0 ? -1 : 0);
+  }
+  void check(int i, double y, std::int64_t scan) {
+    const auto k = static_cast<std::size_t>(i);
+    if (std::isnan(last[k])) return;
+    const bool crossed = side[k] * y < -1e-12;
+    const bool grew = std::fabs(y) > last[k] + 1e-12;
+    if ((crossed || grew) && violations++ == 0) {
+      std::ostringstream os;
+      os << "scan " << scan << " axis " << i << ": x - r = " << y << (crossed ? " crossed the step" : " grew from ")
+         << (crossed ? "" : std::to_string(last[k]));
+      first = os.str();
+    }
+    last[k] = std::fmin(last[k], std::fabs(y));
+  }
+};
+
 // Random steps and ramps for n axes, references changed at common events; the
 // instance under test and the unsynchronized one see the same sequence. The
 // next event comes once both have synchronized and held for a random time, so
@@ -261,6 +296,8 @@ class LockstepRig {
   void random_segment(int i, double max_step, double ramp_frac) {
     const auto k = static_cast<std::size_t>(i);
     changed_ = true;
+    moved_[k] = true;
+    still_[k] = s_[k] == 0;  // the segment it leaves is a step: at rest if it tracks
     const double sign = chance(0.5) ? 1 : -1;
     const double mag = chance(0.1) ? uni(0.0005, 0.02) : uni(0.05, max_step);
     r_[k] += sign * mag;
@@ -277,6 +314,8 @@ class LockstepRig {
   const AxisBounds& axis_bounds(int i) const { return bounds_[static_cast<std::size_t>(i)]; }
   void set_segment(int i, double r, double s) {
     changed_ = true;
+    moved_[static_cast<std::size_t>(i)] = true;
+    still_[static_cast<std::size_t>(i)] = s_[static_cast<std::size_t>(i)] == 0;
     r_[static_cast<std::size_t>(i)] = r;
     s_[static_cast<std::size_t>(i)] = s;
   }
@@ -295,7 +334,33 @@ class LockstepRig {
     if (changed_) {
       countdown_test_.reset(n_);
       countdown_off_.reset(n_);
+      if (overshoot_test_.last.empty()) {
+        overshoot_test_.reset(n_);
+        overshoot_off_.reset(n_);
+      }
+      // The outputs at this scan are the states before the change took effect
+      // (x moves from the next scan on): "from rest" is the previous scan's tracking.
+      for (int i = 0; i < n_; ++i) {
+        const auto k = static_cast<std::size_t>(i);
+        if (moved_[k]) {
+          overshoot_test_.watch(i, was_tracking_test_[k] && still_[k], s_[k] == 0, test_.x(i) - r_[k]);
+          overshoot_off_.watch(i, was_tracking_off_[k] && still_[k], s_[k] == 0, off_.x(i) - r_[k]);
+        } else if (s_[k] != 0) {
+          overshoot_test_.watch(i, false, false, 0);
+          overshoot_off_.watch(i, false, false, 0);
+        }
+        moved_[k] = false;
+      }
       changed_ = false;
+    }
+    if (!overshoot_test_.last.empty())
+      for (int i = 0; i < n_; ++i) {
+        overshoot_test_.check(i, test_.x(i) - r_[static_cast<std::size_t>(i)], scan_);
+        overshoot_off_.check(i, off_.x(i) - r_[static_cast<std::size_t>(i)], scan_);
+      }
+    for (int i = 0; i < n_; ++i) {
+      was_tracking_test_[static_cast<std::size_t>(i)] = test_.tracking(i);
+      was_tracking_off_[static_cast<std::size_t>(i)] = off_.tracking(i);
     }
     if (rule_ == kUnified) countdown_test_.check(test_, n_, scan_);
     countdown_off_.check(off_, n_, scan_);
@@ -326,6 +391,8 @@ class LockstepRig {
   // rule's instance; the paper's parked axes arrive when they do).
   const CountdownChecker& countdown_test() const { return countdown_test_; }
   const CountdownChecker& countdown_off() const { return countdown_off_; }
+  const OvershootChecker& overshoot_test() const { return overshoot_test_; }
+  const OvershootChecker& overshoot_off() const { return overshoot_off_; }
   std::int64_t scans() const { return scan_; }
   // Block outputs disagreeing with the measured window (count, first message).
   std::int64_t output_mismatches = 0;
@@ -359,6 +426,11 @@ class LockstepRig {
   WindowMeter meter_test_, meter_off_;
   BoundChecker check_test_, check_off_;
   CountdownChecker countdown_test_, countdown_off_;
+  OvershootChecker overshoot_test_, overshoot_off_;
+  std::vector<char> moved_ = std::vector<char>(static_cast<std::size_t>(n_), 0);  // segment changed before this scan
+  std::vector<char> still_ = std::vector<char>(static_cast<std::size_t>(n_), 0);  // the segment it left had slope 0
+  std::vector<char> was_tracking_test_ = std::vector<char>(static_cast<std::size_t>(n_), 0);
+  std::vector<char> was_tracking_off_ = std::vector<char>(static_cast<std::size_t>(n_), 0);
   bool changed_ = true;
   std::vector<double> r_, s_;
   std::int64_t scan_ = 0;
