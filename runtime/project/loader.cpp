@@ -62,6 +62,13 @@ LoadResult load_tree(ConfigNode root, const std::string& path, const LoadOptions
   }
   Declarations p = read_declarations(root, path, opts, diags, r.sources);
   root = ConfigNode{};  // the declarations hold what is needed (a large project's tree is most of the memory)
+  auto cancelled = [&] {
+    if (!opts.cancel || !opts.cancel->load(std::memory_order_relaxed)) return false;
+    diags.error(SourceLoc{path, 1, 1}, "the load was cancelled: the PLC is stopping");
+    r.diagnostics = std::move(diags);
+    return true;
+  };
+  if (cancelled()) return r;
 
   // Stage 2: checks.
   check_addresses(p, diags);
@@ -76,6 +83,7 @@ LoadResult load_tree(ConfigNode root, const std::string& path, const LoadOptions
   check_values(p, diags);
   BlockOrder o = order_blocks(p, w, diags);
   check_refs(p, diags);
+  if (cancelled()) return r;
 
   // Stage 3: the Program (its blocks' factories report errors too).
   std::unique_ptr<Program> prog = build_program(p, w, o, diags);

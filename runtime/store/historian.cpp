@@ -39,6 +39,7 @@ Historian::Feed Historian::take_series(Program& p, const StoreSettings& s) {
     if (series_[i].spec.type != ts.type || series_[i].spec.rate_ns != ts.rate_ns || series_[i].spec.unit != ts.unit ||
         series_[i].spec.deadband != ts.deadband || series_[i].id == 0)
       series_changed_ = true;
+    f.rate_ns.push_back(ts.rate_ns);
     series_[i].spec = std::move(ts);
     f.active.push_back(static_cast<std::uint32_t>(i));
   }
@@ -91,7 +92,7 @@ void Historian::drain(Feed& f) {
         lost_.fetch_add(1, std::memory_order_relaxed);  // the database refused for long: what comes now is lost, the queue (and its order) stays
         continue;
       }
-      queue_.push_back(Queued{f.active[b.series], b});
+      queue_.push_back(Queued{f.active[b.series], f.rate_ns[b.series], b});
     }
     const std::uint64_t dropped = fold.dropped();
     lost_.fetch_add(dropped - f.seen_dropped[t], std::memory_order_relaxed);
@@ -124,8 +125,8 @@ void Historian::store_queue(SQLite::Database& db) {
     const double mean = b.sum / b.count;
     ins.reset();
     ins.bind(1, s.id);
-    ins.bind(2, *time_base_ + b.index * s.spec.rate_ns);
-    ins.bind(3, s.spec.rate_ns);
+    ins.bind(2, *time_base_ + b.index * q.rate_ns);
+    ins.bind(3, q.rate_ns);
     ins.bind(4, b.min);
     ins.bind(5, b.max);
     ins.bind(6, mean);

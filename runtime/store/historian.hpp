@@ -54,6 +54,7 @@ class Historian final : public StoreJob {
  private:
   struct Queued {
     std::uint32_t series;  // index in series_
+    std::int64_t rate_ns;  // the bucket's length as its program folded it (an online change may change the series')
     TrendBucket bucket;
   };
   struct Series {
@@ -66,6 +67,7 @@ class Historian final : public StoreJob {
   struct Feed {
     Program* program = nullptr;
     std::vector<std::uint32_t> active;        // the program's fold series number -> index in series_
+    std::vector<std::int64_t> rate_ns;        // the program's fold series number -> its bucket length
     std::vector<std::uint64_t> seen_dropped;  // per task: its fold's dropped() counted so far
   };
   // The program's series, by label: series_ only grows (an online change

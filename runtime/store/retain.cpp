@@ -49,12 +49,6 @@ std::int64_t unix_ns() {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
 }
 
-std::string tag_identity(const Tag& t) {
-  if (!t.is_array && t.length == 1) return std::string(type_name(t.type));
-  return fmt::format("ARRAY[{}..{}] OF {}", t.array_lower, t.array_lower + static_cast<std::int64_t>(t.length) - 1,
-                     type_name(t.type));
-}
-
 // What a person reading the table sees: "42", "[1, 2, 3]", "CTU<INT> state".
 std::string shown(const Program& p, const RetainVar& v, const Cell* cells) {
   if (v.instance >= 0) {
@@ -104,7 +98,6 @@ void record_project(SQLite::Database& db, const Program& p, const std::string& h
   q.exec();
 }
 
-Cell* image_of(Program& p, const RetainVar& v) { return p.tasks[v.task]->image.data() + v.cell; }
 
 }  // namespace
 
@@ -133,7 +126,7 @@ std::vector<RetainVar> retained_vars(const Program& p) {
   }
   for (std::size_t i = 0; i < p.retained.size(); ++i) {
     const auto& r = p.retained[i];
-    vars.push_back({r.name, "block", fmt::format("{} state {} ({} cells)", r.type, r.layout, r.length), r.persistent,
+    vars.push_back({r.name, "block", r.identity, r.persistent,
                     r.task, r.cell, r.length, static_cast<int>(i), -1});
   }
   return vars;
@@ -141,7 +134,25 @@ std::vector<RetainVar> retained_vars(const Program& p) {
 
 bool prepare_retain_tables(SQLite::Database& db, std::string* error) { return ensure_schema(db, kRetainSchema, error); }
 
+// The restore's access to the images (image_access.hpp): before the first
+// scan, no thread runs the program.
+class RetainRestore {
+ public:
+  static std::vector<std::string> restore(SQLite::Database& db, Program& p, StartMode mode, const std::string& hash);
+  static void read(const Program& p, const RetainVar& v, Cell* out) {
+    const Cell* c = p.tasks[v.task]->image(ImageAccess{}).data() + v.cell;
+    std::copy(c, c + v.length, out);
+  }
+
+ private:
+  static Cell* image_of(Program& p, const RetainVar& v) { return p.tasks[v.task]->image(ImageAccess{}).data() + v.cell; }
+};
+
 std::vector<std::string> restore_retain(SQLite::Database& db, Program& p, StartMode mode, const std::string& hash) {
+  return RetainRestore::restore(db, p, mode, hash);
+}
+
+std::vector<std::string> RetainRestore::restore(SQLite::Database& db, Program& p, StartMode mode, const std::string& hash) {
   std::vector<std::string> lines, missed;
   const auto vars = retained_vars(p);
   std::string last_hash;
@@ -216,7 +227,7 @@ std::vector<std::string> restore_retain(SQLite::Database& db, Program& p, StartM
 
   // The channels start with the restored values: readers see them before the first scan.
   for (auto& t : p.tasks)
-    for (auto& ch : t->channels) ch->fill(t->image.data());
+    for (auto& ch : t->channels) ch->fill(t->image(ImageAccess{}).data());
 
   if (vars.empty() && !dropped && mode != StartMode::Origin) return lines;  // nothing retained, nothing to say
   std::string head = fmt::format("retain: {} start: {} of {} retained values restored", start_mode_name(mode), restored,
@@ -254,8 +265,7 @@ bool RetainJob::prepare(Database& db, std::string* error) {
   notices_ = restore_retain(db.sql(), *program_, mode_, content_hash_);
   // The restored values are what is stored now.
   for (std::size_t i = 0; i < vars_.size(); ++i) {
-    const Cell* c = image_of(*program_, vars_[i]);
-    std::copy(c, c + vars_[i].length, stored_.begin() + offset_[i]);
+    RetainRestore::read(*program_, vars_[i], &stored_[offset_[i]]);
     known_[i] = true;
   }
   schedule(monotonic_ns() + interval_ns_);
