@@ -99,7 +99,7 @@ TEST(OnlineChangeRealtime, TwentyChangesUnderWritesKeepEveryScansState) {
   Task& fast = *program->tasks[0];
   auto sum = program->resolve("acc.SUM");
   ASSERT_TRUE(sum);
-  EXPECT_EQ(program->live_cell(*sum)->get<double>(), static_cast<double>(fast.stats.scans.load()));
+  EXPECT_EQ(program->live_cell(*sum, ::syncplc::testing::image_key())->get<double>(), static_cast<double>(fast.stats.scans.load()));
   EXPECT_GT(fast.stats.scans.load(), 300u) << "statistics went on through the changes";
   EXPECT_GT(program->tasks[1]->stats.writes_applied.load(), 0u);
   Cell seen;
