@@ -277,7 +277,7 @@ connections: [level -> m.IN, m.OUT -> out]
   EXPECT_EQ(waitpid(pid, nullptr, WNOHANG), 0);  // still running
   write_temp_file("reload.yaml", good + "  # edited\n");
   kill(pid, SIGHUP);
-  EXPECT_TRUE(wait_for("instances: 1 kept, 0 retuned, 0 new, 0 removed; tasks: 1 kept; 2 tag values carried over")) << slurp(e);
+  EXPECT_TRUE(wait_for("instances: 1 kept, 0 retuned, 0 rewired, 0 new, 0 removed; tasks: 1 kept; 2 tag values carried over")) << slurp(e);
   EXPECT_NE(slurp(e).find("  m (MOVE, task t): kept"), std::string::npos) << slurp(e);
   kill(pid, SIGTERM);
   int status = 0;

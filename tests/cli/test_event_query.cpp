@@ -7,10 +7,11 @@
 
 #include "runtime/cli/event_query.hpp"
 #include "runtime/cli/live_screen.hpp"
-#include "runtime/cli/store_status.hpp"
+#include "runtime/plc/store_status.hpp"
 
 namespace syncplc::cli {
 namespace {
+using namespace plc;
 
 constexpr std::int64_t kSecond = 1'000'000'000;
 

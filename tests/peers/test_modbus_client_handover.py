@@ -111,8 +111,67 @@ class OneConnectionDevice:
             time.sleep(0.01)
 
 
+PROJECT_TWO = """
+project: {{name: handover2, version: "{version}"}}
+tasks: [{{name: main, period: 10ms}}]
+tags:
+  - {{name: cmd, type: INT, init: {value}}}
+drivers:
+  - name: io_a
+    type: modbus_client
+    devices: [{{name: dev, port: {port_a}, response_timeout: 200ms, connect_timeout: 200ms, reconnect_min: 20ms}}]
+    groups:
+      - {{name: w, function: write_single_register, address: {address}, every: 20ms}}
+    bind: {{w: cmd}}
+  - name: io_b
+    type: modbus_client
+    devices: [{{name: dev, port: {port_b}, response_timeout: 200ms, connect_timeout: 200ms, reconnect_min: 20ms}}]
+    groups:
+      - {{name: w, function: write_single_register, address: {address}, every: 20ms}}
+    bind: {{w: cmd}}
+"""
+
+
+def two_drivers_of_one_type(binary):
+    """Issue 21: two modbus_client drivers replaced in one change, six times.
+    Each new driver takes over its own predecessor's one connection, never
+    another's: each device sees one connection for the whole run."""
+    dev_a, dev_b = OneConnectionDevice(), OneConnectionDevice()
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "handover2.yaml")
+
+        def write(version):
+            with open(path, "w") as f:
+                f.write(PROJECT_TWO.format(version=version, port_a=dev_a.port, port_b=dev_b.port,
+                                           address=version % 8, value=100))
+
+        write(0)
+        server = P.Server(binary, path)
+        try:
+            dev_a.wait_register(0, 100)
+            dev_b.wait_register(0, 100)
+            for v in range(1, 7):
+                write(v)
+                server.proc.send_signal(signal.SIGHUP)
+                P.wait_until(lambda: (sum("reloaded" in l for l in server.stderr_lines) >= v, None),
+                             "reload %d" % v, timeout=20)
+                # The new group's address, written by the new driver (cmd keeps its value across a change).
+                dev_a.wait_register(v % 8, 100)
+                dev_b.wait_register(v % 8, 100)
+            time.sleep(0.3)
+            stderr = "".join(server.stderr_lines)
+            for name, dev in (("a", dev_a), ("b", dev_b)):
+                P.check_true(dev.accepted == 1 and dev.refused == 0 and dev.closed == 0,
+                             "device %s saw %d connections, refused %d, %d closed over six changes\n%s"
+                             % (name, dev.accepted, dev.refused, dev.closed, stderr))
+        finally:
+            server.stop()
+    print("two drivers of one type replaced six times: one connection each, none leaked")
+
+
 def main():
     binary = P.syncplc_binary()
+    two_drivers_of_one_type(binary)
     dev = OneConnectionDevice()
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "handover.yaml")
