@@ -107,7 +107,7 @@ nlohmann::json runtime_json(const std::string& project, double uptime_s, const P
           {"project_file", project},
           {"uptime_s", uptime_s},
           {"epoch_wall_ns", epoch_wall_ns},
-          {"store", {{"state", st.state == StoreStatus::State::Ok ? "ok" : st.state == StoreStatus::State::Fault ? "FAULT" : "off"},
+          {"store", {{"state", store_state_name(st.state)},
                      {"detail", st.error.empty() ? nlohmann::json(store.path()) : nlohmann::json(st.error)}}},
           {"modbus", modbus ? nlohmann::json(modbus->endpoint()) : nlohmann::json()},
           {"http", http ? nlohmann::json(http->url()) : nlohmann::json()},
