@@ -85,7 +85,7 @@ const SchemaPart& EventLog::schema() {
 
 EventRetention retention_of(const StoreSettings& s) { return EventRetention{s.events_max_count, s.events_max_age_ns}; }
 
-EventLog::EventLog(EventQueue& queue, EventRetention retention) : queue_(queue), retention_(retention) {}
+EventLog::EventLog(EventQueue& queue, EventRetention retention) : queue_(queue), retention_(retention), wall_(wall_now_ns) {}
 
 bool EventLog::prepare(Database& db, std::string* error) { return ensure_schema(db.sql(), schema(), error); }
 
@@ -134,7 +134,7 @@ void EventLog::run(Database& db, std::int64_t now_ns, bool final) {
     ins.exec();
     ins.reset();
   }
-  enforce_retention(sql, wall_now_ns());
+  enforce_retention(sql, wall_());
   t.commit();  // throws when the disk is full or the file read-only: batch_ stays for the next try
   queue_.settle(batch_.size());
   batch_.clear();

@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "runtime/store/retention_clock.hpp"
 #include "runtime/store/schema.hpp"
 #include "runtime/store/store_thread.hpp"
 
@@ -90,10 +91,13 @@ class EventLog : public StoreJob {
 
   // Applies the limits now (also done by run(), at most every kRetentionEveryNs).
   void enforce_retention(SQLite::Database& db, std::int64_t wall_now);
+  // The wall clock run() reads (a test steps it). Before the first run.
+  void set_wall_clock(WallClock clock) { wall_ = std::move(clock); }
 
  private:
   EventQueue& queue_;
   EventRetention retention_;
+  WallClock wall_;
   std::vector<EventRecord> batch_;  // taken, waiting for a commit (kept across a failed run)
   // Read by due_ns() while switch_program (under StoreThread::exclusive) may set it.
   std::atomic<std::int64_t> next_retention_ns_{0};
