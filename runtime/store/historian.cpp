@@ -42,7 +42,7 @@ Historian::Feed Historian::take_series(Program& p, const StoreSettings& s) {
 }
 
 bool Historian::prepare(Database& db, std::string* error) {
-  if (!ensure_trend_schema(db.sql(), error)) return false;
+  if (!ensure_trend_schema(db.sql(), error) || !RetentionClock::prepare(db.sql(), error)) return false;
   register_series(db.sql());
   return true;
 }
@@ -147,7 +147,13 @@ void Historian::run(Database& db, std::int64_t now, bool final) {
     next_commit_ = now + kCommitNs;
   }
   if (!final && now >= next_retention_) {
-    apply_trend_retention(db.sql(), settings_, wall_());
+    std::int64_t retention_now = 0;
+    {
+      SQLite::Transaction tr(db.sql());
+      retention_now = clock_.now(db.sql(), wall_(), now);
+      tr.commit();
+    }
+    apply_trend_retention(db.sql(), settings_, retention_now);
     next_retention_ = now + kRetentionNs;
   }
 }

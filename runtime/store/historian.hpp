@@ -87,6 +87,7 @@ class Historian final : public StoreJob {
   bool series_changed_ = true;               // series_ has entries not yet in trend_series
   std::optional<std::int64_t> time_base_;
   WallClock wall_;
+  RetentionClock clock_{"trends"};
   std::int64_t next_drain_ = 0, next_commit_ = 0, next_retention_ = 0;
   std::atomic<std::uint64_t> lost_{0};
   std::uint64_t stored_ = 0;
