@@ -49,9 +49,11 @@ std::unique_ptr<StoreLink> StoreLink::open(const std::string& path, Program& p, 
   s->path_ = path;
   store::OpenReport report;
   std::string why;
-  auto db = store::Database::open(path, &report, &why);
+  store::OpenOptions options;
+  options.allow_read_only = true;
+  auto db = store::Database::open(path, &report, &why, options);
   if (!db) {
-    if (report.locked) {
+    if (report.locked || report.busy) {
       *error = why;
       return nullptr;
     }
@@ -60,6 +62,7 @@ std::unique_ptr<StoreLink> StoreLink::open(const std::string& path, Program& p, 
     notices.push_back("store off: " + why + "; retain values start from their initial values and nothing is recorded");
     return s;
   }
+  if (report.read_only) return open_read_only(std::move(s), *db, report.read_only_reason, p, loaded, notices, error, start);
   if (!report.moved_aside.empty())
     notices.push_back("store: the database " + path + " was unreadable (" + report.problem + "); it was moved to " +
                       report.moved_aside + " and a new one started: retain values start from their initial values");
@@ -73,6 +76,28 @@ std::unique_ptr<StoreLink> StoreLink::open(const std::string& path, Program& p, 
                                  "the database was unreadable (" + report.problem + "); moved to " + report.moved_aside +
                                      ", a new one started",
                                  ""});
+  return s;
+}
+
+std::unique_ptr<StoreLink> StoreLink::open_read_only(std::unique_ptr<StoreLink> s, store::Database& db,
+                                                   const std::string& reason, Program& p, const LoadResult& loaded,
+                                                   std::vector<std::string>& notices, std::string* error,
+                                                   store::StartMode start) {
+  // No store thread: the values come back from the file as it is, and the
+  // connection closes before the first scan (it leaves no file behind).
+  s->read_only_reason_ = reason;
+  try {
+    if (!store::retain_tables_readable(db.sql(), error)) return nullptr;
+    s->retain_notices_ = store::restore_retain(db.sql(), p, start, loaded.store.content_hash, /*record=*/false);
+  } catch (const std::exception& e) {
+    s->read_only_reason_.clear();
+    s->off_reason_ = "the database " + s->path_ + " is write-protected and cannot be read: " + e.what();
+    notices.push_back("store off: " + s->off_reason_ + "; retain values start from their initial values and nothing is recorded");
+    return s;
+  }
+  notices.push_back("store READ-ONLY: the database " + s->path_ + " is write-protected (" + reason +
+                    "): retained values come from it, but nothing is recorded (no events, retained values, trends "
+                    "or project versions) until it is writable and run starts again");
   return s;
 }
 
@@ -122,8 +147,8 @@ void StoreLink::watch_health() {
 store::StoreHealth StoreLink::health() const {
   if (!thread_) {
     store::StoreHealth h;
-    h.fault = true;
-    h.last_error = off_reason_;
+    h.fault = !read_only();
+    h.last_error = read_only() ? read_only_reason_ : off_reason_;
     return h;
   }
   return thread_->health();

@@ -33,10 +33,12 @@ class StoreLink {
  public:
   // Opens the database at `path` and prepares the jobs for `p`. Null, with
   // `error`, when the PLC must not start: another instance holds the
-  // database, or a job cannot use it (tables from a newer syncplc). A file
-  // that is corrupt is moved aside and a new one made; a database that
-  // cannot be opened at all leaves the store off (off_reason()); both are
-  // in `notices`, which the caller shows loudly.
+  // database, another connection holds a lock on it past the busy timeout,
+  // or a job cannot use it (tables from a newer syncplc). A file that is
+  // corrupt is moved aside and a new one made; a write-protected one makes
+  // the store read-only (read_only(): values restored from it, nothing
+  // recorded); a database that cannot be opened at all leaves the store off
+  // (off_reason()); each is in `notices`, which the caller shows loudly.
   // `start`: which retained values come back (retain.hpp) before the first scan.
   static std::unique_ptr<StoreLink> open(const std::string& path, Program& p, const LoadResult& loaded,
                                         std::vector<std::string>& notices, std::string* error,
@@ -57,8 +59,12 @@ class StoreLink {
   // written by the store thread (nothing when the store is off).
   void record(store::ProjectLoad load);
 
+  // The store thread runs: it records. False when off or read-only.
   bool on() const { return thread_ != nullptr; }
   const std::string& off_reason() const { return off_reason_; }
+  // The database is write-protected: retained values came from it, nothing is recorded.
+  bool read_only() const { return !read_only_reason_.empty(); }
+  const std::string& read_only_reason() const { return read_only_reason_; }
   const std::string& path() const { return path_; }
   store::StoreHealth health() const;
   store::StoreThread* thread() { return thread_.get(); }
@@ -75,8 +81,13 @@ class StoreLink {
 
  private:
   StoreLink() = default;
+  static std::unique_ptr<StoreLink> open_read_only(std::unique_ptr<StoreLink> s, store::Database& db,
+                                                  const std::string& reason, Program& p, const LoadResult& loaded,
+                                                  std::vector<std::string>& notices, std::string* error,
+                                                  store::StartMode start);
   std::string path_;
   std::string off_reason_;
+  std::string read_only_reason_;
   std::unique_ptr<store::StoreThread> thread_;
   store::ProjectsJob* projects_ = nullptr;  // owned by thread_
   const store::Historian* historian_ = nullptr;  // owned by thread_

@@ -18,8 +18,21 @@ StoreStatus store_status(const StoreLink& s) {
   st.dropped = s.events().dropped();
   st.trend_lost = s.trend_buckets_lost();
   if (h.last_ok_ns > 0) st.since_ok_ns = monotonic_ns() - h.last_ok_ns;
-  st.state = !s.on() ? StoreStatus::State::Off : h.fault ? StoreStatus::State::Fault : StoreStatus::State::Ok;
+  st.state = s.read_only() ? StoreStatus::State::ReadOnly
+             : !s.on()      ? StoreStatus::State::Off
+             : h.fault      ? StoreStatus::State::Fault
+                            : StoreStatus::State::Ok;
   return st;
+}
+
+const char* store_state_name(StoreStatus::State s) {
+  switch (s) {
+    case StoreStatus::State::Ok: return "ok";
+    case StoreStatus::State::Fault: return "FAULT";
+    case StoreStatus::State::Off: return "off";
+    case StoreStatus::State::ReadOnly: return "read-only";
+  }
+  return "?";
 }
 
 std::string store_status_line(const StoreStatus& st, const std::string& path) {
@@ -35,6 +48,9 @@ std::string store_status_line(const StoreStatus& st, const std::string& path) {
       line = fmt::format("Store FAULT  {} pending  {} failures  {}", st.pending, st.failures, st.error);
       break;
     case StoreStatus::State::Off: line = "Store off  " + st.error; break;
+    case StoreStatus::State::ReadOnly:
+      line = fmt::format("Store READ-ONLY  {}  nothing recorded: {}", std::filesystem::path(path).filename().string(), st.error);
+      break;
   }
   return line;
 }
@@ -52,6 +68,9 @@ void print_store_status(std::ostream& os, const StoreLink& s) {
       break;
     case StoreStatus::State::Off:
       os << "\nStore: off (" << st.error << "): nothing was recorded\n";
+      return;
+    case StoreStatus::State::ReadOnly:
+      os << "\nStore: READ-ONLY, " << s.path() << " (" << st.error << "): retained values were restored from it, nothing was recorded\n";
       return;
   }
   if (st.dropped) os << "  " << st.dropped << " event records dropped (the queue of " << s.events().capacity() << " was full)\n";

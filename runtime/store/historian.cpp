@@ -4,19 +4,13 @@
 #include <SQLiteCpp/Transaction.h>
 
 #include <cmath>
-#include <ctime>
 
 #include "runtime/core/monotonic_clock.hpp"
+#include "runtime/store/event_log.hpp"
 #include "runtime/store/trend_retention.hpp"
 
 namespace syncplc::store {
 namespace {
-
-std::int64_t wall_now_ns() {
-  timespec ts{};
-  clock_gettime(CLOCK_REALTIME, &ts);
-  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
 
 // Whether a bucket moved more than the deadband from the last stored mean:
 // its min and max are compared, so a spike beyond the band is stored.
@@ -27,7 +21,7 @@ bool passes_deadband(const TrendBucket& b, double deadband, const std::optional<
 
 }  // namespace
 
-Historian::Historian(Program& p, const StoreSettings& s) : settings_(s) { served_ = take_series(p, s); }
+Historian::Historian(Program& p, const StoreSettings& s) : settings_(s), wall_(wall_now_ns) { served_ = take_series(p, s); }
 
 Historian::Feed Historian::take_series(Program& p, const StoreSettings& s) {
   Feed f;
@@ -49,7 +43,7 @@ Historian::Feed Historian::take_series(Program& p, const StoreSettings& s) {
 }
 
 bool Historian::prepare(Database& db, std::string* error) {
-  if (!ensure_trend_schema(db.sql(), error)) return false;
+  if (!ensure_trend_schema(db.sql(), error) || !RetentionClock::prepare(db.sql(), error)) return false;
   register_series(db.sql());
   return true;
 }
@@ -147,14 +141,20 @@ void Historian::run(Database& db, std::int64_t now, bool final) {
   if (!time_base_) {
     const std::int64_t epoch = served_.program->epoch_ns.load(std::memory_order_acquire);
     if (epoch < 0) return;  // not running in real time yet: the buckets wait in the queue
-    time_base_ = epoch + (wall_now_ns() - monotonic_ns());
+    time_base_ = epoch + (wall_() - monotonic_ns());
   }
   if (final || now >= next_commit_) {
     if (!queue_.empty()) store_queue(db.sql());
     next_commit_ = now + kCommitNs;
   }
   if (!final && now >= next_retention_) {
-    apply_trend_retention(db.sql(), settings_, wall_now_ns());
+    std::int64_t retention_now = 0;
+    {
+      SQLite::Transaction tr(db.sql());
+      retention_now = clock_.now(db.sql(), wall_(), now);
+      tr.commit();
+    }
+    apply_trend_retention(db.sql(), settings_, retention_now);
     next_retention_ = now + kRetentionNs;
   }
 }

@@ -20,6 +20,7 @@
 #include <optional>
 #include <vector>
 
+#include "runtime/store/retention_clock.hpp"
 #include "runtime/store/store_thread.hpp"
 #include "runtime/store/trend_series.hpp"
 
@@ -39,6 +40,8 @@ class Historian final : public StoreJob {
   // default taken from the program's real-time epoch at the first run; a
   // virtual-time test sets it.
   void set_time_base(std::int64_t wall_ns) { time_base_ = wall_ns; }
+  // The wall clock run() reads (a test steps it). Before the first run.
+  void set_wall_clock(WallClock clock) { wall_ = std::move(clock); }
   // Buckets lost so far: dropped by a full task ring or a full queue. Any thread.
   std::uint64_t lost() const { return lost_.load(std::memory_order_relaxed); }
   std::uint64_t stored() const { return stored_; }
@@ -85,6 +88,8 @@ class Historian final : public StoreJob {
   std::deque<Queued> queue_;
   bool series_changed_ = true;               // series_ has entries not yet in trend_series
   std::optional<std::int64_t> time_base_;
+  WallClock wall_;
+  RetentionClock clock_{"trends"};
   std::int64_t next_drain_ = 0, next_commit_ = 0, next_retention_ = 0;
   std::atomic<std::uint64_t> lost_{0};
   std::uint64_t stored_ = 0;

@@ -75,7 +75,7 @@ TEST(EventsFormat, AMessageOfSeveralLinesContinuesIndented) {
             "    a.yaml:9:5: error two");
 }
 
-TEST(StoreStatusLine, OkFaultAndOffWithTheCountsBeforeTheErrorText) {
+TEST(StoreStatusLine, OkFaultOffAndReadOnlyWithTheCountsBeforeTheErrorText) {
   StoreStatus st;
   EXPECT_EQ(store_status_line(st, "/var/lib/x/plc.db"), "Store ok  plc.db");
   st.dropped = 3;
@@ -91,6 +91,12 @@ TEST(StoreStatusLine, OkFaultAndOffWithTheCountsBeforeTheErrorText) {
   st.state = StoreStatus::State::Off;
   st.error = "cannot open the database /x/plc.db: unable to open database file";
   EXPECT_EQ(store_status_line(st, "plc.db"), "Store off  cannot open the database /x/plc.db: unable to open database file");
+  EXPECT_STREQ(store_state_name(st.state), "off");
+  st.state = StoreStatus::State::ReadOnly;
+  st.error = "its mode is 0444";
+  EXPECT_EQ(store_status_line(st, "/x/plc.db"), "Store READ-ONLY  plc.db  nothing recorded: its mode is 0444");
+  EXPECT_STREQ(store_state_name(st.state), "read-only") << "as /status says it";
+  EXPECT_EQ(store_status_words(st).state, 3);
 }
 
 TEST(StoreStatusRegisters, WordsSaturateAndSayNoCommitYet) {
