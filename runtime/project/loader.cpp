@@ -18,12 +18,12 @@ namespace {
 
 // Stage 1: the YAML tree into declarations. The tree is not used after it.
 Declarations read_declarations(ConfigNode& root, const std::string& path, const LoadOptions& opts, Diagnostics& diags,
-                               std::vector<store::SourceFile>& sources) {
+                               std::vector<store::SourceFile>& sources, YamlBudget& budget) {
   Declarations p;
   p.file = path;
   const BlockRegistry& blocks = opts.blocks ? *opts.blocks : builtin_blocks();
   const DriverRegistry& drivers = opts.drivers ? *opts.drivers : builtin_drivers();
-  merge_includes(root, path, diags, &sources);
+  merge_includes(root, path, diags, &sources, budget);
   for (const auto& [k, v] : root.map)
     if (!kTopKeys.count(k))
       diags.error(v.loc, "unknown top-level key '" + k + "' (project, include, tasks, tags, blocks, connections, drivers, traces, watch, metrics, modbus, store)");
@@ -47,8 +47,9 @@ Declarations read_declarations(ConfigNode& root, const std::string& path, const 
   return p;
 }
 
+// `budget`: what reading the project file used of the load's YAML budget.
 LoadResult load_tree(ConfigNode root, const std::string& path, const LoadOptions& opts, Diagnostics diags,
-                     std::vector<store::SourceFile> sources) {
+                     std::vector<store::SourceFile> sources, YamlBudget& budget) {
   LoadResult r;
   r.sources = std::move(sources);
   if (!diags.empty()) {
@@ -60,7 +61,7 @@ LoadResult load_tree(ConfigNode root, const std::string& path, const LoadOptions
     r.diagnostics = std::move(diags);
     return r;
   }
-  Declarations p = read_declarations(root, path, opts, diags, r.sources);
+  Declarations p = read_declarations(root, path, opts, diags, r.sources, budget);
   root = ConfigNode{};  // the declarations hold what is needed (a large project's tree is most of the memory)
 
   // Stage 2: checks.
@@ -112,15 +113,17 @@ bool parse_override(const std::string& text, ParamOverride& out) {
 
 LoadResult load_project_text(const std::string& text, const std::string& name, const LoadOptions& options) {
   Diagnostics d;
-  ConfigNode root = read_yaml_string(text, name, d);
-  return load_tree(std::move(root), name, options, std::move(d), {{name, text}});
+  YamlBudget budget;
+  ConfigNode root = read_yaml_string(text, name, d, &budget);
+  return load_tree(std::move(root), name, options, std::move(d), {{name, text}}, budget);
 }
 
 LoadResult load_project(const std::string& path, const LoadOptions& options) {
   Diagnostics d;
   std::vector<store::SourceFile> sources;
-  ConfigNode root = read_yaml_file(path, d, &sources);
-  return load_tree(std::move(root), path, options, std::move(d), std::move(sources));
+  YamlBudget budget;  // the project file and every file it includes
+  ConfigNode root = read_yaml_file(path, d, &sources, &budget);
+  return load_tree(std::move(root), path, options, std::move(d), std::move(sources), budget);
 }
 
 }  // namespace syncplc

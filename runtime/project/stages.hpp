@@ -12,6 +12,7 @@
 #include "runtime/project/declarations.hpp"
 #include "runtime/project/diagnostics.hpp"
 #include "runtime/project/loader.hpp"
+#include "runtime/project/yaml_tree.hpp"
 
 namespace syncplc {
 
@@ -31,8 +32,10 @@ bool parse_tag_type(const std::string& s, IecType& t, std::uint32_t& len, std::i
 // --- 1. read: YAML -> Declarations -----------------------------------------------
 // Top-level keys; include: files merged into the root (read_includes.cpp).
 extern const std::set<std::string> kTopKeys;
-// Each file read is added to `read`.
-void merge_includes(ConfigNode& root, const std::string& path, Diagnostics& diags, std::vector<store::SourceFile>* read);
+// Each file read is added to `read`; every file read counts against `budget`
+// (the whole load's, yaml_tree.hpp), and none is read once it is used up.
+void merge_includes(ConfigNode& root, const std::string& path, Diagnostics& diags, std::vector<store::SourceFile>* read,
+                    YamlBudget& budget);
 void read_project(const ConfigNode& n, Declarations& p, Diagnostics& diags);  // read_sections.cpp
 void read_tasks(const ConfigNode& n, Declarations& p, Diagnostics& diags);
 void read_tags(const ConfigNode& n, Declarations& p, Diagnostics& diags);

@@ -6,6 +6,7 @@
 #include <yaml-cpp/parser.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <iterator>
@@ -30,61 +31,70 @@ SourceLoc loc_of(const YAML::Mark& m, const SourceFile& file) {
   return SourceLoc{file, m.line + 1, m.column + 1};
 }
 
-// Builds the ConfigNode tree straight from the parser's events: no yaml-cpp
-// node tree in between, which for a large project took several times the
-// memory of the tree kept (issue 11: 100,000 blocks in under 300 MB).
-class TreeBuilder final : public YAML::EventHandler {
+// A file passed its budget or depth: the parse stops there.
+struct Refused {
+  SourceLoc loc;
+  std::string message;
+  bool budget = false;  // the load's budget is used up (not only this file's depth)
+};
+
+// Builds the ConfigNode tree from a parser's events: no parser's own node
+// tree in between, which for a large project took several times the memory
+// of the tree kept (issue 11: 100,000 blocks in under 300 MB). Counts every
+// node against the load's budget, an alias as the nodes it names, before
+// the alias is copied.
+class TreeBuilder {
  public:
-  TreeBuilder(const std::string& file, Diagnostics& diags) : file_(file), diags_(diags) {}
+  TreeBuilder(const std::string& file, Diagnostics& diags, YamlBudget& budget)
+      : file_(file), diags_(diags), budget_(budget) {}
   ConfigNode root;
 
-  void OnDocumentStart(const YAML::Mark&) override {}
-  void OnDocumentEnd() override {}
-  void OnNull(const YAML::Mark& m, YAML::anchor_t anchor) override {
+  SourceLoc place(int line0, int col0) const { return SourceLoc{file_, line0 + 1, col0 + 1}; }
+
+  void null(const SourceLoc& at, const std::string& anchor) {
+    count(at, 1);
     ConfigNode c;
-    c.loc = loc_of(m, file_);
-    done(std::move(c), anchor);
+    c.loc = at;
+    done(std::move(c), anchor, 1, 0);
   }
-  void OnAlias(const YAML::Mark& m, YAML::anchor_t anchor) override {
-    auto it = anchors_.find(anchor);
-    if (it == anchors_.end()) {
-      diags_.error(loc_of(m, file_), "an alias inside the node it names");
-      done(ConfigNode{ConfigNode::Kind::Null, "", {}, {}, loc_of(m, file_)}, 0);
-      return;
-    }
-    done(ConfigNode(it->second), 0);  // a copy, with the anchored node's places
-  }
-  void OnScalar(const YAML::Mark& m, const std::string&, YAML::anchor_t anchor, const std::string& value) override {
+  void scalar(const SourceLoc& at, const std::string& anchor, std::string value) {
+    count(at, 1);
     ConfigNode c;
     c.kind = ConfigNode::Kind::Scalar;
-    c.scalar = value;
-    c.loc = loc_of(m, file_);
-    done(std::move(c), anchor);
+    c.scalar = std::move(value);
+    c.loc = at;
+    done(std::move(c), anchor, 1, 0);
   }
-  void OnSequenceStart(const YAML::Mark& m, const std::string&, YAML::anchor_t anchor, YAML::EmitterStyle::value) override {
-    open(ConfigNode::Kind::List, m, anchor);
+  void alias(const SourceLoc& at, const std::string& name) {
+    auto it = anchors_.find(name);
+    if (it == anchors_.end()) {
+      bool open = false;
+      for (const auto& f : stack_) open |= f.anchor == name;
+      diags_.error(at, open ? "an alias inside the node it names" : "alias *" + name + ": no anchor &" + name + " before it");
+      done(ConfigNode{ConfigNode::Kind::Null, "", {}, {}, at}, "", 0, 0);
+      return;
+    }
+    const Anchored& a = it->second;
+    if (stack_.size() + a.height > YamlBudget::kMaxDepth)
+      throw Refused{at, "alias *" + name + " nests the file deeper than " + std::to_string(YamlBudget::kMaxDepth) + " levels"};
+    if (a.nodes > budget_.limit() - budget_.used)
+      throw Refused{at,
+                    "alias *" + name + " expands the file past its limit of " + std::to_string(budget_.limit()) +
+                        " YAML nodes (one per byte of the project's files, at least " +
+                        std::to_string(YamlBudget::kMinNodes) + "): aliases are not expanded that far",
+                    true};
+    budget_.used += a.nodes;
+    done(ConfigNode(a.node), "", a.nodes, a.height);  // a copy, with the anchored node's places
   }
-  void OnSequenceEnd() override { close(); }
-  void OnMapStart(const YAML::Mark& m, const std::string&, YAML::anchor_t anchor, YAML::EmitterStyle::value) override {
-    open(ConfigNode::Kind::Map, m, anchor);
-  }
-  void OnMapEnd() override { close(); }
-
- private:
-  struct Frame {
-    ConfigNode node;
-    YAML::anchor_t anchor = 0;
-    bool have_key = false;  // maps: the next node is the value of `key`
-    bool key_ok = false;
-    std::string key;
-    SourceLoc key_loc;
-  };
-
-  void open(ConfigNode::Kind kind, const YAML::Mark& m, YAML::anchor_t anchor) {
+  void open(ConfigNode::Kind kind, const SourceLoc& at, const std::string& anchor) {
+    if (stack_.size() + 1 > YamlBudget::kMaxDepth)
+      throw Refused{at, "YAML nested deeper than " + std::to_string(YamlBudget::kMaxDepth) + " levels"};
+    count(at, 1);
     Frame f;
     f.node.kind = kind;
-    f.node.loc = loc_of(m, file_);
+    f.node.loc = at;
     f.anchor = anchor;
+    f.first = budget_.used - 1;
     stack_.push_back(std::move(f));
   }
   void close() {
@@ -92,16 +102,45 @@ class TreeBuilder final : public YAML::EventHandler {
     stack_.pop_back();
     f.node.map.shrink_to_fit();  // kept for the whole load: no doubling slack
     f.node.items.shrink_to_fit();
-    done(std::move(f.node), f.anchor);
+    done(std::move(f.node), f.anchor, budget_.used - f.first, f.height);
   }
+
+ private:
+  struct Frame {
+    ConfigNode node;
+    std::string anchor;
+    std::size_t first = 0;  // the budget's count before this node
+    std::size_t height = 1;  // lists and maps nested in it, itself included
+    bool have_key = false;  // maps: the next node is the value of `key`
+    bool key_ok = false;
+    std::string key;
+    SourceLoc key_loc;
+  };
+  struct Anchored {
+    ConfigNode node;
+    std::size_t nodes = 0;   // what an alias of it adds to the budget
+    std::size_t height = 0;  // what it adds to the depth
+  };
+
+  void count(const SourceLoc& at, std::size_t n) {
+    if (n > budget_.limit() - budget_.used)
+      throw Refused{at,
+                    "the project's files pass their limit of " + std::to_string(budget_.limit()) +
+                        " YAML nodes (one per byte of the project's files, at least " +
+                        std::to_string(YamlBudget::kMinNodes) + "; a file included more than once counts each time)",
+                    true};
+    budget_.used += n;
+  }
+
   // A complete node: the root, an item of a list, or a key or value of a map.
-  void done(ConfigNode c, YAML::anchor_t anchor) {
-    if (anchor) anchors_[anchor] = c;
+  void done(ConfigNode c, const std::string& anchor, std::size_t nodes, std::size_t height) {
+    if (!anchor.empty()) anchors_[anchor] = Anchored{c, nodes, height};
     if (stack_.empty()) {
       root = std::move(c);
       return;
     }
     Frame& f = stack_.back();
+    if (height + 1 > f.height) f.height = height + 1;
     if (f.node.is_list()) {
       f.node.items.push_back(std::move(c));
       return;
@@ -127,8 +166,46 @@ class TreeBuilder final : public YAML::EventHandler {
 
   const SourceFile file_;  // one name shared by every node
   Diagnostics& diags_;
+  YamlBudget& budget_;
   std::vector<Frame> stack_;
-  std::map<YAML::anchor_t, ConfigNode> anchors_;
+  std::map<std::string, Anchored> anchors_;
+};
+
+// yaml-cpp's parser events into the TreeBuilder.
+class YamlCppEvents final : public YAML::EventHandler {
+ public:
+  explicit YamlCppEvents(TreeBuilder& b) : b_(b) {}
+  void OnDocumentStart(const YAML::Mark&) override {}
+  void OnDocumentEnd() override {}
+  void OnAnchor(const YAML::Mark&, const std::string& name) override { next_anchor_ = name; }
+  void OnNull(const YAML::Mark& m, YAML::anchor_t anchor) override { b_.null(at(m), take(anchor)); }
+  void OnAlias(const YAML::Mark& m, YAML::anchor_t anchor) override {
+    auto it = names_.find(anchor);
+    b_.alias(at(m), it == names_.end() ? "?" : it->second);
+  }
+  void OnScalar(const YAML::Mark& m, const std::string&, YAML::anchor_t anchor, const std::string& value) override {
+    b_.scalar(at(m), take(anchor), value);
+  }
+  void OnSequenceStart(const YAML::Mark& m, const std::string&, YAML::anchor_t anchor, YAML::EmitterStyle::value) override {
+    b_.open(ConfigNode::Kind::List, at(m), take(anchor));
+  }
+  void OnSequenceEnd() override { b_.close(); }
+  void OnMapStart(const YAML::Mark& m, const std::string&, YAML::anchor_t anchor, YAML::EmitterStyle::value) override {
+    b_.open(ConfigNode::Kind::Map, at(m), take(anchor));
+  }
+  void OnMapEnd() override { b_.close(); }
+
+ private:
+  SourceLoc at(const YAML::Mark& m) const { return b_.place(m.line, m.column); }
+  // The name OnAnchor gave for the node that now carries the anchor's number.
+  std::string take(YAML::anchor_t anchor) {
+    if (!anchor) return "";
+    names_[anchor] = next_anchor_;
+    return next_anchor_;
+  }
+  TreeBuilder& b_;
+  std::string next_anchor_;
+  std::map<YAML::anchor_t, std::string> names_;
 };
 
 // What usually causes a syntax error on this line, for the two mistakes
@@ -153,15 +230,20 @@ std::string syntax_hint(const std::string& line) {
 }
 
 // `line_of` gives the text of a 0-based line, for the hint.
-ConfigNode read_yaml_stream(std::istream& in, const std::string& name, Diagnostics& diags,
+ConfigNode read_yaml_stream(std::istream& in, const std::string& name, Diagnostics& diags, YamlBudget& budget,
                             const std::function<std::string(int)>& line_of) {
-  TreeBuilder b(name, diags);
+  TreeBuilder b(name, diags, budget);
   b.root.loc = SourceLoc{name, 0, 0};
   try {
+    YamlCppEvents events(b);
     YAML::Parser parser(in);
-    parser.HandleNextDocument(b);  // the first document, as YAML::Load reads
+    parser.HandleNextDocument(events);  // the first document, as YAML::Load reads
   } catch (const YAML::Exception& e) {
     diags.error(loc_of(e.mark, name), "YAML syntax error: " + e.msg + syntax_hint(line_of(e.mark.line)));
+    return ConfigNode{};
+  } catch (const Refused& r) {
+    diags.error(r.loc, r.message);
+    if (r.budget) budget.exhausted = true;
     return ConfigNode{};
   }
   return std::move(b.root);
@@ -175,17 +257,27 @@ std::string nth_line(std::istream& in, int n) {
   return "";
 }
 
-}  // namespace
-
-ConfigNode read_yaml_string(const std::string& text, const std::string& name, Diagnostics& diags) {
+// `key` names the file in the budget.
+ConfigNode read_text(const std::string& text, const std::string& name, const std::string& key, Diagnostics& diags,
+                     YamlBudget* budget) {
+  YamlBudget own;
+  YamlBudget& b = budget ? *budget : own;
+  b.add_file(key, text.size());
   std::istringstream in(text);
-  return read_yaml_stream(in, name, diags, [&](int n) {
+  return read_yaml_stream(in, name, diags, b, [&](int n) {
     std::istringstream again(text);
     return nth_line(again, n);
   });
 }
 
-ConfigNode read_yaml_file(const std::string& path, Diagnostics& diags, std::vector<store::SourceFile>* read) {
+}  // namespace
+
+ConfigNode read_yaml_string(const std::string& text, const std::string& name, Diagnostics& diags, YamlBudget* budget) {
+  return read_text(text, name, name, diags, budget);
+}
+
+ConfigNode read_yaml_file(const std::string& path, Diagnostics& diags, std::vector<store::SourceFile>* read,
+                          YamlBudget* budget) {
   std::ifstream in(path, std::ios::binary);
   if (!in) {
     diags.error(SourceLoc{path, 0, 0}, "cannot open file");
@@ -197,7 +289,9 @@ ConfigNode read_yaml_file(const std::string& path, Diagnostics& diags, std::vect
     return ConfigNode{};
   }
   if (read) read->push_back({path, text});
-  return read_yaml_string(text, path, diags);
+  std::error_code ec;
+  const std::string key = std::filesystem::weakly_canonical(path, ec).string();
+  return read_text(text, path, key.empty() ? path : key, diags, budget);
 }
 
 }  // namespace syncplc

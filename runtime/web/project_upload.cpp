@@ -48,8 +48,11 @@ bool good_name(const std::string& n, std::string* why) {
   return true;
 }
 
+// `dir` "" (a reload or rollback of the instance's own file): nothing to
+// strip; its prefix would be "/", and every slash of the path would go.
 std::string strip_dir(const std::string& text, const std::string& dir) {
   std::string out = text;
+  if (dir.empty()) return out;
   const std::string prefix = dir + "/";
   for (std::size_t at = out.find(prefix); at != std::string::npos; at = out.find(prefix, at)) out.erase(at, prefix.size());
   return out;
