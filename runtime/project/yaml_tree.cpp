@@ -1,17 +1,13 @@
 #include "runtime/project/yaml_tree.hpp"
 
-#include <yaml-cpp/eventhandler.h>
-#include <yaml-cpp/exceptions.h>
-#include <yaml-cpp/mark.h>
-#include <yaml-cpp/parser.h>
+#include <yaml.h>
 
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
-#include <functional>
 #include <iterator>
 #include <map>
-#include <sstream>
+#include <string_view>
 
 namespace syncplc {
 
@@ -27,10 +23,6 @@ std::vector<Diagnostic> Diagnostics::sorted() const {
 
 namespace {
 
-SourceLoc loc_of(const YAML::Mark& m, const SourceFile& file) {
-  return SourceLoc{file, m.line + 1, m.column + 1};
-}
-
 // A file passed its budget or depth: the parse stops there.
 struct Refused {
   SourceLoc loc;
@@ -38,7 +30,7 @@ struct Refused {
   bool budget = false;  // the load's budget is used up (not only this file's depth)
 };
 
-// Builds the ConfigNode tree from a parser's events: no parser's own node
+// Builds the ConfigNode tree from libyaml's events: no parser's own node
 // tree in between, which for a large project took several times the memory
 // of the tree kept (issue 11: 100,000 blocks in under 300 MB). Counts every
 // node against the load's budget, an alias as the nodes it names, before
@@ -171,43 +163,6 @@ class TreeBuilder {
   std::map<std::string, Anchored> anchors_;
 };
 
-// yaml-cpp's parser events into the TreeBuilder.
-class YamlCppEvents final : public YAML::EventHandler {
- public:
-  explicit YamlCppEvents(TreeBuilder& b) : b_(b) {}
-  void OnDocumentStart(const YAML::Mark&) override {}
-  void OnDocumentEnd() override {}
-  void OnAnchor(const YAML::Mark&, const std::string& name) override { next_anchor_ = name; }
-  void OnNull(const YAML::Mark& m, YAML::anchor_t anchor) override { b_.null(at(m), take(anchor)); }
-  void OnAlias(const YAML::Mark& m, YAML::anchor_t anchor) override {
-    auto it = names_.find(anchor);
-    b_.alias(at(m), it == names_.end() ? "?" : it->second);
-  }
-  void OnScalar(const YAML::Mark& m, const std::string&, YAML::anchor_t anchor, const std::string& value) override {
-    b_.scalar(at(m), take(anchor), value);
-  }
-  void OnSequenceStart(const YAML::Mark& m, const std::string&, YAML::anchor_t anchor, YAML::EmitterStyle::value) override {
-    b_.open(ConfigNode::Kind::List, at(m), take(anchor));
-  }
-  void OnSequenceEnd() override { b_.close(); }
-  void OnMapStart(const YAML::Mark& m, const std::string&, YAML::anchor_t anchor, YAML::EmitterStyle::value) override {
-    b_.open(ConfigNode::Kind::Map, at(m), take(anchor));
-  }
-  void OnMapEnd() override { b_.close(); }
-
- private:
-  SourceLoc at(const YAML::Mark& m) const { return b_.place(m.line, m.column); }
-  // The name OnAnchor gave for the node that now carries the anchor's number.
-  std::string take(YAML::anchor_t anchor) {
-    if (!anchor) return "";
-    names_[anchor] = next_anchor_;
-    return next_anchor_;
-  }
-  TreeBuilder& b_;
-  std::string next_anchor_;
-  std::map<YAML::anchor_t, std::string> names_;
-};
-
 // What usually causes a syntax error on this line, for the two mistakes
 // yaml-cpp's own messages do not explain.
 std::string syntax_hint(const std::string& line) {
@@ -229,18 +184,87 @@ std::string syntax_hint(const std::string& line) {
   return "";
 }
 
-// `line_of` gives the text of a 0-based line, for the hint.
-ConfigNode read_yaml_stream(std::istream& in, const std::string& name, Diagnostics& diags, YamlBudget& budget,
-                            const std::function<std::string(int)>& line_of) {
+// Line `n` (0-based) of a text; "" past its end.
+std::string nth_line(const std::string& text, std::size_t n) {
+  std::size_t at = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    at = text.find('\n', at);
+    if (at == std::string::npos) return "";
+    ++at;
+  }
+  return text.substr(at, text.find('\n', at) - at);
+}
+
+// libyaml's parser and its current event, released however the read ends.
+struct Parser {
+  yaml_parser_t p;
+  Parser() { yaml_parser_initialize(&p); }
+  ~Parser() { yaml_parser_delete(&p); }
+};
+struct Event {
+  yaml_event_t e{};
+  ~Event() { yaml_event_delete(&e); }
+};
+
+std::string text_of(const yaml_char_t* s) { return s ? reinterpret_cast<const char*>(s) : ""; }
+
+// A plain scalar without a tag that YAML reads as null (as yaml-cpp did):
+// the empty value of `key:`, `~`, `null`.
+bool is_null(const yaml_event_t& e) {
+  const auto& sc = e.data.scalar;
+  if (sc.style != YAML_PLAIN_SCALAR_STYLE || sc.tag) return false;
+  const std::string_view v(reinterpret_cast<const char*>(sc.value), sc.length);
+  return v.empty() || v == "~" || v == "null" || v == "Null" || v == "NULL";
+}
+
+// A syntax error where libyaml found it, with what it was reading and from where.
+void syntax_error(const yaml_parser_t& p, const std::string& text, const std::string& name, Diagnostics& diags) {
+  std::size_t line = p.problem_mark.line, col = p.problem_mark.column;
+  if (p.error == YAML_READER_ERROR) {  // bad bytes: only an offset
+    const std::size_t at = std::min(p.problem_offset, text.size());
+    line = static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
+    col = at - (line ? text.rfind('\n', at - 1) + 1 : 0);
+  }
+  std::string msg = "YAML syntax error: " + std::string(p.problem ? p.problem : "the parser stopped");
+  // The context's place, when it is another: the start of what was left open.
+  if (p.context && (p.context_mark.line != p.problem_mark.line || p.context_mark.column != p.problem_mark.column))
+    msg += " (" + std::string(p.context) + " that starts at line " + std::to_string(p.context_mark.line + 1) +
+           ", column " + std::to_string(p.context_mark.column + 1) + ")";
+  diags.error(SourceLoc{name, static_cast<int>(line) + 1, static_cast<int>(col) + 1}, msg + syntax_hint(nth_line(text, line)));
+}
+
+// The first document of `text` (as yaml-cpp's YAML::Load read), from
+// libyaml's events: a tenth of yaml-cpp's time for a large project's flow
+// maps (docs/benchmarks.md, section 6).
+ConfigNode read_yaml_events(const std::string& text, const std::string& name, Diagnostics& diags, YamlBudget& budget) {
   TreeBuilder b(name, diags, budget);
   b.root.loc = SourceLoc{name, 0, 0};
+  Parser parser;
+  yaml_parser_set_input_string(&parser.p, reinterpret_cast<const unsigned char*>(text.data()), text.size());
   try {
-    YamlCppEvents events(b);
-    YAML::Parser parser(in);
-    parser.HandleNextDocument(events);  // the first document, as YAML::Load reads
-  } catch (const YAML::Exception& e) {
-    diags.error(loc_of(e.mark, name), "YAML syntax error: " + e.msg + syntax_hint(line_of(e.mark.line)));
-    return ConfigNode{};
+    for (bool more = true; more;) {
+      Event ev;
+      if (!yaml_parser_parse(&parser.p, &ev.e)) {
+        syntax_error(parser.p, text, name, diags);
+        return ConfigNode{};
+      }
+      const yaml_event_t& e = ev.e;
+      const SourceLoc at = b.place(static_cast<int>(e.start_mark.line), static_cast<int>(e.start_mark.column));
+      switch (e.type) {
+        case YAML_SCALAR_EVENT:
+          if (is_null(e)) b.null(at, text_of(e.data.scalar.anchor));
+          else b.scalar(at, text_of(e.data.scalar.anchor), std::string(reinterpret_cast<const char*>(e.data.scalar.value), e.data.scalar.length));
+          break;
+        case YAML_ALIAS_EVENT: b.alias(at, text_of(e.data.alias.anchor)); break;
+        case YAML_SEQUENCE_START_EVENT: b.open(ConfigNode::Kind::List, at, text_of(e.data.sequence_start.anchor)); break;
+        case YAML_MAPPING_START_EVENT: b.open(ConfigNode::Kind::Map, at, text_of(e.data.mapping_start.anchor)); break;
+        case YAML_SEQUENCE_END_EVENT:
+        case YAML_MAPPING_END_EVENT: b.close(); break;
+        case YAML_DOCUMENT_END_EVENT:
+        case YAML_STREAM_END_EVENT: more = false; break;  // the first document only
+        default: break;
+      }
+    }
   } catch (const Refused& r) {
     diags.error(r.loc, r.message);
     if (r.budget) budget.exhausted = true;
@@ -249,25 +273,13 @@ ConfigNode read_yaml_stream(std::istream& in, const std::string& name, Diagnosti
   return std::move(b.root);
 }
 
-// Line `n` (0-based) of a text; "" past its end.
-std::string nth_line(std::istream& in, int n) {
-  std::string line;
-  for (int i = 0; i <= n && std::getline(in, line); ++i)
-    if (i == n) return line;
-  return "";
-}
-
 // `key` names the file in the budget.
 ConfigNode read_text(const std::string& text, const std::string& name, const std::string& key, Diagnostics& diags,
                      YamlBudget* budget) {
   YamlBudget own;
   YamlBudget& b = budget ? *budget : own;
   b.add_file(key, text.size());
-  std::istringstream in(text);
-  return read_yaml_stream(in, name, diags, b, [&](int n) {
-    std::istringstream again(text);
-    return nth_line(again, n);
-  });
+  return read_yaml_events(text, name, diags, b);
 }
 
 }  // namespace
