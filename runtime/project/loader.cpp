@@ -69,6 +69,7 @@ LoadResult load_tree(ConfigNode root, const std::string& path, const LoadOptions
   check_modbus_places(p, diags);
   check_params(p, diags);  // before connections: parameters size the array pins
   Wiring w = wire_connections(p, diags);
+  std::vector<ConnectionText>().swap(p.connections);  // resolved into w, not needed again (100,000 connections: 14 MB)
   infer_types(p, w, diags);
   check_connections(p, w, diags);
   find_owners(p, w, diags);
@@ -78,6 +79,10 @@ LoadResult load_tree(ConfigNode root, const std::string& path, const LoadOptions
   BlockOrder o = order_blocks(p, w, diags);
   check_refs(p, diags);
 
+  // Retain's "changed project" (docs/store.md): hashed before the build, so
+  // that the files' copies it makes are gone before the program's memory peaks.
+  const std::string content_hash = diags.empty() ? store::make_content(r.sources).hash : std::string();
+
   // Stage 3: the Program (its blocks' factories report errors too).
   std::unique_ptr<Program> prog = build_program(p, w, o, diags);
   if (prog) r.metrics = build_metrics(p, *prog, diags);
@@ -85,7 +90,7 @@ LoadResult load_tree(ConfigNode root, const std::string& path, const LoadOptions
     r.program = std::move(prog);
     r.modbus = build_modbus(p);
     r.store = build_store(p);
-    r.store.content_hash = store::make_content(r.sources).hash;  // retain's "changed project" (docs/store.md)
+    r.store.content_hash = content_hash;
     store::build_trend_folds(*r.program, r.store);  // the tasks' historian buckets, sized before they run
   }
   r.diagnostics = std::move(diags);

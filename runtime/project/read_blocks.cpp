@@ -66,7 +66,6 @@ void read_blocks(const ConfigNode& n, const BlockRegistry& blocks, Declarations&
     }
     in.source.assign(T.pins.size(), -1);
     in.pin_length.assign(T.pins.size(), 1);
-    in.element_source.assign(T.pins.size(), {});
     if (params) {
       if (!params->is_map()) diags.error(params->loc, "params: expected a map of parameter: value");
       else

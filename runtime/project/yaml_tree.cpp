@@ -300,10 +300,12 @@ ConfigNode read_yaml_file(const std::string& path, Diagnostics& diags, std::vect
     diags.error(SourceLoc{path, 0, 0}, "cannot read file");
     return ConfigNode{};
   }
-  if (read) read->push_back({path, text});
   std::error_code ec;
-  const std::string key = std::filesystem::weakly_canonical(path, ec).string();
-  return read_text(text, path, key.empty() ? path : key, diags, budget);
+  std::string key = std::filesystem::weakly_canonical(path, ec).string();
+  if (key.empty()) key = path;
+  if (!read) return read_text(text, path, key, diags, budget);
+  read->push_back({path, std::move(text)});  // parsed where it is kept: one copy of a large file, not two
+  return read_text(read->back().text, path, key, diags, budget);
 }
 
 }  // namespace syncplc
