@@ -34,7 +34,8 @@ Declarations read_declarations(ConfigNode& root, const std::string& path, const 
   if (auto* n = root.find("tags")) read_tags(*n, p, diags);
   if (auto* n = root.find("modbus")) read_modbus_section(*n, p.modbus, diags);
   if (auto* n = root.find("store")) read_store_section(*n, p.store, diags);
-  if (auto* n = root.find("blocks")) read_blocks(*n, blocks, p, diags);
+  for (auto& [k, v] : root.map)
+    if (k == "blocks") read_blocks(v, blocks, p, diags);
   std::set<std::string> driver_overrides;
   for (auto& [k, v] : root.map)
     if (k == "drivers") driver_overrides = override_driver_settings(v, opts, diags);

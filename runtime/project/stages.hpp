@@ -42,7 +42,8 @@ void read_tags(const ConfigNode& n, Declarations& p, Diagnostics& diags);
 void read_connections(const ConfigNode& n, Declarations& p, Diagnostics& diags);
 void read_refs(const ConfigNode& root, const char* key, RefList& out, Diagnostics& diags);
 void read_metrics(const ConfigNode& n, Declarations& p, Diagnostics& diags);
-void read_blocks(const ConfigNode& n, const BlockRegistry& blocks, Declarations& p, Diagnostics& diags);  // read_blocks.cpp
+// read_blocks.cpp; empties each block's node once it is read (the tree is not used after stage 1).
+void read_blocks(ConfigNode& n, const BlockRegistry& blocks, Declarations& p, Diagnostics& diags);
 // read_drivers.cpp. --set driver.key=value rewrites the driver's settings
 // before it is created; returns the drivers so changed.
 std::set<std::string> override_driver_settings(ConfigNode& drivers, const LoadOptions& opts, Diagnostics& diags);
