@@ -10,7 +10,9 @@
 #include <unistd.h>
 
 #include <cstdlib>
+#include <fstream>
 #include <functional>
+#include <string>
 
 namespace syncplc::testing {
 
@@ -39,15 +41,32 @@ inline void cap_address_space() {
   setrlimit(RLIMIT_AS, &r);
 }
 
+// This process's resident memory now (VmRSS), in kB.
+inline long rss_kb() {
+  std::ifstream s("/proc/self/status");
+  std::string line;
+  while (std::getline(s, line))
+    if (line.rfind("VmRSS:", 0) == 0) return std::atol(line.c_str() + 6);
+  return 0;
+}
+
 struct ChildEnd {
-  bool exited = false;  // by exit (else by a signal, e.g. SIGABRT after std::bad_alloc)
-  int status = -1;      // exit status, or the signal
-  long maxrss_kb = 0;   // the child's peak resident memory (getrusage's ru_maxrss)
+  bool exited = false;    // by exit (else by a signal, e.g. SIGABRT after std::bad_alloc)
+  int status = -1;        // exit status, or the signal
+  long maxrss_kb = 0;     // the child's peak resident memory (getrusage's ru_maxrss)
+  long inherited_kb = 0;  // the parent's resident memory when it forked
+  // What the child took beyond what it inherited: a forked child starts with
+  // its parent's pages, and the peak of a program it execs counts them too
+  // (a test program that has run many tests, under a sanitizer, holds
+  // hundreds of MB).
+  long grown_kb() const { return maxrss_kb - inherited_kb; }
 };
 
-// Waits for `pid` and takes its resource usage.
-inline ChildEnd wait_child(pid_t pid) {
+// Waits for `pid` and takes its resource usage; `inherited_kb`: rss_kb()
+// taken just before the fork.
+inline ChildEnd wait_child(pid_t pid, long inherited_kb = 0) {
   ChildEnd e;
+  e.inherited_kb = inherited_kb;
   int st = 0;
   rusage ru{};
   if (wait4(pid, &st, 0, &ru) != pid) return e;
@@ -59,6 +78,7 @@ inline ChildEnd wait_child(pid_t pid) {
 
 // Runs `body` in a forked child under the cap; its return value is the exit status.
 inline ChildEnd run_bounded(const std::function<int()>& body) {
+  const long inherited = rss_kb();
   pid_t pid = fork();
   if (pid == 0) {
     cap_address_space();
@@ -71,7 +91,7 @@ inline ChildEnd run_bounded(const std::function<int()>& body) {
     std::_Exit(rc);  // no atexit handlers of the test program in the child
   }
   if (pid < 0) return {};
-  return wait_child(pid);
+  return wait_child(pid, inherited);
 }
 
 }  // namespace syncplc::testing
