@@ -204,11 +204,9 @@ std::unique_ptr<Program> build_program(Declarations& p, const Wiring& w, const B
     }
   for (std::size_t i = 0; i < p.instances.size(); ++i) {
     auto& img = prog->tasks[static_cast<std::size_t>(p.instances[i].task)]->image(access);
-    for (std::size_t q = 0; q < p.instances[i].pin_values.size(); ++q) {
-      const auto& v = p.instances[i].pin_values[q];
+    for (const auto& [q, v] : p.instances[i].pin_values.lists())
       for (std::uint32_t k = 0; !v.empty() && k < p.instances[i].pin_length[q]; ++k)
         img[pin_cells[i][q] + k] = v.size() == 1 ? v[0] : v[k];
-    }
   }
 
   for (std::size_t t = 0; t < nt; ++t) prog->tasks[t]->unit_delays = o.delays[t];
