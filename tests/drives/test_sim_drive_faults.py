@@ -63,6 +63,31 @@ def main():
     d.ok("silent off")
     check(good_reply(raw_request(d.port, READ_IR)), "silent off: answered again")
 
+    # delay: the next COUNT replies leave late, whole and in order; then on time again.
+    d.ok("delay 300 2")
+    with socket.create_connection(("127.0.0.1", d.port), timeout=5) as s3:
+        for tid in (21, 22, 23):
+            t0 = time.monotonic()
+            s3.sendall(struct.pack(">HHHB", tid, 0, len(READ_IR) + 1, 1) + READ_IR)
+            data = b""
+            while len(data) < 9 + 2 * sim.IR_COUNT:
+                chunk = s3.recv(4096)
+                check(chunk != b"", "delay: the connection stays open")
+                data += chunk
+            took = time.monotonic() - t0
+            check(good_reply(data, tid=tid), "delay: reply %d well formed" % tid)
+            if tid < 23:
+                check(took >= 0.29, "delay: reply %d held back 300 ms (%.3f s)" % (tid, took))
+    with socket.create_connection(("127.0.0.1", d.port), timeout=5) as s4:
+        s4.sendall(struct.pack(">HHHB", 24, 0, len(READ_IR) + 1, 1) + READ_IR)
+        check(good_reply(s4.recv(4096), tid=24), "delay: used up after COUNT replies")
+    # a delayed reply whose connection closed meanwhile is dropped; the drive serves on
+    d.ok("delay 200")
+    check(raw_request(d.port, READ_IR, timeout=0.05) == b"", "delay: nothing within 50 ms")
+    time.sleep(0.3)
+    check(good_reply(raw_request(d.port, READ_IR)), "delay: the drive answers the next connection")
+    check(d.command("delay 0") .startswith("error"), "delay 0 is refused")
+
     # garbage: one malformed reply per mode.
     expect = {
         "tid": lambda r: len(r) == 9 + 24 and struct.unpack(">H", r[:2])[0] == 0x1235,
