@@ -89,7 +89,11 @@ class Operator:
     `restart` (coil 1) TRUE once every link is ok, until the drives move."""
 
     def __init__(self, port, restart):
+        import logging
         from pymodbus.client import ModbusTcpClient
+        # pymodbus logs every refused connection: the PLC's server closes
+        # before its process ends, and the watch below says what matters.
+        logging.getLogger("pymodbus").setLevel(logging.CRITICAL)
         self.c = ModbusTcpClient("127.0.0.1", port=port, timeout=2, retries=0, retry_on_empty=False)
         self.restart = restart
         self.trips = self.cleared = 0
@@ -103,6 +107,7 @@ class Operator:
         while not self.stopping.wait(0.02):
             try:
                 if not self.c.connected and not self.c.connect():
+                    self.stopping.wait(0.2)  # the PLC not (or no longer) serving: ask again, slowly
                     continue
                 r = self.c.read_discrete_inputs(0, 3)
                 if r.isError():
