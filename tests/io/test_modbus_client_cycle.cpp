@@ -169,8 +169,9 @@ struct Scans {
 
 // Scans on an irregular schedule (gaps 10, 16, 10, 24 ms: a free-running
 // 10 ms grid puts two or three requests into the long gaps); scan k writes k.
-// With `dev` (timing cycle), a scan also waits until the read that followed
-// the last hand-over has been answered and its reply is in the driver, so a
+// With `dev` (timing cycle), a scan also waits until the exchange of the
+// last hand-over (its write, then a read) has been answered and the reply is
+// in the driver, so a
 // device thread that a loaded machine holds back delays the scans instead of
 // missing them (the minute per scan only ends a hang).
 Scans play_task(Client& cl, int n, NumberingDevice* dev = nullptr) {
@@ -182,13 +183,18 @@ Scans play_task(Client& cl, int n, NumberingDevice* dev = nullptr) {
     sleep_until(next);
     if (dev && k > 0) {
       const std::int64_t guard = monotonic_ns() + 60'000 * kMs;
-      int answer = -1;  // the number of the first read after the last hand-over
+      // The number of the read after the write of the last hand-over's
+      // value k - 1 (an earlier scan's exchange may still end after it).
+      int answer = -1;
       while (answer < 0 && monotonic_ns() < guard) {
-        for (const auto& q : dev->seen())
-          if (q.at > s.hand_over.back() && q.function == 3) {
+        bool written = false;
+        for (const auto& q : dev->seen()) {
+          if (q.at > s.hand_over.back() && q.function == 6 && q.value == k - 1) written = true;
+          else if (written && q.function == 3) {
             answer = q.value;
             break;
           }
+        }
         if (answer < 0) std::this_thread::sleep_for(std::chrono::milliseconds(1));
       }
       while (monotonic_ns() < guard) {  // its reply through the driver
