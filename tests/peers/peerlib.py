@@ -24,8 +24,9 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 
 # How long a write may take to show in its read-only copy: it is applied at
 # the start of the owning task's next scan (2 ms here), but a sanitizer build
-# on a loaded 2-core machine can be much slower. Generous on purpose.
-ECHO_TIMEOUT = 5.0
+# on a loaded 2-core machine can be much slower. Only a guard against a hang:
+# every wait_until waits for a condition.
+ECHO_TIMEOUT = 60.0
 # Safety net: a syncplc the script forgot (or could not stop) ends by itself.
 RUN_LIMIT = "280s"
 

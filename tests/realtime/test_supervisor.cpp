@@ -53,7 +53,7 @@ drivers:
 }
 
 template <class F>
-bool eventually(F f, std::chrono::milliseconds limit = std::chrono::milliseconds(10000)) {
+bool eventually(F f, std::chrono::milliseconds limit = std::chrono::milliseconds(60000)) {  // a hang guard only
   const auto until = std::chrono::steady_clock::now() + limit;
   while (!f()) {
     if (std::chrono::steady_clock::now() > until) return false;
