@@ -300,11 +300,15 @@ bool Plc::start_next_change() {
 }
 
 void Plc::poll_change() {
-  const bool complete = active_->poll();
-  if (active_->result() && active_done_) finish_request(active_done_, *active_->result());
-  if (!complete) return;
+  if (!active_->poll()) {
+    // A task late for its switch: the outcome is given as it stands, the
+    // change completes when the task gets there.
+    if (active_->result() && active_done_) finish_request(active_done_, *active_->result());
+    return;
+  }
   // The old program goes: every task has left it, its events and trend
-  // buckets were taken, its drivers handed over and closed.
+  // buckets were taken, its drivers handed over and closed. Then the answer.
+  const ChangeResult result = *active_->result();
   std::unique_ptr<Program> old;
   {
     std::lock_guard lock(readers_mutex_);
@@ -314,6 +318,7 @@ void Plc::poll_change() {
   active_.reset();
   old.reset();
   changes_completed_.fetch_add(1, std::memory_order_release);
+  if (active_done_) finish_request(active_done_, result);
 }
 
 void Plc::route_task_events(Program& p) {

@@ -417,7 +417,7 @@ TEST_F(OnlineCli, LoadPrintsTheChangeReport) {
   EXPECT_NE(r.err.find("not logged in (401)"), std::string::npos) << r.err;
   r = as("engineer", "load " + (d / "line.yaml").string());
   ASSERT_EQ(r.rc, kOk) << r.err;
-  EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(^version \d+ running: .*instances: \d+ kept, \d+ retuned, \d+ new, \d+ removed)")))
+  EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(^version \d+ running: .*instances: \d+ kept, \d+ retuned, \d+ rewired, \d+ new, \d+ removed)")))
       << r.out;
 }
 
