@@ -373,17 +373,16 @@ StopReport Plc::stop(const std::function<std::string(const StopReport&)>& why) {
   ChangeResult refused;
   refused.status = 409;
   refused.summary = "the PLC stopped before the change was made; nothing was changed";
-  for (auto& p : waiting)
-    if (p.done) p.done(refused);
   if (control_.joinable()) control_.join();  // a load under way gives up at its next stage
   if (active_done_) {
-    // A change that waited for its tasks' switch: answered as it stands.
+    // A change that waited for its tasks' switch: answered (and recorded) as it stands.
     ChangeResult r;
     r.status = 409;
     r.summary = "the PLC stopped before every task reached its switch: the change did not complete";
-    active_done_(r);
-    active_done_ = nullptr;
+    finish_request(active_done_, r);
   }
+  for (auto& p : waiting)
+    if (p.done) finish_request(p.done, refused);
   web_host_->close();  // HTTP requests waiting for a change are answered: none comes now
   if (web_server_) web_server_->stop();
   {
