@@ -15,6 +15,7 @@
 #include <thread>
 #include <vector>
 
+#include "tests/support/yaml_laughs.hpp"
 #include "tests/support/bounded_child.hpp"
 #include "tests/support/cli_runner.hpp"
 #include "tests/support/test_blocks.hpp"
@@ -24,18 +25,7 @@ namespace {
 using syncplc::testing::slurp;
 using syncplc::testing::write_temp_file;
 
-// As tests/project/test_yaml_limits.cpp: refused at line 5, column 45.
-std::string laughs() {
-  std::string s = "tasks: [{name: main, period: 1ms}]\n";
-  s += "l0: &l0 [lol, lol, lol, lol, lol, lol, lol, lol, lol, lol]\n";
-  for (int i = 1; i < 8; ++i) {
-    const std::string a = "*l" + std::to_string(i - 1);
-    s += "l" + std::to_string(i) + ": &l" + std::to_string(i) + " [" + a;
-    for (int k = 1; k < 10; ++k) s += ", " + a;
-    s += "]\n";
-  }
-  return s;
-}
+using syncplc::testing::laughs;  // tests/support/yaml_laughs.hpp: refused at line 5, column 45
 const char* kRefused = ":5:45: alias *l2 expands the file past its limit of 10000 YAML nodes";
 
 // The most a refused load may take, whole process beyond what it inherited

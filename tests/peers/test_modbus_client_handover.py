@@ -11,11 +11,8 @@ none closed, and the new group's value arrives through it.
 """
 import os
 import signal
-import socket
-import struct
 import sys
 import tempfile
-import threading
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -36,79 +33,6 @@ drivers:
       - {{name: w, function: write_single_register, address: 0, every: 20ms}}
 {extra}    bind: {{w: cmd, w_ok: w_ok{extra_bind}}}
 """
-
-
-class OneConnectionDevice:
-    """FC 6 only: echoes the request and keeps the register's value."""
-
-    def __init__(self):
-        self.sock = socket.socket()
-        self.sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
-        self.sock.bind(("127.0.0.1", 0))
-        self.sock.listen(8)
-        self.port = self.sock.getsockname()[1]
-        self.registers = [0] * 16
-        self.accepted = 0
-        self.refused = 0
-        self.closed = 0  # the active connection ended (closed by the client)
-        self.active = None
-        self.lock = threading.Lock()
-        threading.Thread(target=self._accept, daemon=True).start()
-
-    def _accept(self):
-        while True:
-            try:
-                c, _ = self.sock.accept()
-            except OSError:
-                return
-            with self.lock:
-                if self.active is not None:
-                    self.refused += 1
-                    c.close()
-                    continue
-                self.accepted += 1
-                self.active = c
-            threading.Thread(target=self._serve, args=(c,), daemon=True).start()
-
-    def _serve(self, c):
-        try:
-            while True:
-                head = self._exact(c, 7)
-                if head is None:
-                    break
-                tid, proto, length, unit = struct.unpack(">HHHB", head)
-                pdu = self._exact(c, length - 1)
-                if pdu is None:
-                    break
-                if pdu[0] == 6:
-                    address, value = struct.unpack(">HH", pdu[1:5])
-                    self.registers[address % 16] = value
-                    c.sendall(head + pdu)
-                else:
-                    c.sendall(struct.pack(">HHHBBB", tid, 0, 3, unit, pdu[0] | 0x80, 1))
-        except OSError:
-            pass
-        with self.lock:
-            self.closed += 1
-            self.active = None
-        c.close()
-
-    @staticmethod
-    def _exact(c, n):
-        b = b""
-        while len(b) < n:
-            k = c.recv(n - len(b))
-            if not k:
-                return None
-            b += k
-        return b
-
-    def wait_register(self, address, value, timeout=20):
-        deadline = time.monotonic() + timeout
-        while self.registers[address] != value:
-            if time.monotonic() > deadline:
-                raise AssertionError("register %d is %d, not %d, after %d s" % (address, self.registers[address], value, timeout))
-            time.sleep(0.01)
 
 
 PROJECT_TWO = """
@@ -136,7 +60,7 @@ def two_drivers_of_one_type(binary):
     """Issue 21: two modbus_client drivers replaced in one change, six times.
     Each new driver takes over its own predecessor's one connection, never
     another's: each device sees one connection for the whole run."""
-    dev_a, dev_b = OneConnectionDevice(), OneConnectionDevice()
+    dev_a, dev_b = P.OneConnectionDevice(), P.OneConnectionDevice()
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "handover2.yaml")
 
@@ -172,7 +96,7 @@ def two_drivers_of_one_type(binary):
 def main():
     binary = P.syncplc_binary()
     two_drivers_of_one_type(binary)
-    dev = OneConnectionDevice()
+    dev = P.OneConnectionDevice()
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "handover.yaml")
 

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "tests/project/loader_test_util.hpp"
+#include "tests/support/yaml_laughs.hpp"
 #include "tests/support/bounded_child.hpp"
 
 namespace syncplc::loadertest {
@@ -17,19 +18,7 @@ using ::testing::ElementsAre;
 using ::testing::HasSubstr;
 using ::testing::SizeIs;
 
-// Eight levels of ten aliases each: about 600 bytes, 10^8 nodes expanded.
-// Line 1 a task; lines 2..9 the anchors l0 .. l7.
-std::string laughs() {
-  std::string s = "tasks: [{name: main, period: 1ms}]\n";
-  s += "l0: &l0 [lol, lol, lol, lol, lol, lol, lol, lol, lol, lol]\n";
-  for (int i = 1; i < 8; ++i) {
-    const std::string a = "*l" + std::to_string(i - 1);
-    s += "l" + std::to_string(i) + ": &l" + std::to_string(i) + " [" + a;
-    for (int k = 1; k < 10; ++k) s += ", " + a;
-    s += "]\n";
-  }
-  return s;
-}
+using testing::laughs;  // tests/support/yaml_laughs.hpp
 
 // Where the budget of a file of laughs() runs out: on line 5 (l3, a list of
 // l2's of 1,111 nodes each), at the alias that takes the count past 10,000.

@@ -41,7 +41,6 @@ Prints the figures for docs/benchmarks.md section 7.
 import os
 import re
 import shutil
-import socket
 import struct
 import subprocess
 import sys
@@ -91,69 +90,6 @@ drivers:
       - {{name: w, function: write_single_register, address: 0, every: 20ms}}
     bind: {{w: count_int}}
 """
-
-
-class OneConnectionDevice:
-    """FC 6 only; a second connection is accepted and closed at once (refused)."""
-
-    def __init__(self):
-        self.sock = socket.socket()
-        self.sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
-        self.sock.bind(("127.0.0.1", 0))
-        self.sock.listen(8)
-        self.port = self.sock.getsockname()[1]
-        self.register = 0
-        self.accepted = self.refused = self.closed = 0
-        self.active = None
-        self.lock = threading.Lock()
-        threading.Thread(target=self._accept, daemon=True).start()
-
-    def _accept(self):
-        while True:
-            try:
-                c, _ = self.sock.accept()
-            except OSError:
-                return
-            with self.lock:
-                if self.active is not None:
-                    self.refused += 1
-                    c.close()
-                    continue
-                self.accepted += 1
-                self.active = c
-            threading.Thread(target=self._serve, args=(c,), daemon=True).start()
-
-    def _serve(self, c):
-        try:
-            while True:
-                head = self._exact(c, 7)
-                if head is None:
-                    break
-                tid, proto, length, unit = struct.unpack(">HHHB", head)
-                pdu = self._exact(c, length - 1)
-                if pdu is None:
-                    break
-                if pdu[0] == 6:
-                    self.register = struct.unpack(">HH", pdu[1:5])[1]
-                    c.sendall(head + pdu)
-                else:
-                    c.sendall(struct.pack(">HHHBBB", tid, 0, 3, unit, pdu[0] | 0x80, 1))
-        except OSError:
-            pass
-        with self.lock:
-            self.closed += 1
-            self.active = None
-        c.close()
-
-    @staticmethod
-    def _exact(c, n):
-        b = b""
-        while len(b) < n:
-            k = c.recv(n - len(b))
-            if not k:
-                return None
-            b += k
-        return b
 
 
 def write_project(tmp, port, k):
@@ -232,7 +168,7 @@ class RetainWatch(threading.Thread):
 def main():
     binary = P.syncplc_binary()
     changes = int(sys.argv[2]) if len(sys.argv) > 2 else 100
-    dev = OneConnectionDevice()
+    dev = P.OneConnectionDevice()
     tmp = tempfile.mkdtemp(prefix="syncplc-mixed-")
     pid_file = os.path.join(tmp, "run.pid")
     db = os.path.join(tmp, "plc.db")
@@ -242,7 +178,7 @@ def main():
         watch = RetainWatch(db)
         peer = P.Peer(server.port, P.Tally(), timeout=5)
         try:
-            P.wait_until(lambda: (dev.register > 0, dev.register), "the driver's first write", timeout=20)
+            P.wait_until(lambda: (dev.registers[0] > 0, dev.registers[0]), "the driver's first write", timeout=20)
             sockets_before = established(server.proc.pid)
             watch.start()
             switch_late_us = []

@@ -17,6 +17,8 @@
 #include <string>
 #include <vector>
 
+#include "runtime/store/database.hpp"
+
 namespace syncplc::store::testing {
 
 // An empty directory of this process: /tmp/syncplc-store-<pid>/<name>.
@@ -163,6 +165,30 @@ inline RunOutput run_syncplc(const std::vector<std::string>& args, const std::st
   r.status = wait_syncplc(spawn_syncplc(args, out_file, uid, gid));
   r.output = read_all(out_file);
   return r;
+}
+
+// Database::open(path) in another process (flock is per open file
+// description: a fork that opens again is a second instance): "opened", or
+// "locked: " / "failed: " and the error.
+inline std::string open_in_another_process(const std::string& path) {
+  int pipefd[2];
+  if (pipe(pipefd) != 0) return "no pipe";
+  const pid_t child = fork();
+  if (child == 0) {
+    OpenReport r;
+    std::string e;
+    auto second = Database::open(path, &r, &e);
+    const std::string out = (second ? "opened" : (r.locked ? "locked: " : "failed: ") + e);
+    if (write(pipefd[1], out.data(), out.size()) < 0) _exit(2);
+    _exit(0);
+  }
+  close(pipefd[1]);
+  std::string got;
+  char buf[512];
+  for (ssize_t n; (n = read(pipefd[0], buf, sizeof buf)) > 0;) got.append(buf, static_cast<std::size_t>(n));
+  close(pipefd[0]);
+  waitpid(child, nullptr, 0);
+  return got;
 }
 
 }  // namespace syncplc::store::testing

@@ -41,26 +41,9 @@ TEST(Database, ASecondWriterIsRefusedWithTheHoldersPid) {
   std::string err;
   auto first = Database::open(path, nullptr, &err);
   ASSERT_TRUE(first) << err;
-  // Another process: flock is per open file description, so a fork that
-  // opens the file again is a second instance.
-  int pipefd[2];
-  ASSERT_EQ(pipe(pipefd), 0);
-  const pid_t child = fork();
-  if (child == 0) {
-    OpenReport r;
-    std::string e;
-    auto second = Database::open(path, &r, &e);
-    const std::string out = (second ? "opened" : (r.locked ? "locked: " : "failed: ") + e);
-    if (write(pipefd[1], out.data(), out.size()) < 0) _exit(2);
-    _exit(0);
-  }
-  close(pipefd[1]);
-  std::string got;
-  char buf[512];
-  for (ssize_t n; (n = read(pipefd[0], buf, sizeof buf)) > 0;) got.append(buf, static_cast<std::size_t>(n));
-  close(pipefd[0]);
-  int status = 0;
-  waitpid(child, &status, 0);
+  // Another process (flock is per open file description: a fork that opens
+  // the file again is a second instance).
+  const std::string got = testing::open_in_another_process(path);
   EXPECT_THAT(got, HasSubstr("locked: the database " + path + " is in use by another syncplc instance (pid " +
                              std::to_string(getpid()) + ")"));
   // Once the first is gone, the database opens again.

@@ -21,6 +21,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
+using testing::open_in_another_process;
 using testing::read_all;
 using testing::ShellHolding;
 using testing::sqlite_shell;
@@ -42,29 +43,6 @@ void make_database(const std::string& path) {
   db->sql().exec("CREATE TABLE history (v TEXT); INSERT INTO history VALUES ('the plant''s history')");
 }
 
-// Database::open(path) in another process (flock is per open file
-// description: a fork that opens again is a second instance): "opened", or
-// "locked: " / "failed: " and the error.
-std::string open_in_another_process(const std::string& path) {
-  int pipefd[2];
-  if (pipe(pipefd) != 0) return "no pipe";
-  const pid_t child = fork();
-  if (child == 0) {
-    OpenReport r;
-    std::string e;
-    auto second = Database::open(path, &r, &e);
-    const std::string out = (second ? "opened" : (r.locked ? "locked: " : "failed: ") + e);
-    if (write(pipefd[1], out.data(), out.size()) < 0) _exit(2);
-    _exit(0);
-  }
-  close(pipefd[1]);
-  std::string got;
-  char buf[512];
-  for (ssize_t n; (n = read(pipefd[0], buf, sizeof buf)) > 0;) got.append(buf, static_cast<std::size_t>(n));
-  close(pipefd[0]);
-  waitpid(child, nullptr, 0);
-  return got;
-}
 
 // The sqlite3 shell's way to keep every other connection out of a WAL
 // database: exclusive locking mode, then a write transaction.
