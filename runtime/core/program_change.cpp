@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <limits>
 #include <optional>
 #include <utility>
 
@@ -101,7 +102,12 @@ void TaskHandover::perform() noexcept {
       // A rewired instance also takes the parameters: a tuning input wired
       // out gives its parameter back (one wired in overrides it at the next
       // scan, through the guard).
-      if (b.mode != BlockHandover::Mode::Keep) kept->retune_from(*fresh);
+      if (b.mode != BlockHandover::Mode::Keep) {
+        kept->retune_from(*fresh);
+        // A connected tuning input overrides the parameter just taken: seen
+        // again at the next scan (NaN is never "the same value").
+        for (auto& t : kept->guard().tuning) t.seen = std::numeric_limits<double>::quiet_NaN();
+      }
       kept->bind_pins(to->blocks[b.to].pins.data());
     }
     for (const auto& d : drivers) {

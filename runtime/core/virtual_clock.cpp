@@ -79,6 +79,7 @@ void VirtualClock::switch_task(TaskState& s) {
   h->perform();
   h->finish();
   s.task = h->to;
+  s.stopped = false;  // as the real-time thread: a stopped task restarts with the new program
   s.k = next.k;
   s.prev_planned = next.prev_planned;
   if (next.skipped) s.task->stats.skipped.fetch_add(next.skipped, std::memory_order_relaxed);

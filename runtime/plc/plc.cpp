@@ -238,6 +238,21 @@ void Plc::control_loop() {
     lock.unlock();
     if (!active_) start_next_change();
     if (active_) poll_change();
+    // A change that waits for a thread stuck in a scan never completes: the
+    // ones asked meanwhile are refused now, as before the change (not queued for good).
+    if (active_ && supervisor_->any_hung()) {
+      std::deque<Pending> refused;
+      {
+        std::lock_guard l(control_mutex_);
+        refused.swap(queue_);
+      }
+      for (auto& p : refused) {
+        ChangeResult r;
+        r.status = 409;
+        r.summary = "reload refused: a task's scan did not end and its thread cannot be stopped; restart syncplc";
+        finish_request(p.done, r);
+      }
+    }
     route_events();
     store_->watch_health();
     if (const std::int64_t now = monotonic_ns(); now >= next_status) {
@@ -407,6 +422,13 @@ StopReport Plc::stop(const std::function<std::string(const StopReport&)>& why) {
       // now joined): what the old program still holds is handed over and closed.
       ChangeContext c{active_->transaction()->from(), active_->transaction()->next(), active_->transaction()->change(),
                       active_->transaction()->source()};
+      // Every thread is joined: the switches still due are made here, so the
+      // drivers kept open move into the program whose drivers stop below.
+      for (const auto& h : c.change.handovers)
+        if (h->from && h->to && !h->done.load() && h->from->handover() == h.get()) {
+          h->perform();
+          h->finish();
+        }
       drivers_change_->close_left_over(c);
       route_task_events(c.from);
     }

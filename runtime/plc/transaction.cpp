@@ -53,8 +53,9 @@ void Transaction::commit(ChangeScheduler& scheduler, std::int64_t switch_ns) {
   if (phase_ != ChangePhase::Prepared) throw std::logic_error("commit: the transaction is not prepared");
   scheduler_ = &scheduler;
   ChangeContext c = context();
-  change_->switch_ns = switch_ns >= 0 ? switch_ns : switch_instant(*change_, scheduler.now_ns());
   for (ChangeParticipant* p : participants_) p->commit_begin(c);
+  // T after what commit_begin waited for (a reader's lock, the Modbus hold).
+  change_->switch_ns = switch_ns >= 0 ? switch_ns : switch_instant(*change_, scheduler.now_ns());
   scheduler.begin_change(*change_);
   for (ChangeParticipant* p : participants_) p->commit(c);
   phase_ = ChangePhase::Committed;
