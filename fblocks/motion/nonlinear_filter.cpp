@@ -50,8 +50,12 @@ class NonlinearFilter final : public Block {
 
   // r_prev_ is kept whichever way r_dot comes, so a derived r_dot is right
   // from the first scan after an online change unwires it.
+  // And the sampling time of a re-timed task: the state (x, x_dot) goes on
+  // at the new period (the next scan's dt is the time since the last one).
   void rewire_from(const Block& fresh) noexcept override {
-    derive_r_dot_ = static_cast<const NonlinearFilter&>(fresh).derive_r_dot_;
+    const auto& f = static_cast<const NonlinearFilter&>(fresh);
+    derive_r_dot_ = f.derive_r_dot_;
+    period_s_ = f.period_s_;
   }
 
   void execute(ScanContext& ctx) noexcept override {
@@ -144,7 +148,7 @@ class NonlinearFilter final : public Block {
 
   bool derive_r_dot_;  // r_dot unconnected (rewire_from: an online change may connect it)
   const bool start_at_r_;
-  const double period_s_;
+  double period_s_;  // the task period (rewire_from: a re-timed task)
   FilterState state_{};
   FilterBounds last_{};
   double r_prev_ = 0;

@@ -69,8 +69,16 @@ class TransientSync final : public Block {
 
   // r_prev_ is kept whichever way r_dot comes, so a derived r_dot is right
   // from the first scan after an online change unwires it.
+  // And the sampling time of a re-timed task: counts and locks are in
+  // samples of the old period, so none carries (as after a reset); the
+  // prepared bounds are keyed with T and are computed again.
   void rewire_from(const Block& fresh) noexcept override {
-    derive_r_dot_ = static_cast<const TransientSync&>(fresh).derive_r_dot_;
+    const auto& f = static_cast<const TransientSync&>(fresh);
+    derive_r_dot_ = f.derive_r_dot_;
+    if (period_s_ != f.period_s_) {
+      period_s_ = f.period_s_;
+      for (auto& fl : flags_) fl &= static_cast<std::uint16_t>(~(kSame | kCarry | kLocked | kPredicted));
+    }
   }
 
   void execute(ScanContext& ctx) noexcept override {
@@ -510,7 +518,7 @@ class TransientSync final : public Block {
   const SyncRule rule_;
   bool derive_r_dot_;  // r_dot unconnected (rewire_from: an online change may connect it)
   const bool start_at_r_;
-  const double period_s_;
+  double period_s_;  // the task period (rewire_from: a re-timed task)
   // Per-axis state and per-scan scratch, sized once (structure of arrays).
   std::vector<double> x_, v_, r_prev_, vmin_prev_, vmax_prev_;
   std::vector<FilterBounds> nom_;   // nominal bounds of this scan

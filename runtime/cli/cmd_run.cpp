@@ -145,8 +145,12 @@ int cmd_run(const RunOptions& options) {
   plc::PlcFailure failure;
   auto plc = plc::Plc::open(po, notices, &failure);  // says its notices on po.log as they come
   if (!plc) {
-    if (failure.load_errors) std::cerr << failure.why << "\n";
-    else std::cerr << "syncplc: " << failure.why << "\n";
+    if (failure.load_errors) {
+      const auto n = static_cast<std::size_t>(std::count(failure.why.begin(), failure.why.end(), '\n')) + 1;
+      std::cerr << failure.why << "\n" << po.project << ": " << n << (n == 1 ? " error" : " errors") << ", project not loaded\n";
+    } else {
+      std::cerr << "syncplc: " << failure.why << "\n";
+    }
     return failure.status;
   }
   // `syncplc reload` finds this instance through its pid file.
@@ -202,14 +206,15 @@ int cmd_run(const RunOptions& options) {
     }
     inbox.drain(
         [&](const std::string& line) {
-          if (live) screen.add_event(line);
+          // Events ("[t] kind ...") on the screen; a change's report lines on
+          // stderr, where they stay readable.
+          if (live && !line.empty() && line[0] == '[') screen.add_event(line);
           else std::cerr << line << "\n";
         },
         [&](const plc::ChangeResult& r) {
           // A change the PLC's state refused (a scan that did not end, a
           // version that cannot be extracted) is said on its own line too.
           if (!r.accepted && r.status == 409) std::cerr << "syncplc: " << r.summary << "\n";
-          for (const auto& line : r.lines) std::cerr << line << "\n";
           if (r.accepted) screen.set_reload_result(true, r.summary);
           else screen.set_reload_result(false, r.summary, r.lines);
         });

@@ -77,8 +77,14 @@ SignatureDiff compare_signatures(const InstanceSignature& o, const InstanceSigna
     if (p < o.feeds.size() && p < n.feeds.size() && o.feeds[p] != n.feeds[p] && pin.dir == PinDir::In)
       append(moved, pin.name + " " + feed_text(o.feeds[p]) + " -> " + feed_text(n.feeds[p]));
   }
+  // The sampling time a factory fixed from the task's period.
+  if ((o.period_ns != 0 || n.period_ns != 0) && o.period_ns != n.period_ns) {
+    const std::string what = "task period " + format_duration(o.period_ns) + " -> " + format_duration(n.period_ns);
+    append(rewired, what);
+    if (!t.rewire) append(unrewirable, what);
+  }
   if (!unrewirable.empty())
-    return recreate(unrewirable + " (" + t.name + " fixes its behaviour from its wiring when created)");
+    return recreate(unrewirable + " (" + t.name + " fixes its behaviour from its wiring and period when created)");
   if (!rewired.empty()) {
     d.verdict = SignatureVerdict::Rewire;
     d.detail = rewired;

@@ -6,7 +6,8 @@
 //   structure  block type with its datatype ("CTU<INT>"), array pin sizes and
 //              the parameters that are not tunable: a difference re-creates
 //              the instance;
-//   wiring     which pins are fed and from where. What the factory fixed
+//   wiring     which pins are fed and from where, and the task period if the
+//              factory read it (a filter's sampling time). What the factory fixed
 //              from the wiring when it built the instance (a pin it asked
 //              BlockSetup::connected about, a connected tuning input) is
 //              behaviour: a difference there means the running instance
@@ -57,6 +58,10 @@ struct InstanceSignature {
   std::vector<Cell> params;                // by ParamDecl index
   std::vector<PinFeed> feeds;              // by pin index (outputs: None)
   std::vector<WiringSeen> seen;            // by pin index
+  // The task period the factory read (BlockSetup::task_period_ns: a filter's
+  // sampling time), 0 when it did not: a re-timed task's instance that fixed
+  // it is rewired or re-created, never kept on the old period.
+  std::int64_t period_ns = 0;
   StateLayout state;
 
   // "CTU<INT> state 1 (2 cells)": what a stored state must match to be

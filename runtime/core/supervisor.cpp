@@ -142,6 +142,9 @@ bool Supervisor::any_hung() const {
 }
 
 bool Supervisor::all_stopped() const {
+  // Under the mutex: forget() takes it before an old program goes, so no
+  // task read here can be freed meanwhile.
+  std::lock_guard lock(mutex_);
   const auto threads = runner_->threads();
   bool any = false;
   for (const auto& v : threads) {

@@ -51,6 +51,12 @@ ChangeRunner::ChangeRunner(const ChangeRequest& request, Setup setup, const std:
     refuse(400, std::move(summary), std::move(lines));
     return;
   }
+  // The PLC began to stop while the project loaded: nothing is prepared.
+  auto stopping = [&] { return cancel && cancel->load(std::memory_order_relaxed); };
+  if (stopping()) {
+    refuse(409, "the PLC is stopping: the change of " + what_ + " was not made");
+    return;
+  }
   hash_ = store::make_content(next.sources).hash;
   auto load = project_load(next, src.path, src.origin, src.source);  // recorded once the change is committed
   tx_ = std::make_unique<Transaction>(setup.running, std::move(next), src);
@@ -60,6 +66,11 @@ ChangeRunner::ChangeRunner(const ChangeRequest& request, Setup setup, const std:
     load.errors = {why};
     setup.store.record(std::move(load));
     refuse(400, "reload of " + what_ + " rejected (" + why + "); the running program continues unchanged", {why});
+    return;
+  }
+  if (stopping()) {
+    tx_.reset();  // prepared, not committed: its destructor aborts every participant
+    refuse(409, "the PLC is stopping: the change of " + what_ + " was not made");
     return;
   }
   tx_->commit(setup.scheduler);

@@ -44,7 +44,9 @@ class ChangeRunner {
   // completion, or when a task is late for its switch by more than a second
   // (then the change goes on and completes when that task gets there).
   const std::optional<ChangeResult>& result() const { return result_; }
-  bool committed() const { return tx_ && tx_->phase() != ChangePhase::Planned && tx_->phase() != ChangePhase::Aborted; }
+  bool committed() const {
+    return tx_ && (tx_->phase() == ChangePhase::Committed || tx_->phase() == ChangePhase::Complete);
+  }
   bool complete() const { return tx_ && tx_->phase() == ChangePhase::Complete; }
   // Phase Committed: the old program still runs in some task.
   Transaction* transaction() { return tx_.get(); }

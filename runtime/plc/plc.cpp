@@ -178,10 +178,16 @@ void Plc::start() {
   events_->set_epoch(runner_->epoch_ns());
   events_->started(options_.project, store_->path());
   store_->start();
-  supervisor_ = std::make_unique<Supervisor>(*program_, *runner_);
+  {
+    std::lock_guard lock(readers_mutex_);  // HTTP threads read it through with_view
+    supervisor_ = std::make_unique<Supervisor>(*program_, *runner_);
+  }
   supervisor_thread_ = std::make_unique<SupervisorThread>(*supervisor_);
   started_ns_ = monotonic_ns();
-  started_ = true;
+  {
+    std::lock_guard lock(control_mutex_);  // request_change reads it
+    started_ = true;
+  }
   control_ = std::thread([this] { control_loop(); });
 }
 
@@ -196,7 +202,7 @@ void Plc::request_change(ChangeRequest request, std::function<void(const ChangeR
   }
   ChangeResult r;
   r.status = 409;
-  r.summary = "the PLC is stopping: no online change now";
+  r.summary = started_ ? "the PLC is stopping: no online change now" : "the PLC is not running yet: no online change now";
   if (done) done(r);
 }
 
@@ -214,7 +220,7 @@ void Plc::with_view(const std::function<void(const View&)>& f) {
 
 bool Plc::all_stopped() const { return supervisor_ && supervisor_->all_stopped(); }
 
-bool Plc::ended() const { return started_ && (all_stopped() || !runner_->threads_alive()); }
+bool Plc::ended() const { return started_ && runner_ && (all_stopped() || !runner_->threads_alive()); }
 
 std::int64_t Plc::epoch_ns() const { return runner_ ? runner_->epoch_ns() : -1; }
 
@@ -269,6 +275,8 @@ void Plc::control_loop() {
 
 void Plc::finish_request(std::function<void(const ChangeResult&)>& done, const ChangeResult& r) {
   events_->reloaded(r.accepted, r.summary, r.lines);
+  // Every change's report (or errors), whoever asked, then its event line.
+  for (const auto& line : r.lines) emit(line);
   const double at = static_cast<double>(runner_->now_ns()) * 1e-9;
   emit(fmt::format("[{:.6f}s] {:<14} {}", at, r.accepted ? "reload" : "reload-failed", r.summary));
   if (r.accepted) web_host_->set_project_hash(r.hash);
@@ -415,6 +423,16 @@ StopReport Plc::stop(const std::function<std::string(const StopReport&)>& why) {
   report.joined = supervisor_->stop();
   report.any_hung = supervisor_->any_hung();
   report.all_stopped = supervisor_->all_stopped();
+  if (!report.joined) {
+    // A thread stuck in a scan is left where it is: what it may still touch
+    // (its runner, its program, a change under way) is never freed, and no
+    // destructor waits for it. The process is meant to end soon (run exits
+    // with status 4).
+    (void)runner_.release();
+    (void)program_.release();
+    (void)active_.release();
+    scheduler_.reset();
+  }
   if (report.joined) {
     runner_->join();
     if (active_ && active_->committed() && !active_->complete()) {

@@ -165,17 +165,13 @@ class Plc {
   bool start_next_change();
   void poll_change();
 
+  // Declared in the order they depend on each other: destroyed in reverse,
+  // whatever uses the program (the runner, the servers, a change under way)
+  // goes before it.
   PlcOptions options_;
   std::unique_ptr<StoreLink> store_;
   std::unique_ptr<EventRecorder> events_;
   std::unique_ptr<StoreStatusRegisters> store_registers_;
-  std::unique_ptr<WebHost> web_host_;
-  std::unique_ptr<web::Server> web_server_;
-  std::string http_notice_;
-  std::unique_ptr<RealtimeRunner> runner_;
-  std::unique_ptr<ChangeScheduler> scheduler_;
-  std::unique_ptr<Supervisor> supervisor_;
-  std::unique_ptr<SupervisorThread> supervisor_thread_;
   std::string start_hash_;
 
   // What readers use (current_, modbus_): replaced under readers_mutex_ by
@@ -187,6 +183,14 @@ class Plc {
   Program* current_ = nullptr;
   std::unique_ptr<modbus::Server> modbus_;
   std::atomic<std::uint64_t> generation_{0};
+
+  std::unique_ptr<WebHost> web_host_;
+  std::unique_ptr<web::Server> web_server_;
+  std::string http_notice_;
+  std::unique_ptr<RealtimeRunner> runner_;
+  std::unique_ptr<ChangeScheduler> scheduler_;
+  std::unique_ptr<Supervisor> supervisor_;
+  std::unique_ptr<SupervisorThread> supervisor_thread_;
 
   // The control thread and its queue of changes.
   struct Pending {

@@ -33,7 +33,11 @@ class LoaderBlockSetup final : public BlockSetup {
   }
   std::vector<WiringSeen> take_seen() { return std::move(seen_); }
   std::uint32_t pin_length(int pin) const override { return in_.pin_length.at(static_cast<std::size_t>(pin)); }
-  std::int64_t task_period_ns() const override { return period_; }
+  std::int64_t task_period_ns() const override {
+    period_read_ = true;  // a sampling time fixed at creation: part of the signature
+    return period_;
+  }
+  bool period_read() const { return period_read_; }
   std::uint64_t seed() const override { return seed_; }
   void error(const std::string& message) override { d_.error(in_.loc, in_.name + " (" + in_.type->name + "): " + message); }
   void unknown_param(std::string_view name) const override {
@@ -48,6 +52,7 @@ class LoaderBlockSetup final : public BlockSetup {
   std::vector<Cell> params_;
   std::vector<bool> connected_;
   mutable std::vector<WiringSeen> seen_ = std::vector<WiringSeen>(connected_.size(), WiringSeen::NotAsked);
+  mutable bool period_read_ = false;
   std::int64_t period_;
   std::uint64_t seed_;
   Diagnostics& d_;
@@ -88,6 +93,7 @@ std::vector<PinFeed> pin_feeds(const InstanceDecl& in, const Wiring& w) {
 struct Created {
   std::unique_ptr<Block> block;
   std::vector<WiringSeen> seen;
+  std::int64_t period_ns = 0;  // the task period, when the factory read it
 };
 
 std::vector<Created> create_blocks(const Declarations& p, Diagnostics& diags) {
@@ -108,6 +114,7 @@ std::vector<Created> create_blocks(const Declarations& p, Diagnostics& diags) {
       diags.error(in.loc, in.name + " (" + in.type->name + "): " + e.what());
     }
     made.seen = setup.take_seen();
+    if (setup.period_read()) made.period_ns = p.tasks[static_cast<std::size_t>(in.task)].cfg.period_ns;
     if (!block && diags.size() == before) diags.error(in.loc, in.name + " (" + in.type->name + ") could not be created");
     if (block && in.retain && block->retain_cells() == 0)
       diags.error(in.retain_loc, in.name + " (" + in.type->name + ") has no state to retain (retain: and persistent: "
@@ -236,6 +243,7 @@ std::unique_ptr<Program> build_program(Declarations& p, const Wiring& w, const B
       sig.params = in.param_cells;
       sig.feeds = pin_feeds(in, w);
       sig.seen = std::move(created[i].seen);
+      sig.period_ns = created[i].period_ns;
       sig.state = {bi.block->retain_cells(), bi.block->retain_layout()};
       if (in.retain) {
         bi.retain_cell = retain_cell[i];
