@@ -255,7 +255,10 @@ void RealtimeRunner::task_thread(Worker& w, Start start) {
       }
     }
     if (stopped) {
-      timespec ts = to_timespec(monotonic_ns() + kStopPoll);
+      // Looks for a change that restarts it once a period (at most every
+      // 100 ms): T is at least two periods ahead, so it switches in time
+      // and its first new scan is not late.
+      timespec ts = to_timespec(monotonic_ns() + std::min(kStopPoll, task->config().period_ns));
       clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr);
       continue;
     }
