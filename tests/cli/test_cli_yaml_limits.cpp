@@ -20,7 +20,9 @@
 #include "tests/support/cli_runner.hpp"
 #include "tests/support/test_blocks.hpp"
 
-namespace {
+// Named, not anonymous: unity builds put several test files in one
+// translation unit (SYNCPLC_UNITY), where their helpers must not meet.
+namespace cli_yaml_limits_test {
 
 using syncplc::testing::slurp;
 using syncplc::testing::write_temp_file;

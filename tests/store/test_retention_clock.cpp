@@ -15,7 +15,9 @@
 #include "tests/support/project_fixture.hpp"
 
 namespace syncplc::store {
-namespace {
+// Named, not anonymous: unity builds put several test files in one
+// translation unit (SYNCPLC_UNITY), where their helpers must not meet.
+namespace retention_clock_test {
 
 constexpr std::int64_t kSecond = 1'000'000'000;
 constexpr std::int64_t kMinute = 60 * kSecond;

@@ -13,7 +13,9 @@
 #include "tests/store/store_test_util.hpp"
 
 namespace syncplc::store {
-namespace {
+// Named, not anonymous: unity builds put several test files in one
+// translation unit (SYNCPLC_UNITY), where their helpers must not meet.
+namespace store_run_test {
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
