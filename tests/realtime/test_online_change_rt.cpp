@@ -17,7 +17,7 @@
 namespace syncplc {
 namespace {
 
-std::string project(bool extra_task) {
+std::string changed_project(bool extra_task) {
   std::string s = R"(
 tasks:
   - {name: fast, period: 1ms}
@@ -44,7 +44,7 @@ connections:
 }
 
 TEST(OnlineChangeRealtime, TwentyChangesUnderWritesKeepEveryScansState) {
-  std::unique_ptr<Program> program = load_test_project(project(false));
+  std::unique_ptr<Program> program = load_test_project(changed_project(false));
   ASSERT_TRUE(program);
   ASSERT_TRUE(program->force("seen", "-7").ok);  // held through every change
   RealtimeRunner runner(*program, quiet_options());
@@ -79,7 +79,7 @@ TEST(OnlineChangeRealtime, TwentyChangesUnderWritesKeepEveryScansState) {
     const auto guard = std::chrono::steady_clock::now() + std::chrono::seconds(60);
     while (runner.program().tasks[0]->stats.scans.load() < scans_before + 20 && std::chrono::steady_clock::now() < guard)
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    auto next = load_test_project(project(k % 2 == 0));
+    auto next = load_test_project(changed_project(k % 2 == 0));
     ASSERT_TRUE(next);
     auto change = plan_change(*program, *next);
     change->switch_ns = switch_instant(*change, runner.now_ns());
