@@ -3,6 +3,7 @@
 #include <SQLiteCpp/Statement.h>
 #include <SQLiteCpp/Transaction.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "runtime/core/monotonic_clock.hpp"
@@ -34,6 +35,9 @@ Historian::Feed Historian::take_series(Program& p, const StoreSettings& s) {
         series_[i].spec.deadband != ts.deadband || series_[i].id == 0)
       series_changed_ = true;
     f.rate_ns.push_back(ts.rate_ns);
+    auto id = std::find(identities_.begin(), identities_.end(), ts.identity);
+    if (id == identities_.end()) id = identities_.insert(identities_.end(), ts.identity);
+    f.identity.push_back(static_cast<std::uint32_t>(id - identities_.begin()));
     series_[i].spec = std::move(ts);
     f.active.push_back(static_cast<std::uint32_t>(i));
   }
@@ -86,7 +90,7 @@ void Historian::drain(Feed& f) {
         lost_.fetch_add(1, std::memory_order_relaxed);  // the database refused for long: what comes now is lost, the queue (and its order) stays
         continue;
       }
-      queue_.push_back(Queued{f.active[b.series], f.rate_ns[b.series], b});
+      queue_.push_back(Queued{f.active[b.series], f.rate_ns[b.series], f.identity[b.series], b});
     }
     const std::uint64_t dropped = fold.dropped();
     lost_.fetch_add(dropped - f.seen_dropped[t], std::memory_order_relaxed);
@@ -105,7 +109,8 @@ void Historian::store_queue(SQLite::Database& db) {
                         "count = count + excluded.count");
   // The deadband state moves only when the transaction commits.
   std::vector<std::optional<double>> last(series_.size());
-  for (std::size_t i = 0; i < series_.size(); ++i) last[i] = series_[i].last_stored;
+  std::vector<std::uint32_t> last_identity(series_.size());
+  for (std::size_t i = 0; i < series_.size(); ++i) last[i] = series_[i].last_stored, last_identity[i] = series_[i].last_identity;
   std::uint64_t n = 0;
   const std::size_t batch = queue_.size();
   for (std::size_t i = 0; i < batch; ++i) {
@@ -115,6 +120,11 @@ void Historian::store_queue(SQLite::Database& db) {
     const Queued& q = queue_[i];
     const Series& s = series_[q.series];
     const TrendBucket& b = q.bucket;
+    // Another variable under the same label (its tag's identity changed by
+    // an online change, as online change and retain see it): its deadband
+    // starts afresh at its first bucket.
+    if (q.identity != last_identity[q.series]) last[q.series].reset();
+    last_identity[q.series] = q.identity;
     if (!passes_deadband(b, s.spec.deadband, last[q.series])) continue;
     const double mean = b.sum / b.count;
     ins.reset();
@@ -130,7 +140,7 @@ void Historian::store_queue(SQLite::Database& db) {
     ++n;
   }
   tr.commit();
-  for (std::size_t i = 0; i < series_.size(); ++i) series_[i].last_stored = last[i];
+  for (std::size_t i = 0; i < series_.size(); ++i) series_[i].last_stored = last[i], series_[i].last_identity = last_identity[i];
   queue_.erase(queue_.begin(), queue_.begin() + static_cast<std::ptrdiff_t>(batch));
   stored_ += n;
 }

@@ -56,14 +56,16 @@ class Historian final : public StoreJob {
 
  private:
   struct Queued {
-    std::uint32_t series;  // index in series_
-    std::int64_t rate_ns;  // the bucket's length as its program folded it (an online change may change the series')
+    std::uint32_t series;    // index in series_
+    std::int64_t rate_ns;    // the bucket's length as its program folded it (an online change may change the series')
+    std::uint32_t identity;  // index in identities_: the variable its program folded it from
     TrendBucket bucket;
   };
   struct Series {
     TrendSeries spec;
     std::int64_t id = 0;                // trend_series.id (0: not yet written)
     std::optional<double> last_stored;  // the mean of the last stored point (deadband)
+    std::uint32_t last_identity = 0;    // the variable that point came from (index in identities_)
   };
   // A program whose tasks' rings are drained: the one served, and after an
   // online change the previous one until its tasks_ended().
@@ -71,6 +73,7 @@ class Historian final : public StoreJob {
     Program* program = nullptr;
     std::vector<std::uint32_t> active;        // the program's fold series number -> index in series_
     std::vector<std::int64_t> rate_ns;        // the program's fold series number -> its bucket length
+    std::vector<std::uint32_t> identity;      // the program's fold series number -> index in identities_
     std::vector<std::uint64_t> seen_dropped;  // per task: its fold's dropped() counted so far
   };
   // The program's series, by label: series_ only grows (an online change
@@ -83,6 +86,7 @@ class Historian final : public StoreJob {
 
   StoreSettings settings_;
   std::vector<Series> series_;
+  std::vector<std::string> identities_;  // tag identities seen (tag_identity), interned
   Feed served_;
   std::vector<Feed> previous_;  // programs left by an online change whose tasks may still run
   std::deque<Queued> queue_;

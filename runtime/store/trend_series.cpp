@@ -15,6 +15,7 @@ std::vector<TrendSeries> trend_series(const Program& p, const StoreSettings& s) 
       ts.label = tag.is_array ? tag.name + "[" + std::to_string(ts.element) + "]" : tag.name;
       ts.tag = tag.name;
       ts.type = tag.type;
+      ts.identity = tag_identity(tag);
       ts.unit = tag.unit;
       ts.task = tag.owner;
       ts.cell = tag.cell + k;

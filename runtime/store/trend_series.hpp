@@ -18,6 +18,7 @@ struct TrendSeries {
   std::string tag;
   std::int64_t element = 0; // the declared index (0 for a scalar)
   IecType type = IecType::LREAL;
+  std::string identity;     // its tag's (tag_identity, instance_signature.hpp): the variable, across loads
   std::string unit;
   std::uint16_t task = 0;
   std::uint32_t cell = 0;   // in the owner's image

@@ -240,6 +240,40 @@ TEST(Historian, ARateChangedByAnOnlineChangeStampsEachBucketWithItsOwnRate) {
   EXPECT_EQ(db->sql().execAndGet("SELECT count(*) FROM trend_point WHERE span = 100000000").getInt(), 3);
 }
 
+// The series of a label whose variable an online change replaced (another
+// type: another tag identity, as online change and retain see it) starts its
+// deadband afresh: its first bucket is stored even within the old band.
+TEST(Historian, AnotherVariableUnderTheSameLabelStartsItsDeadbandAfresh) {
+  const auto project = [](const char* type, const char* in) {
+    return std::string("tasks: [{name: fast, period: 1ms}]\n") + "tags: [{name: x, type: " + type +
+           ", task: fast, trend: {rate: 10ms, deadband: 5}}]\n" + "blocks: [{name: m, type: MOVE, datatype: " + type +
+           ", inputs: {IN: " + in + "}}]\n" + "connections: [m.OUT -> x]\n" +
+           "store: {trend_raw_age: 36500d, trend_max_age: 36500d}\n";
+  };
+  auto ra = load_test_result(project("LREAL", "1.0"));
+  ASSERT_TRUE(ra.ok());
+  auto db = memory();
+  Historian h(*ra.program, ra.store);
+  h.set_time_base(kT0);
+  std::string err;
+  ASSERT_TRUE(h.prepare(*db, &err)) << err;
+  VirtualClock clock(*ra.program);
+  clock.run_until(45 * kMs);
+  auto rb = load_test_result(project("INT", "2"));
+  ASSERT_TRUE(rb.ok());
+  auto change = plan_change(*ra.program, *rb.program);
+  change->switch_ns = 50 * kMs;
+  clock.begin_change(*change);
+  h.switch_program(*rb.program, rb.store);
+  clock.run_until(100 * kMs);
+  ASSERT_TRUE(clock.change_complete());
+  h.tasks_ended(*ra.program);
+  h.run(*db, 2'000'000'000, false);
+  // LREAL 1.0: the first bucket only (the rest within the band of 5); INT 2
+  // from 50 ms: its first bucket stored though |2 - 1| < 5.
+  EXPECT_EQ(starts(*db, "x"), (std::vector<std::int64_t>{0, 50}));
+}
+
 // Raw points of one series "s", every second from `from` for `n` seconds, value i.
 void insert_raw(Database& db, std::int64_t from, int n) {
   db.sql().exec("INSERT OR IGNORE INTO trend_series (id, label, tag, element, type, unit, rate_ns, deadband) "
