@@ -7,16 +7,11 @@
 #include <ctime>
 
 #include "runtime/core/monotonic_clock.hpp"
+#include "runtime/store/event_log.hpp"
 #include "runtime/store/trend_retention.hpp"
 
 namespace syncplc::store {
 namespace {
-
-std::int64_t wall_now_ns() {
-  timespec ts{};
-  clock_gettime(CLOCK_REALTIME, &ts);
-  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
 
 // Whether a bucket moved more than the deadband from the last stored mean:
 // its min and max are compared, so a spike beyond the band is stored.

@@ -26,7 +26,7 @@ using testing::LogBlock;
 // it; mid (2 ms, harmonic) and odd (3 ms, phase
 // 0.25 ms, non-harmonic, higher priority than the producer) read the count;
 // mid doubles what it read, which odd reads too (a chain of two exchanges).
-const char* kProject = R"(
+const char* kLetProject = R"(
 tasks:
   - {name: fast, period: 1ms, priority: 60}
   - {name: mid, period: 2ms, priority: 50}
@@ -55,7 +55,7 @@ std::vector<LogBlock::Sample> samples(Program& p, const std::string& instance) {
 }
 
 TEST(LetRealtime, RealTimeGivesTheVirtualClocksValuesScanByScan) {
-  auto rt = load_test_project(kProject);
+  auto rt = load_test_project(kLetProject);
   ASSERT_TRUE(rt);
   {
     auto options = quiet_options();
@@ -72,7 +72,7 @@ TEST(LetRealtime, RealTimeGivesTheVirtualClocksValuesScanByScan) {
     reasons += s.overruns + s.late_reads + s.skipped;
   }
 
-  auto vt = load_test_project(kProject);
+  auto vt = load_test_project(kLetProject);
   ASSERT_TRUE(vt);
   VirtualClock clock(*vt);
   clock.run_until(2'000'000'000);
