@@ -2,15 +2,17 @@
 # Runs the libFuzzer targets for a bounded time each (default 60 s), under
 # AddressSanitizer and UndefinedBehaviorSanitizer, from the committed seed
 # corpus (copied: libFuzzer adds what it finds to its first corpus folder).
-# Usage: scripts/fuzz.sh [SECONDS] [BUILD_DIR]. A crash, leak, sanitizer
-# report or failed check stops with a non-zero status and leaves the input in
-# BUILD_DIR/fuzz-artifacts/ (rerun it: BUILD_DIR/fuzz/<target> <file>).
+# Usage: scripts/fuzz.sh [SECONDS] [BUILD_DIR] [CMAKE_ARGS...] (the extra
+# arguments go to the configure step, e.g. -DSYNCPLC_UNITY=ON). A crash, leak,
+# sanitizer report or failed check stops with a non-zero status and leaves the
+# input in BUILD_DIR/fuzz-artifacts/ (rerun it: BUILD_DIR/fuzz/<target> <file>).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
 dir=${2:-build-fuzz}
+shift $(( $# < 2 ? $# : 2 ))
 SYNCPLC_TARGETS="fuzz_modbus_request fuzz_modbus_reply" bash scripts/build.sh "$dir" -DCMAKE_CXX_COMPILER=clang++ \
-  -DSYNCPLC_FUZZ=ON -DSYNCPLC_SANITIZE=address,undefined -DSYNCPLC_TESTS=OFF -DSYNCPLC_BENCH=OFF
+  -DSYNCPLC_FUZZ=ON -DSYNCPLC_SANITIZE=address,undefined -DSYNCPLC_TESTS=OFF -DSYNCPLC_BENCH=OFF "$@"
 mkdir -p "$dir/fuzz-artifacts"
 # The server's request path, then the client driver's reply path.
 for target in modbus_request modbus_reply; do

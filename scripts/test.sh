@@ -17,13 +17,15 @@ bash scripts/build_hmi.sh --browser  # the HMI and chromium for its browser test
 jobs=$(nproc)
 
 echo "== release build"
+# Every build here is from scratch, so in unity batches (-DSYNCPLC_UNITY=ON:
+# half the compile time, docs/benchmarks.md section 13).
 # Line tables only (-g1): stack traces keep their lines, the build takes 30 %
 # less time than with full debug information.
-bash scripts/build.sh build -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG"
+bash scripts/build.sh build -DSYNCPLC_UNITY=ON -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG"
 (cd build && ctest --output-on-failure -j "$jobs")
 
 echo "== AddressSanitizer + UndefinedBehaviorSanitizer"
-bash scripts/build.sh build-asan -DSYNCPLC_SANITIZE=address,undefined -DSYNCPLC_BENCH=OFF
+bash scripts/build.sh build-asan -DSYNCPLC_UNITY=ON -DSYNCPLC_SANITIZE=address,undefined -DSYNCPLC_BENCH=OFF
 # Not hmi.fixture_pages: the HMI against a JavaScript fixture, no C++ in it.
 (cd build-asan && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
    ctest --output-on-failure -j "$jobs" -E '^hmi[.]fixture_pages$')
@@ -31,9 +33,9 @@ bash scripts/build.sh build-asan -DSYNCPLC_SANITIZE=address,undefined -DSYNCPLC_
 echo "== ThreadSanitizer"
 # Only what the threaded and CLI tests need: the other suites do not run here.
 SYNCPLC_TARGETS="syncplc test_realtime test_cli test_store test_io test_web" \
-  bash scripts/build.sh build-tsan -DSYNCPLC_SANITIZE=thread -DSYNCPLC_BENCH=OFF
+  bash scripts/build.sh build-tsan -DSYNCPLC_UNITY=ON -DSYNCPLC_SANITIZE=thread -DSYNCPLC_BENCH=OFF
 (cd build-tsan && TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
    ctest --output-on-failure -j "$jobs" -L 'threaded|cli|peers')
 echo "== libFuzzer: the Modbus request and reply paths"
-bash scripts/fuzz.sh 60 build-fuzz
+bash scripts/fuzz.sh 60 build-fuzz -DSYNCPLC_UNITY=ON
 echo "== all test runs passed"
