@@ -1,14 +1,15 @@
 #!/usr/bin/env bash
 # Installs what is needed, builds, and runs every test three times:
 #   1. the release build (RelWithDebInfo), all tests;
-#   2. AddressSanitizer + UndefinedBehaviorSanitizer, all tests;
+#   2. AddressSanitizer + UndefinedBehaviorSanitizer, all tests but those in
+#      which none of syncplc's C++ runs (label "no_cxx");
 #   3. ThreadSanitizer, the tests of threaded parts (label "threaded": the real-time
 #      runner, the store, the modbus_client driver's device threads, the HTTP server), the CLI
 #      tests and the peer tests (label "peers": pymodbus, mbpoll and the
-#      simulated drives against the real `syncplc run`);
+#      simulated drives against the real `syncplc run`), "no_cxx" left out;
 #   4. the libFuzzer harnesses of the Modbus server's request path and the
-#      modbus_client driver's reply path, 60 s each under ASan + UBSan
-#      (scripts/fuzz.sh; built with clang).
+#      modbus_client driver's reply path, 60 s each (side by side) under ASan +
+#      UBSan (scripts/fuzz.sh; built with clang).
 # Any failure stops the script with a non-zero status.
 set -euo pipefail
 cd "$(dirname "$0")/.."
