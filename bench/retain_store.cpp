@@ -15,6 +15,7 @@
 #include <fmt/format.h>
 
 #include "runtime/core/monotonic_clock.hpp"
+#include "runtime/core/virtual_clock.hpp"
 #include "runtime/project/loader.hpp"
 #include "runtime/store/retain.hpp"
 
@@ -50,12 +51,16 @@ Result measure(const std::string& dir, const char* sync, int n, int cycles, int 
     std::exit(2);
   }
   Task& t = *p.tasks[0];
+  VirtualClock clock(p);
   std::vector<double> ms;
   std::uint64_t k = 0;
   for (int c = 0; c < cycles; ++c) {
     // Change `changed_per_mille` of the values (a different slice each cycle).
     const int step = changed_per_mille >= 1000 ? 1 : 1000 / std::max(changed_per_mille, 1);
-    for (int i = c % step; i < n; i += step) t.image[static_cast<std::size_t>(i)].raw = ++k;
+    // Written straight into the image between two scans of the virtual
+    // clock, the task's one thread (image_access.hpp).
+    auto& image = t.image(clock.image_access());
+    for (int i = c % step; i < n; i += step) image[static_cast<std::size_t>(i)].raw = ++k;
     t.publish();
     const std::int64_t t0 = monotonic_ns();
     job.run(*db, t0, false);

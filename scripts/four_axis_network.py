@@ -8,9 +8,17 @@ historian's per-scan points of e_true (the same definitions as
 `syncplc sim --metrics`, runtime/project/metrics.hpp) and the age of each
 drive's data.
 
+While the PLC runs, the launcher is its operator (docs/four-axis-network.md,
+"The safe reaction"): when the table trips (a link lost for the project's
+stale tolerance, a drive fault), it holds `restart` (coil 1 of the
+project's Modbus map) once every link is ok again, until the four drives
+move again, as an operator at the HMI would; each trip and its clearing is
+printed. The metrics then count the motion after the last restart.
+--no-restart leaves a trip latched.
+
     scripts/four_axis_network.py [--syncplc build/syncplc] [-d 6.283185s]
         [--project projects/four_axis_network/sync.yaml] [--set inst.param=value]...
-        [--metrics out.json] [--keep DIR]
+        [--metrics out.json] [--keep DIR] [--no-restart]
 
 Only Debian's /usr/bin/python3 sees python3-pymodbus, which the drives need.
 """
@@ -21,9 +29,11 @@ import math
 import os
 import signal
 import sqlite3
+import re
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -73,18 +83,89 @@ def series(db, tag):
     return out
 
 
+class Operator:
+    """Watches the PLC's Modbus map (discrete inputs 0 tripped, 1 moving,
+    2 links_ok) and clears a trip as the docs tell an operator to: hold
+    `restart` (coil 1) TRUE once every link is ok, until the drives move."""
+
+    def __init__(self, port, restart):
+        import logging
+        from pymodbus.client import ModbusTcpClient
+        # pymodbus logs every refused connection: the PLC's server closes
+        # before its process ends, and the watch below says what matters.
+        logging.getLogger("pymodbus").setLevel(logging.CRITICAL)
+        self.c = ModbusTcpClient("127.0.0.1", port=port, timeout=2, retries=0, retry_on_empty=False)
+        self.restart = restart
+        self.trips = self.cleared = 0
+        self.stopping = threading.Event()
+        self.thread = threading.Thread(target=self.watch, daemon=True)
+        self.thread.start()
+
+    def watch(self):
+        holding = False
+        was_tripped = False
+        while not self.stopping.wait(0.02):
+            try:
+                if not self.c.connected and not self.c.connect():
+                    self.stopping.wait(0.2)  # the PLC not (or no longer) serving: ask again, slowly
+                    continue
+                r = self.c.read_discrete_inputs(0, 3)
+                if r.isError():
+                    continue
+                tripped, moving, links_ok = r.bits[:3]
+                if tripped and not was_tripped:
+                    self.trips += 1
+                    print("launcher: the table tripped (trip %d)%s" % (self.trips, "" if self.restart else
+                          "; --no-restart: it stays latched"), flush=True)
+                was_tripped = tripped
+                if not self.restart:
+                    continue
+                if tripped and links_ok and not holding:
+                    holding = not self.c.write_coil(1, True).isError()
+                    if holding:
+                        print("launcher: every link ok again: holding restart", flush=True)
+                elif holding and moving and not tripped:
+                    if not self.c.write_coil(1, False).isError():
+                        holding = False
+                        self.cleared += 1
+                        print("launcher: moving again: restart released", flush=True)
+            except Exception as e:  # the PLC went away (its run ended): nothing left to operate
+                if not self.stopping.is_set():
+                    print("launcher: Modbus: %s" % e, flush=True)
+                self.c.close()
+
+    def stop(self):
+        self.stopping.set()
+        self.thread.join(5)
+        self.c.close()
+
+
+def motion_start(moving):
+    """The first scan of the last stretch of motion: after a trip and its
+    restart, the reference starts again from its beginning."""
+    t0 = None
+    last = False
+    for t in sorted(moving):
+        m = moving[t] > 0.5
+        if m and not last:
+            t0 = t
+        last = m
+    return t0
+
+
 def metrics(db_path, duration):
     """Track-RSME, Sync-RSME, per-axis max and RMS over the first `duration`
-    of scans with `moving` TRUE; the data ages' statistics over the same scans."""
+    of scans with `moving` TRUE (after the last restart, when the table
+    tripped); the data ages' statistics over the same scans."""
     db = sqlite3.connect(db_path)
     moving = series(db, "moving")["moving"]
     errors = series(db, "e_true")
     labels = ["e_true[%d]" % k for k in range(1, 5)]
-    times = sorted(t for t, v in moving.items() if v > 0.5)
-    if not times:
+    t0 = motion_start(moving)
+    if t0 is None:
         raise RuntimeError("the drives never ran: no scan with moving TRUE")
+    times = sorted(t for t, v in moving.items() if v > 0.5 and t >= t0)
     # periods: each point is one scan; the first `duration` of motion
-    t0 = times[0]
     times = [t for t in times if t - t0 < duration * 1e9 - 1e3 and all(t in errors[l] for l in labels)]
     n = len(times)
     track = sync = 0.0
@@ -141,6 +222,7 @@ def main():
     ap.add_argument("--set", action="append", default=[], dest="sets")
     ap.add_argument("--metrics", help="write the metrics as JSON here")
     ap.add_argument("--keep", help="keep the PLC database and the outputs in this directory")
+    ap.add_argument("--no-restart", action="store_true", help="leave a trip latched (the launcher does not clear it)")
     a = ap.parse_args()
     duration = duration_s(a.duration)
     work = a.keep or tempfile.mkdtemp(prefix="four-axis-network-")
@@ -166,8 +248,21 @@ def main():
             cmd += ["--set", s]
         print(" ".join(cmd), flush=True)
         env = dict(os.environ, XDG_STATE_HOME=work)
+        operator = None
         with open(os.path.join(work, "run.log"), "w") as log:
-            rc = subprocess.call(cmd, stdout=log, stderr=subprocess.STDOUT, env=env)
+            plc = subprocess.Popen(cmd, stdout=log, stderr=subprocess.PIPE, text=True, env=env)
+            drives.append(plc)  # stopped with the drives on Ctrl-C or an error
+            for line in plc.stderr:
+                log.write(line)
+                log.flush()
+                m = re.search(r"modbus: listening on 127\.0\.0\.1:(\d+)", line)
+                if m and operator is None:
+                    operator = Operator(int(m.group(1)), not a.no_restart)
+            rc = plc.wait()
+        if operator:
+            operator.stop()
+            if operator.trips:
+                print("launcher: %d trip(s), %d cleared by restart" % (operator.trips, operator.cleared))
         with open(os.path.join(work, "run.log")) as log:
             text = log.read()
         print(text[-3000:])
@@ -177,6 +272,7 @@ def main():
     finally:
         stop(drives)
     m = metrics(db, duration)
+    m["trips"] = operator.trips if operator else 0
     print("Track-RSME %.6g rad, Sync-RSME %.6g rad over %d scans" % (m["track_rsme"], m["sync_rsme"], m["samples"]))
     for ax in m["axes"]:
         print("  axis %d: max |e| %.4g rad, RMS %.4g rad, max |eps| %.4g rad"

@@ -6,7 +6,7 @@ set -euo pipefail
 # chromium are installed by scripts/build_hmi.sh, called by demo.sh and test.sh.
 PACKAGES=(
   build-essential cmake ninja-build pkg-config git
-  libyaml-cpp-dev libcli11-dev libfmt-dev libspdlog-dev nlohmann-json3-dev
+  libyaml-dev libcli11-dev libfmt-dev libspdlog-dev nlohmann-json3-dev
   libeigen3-dev libmodbus-dev libsqlite3-dev libsqlitecpp-dev sqlite3 libsodium-dev
   libcpp-httplib-dev libssl-dev  # the HTTP API (runtime/web); OpenSSL for its TLS
   libgtest-dev libgmock-dev libbenchmark-dev

@@ -22,6 +22,9 @@ silent (docs/drives.md has the register map and the commands):
     silent on|off        accept connections and requests but answer nothing
     garbage MODE|off     answer every request with a malformed reply: bytes, tid,
                          unit, function, length, short, oversized, exception
+    delay MS [COUNT]     the next COUNT (default 1) replies leave MS ms late (a
+                         drive that stalls; a reply whose connection closed
+                         meanwhile is dropped)
     fault CODE [persist] a drive fault: Fault reaction active, then Fault, error
                          code 603Fh = CODE; persist: a fault reset does not clear
                          it until "fault clear"

@@ -80,6 +80,7 @@ inline constexpr int kMaxInputs = 8;
 inline constexpr int kExtOut = kMaxInputs;  // pin index of OUT
 
 inline void add_extensible_pins(BlockTypeInfo& info, TypeClass cls, const std::string& what) {
+  info.rewire = true;  // FoldBlock::rewire_from: an operand wired in or out by an online change takes part at once
   for (int i = 1; i <= kMaxInputs; ++i) {
     const bool req = i <= 2;
     info.pins.push_back(input("IN" + std::to_string(i), cls)
@@ -108,6 +109,7 @@ class FoldBlock final : public Block {
 
  public:
   explicit FoldBlock(BlockSetup& s) : ins_(s) {}
+  void rewire_from(const Block& fresh) noexcept override { ins_ = static_cast<const FoldBlock&>(fresh).ins_; }
   void execute(ScanContext&) noexcept override {
     V acc = in<V>(ins_.idx[0]);
     for (int k = 1; k < ins_.count; ++k) acc = Op::apply(acc, in<V>(ins_.idx[k]));

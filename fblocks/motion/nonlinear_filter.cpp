@@ -48,6 +48,16 @@ class NonlinearFilter final : public Block {
         start_at_r_(s.param<bool>("start_at_r")),
         period_s_(static_cast<double>(s.task_period_ns()) * 1e-9) {}
 
+  // r_prev_ is kept whichever way r_dot comes, so a derived r_dot is right
+  // from the first scan after an online change unwires it.
+  // And the sampling time of a re-timed task: the state (x, x_dot) goes on
+  // at the new period (the next scan's dt is the time since the last one).
+  void rewire_from(const Block& fresh) noexcept override {
+    const auto& f = static_cast<const NonlinearFilter&>(fresh);
+    derive_r_dot_ = f.derive_r_dot_;
+    period_s_ = f.period_s_;
+  }
+
   void execute(ScanContext& ctx) noexcept override {
     const double T = period_s_;
     const double dt = ctx.dt_ns > 0 ? static_cast<double>(ctx.dt_ns) * 1e-9 : T;
@@ -136,9 +146,9 @@ class NonlinearFilter final : public Block {
     out<bool>(kError, error);
   }
 
-  const bool derive_r_dot_;
+  bool derive_r_dot_;  // r_dot unconnected (rewire_from: an online change may connect it)
   const bool start_at_r_;
-  const double period_s_;
+  double period_s_;  // the task period (rewire_from: a re-timed task)
   FilterState state_{};
   FilterBounds last_{};
   double r_prev_ = 0;
@@ -216,6 +226,7 @@ void register_nonlinear_filter(BlockRegistry& r) {
       parameter("start_at_r", IecType::BOOL).init("TRUE")
           .doc("TRUE: the first scan starts at x = r, x_dot = r_dot (tracking at once); FALSE: at (x0, v0)"),
   };
+  t.rewire = true;  // NonlinearFilter::rewire_from: r_dot connected or disconnected online
   t.create = [](BlockSetup& s) -> std::unique_ptr<Block> { return std::make_unique<NonlinearFilter>(s); };
   r.add(std::move(t));
 }

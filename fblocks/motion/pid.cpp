@@ -38,6 +38,8 @@ class PdController final : public Block {
     const auto& f = static_cast<const PdController&>(fresh);
     kp_ = f.kp_, kd_ = f.kd_, lo_ = f.lo_, hi_ = f.hi_;
   }
+  // v connected or disconnected by an online change (e(j-1) is kept either way).
+  void rewire_from(const Block& fresh) noexcept override { use_v_ = static_cast<const PdController&>(fresh).use_v_; }
   bool tune(int param, double v) noexcept override {
     switch (param) {
       case kPdKp: kp_ = v; return true;
@@ -55,8 +57,8 @@ class PdController final : public Block {
       ed = in<double>(kPdVd) - in<double>(kPdV);
     } else {
       ed = first_ ? 0.0 : backward_difference(e, e_prev_, ctx.dt_ns);
-      e_prev_ = e;
     }
+    e_prev_ = e;  // also with v: an online change that unwires v differentiates from the right e(j-1)
     first_ = false;
     bool clipped = false;
     const double tau = limit(kp_ * e + kd_ * ed, lo_, hi_, &clipped);
@@ -274,6 +276,7 @@ void register_pid_controllers(BlockRegistry& r) {
         parameter("out_max", IecType::LREAL).init("1").unit("PWM").tunable().doc("upper output limit"),
     };
     t.create = make_pd;
+    t.rewire = true;  // PdController::rewire_from
     r.add(std::move(t));
   }
   {

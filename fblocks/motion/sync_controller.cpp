@@ -101,6 +101,9 @@ class SyncController final : public Block {
     return true;
   }
 
+  // v connected or disconnected by an online change (e(j-1) is kept either way).
+  void rewire_from(const Block& fresh) noexcept override { c_.use_v = static_cast<const SyncController&>(fresh).c_.use_v; }
+
   void execute(ScanContext& ctx) noexcept override {
     const double a_d = in<double>(kAd);
     const double v_d = in<double>(kVd);
@@ -110,8 +113,8 @@ class SyncController final : public Block {
       ed = v_d - in<double>(kV);
     } else {
       ed = first_ ? 0.0 : backward_difference(e, e_prev_, ctx.dt_ns);
-      e_prev_ = e;
     }
+    e_prev_ = e;  // also with v: an online change that unwires v differentiates from the right e(j-1)
     first_ = false;
 
     const bool predict = c_.rx_delay == 1 && c_.compensation;
@@ -296,6 +299,7 @@ void register_sync_controller(BlockRegistry& r) {
           .doc("scans by which e_rx lags: 1 = network (eq. 13), 0 = current values (no prediction)"),
   };
   t.create = make_sync;
+  t.rewire = true;  // SyncController::rewire_from
   r.add(std::move(t));
 }
 

@@ -67,6 +67,20 @@ class TransientSync final : public Block {
         pb_(n_), pb_key_(n_), zs_(n_), zs_key_(n_), ref_(n_), steps_(n_), count_(n_), arrival_(n_), flags_(n_),
         next_(n_), pred_(n_) {}
 
+  // r_prev_ is kept whichever way r_dot comes, so a derived r_dot is right
+  // from the first scan after an online change unwires it.
+  // And the sampling time of a re-timed task: counts and locks are in
+  // samples of the old period, so none carries (as after a reset); the
+  // prepared bounds are keyed with T and are computed again.
+  void rewire_from(const Block& fresh) noexcept override {
+    const auto& f = static_cast<const TransientSync&>(fresh);
+    derive_r_dot_ = f.derive_r_dot_;
+    if (period_s_ != f.period_s_) {
+      period_s_ = f.period_s_;
+      for (auto& fl : flags_) fl &= static_cast<std::uint16_t>(~(kSame | kCarry | kLocked | kPredicted));
+    }
+  }
+
   void execute(ScanContext& ctx) noexcept override {
     const double T = period_s_;  // the filters' sampling time
     const double dt = ctx.dt_ns > 0 ? static_cast<double>(ctx.dt_ns) * 1e-9 : T;
@@ -502,9 +516,9 @@ class TransientSync final : public Block {
 
   const std::uint32_t n_;
   const SyncRule rule_;
-  const bool derive_r_dot_;
+  bool derive_r_dot_;  // r_dot unconnected (rewire_from: an online change may connect it)
   const bool start_at_r_;
-  const double period_s_;
+  double period_s_;  // the task period (rewire_from: a re-timed task)
   // Per-axis state and per-scan scratch, sized once (structure of arrays).
   std::vector<double> x_, v_, r_prev_, vmin_prev_, vmax_prev_;
   std::vector<FilterBounds> nom_;   // nominal bounds of this scan

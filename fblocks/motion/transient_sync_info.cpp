@@ -125,6 +125,7 @@ void register_transient_sync(BlockRegistry& r) {
       parameter("start_at_r", IecType::BOOL).init("TRUE")
           .doc("TRUE: the first scan starts every filter at x = r, x_dot = r_dot; FALSE: at (x0, v0)"),
   };
+  t.rewire = true;  // TransientSync::rewire_from: r_dot connected or disconnected online
   t.create = [](BlockSetup& s) -> std::unique_ptr<Block> {
     const auto n = s.param<std::int32_t>("n");
     const auto rule = s.param<std::int32_t>("rule");

@@ -45,8 +45,8 @@ test('file:line:col in errors, strings or objects', () => {
 });
 
 test('a change report and the versions', () => {
-  const r = normalizeProjectReport({ ok: true, version: 4, report: { kept: ['a', { name: 'b' }], retuned: [], new: ['c'], removed: [], summary: 's' } });
-  assert.deepEqual(r.report, { kept: ['a', 'b'], retuned: [], new: ['c'], removed: [], summary: 's' });
+  const r = normalizeProjectReport({ ok: true, version: 4, report: { kept: ['a', { name: 'b' }], retuned: [], rewired: ['d'], new: ['c'], removed: [], summary: 's' } });
+  assert.deepEqual(r.report, { kept: ['a', 'b'], retuned: [], rewired: ['d'], new: ['c'], removed: [], summary: 's' });
   assert.equal(r.version, 4);
   const v = normalizeVersions({ versions: [{ version: 2, outcome: 'rejected', errors: ['x.yaml:1:1: bad'] }] })[0];
   assert.equal(v.errors[0].where.file, 'x.yaml');
@@ -70,7 +70,7 @@ test('the server as runtime/web writes it: _ns keys, jitter, element type with i
   // A load's answer without "version" (runtime/web/api_projects.cpp sends none): null, shown as "Loaded."
   const load = normalizeProjectReport({ ok: true, summary: 's', errors: [], lines: [], report: { kept: ['a'], retuned: ['b'], new: [], removed: [] } });
   assert.equal(load.version, null);
-  assert.deepEqual(load.report, { kept: ['a'], retuned: ['b'], new: [], removed: [], summary: 's' });
+  assert.deepEqual(load.report, { kept: ['a'], retuned: ['b'], rewired: [], new: [], removed: [], summary: 's' });
   assert.deepEqual(s.tasks[0].exec, { last: 5, min: 1, max: 9, mean: 4, p99: 8, histogram: { boundsNs: [2000, 4000], counts: [1, 2] } });
   assert.equal(s.tasks[0].jitter.p99, 6);
   assert.deepEqual(s.tasks[0].jitter.histogram.counts, [3]);

@@ -36,7 +36,7 @@ void print_report(const json& a) {
     for (const auto& l : a["lines"]) std::cout << "  " << (l.is_string() ? l.get<std::string>() : l.dump()) << "\n";
     return;
   }
-  for (const char* k : {"kept", "retuned", "new", "removed"})
+  for (const char* k : {"kept", "retuned", "rewired", "new", "removed"})
     if (report.contains(k) && report[k].is_array() && !report[k].empty())
       std::cout << "  " << k << std::string(9 - std::string(k).size(), ' ') << names(report[k]) << "\n";
 }

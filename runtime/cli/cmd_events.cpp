@@ -7,10 +7,12 @@
 
 #include "runtime/cli/commands.hpp"
 #include "runtime/cli/event_query.hpp"
-#include "runtime/cli/plc_store.hpp"
+#include "runtime/plc/store_link.hpp"
 #include "runtime/store/event_log.hpp"
 
 namespace syncplc::cli {
+using namespace plc;  // the PLC instance's database paths and stored versions (runtime/plc)
+
 namespace {
 
 // --follow looks for new rows this often: a reader's poll costs the writer nothing (WAL).

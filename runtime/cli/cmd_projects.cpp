@@ -9,11 +9,13 @@
 #include <iostream>
 
 #include "runtime/cli/commands.hpp"
-#include "runtime/cli/plc_store.hpp"
+#include "runtime/plc/store_link.hpp"
 #include "runtime/store/database.hpp"
 #include "runtime/store/project_store.hpp"
 
 namespace syncplc::cli {
+using namespace plc;  // the PLC instance's database paths and stored versions (runtime/plc)
+
 namespace {
 
 // Wall time in UTC, to the second.

@@ -16,9 +16,11 @@
 
 #include "runtime/cli/commands.hpp"
 #include "runtime/cli/instance_file.hpp"
-#include "runtime/cli/project_versions.hpp"
+#include "runtime/plc/project_versions.hpp"
 
 namespace syncplc::cli {
+using namespace plc;  // the PLC instance's database paths and stored versions (runtime/plc)
+
 
 int cmd_reload(const std::string& project, const std::string& pid_file, std::int64_t version,
                const OnlineOptions& online) {

@@ -6,10 +6,12 @@
 #include <iostream>
 
 #include "runtime/cli/commands.hpp"
-#include "runtime/cli/plc_store.hpp"
+#include "runtime/plc/store_link.hpp"
 #include "runtime/store/retain.hpp"
 
 namespace syncplc::cli {
+using namespace plc;  // the PLC instance's database paths and stored versions (runtime/plc)
+
 
 int cmd_reset(const std::string& kind, const std::string& project, const std::string& db) {
   store::StoreSettings settings;

@@ -55,8 +55,8 @@ int cmd_sim(const std::string& project, const std::string& duration, std::option
   VirtualClock clock(p);
   MotionMetrics metrics(r.metrics);
   clock.on_time_point([&](std::int64_t t) {
-    if (out.is_open()) write_trace_row(out, p, t);
-    if (metrics.enabled()) metrics.sample(p, t, clock.scans(metrics.task()));
+    if (out.is_open()) write_trace_row(out, p, clock.image_access(), t);
+    if (metrics.enabled()) metrics.sample(p, clock.image_access(), t, clock.scans(metrics.task()));
   });
 
   // Progress is shown only on a terminal; it never changes what is simulated.

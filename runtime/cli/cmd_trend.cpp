@@ -6,11 +6,13 @@
 #include <limits>
 
 #include "runtime/cli/commands.hpp"
-#include "runtime/cli/plc_store.hpp"
+#include "runtime/plc/store_link.hpp"
 #include "runtime/cli/wall_time.hpp"
 #include "runtime/store/log_queries.hpp"
 
 namespace syncplc::cli {
+using namespace plc;  // the PLC instance's database paths and stored versions (runtime/plc)
+
 
 int cmd_trend(const TrendOptions& o) {
   const std::string path = o.db.empty() ? default_database_path() : o.db;

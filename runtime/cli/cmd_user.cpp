@@ -19,11 +19,13 @@
 #include <optional>
 
 #include "runtime/cli/commands.hpp"
-#include "runtime/cli/plc_store.hpp"
+#include "runtime/plc/store_link.hpp"
 #include "runtime/store/database.hpp"
 #include "runtime/web/users.hpp"
 
 namespace syncplc::cli {
+using namespace plc;  // the PLC instance's database paths and stored versions (runtime/plc)
+
 namespace {
 
 int refuse(const std::string& why) {

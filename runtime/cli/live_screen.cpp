@@ -272,7 +272,7 @@ LiveView LiveScreen::view(Program& p, double elapsed_s, const modbus::Server* se
     r.name = t.config().name;
     r.period_ns = t.config().period_ns;
     r.stats = t.stats.summary();
-    if (supervisor && supervisor->hung(i)) r.state = "HUNG";
+    if (supervisor && supervisor->hung(p.tasks[i].get())) r.state = "HUNG";
     else if (t.stopped()) r.state = "STOP";
     v.tasks.push_back(std::move(r));
   }

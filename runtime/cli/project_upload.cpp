@@ -1,6 +1,5 @@
 #include "runtime/cli/project_upload.hpp"
-
-#include <yaml-cpp/yaml.h>
+#include "runtime/project/yaml_tree.hpp"
 
 #include <filesystem>
 #include <fstream>
@@ -20,27 +19,18 @@ std::optional<std::string> read_file(const fs::path& p) {
   return ss.str();
 }
 
-// "name:line:col" of a YAML node, 1-based as the loader's messages are.
-std::string where(const std::string& name, const YAML::Node& n) {
-  const YAML::Mark m = n.Mark();
-  return name + ":" + std::to_string(m.line + 1) + ":" + std::to_string(m.column + 1);
-}
-
-// The include entries of one file's text: (entry node, file name).
-std::vector<std::pair<YAML::Node, std::string>> includes_of(const std::string& text) {
-  std::vector<std::pair<YAML::Node, std::string>> out;
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::Exception&) {
-    return out;  // the PLC's check says where the file is broken
-  }
-  if (!root.IsMap() || !root["include"]) return out;
-  const YAML::Node inc = root["include"];
-  if (inc.IsScalar()) out.emplace_back(inc, inc.Scalar());
-  if (inc.IsSequence())
-    for (const auto& i : inc)
-      if (i.IsScalar()) out.emplace_back(i, i.Scalar());
+// The include entries of one file's text: (entry's place, file name). A file
+// the loader cannot read gives none: the PLC's check says where it is broken.
+std::vector<std::pair<SourceLoc, std::string>> includes_of(const std::string& name, const std::string& text) {
+  std::vector<std::pair<SourceLoc, std::string>> out;
+  Diagnostics diags;
+  const ConfigNode root = read_yaml_string(text, name, diags);
+  const ConfigNode* inc = diags.empty() && root.is_map() ? root.find("include") : nullptr;
+  if (!inc) return out;
+  if (inc->is_scalar()) out.emplace_back(inc->loc, inc->scalar);
+  if (inc->is_list())
+    for (const auto& i : inc->items)
+      if (i.is_scalar()) out.emplace_back(i.loc, i.scalar);
   return out;
 }
 
@@ -66,14 +56,14 @@ std::optional<ProjectUpload> collect_project(const std::string& main_path, std::
     const std::string name = todo.back();
     todo.pop_back();
     const fs::path dir = fs::path(name).parent_path();
-    auto includes = includes_of(up.files[name]);
+    auto includes = includes_of(name, up.files[name]);
     for (auto it = includes.rbegin(); it != includes.rend(); ++it) {
-      const auto& [node, file] = *it;
+      const auto& [where, file] = *it;
       const fs::path rel = fs::path(file).is_absolute() ? fs::path(file).lexically_normal().lexically_relative(root_abs)
                                                         : (dir / file).lexically_normal();
       const std::string rel_name = rel.generic_string();
       if (rel.empty() || rel_name == ".." || rel_name.rfind("../", 0) == 0) {
-        *error = where(name, node) + ": include '" + file + "' is outside the project's directory " +
+        *error = where.text() + ": include '" + file + "' is outside the project's directory " +
                  (root.empty() ? std::string(".") : root.string()) +
                  ": only files under the main file's directory are sent to the PLC";
         return std::nullopt;
@@ -81,7 +71,7 @@ std::optional<ProjectUpload> collect_project(const std::string& main_path, std::
       if (up.files.count(rel_name)) continue;
       auto sub = read_file(root / rel);
       if (!sub) {
-        *error = where(name, node) + ": include '" + file + "': cannot open file " + (root / rel).string();
+        *error = where.text() + ": include '" + file + "': cannot open file " + (root / rel).string();
         return std::nullopt;
       }
       up.files[rel_name] = std::move(*sub);

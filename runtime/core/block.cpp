@@ -35,6 +35,7 @@ std::string_view event_kind_name(EventKind k) {
     case EventKind::DriverFault: return "driver-fault";
     case EventKind::Info: return "info";
     case EventKind::ScanHung: return "scan-hung";
+    case EventKind::ScanLate: return "overrun";
   }
   return "?";
 }

@@ -113,6 +113,14 @@ class Block {
   // variable, bumplessly (the output must not jump because a gain changed).
   // Runs on the task's thread between two scans: no allocation, no I/O.
   virtual void retune_from(const Block& fresh) noexcept { (void)fresh; }
+  // Online change of an instance whose wiring changed where its factory
+  // read it (BlockSetup::connected: an optional operand wired in, a velocity
+  // input that replaces a derived one): `fresh` is a new instance of the same
+  // type built with the new wiring; take every choice the factory made from
+  // the wiring and keep every state variable. Only for types that declare
+  // BlockTypeInfo::rewire; the others are re-created (instance_signature.hpp).
+  // Runs on the task's thread between two scans: no allocation, no I/O.
+  virtual void rewire_from(const Block& fresh) noexcept { (void)fresh; }
   // A connected tuning input <param>_in changed to `value` (already finite and
   // within the ParamDecl range): take it bumplessly, through the same code as
   // retune_from, and return true; return false to refuse it (a value invalid
@@ -175,6 +183,11 @@ struct BlockTypeInfo {
   // connection loop through this block is allowed.
   bool unit_delay = false;
   BlockFactory create;
+  // Block::rewire_from takes what the factory read of the wiring from a
+  // fresh instance: an online change that rewires such a pin keeps the
+  // instance's state (otherwise it re-creates the instance). Last, so that
+  // types written as one brace list of the fields before it stay as they are.
+  bool rewire = false;
 
   int pin_index(std::string_view pin) const;
   int param_index(std::string_view param) const;
@@ -221,6 +234,10 @@ enum class EventKind : std::uint8_t {
   DriverFault,
   Info,
   ScanHung,         // raised by the supervisor: a scan ran past its limit and has not ended
+  // An overrun whose cause is a late start: the scan was shorter than its
+  // period but began so late that it ended after the next release (value:
+  // how late it started, s). Logged as kind "overrun" like ScanOverrun.
+  ScanLate,
 };
 std::string_view event_kind_name(EventKind k);
 

@@ -80,8 +80,7 @@ struct DriverBinding {
 // the store thread reads it from the snapshots like a tag.
 struct RetainedInstance {
   std::string name;
-  std::string type;             // block type name
-  std::uint32_t layout = 1;     // Block::retain_layout()
+  std::string identity;         // InstanceSignature::state_identity(): "CTU<INT> state 1 (2 cells)"
   std::uint16_t task = 0;
   std::uint32_t position = 0;   // in the task's execution order
   std::uint32_t cell = 0;
@@ -230,8 +229,9 @@ class Program {
   void stop_drivers();
   // The `safe:` values of the tags bound to a driver's output channels.
   std::vector<SafeOutput> safe_outputs(const DriverBinding& d) const;
-  // Virtual-time tools (single thread): the live value in a task's image.
-  Cell* live_cell(const CellRef& r) const { return &tasks[r.task]->image[r.cell]; }
+  // The live value in a task's image: for the virtual clock's tools (one
+  // thread is every task's) and what prepares a program before it runs.
+  Cell* live_cell(const CellRef& r, ImageAccess a) const { return &tasks[r.task]->image(a)[r.cell]; }
 
  private:
   mutable std::mutex forces_mutex_;  // the registry below; never taken by a scan

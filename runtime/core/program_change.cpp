@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cstring>
+#include <limits>
+#include <optional>
 #include <utility>
 
 namespace syncplc {
@@ -10,6 +12,7 @@ std::string_view instance_fate_name(InstanceFate f) {
   switch (f) {
     case InstanceFate::Kept: return "kept";
     case InstanceFate::Retuned: return "retuned";
+    case InstanceFate::Rewired: return "rewired";
     case InstanceFate::New: return "new";
     case InstanceFate::Removed: return "removed";
   }
@@ -41,7 +44,7 @@ std::size_t ProgramChange::count(InstanceFate f) const {
 
 void TaskHandover::mirror(const Cell* from_image, const SnapshotStamp& s) noexcept {
   if (!to) return;
-  Cell* dst = to->image.data();
+  Cell* dst = to->image(ImageAccess{}).data();
   for (const auto& c : owned) std::memcpy(static_cast<void*>(dst + c.to), from_image + c.from, c.n * sizeof(Cell));
   to->publish_for_predecessor(s);
 }
@@ -58,7 +61,7 @@ std::uint64_t TaskHandover::apply_successor_writes(Cell* from_image) noexcept {
       continue;
     }
     if (w.cell < write_back.size() && write_back[w.cell] != kDroppedCell) from_image[write_back[w.cell]] = w.value;
-    else to->image[w.cell] = w.value;
+    else to->image(ImageAccess{})[w.cell] = w.value;
     ++n;
   }
   return n;
@@ -66,8 +69,8 @@ std::uint64_t TaskHandover::apply_successor_writes(Cell* from_image) noexcept {
 
 void TaskHandover::perform() noexcept {
   if (to && from) {
-    Cell* dst = to->image.data();
-    const Cell* src = from->image.data();
+    Cell* dst = to->image(ImageAccess{}).data();
+    const Cell* src = from->image(ImageAccess{}).data();
     for (const auto& c : owned) std::memcpy(static_cast<void*>(dst + c.to), src + c.from, c.n * sizeof(Cell));
     for (const auto& c : pins) std::memcpy(static_cast<void*>(dst + c.to), src + c.from, c.n * sizeof(Cell));
     // Writes acknowledged to the old task and not yet applied: into the new
@@ -80,10 +83,31 @@ void TaskHandover::perform() noexcept {
     // Swapped, not moved: the fresh instance the loader made goes to the old
     // program and is destroyed with it by the main thread (no free here).
     for (const auto& b : blocks) {
+      if (b.mode == BlockHandover::Mode::CarryState) {
+        from->blocks[b.from].block->save_retain(state_scratch.data());
+        to->blocks[b.to].block->load_retain(state_scratch.data());
+        continue;
+      }
       auto& kept = to->blocks[b.to].block;
       auto& fresh = from->blocks[b.from].block;
       std::swap(kept, fresh);
-      if (b.retune) kept->retune_from(*fresh);
+      if (b.mode == BlockHandover::Mode::Rewire) {
+        // The checks around execute follow the new wiring too (a tuning
+        // input wired in or out); a unit delay's held input stays.
+        const bool held = kept->guard().held;
+        std::swap(kept->guard(), fresh->guard());
+        kept->guard().held = held;
+        kept->rewire_from(*fresh);
+      }
+      // A rewired instance also takes the parameters: a tuning input wired
+      // out gives its parameter back (one wired in overrides it at the next
+      // scan, through the guard).
+      if (b.mode != BlockHandover::Mode::Keep) {
+        kept->retune_from(*fresh);
+        // A connected tuning input overrides the parameter just taken: seen
+        // again at the next scan (NaN is never "the same value").
+        for (auto& t : kept->guard().tuning) t.seen = std::numeric_limits<double>::quiet_NaN();
+      }
       kept->bind_pins(to->blocks[b.to].pins.data());
     }
     for (const auto& d : drivers) {
@@ -99,58 +123,86 @@ void TaskHandover::perform() noexcept {
 
 namespace {
 
-// Decides what becomes of a new instance that has an old namesake in the
-// matched task: kept, retuned (tunable parameters differ) or new (structure).
-InstanceChange compare_instance(const BlockInstance& o, const BlockInstance& n, const std::string& task) {
-  InstanceChange c{n.name, n.type->name, task, InstanceFate::Kept, ""};
-  auto fresh = [&](std::string why) {
-    c.fate = InstanceFate::New;
-    c.detail = std::move(why);
-    return c;
-  };
-  if (o.type != n.type) return fresh("type " + o.type->name + " -> " + n.type->name);
-  if (o.datatype != n.datatype)
-    return fresh("type " + std::string(type_name(o.datatype)) + " -> " + std::string(type_name(n.datatype)));
-  if (o.pin_length != n.pin_length) return fresh("array size changed");
-  if (o.params.size() != n.params.size()) return fresh("parameters changed");
-  std::string tuned;
-  for (std::size_t k = 0; k < n.params.size(); ++k) {
-    if (o.params[k].raw == n.params[k].raw) continue;
-    const auto& decl = n.type->params[k];
-    std::string change = decl.name + " " + format_value(decl.type, o.params[k]) + " -> " + format_value(decl.type, n.params[k]);
-    if (!decl.tunable) return fresh(change);
-    tuned += (tuned.empty() ? "" : ", ") + change;
+// What becomes of a new instance that has an old namesake in the matched
+// task, from their signatures (instance_signature.hpp).
+struct InstancePlan {
+  InstanceChange change;
+  std::optional<BlockHandover::Mode> mode;  // none: the new instance starts fresh
+};
+
+InstancePlan plan_instance(const BlockInstance& o, const BlockInstance& n, bool persistent, const std::string& task) {
+  InstancePlan p{{n.name, n.type->name, task, InstanceFate::Kept, ""}, BlockHandover::Mode::Keep};
+  const SignatureDiff d = compare_signatures(o.signature, n.signature);
+  p.change.detail = d.detail;
+  switch (d.verdict) {
+    case SignatureVerdict::Same: break;
+    case SignatureVerdict::Retune:
+      p.change.fate = InstanceFate::Retuned;
+      p.mode = BlockHandover::Mode::Retune;
+      break;
+    case SignatureVerdict::Rewire:
+      p.change.fate = InstanceFate::Rewired;
+      p.mode = BlockHandover::Mode::Rewire;
+      break;
+    case SignatureVerdict::Recreate:
+      p.change.fate = InstanceFate::New;
+      p.mode.reset();
+      // Persistent state survives a changed project at a stop and start
+      // (retain.hpp); an online change keeps it the same way.
+      if (persistent && d.state_matches) {
+        p.mode = BlockHandover::Mode::CarryState;
+        p.change.detail += "; its persistent state carried over";
+      }
+      break;
   }
-  if (!tuned.empty()) {
-    c.fate = InstanceFate::Retuned;
-    c.detail = tuned;
-  }
-  return c;
+  return p;
 }
 
-void carry_tags(Program& from, Program& to, ProgramChange& c) {
+const RetainedInstance* find_retained(const Program& p, const std::string& name) {
+  for (const auto& r : p.retained)
+    if (r.name == name) return &r;
+  return nullptr;
+}
+
+}  // namespace
+
+// plan_change's access to the new program's images (no thread runs it yet).
+class ChangePlanner {
+ public:
+  static void carry_tags(Program& from, Program& to, ProgramChange& c);
+};
+
+void ChangePlanner::carry_tags(Program& from, Program& to, ProgramChange& c) {
+  const ImageAccess access;
   for (const auto& t : to.tags) {
     const Tag* old = from.find_tag(t.name);
-    if (!old || old->type != t.type || old->length != t.length) continue;
-    from.read_tag(*old, to.tasks[t.owner]->image.data() + t.cell);
+    if (!old || tag_identity(*old) != tag_identity(t)) continue;
+    from.read_tag(*old, to.tasks[t.owner]->image(access).data() + t.cell);
     ++c.tags_carried;
+  }
+  // Retained block states of the same identity, as last published: what the
+  // store reads from the new program's channels before the old tasks first
+  // mirror into them is the running state, never the fresh instance's
+  // initial one (the old task mirrors them from then on, plan_change).
+  for (const auto& r : to.retained) {
+    const RetainedInstance* o = find_retained(from, r.name);
+    if (!o || o->identity != r.identity || o->length != r.length) continue;
+    from.tasks[o->task]->read_published(o->cell, o->length, to.tasks[r.task]->image(access).data() + r.cell);
   }
   for (std::size_t i = 0; i < to.tasks.size(); ++i) {
     auto& task = *to.tasks[i];
     int j = from.find_task(task.config().name);
     SnapshotStamp stamp;
     if (j >= 0) stamp = from.tasks[static_cast<std::size_t>(j)]->published_stamp();
-    for (auto& ch : task.channels) ch->fill(task.image.data(), stamp);
+    for (auto& ch : task.channels) ch->fill(task.image(access).data(), stamp);
   }
 }
-
-}  // namespace
 
 std::unique_ptr<ProgramChange> plan_change(Program& from, Program& to) {
   auto c = std::make_unique<ProgramChange>();
   c->from = &from;
   c->to = &to;
-  carry_tags(from, to, *c);
+  ChangePlanner::carry_tags(from, to, *c);
 
   std::vector<bool> old_kept_driver(from.drivers.size(), false);
   for (std::size_t i = 0; i < to.tasks.size(); ++i) {
@@ -181,7 +233,7 @@ std::unique_ptr<ProgramChange> plan_change(Program& from, Program& to) {
       else c->tasks.push_back({tname, detail.empty() ? TaskFate::Kept : TaskFate::Retimed, detail});
 
       // Owned tags: same name, type and size.
-      h->write_cell.assign(ot.image.size(), kDroppedCell);
+      h->write_cell.assign(ot.image_cells(), kDroppedCell);
       h->write_back.assign(nt.owned_cells, kDroppedCell);
       for (const auto& t : to.tags) {
         if (t.owner != i) continue;
@@ -197,10 +249,9 @@ std::unique_ptr<ProgramChange> plan_change(Program& from, Program& to) {
       // so the store never reads a kept counter's state as its initial one.
       for (const auto& r : to.retained) {
         if (r.task != i) continue;
-        for (const auto& o : from.retained)
-          if (o.name == r.name && o.task == static_cast<std::uint16_t>(j) && o.type == r.type && o.layout == r.layout &&
-              o.length == r.length)
-            h->owned.push_back({o.cell, r.cell, r.length});
+        const RetainedInstance* o = find_retained(from, r.name);
+        if (o && o->task == static_cast<std::uint16_t>(j) && o->identity == r.identity && o->length == r.length)
+          h->owned.push_back({o->cell, r.cell, r.length});
       }
       // Block instances.
       for (std::size_t p = 0; p < nt.blocks.size(); ++p) {
@@ -216,14 +267,17 @@ std::unique_ptr<ProgramChange> plan_change(Program& from, Program& to) {
           continue;
         }
         const auto& ob = ot.blocks[it->second.second];
-        InstanceChange ic = compare_instance(ob, nb, tname);
-        if (ic.fate != InstanceFate::New) {
-          h->blocks.push_back({it->second.second, static_cast<std::uint32_t>(p), ic.fate == InstanceFate::Retuned});
+        const RetainedInstance* ret = find_retained(to, nb.name);
+        InstancePlan ip = plan_instance(ob, nb, ret && ret->persistent, tname);
+        if (ip.mode) {
+          h->blocks.push_back({it->second.second, static_cast<std::uint32_t>(p), *ip.mode});
+          if (*ip.mode == BlockHandover::Mode::CarryState && h->state_scratch.size() < nb.signature.state.cells)
+            h->state_scratch.resize(nb.signature.state.cells);
           for (std::size_t q = 0; q < nb.type->pins.size(); ++q)
             if (nb.type->pins[q].dir == PinDir::Out)
               h->pins.push_back({ob.pin_cell[q], nb.pin_cell[q], q < nb.pin_length.size() ? nb.pin_length[q] : 1});
         }
-        c->instances.push_back(std::move(ic));
+        c->instances.push_back(std::move(ip.change));
       }
       // Drivers: same name, same task, same settings.
       for (std::size_t b = 0; b < to.drivers.size(); ++b) {

@@ -32,7 +32,13 @@
 
 namespace syncplc {
 
-enum class InstanceFate : std::uint8_t { Kept, Retuned, New, Removed };
+// Kept: the running instance goes on as it is. Retuned: it takes the new
+// tunable parameters. Rewired: it takes what its factory fixed from the new
+// wiring (and the tunables), keeping its state. New: the new program's
+// instance replaces it (a new name, a structural change, a move between
+// tasks); a persistent instance whose state layout is unchanged takes the old
+// one's state, as a stop and start would restore it (the detail says so).
+enum class InstanceFate : std::uint8_t { Kept, Retuned, Rewired, New, Removed };
 enum class TaskFate : std::uint8_t { Kept, Retimed, Added, Removed, Restarted };
 std::string_view instance_fate_name(InstanceFate f);
 std::string_view task_fate_name(TaskFate f);
@@ -60,9 +66,15 @@ struct DriverChange {
 inline constexpr std::uint32_t kDroppedCell = std::numeric_limits<std::uint32_t>::max();
 
 struct BlockHandover {
+  enum class Mode : std::uint8_t {
+    Keep,        // the old instance moves into the new program
+    Retune,      // ... and takes the fresh one's tunable parameters (Block::retune_from)
+    Rewire,      // ... and takes the fresh one's wiring choices, guard and tunables (Block::rewire_from)
+    CarryState,  // the fresh instance stays and takes the old one's state (save_retain -> load_retain)
+  };
   std::uint32_t from = 0;  // position in the old task's execution order
   std::uint32_t to = 0;    // position in the new task's
-  bool retune = false;
+  Mode mode = Mode::Keep;
 };
 
 struct DriverHandover {
@@ -91,6 +103,7 @@ struct TaskHandover {
   std::vector<std::uint32_t> write_cell; // old image cell -> new image cell of a queued write (kDroppedCell)
   std::vector<std::uint32_t> write_back; // new owned cell -> old image cell (kDroppedCell: a tag only the new program has)
   std::vector<BlockHandover> blocks;
+  std::vector<Cell> state_scratch;       // sized for the largest CarryState: perform() never allocates
   std::vector<DriverHandover> drivers;
   bool timing_changed = false;           // period or phase changed: the new grid starts at T
   std::int64_t switch_ns = 0;            // T (copied from the change by begin_mirroring)

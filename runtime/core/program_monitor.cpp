@@ -10,7 +10,7 @@ namespace syncplc {
 std::optional<std::uint64_t> Program::read_value(const CellRef& r, Cell* out, std::int64_t lease_ns) {
   if (r.task >= tasks.size()) return std::nullopt;
   Task& t = *tasks[r.task];
-  if (r.length > t.image.size() || r.cell > t.image.size() - r.length) return std::nullopt;
+  if (r.length > t.image_cells() || r.cell > t.image_cells() - r.length) return std::nullopt;
   if (r.cell + r.length <= t.owned_cells) {
     std::lock_guard lock(t.external_mutex);  // values and stamp of one publication
     SnapshotStamp s;

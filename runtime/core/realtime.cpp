@@ -11,6 +11,7 @@
 #include <mutex>
 
 #include "runtime/core/monotonic_clock.hpp"
+#include "runtime/core/task_switch.hpp"
 
 namespace syncplc {
 namespace {
@@ -70,6 +71,7 @@ void RealtimeRunner::start() {
   for (auto& t : program_->tasks) t->reset_timing();
   epoch_ = monotonic_ns() + options_.start_delay_ns;
   program_->epoch_ns.store(epoch_, std::memory_order_release);
+  std::lock_guard lock(workers_mutex_);
   by_task_.clear();
   for (auto& t : program_->tasks) {
     Worker& w = workers_.emplace_back();
@@ -80,6 +82,7 @@ void RealtimeRunner::start() {
 }
 
 void RealtimeRunner::join() {
+  std::lock_guard lock(workers_mutex_);
   for (auto& w : workers_)
     if (w.thread.joinable()) w.thread.join();
   workers_.clear();
@@ -88,12 +91,27 @@ void RealtimeRunner::join() {
 }
 
 std::int64_t RealtimeRunner::scan_running_ns(std::size_t task) const {
+  std::lock_guard lock(workers_mutex_);
   if (task >= by_task_.size()) return 0;
   std::int64_t s = by_task_[task]->scan_started.load(std::memory_order_relaxed);
   return s < 0 ? 0 : std::max<std::int64_t>(0, monotonic_ns() - epoch_ - s);
 }
 
+std::vector<RealtimeRunner::ThreadView> RealtimeRunner::threads() const {
+  std::lock_guard lock(workers_mutex_);
+  std::vector<ThreadView> out;
+  out.reserve(workers_.size());
+  const std::int64_t now = monotonic_ns() - epoch_;
+  for (const auto& w : workers_) {
+    const std::int64_t s = w.scan_started.load(std::memory_order_acquire);
+    out.push_back({&w, w.task.load(std::memory_order_acquire), s < 0 ? 0 : std::max<std::int64_t>(0, now - s),
+                   w.alive.load(std::memory_order_acquire)});
+  }
+  return out;
+}
+
 bool RealtimeRunner::running() const {
+  std::lock_guard lock(workers_mutex_);
   for (const auto& w : workers_) {
     if (!w.alive.load(std::memory_order_acquire)) continue;
     const Task* t = w.task.load(std::memory_order_acquire);
@@ -103,6 +121,7 @@ bool RealtimeRunner::running() const {
 }
 
 bool RealtimeRunner::threads_alive() const {
+  std::lock_guard lock(workers_mutex_);
   for (const auto& w : workers_)
     if (w.alive.load(std::memory_order_acquire)) return true;
   return false;
@@ -114,6 +133,7 @@ std::vector<std::string> RealtimeRunner::warnings() const {
 }
 
 void RealtimeRunner::begin_change(ProgramChange& change) {
+  std::lock_guard lock(workers_mutex_);
   change_ = &change;
   change.to->epoch_ns.store(epoch_, std::memory_order_release);  // one time axis for both programs
   // Added tasks: a thread each, asleep until its first release at or after T.
@@ -148,6 +168,7 @@ bool RealtimeRunner::change_complete() const {
 }
 
 void RealtimeRunner::finish_change() {
+  std::lock_guard lock(workers_mutex_);
   if (!change_) return;
   std::vector<Worker*> next;
   for (const auto& t : change_->to->tasks)
@@ -202,44 +223,42 @@ void RealtimeRunner::task_thread(Worker& w, Start start) {
   std::uint64_t n = 0;
   constexpr std::int64_t kStopPoll = 100'000'000;  // a long period still notices a stop within 100 ms
   bool stopped = false;  // by the watchdog: wait for an online change (or the end)
+  std::int64_t last_end = 0;  // when the last scan ended (ns since the epoch)
   TaskHandover* switched = start.perform;  // its first scan's lateness is recorded
   while (!stop_.load(std::memory_order_acquire)) {
     std::int64_t planned = task->release_ns(k);
     if (options_.duration_ns > 0 && planned >= options_.duration_ns) break;  // --duration, counted from the epoch
-    // Online change: between two scans, at the first release at or after T.
-    if (TaskHandover* h = task->handover(); h && h->from == task && (planned >= h->switch_ns || stopped)) {
-      if (stopped) {
-        // Restarted by the change: the first grid point at or after T.
-        const std::int64_t T = h->switch_ns;
-        if (now_ns() < T) {
-          timespec ts = to_timespec(epoch_ + std::min(T, now_ns() + kStopPoll));
-          clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr);
-          continue;
+    // Online change: between two scans, as task_switch.hpp says (the same
+    // rule as the virtual clock's).
+    if (TaskHandover* h = task->handover(); h && h->from == task) {
+      const OldGrid old{k, prev_planned, last_end, stopped};
+      if (switch_due(*h, old)) {
+        if (!h->to) {
+          h->perform();
+          h->finish();
+          break;  // removed: its last scan was the one before T
         }
-      }
-      const std::int64_t at = stopped ? h->switch_ns : planned;
-      if (!h->to) {
+        const NewGrid next = new_grid(*h, old);
+        const TaskConfig old_cfg = task->config();
+        h->to->reset_timing();
         h->perform();
-        h->finish();
-        break;  // removed: its last scan was the one before T
+        task = h->to;
+        switched = h;
+        w.task.store(task, std::memory_order_release);
+        k = next.k;
+        prev_planned = next.prev_planned;
+        if (next.skipped) task->stats.skipped.fetch_add(next.skipped, std::memory_order_relaxed);
+        const auto& c = task->config();
+        if (c.priority != old_cfg.priority || c.cpu != old_cfg.cpu || c.name != old_cfg.name) configure_thread(c);
+        stopped = false;
+        continue;
       }
-      const TaskConfig old_cfg = task->config();
-      h->to->reset_timing();
-      h->perform();
-      task = h->to;
-      switched = h;
-      w.task.store(task, std::memory_order_release);
-      const auto& c = task->config();
-      if (h->timing_changed || stopped) {
-        k = std::max<std::int64_t>(0, (at - c.phase_ns + c.period_ns - 1) / c.period_ns);
-        if (stopped) prev_planned = task->release_ns(k) - c.period_ns;
-      }
-      if (c.priority != old_cfg.priority || c.cpu != old_cfg.cpu || c.name != old_cfg.name) configure_thread(c);
-      stopped = false;
-      continue;
     }
     if (stopped) {
-      timespec ts = to_timespec(monotonic_ns() + kStopPoll);
+      // Looks for a change that restarts it once a period (at most every
+      // 100 ms): T is at least two periods ahead, so it switches in time
+      // and its first new scan is not late.
+      timespec ts = to_timespec(monotonic_ns() + std::min(kStopPoll, task->config().period_ns));
       clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr);
       continue;
     }
@@ -269,6 +288,7 @@ void RealtimeRunner::task_thread(Worker& w, Start start) {
     ctx.virtual_time = false;
     task->scan(ctx);
     const std::int64_t end = monotonic_ns() - epoch_;
+    last_end = end;
     w.scan_started.store(-1, std::memory_order_relaxed);
     task->publish();
     auto next = task->account(k, planned, begin, end);

@@ -60,6 +60,18 @@ class RealtimeRunner {
   // proper is evaluated when a scan ends; this is how a scan that never ends
   // is noticed (it cannot be interrupted safely, only reported).
   std::int64_t scan_running_ns(std::size_t task) const;
+  // The supervisor's view of every task thread (supervisor.hpp): the task it
+  // runs now (an online change moves a thread from an old task to its
+  // successor between two scans) and how long its current scan has run
+  // (0 between scans). Thread-safe against online changes; the task threads
+  // never wait for it.
+  struct ThreadView {
+    const void* id;           // the thread, stable while it lives
+    Task* task;
+    std::int64_t running_ns;
+    bool alive;
+  };
+  std::vector<ThreadView> threads() const;
   Program& program() const { return *program_; }
 
   // Online change, from the main thread: set change.switch_ns (switch_instant),
@@ -89,6 +101,9 @@ class RealtimeRunner {
 
   Program* program_;
   Options options_;
+  // workers_ and by_task_ change only under workers_mutex_ (start, online
+  // change, join), which the task threads never take.
+  mutable std::mutex workers_mutex_;
   std::list<Worker> workers_;    // stable addresses; one per running task, and those an online change adds
   std::vector<Worker*> by_task_; // the current program's task i runs on by_task_[i]
   ProgramChange* change_ = nullptr;

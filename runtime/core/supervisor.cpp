@@ -6,15 +6,34 @@
 
 namespace syncplc {
 
-Supervisor::Supervisor(Program& program, RealtimeRunner& runner) { attach(program, runner); }
+Supervisor::Supervisor(Program& program, RealtimeRunner& runner) : runner_(&runner) { add(program); }
 
-void Supervisor::attach(Program& program, RealtimeRunner& runner) {
-  program_ = &program;
-  runner_ = &runner;
-  watch_.assign(program.tasks.size(), Watch{});
-  for (const auto& b : program.drivers) {
-    if (b.task >= watch_.size() || !b.driver) continue;
-    watch_[b.task].drivers.push_back(DriverSafeState{b.driver.get(), program.safe_outputs(b)});
+void Supervisor::add(Program& p) {
+  for (std::size_t t = 0; t < p.tasks.size(); ++t) {
+    const Task& task = *p.tasks[t];
+    TaskSafety s;
+    s.program = &p;
+    s.index = static_cast<std::uint16_t>(t);
+    s.by_slot.resize(task.drivers.size());
+    for (const auto& b : p.drivers) {
+      if (b.task != t || !b.driver) continue;
+      const auto slot = std::find(task.drivers.begin(), task.drivers.end(), b.driver.get()) - task.drivers.begin();
+      if (static_cast<std::size_t>(slot) < s.by_slot.size()) s.by_slot[static_cast<std::size_t>(slot)] = p.safe_outputs(b);
+    }
+    safety_[&task] = std::move(s);
+  }
+}
+
+void Supervisor::watch(Program& next) {
+  std::lock_guard lock(mutex_);
+  add(next);
+}
+
+void Supervisor::forget(const Program& p) {
+  std::lock_guard lock(mutex_);
+  for (const auto& t : p.tasks) {
+    safety_.erase(t.get());
+    hung_.erase(t.get());
   }
 }
 
@@ -24,46 +43,56 @@ std::int64_t Supervisor::hang_limit_ns(const TaskConfig& c) {
   return std::max({std::int64_t{1'000'000'000}, 10 * c.period_ns, watchdog_limit});
 }
 
-void Supervisor::raise(std::size_t task, EventKind kind, const char* message, double value) {
+void Supervisor::raise(const Task& t, EventKind kind, const char* message, double value) {
   const std::int64_t since_epoch = RealtimeRunner::monotonic_ns() - runner_->epoch_ns();
-  events_.push_back(Event{since_epoch, static_cast<std::uint16_t>(task), -1, kind, message, value});
+  auto it = safety_.find(&t);
+  const std::uint16_t index = it == safety_.end() ? t.index() : it->second.index;
+  events_.push_back({Event{since_epoch, index, -1, kind, message, value}, t.config().name});
 }
 
-void Supervisor::give_up(std::size_t i, std::int64_t running_ns, const char* why) {
-  Watch& w = watch_[i];
-  w.hung = true;
-  program_->tasks[i]->stop_from_supervisor();
-  raise(i, EventKind::ScanHung, why, static_cast<double>(running_ns) * 1e-9);
+void Supervisor::give_up(const RealtimeRunner::ThreadView& v, const char* why) {
+  watch_[v.id].hung = true;
+  Task& task = *v.task;
+  hung_[&task] = true;
+  task.stop_from_supervisor();
+  raise(task, EventKind::ScanHung, why, static_cast<double>(v.running_ns) * 1e-9);
+  // The drivers this task uses now (a kept driver moved into it at its
+  // switch, which happened before the thread published it as its task).
+  auto it = safety_.find(&task);
   bool any_safe = false, all_reached = true;
-  for (auto& d : w.drivers) {
-    any_safe = any_safe || !d.outputs.empty();
-    if (!d.driver->write_safe_outputs(d.outputs.data(), d.outputs.size())) {
+  const std::size_t n = task.drivers.size();
+  for (std::size_t slot = 0; slot < n; ++slot) {
+    static const std::vector<SafeOutput> kNone;
+    const auto& outputs = it != safety_.end() && slot < it->second.by_slot.size() ? it->second.by_slot[slot] : kNone;
+    any_safe = any_safe || !outputs.empty();
+    if (!task.drivers[slot]->write_safe_outputs(outputs.data(), outputs.size())) {
       all_reached = false;
-      raise(i, EventKind::DriverFault, "a driver did not confirm its safe outputs (a write_outputs still under way)", 0);
+      raise(task, EventKind::DriverFault, "a driver did not confirm its safe outputs (a write_outputs still under way)", 0);
     }
   }
-  if (!w.drivers.empty() && all_reached)
-    raise(i, EventKind::SafeStateApplied,
+  if (n > 0 && all_reached)
+    raise(task, EventKind::SafeStateApplied,
           any_safe ? "outputs driven to their safe values by the supervisor"
                    : "outputs held at their last values by the supervisor (no safe values declared)",
           0);
 }
 
 void Supervisor::check() {
-  for (std::size_t i = 0; i < watch_.size(); ++i) {
-    Watch& w = watch_[i];
-    const std::int64_t running = runner_->scan_running_ns(i);
-    if (running <= 0) {
+  std::lock_guard lock(mutex_);
+  for (const auto& v : runner_->threads()) {
+    if (!v.task || !v.alive) continue;
+    Watch& w = watch_[v.id];
+    if (v.running_ns <= 0) {
       w.reported = false;
       continue;
     }
     if (w.hung) continue;
-    const TaskConfig& c = program_->tasks[i]->config();
-    if (running > hang_limit_ns(c)) {
-      give_up(i, running, "scan did not end: task stopped by the supervisor (a scan cannot be interrupted)");
-    } else if (c.watchdog && !w.reported && running > c.watchdog_ns * std::max(1, c.sensitivity)) {
-      raise(i, EventKind::ScanHung, "scan past its watchdog limit and not finished (watchdog action log)",
-            static_cast<double>(running) * 1e-9);
+    const TaskConfig& c = v.task->config();
+    if (v.running_ns > hang_limit_ns(c)) {
+      give_up(v, "scan did not end: task stopped by the supervisor (a scan cannot be interrupted)");
+    } else if (c.watchdog && !w.reported && v.running_ns > c.watchdog_ns * std::max(1, c.sensitivity)) {
+      raise(*v.task, EventKind::ScanHung, "scan past its watchdog limit and not finished (watchdog action log)",
+            static_cast<double>(v.running_ns) * 1e-9);
       w.reported = true;
     }
   }
@@ -78,12 +107,12 @@ bool Supervisor::stop(std::int64_t grace_ns) {
   while (runner_->threads_alive()) {
     const std::int64_t waited = RealtimeRunner::monotonic_ns() - t0;
     if (waited >= grace_ns) {
+      std::lock_guard lock(mutex_);
       bool in_scan = false;
-      for (std::size_t i = 0; i < watch_.size(); ++i) {
-        const std::int64_t running = runner_->scan_running_ns(i);
-        if (running <= 0) continue;
+      for (const auto& v : runner_->threads()) {
+        if (!v.alive || !v.task || v.running_ns <= 0) continue;
         in_scan = true;
-        if (!watch_[i].hung) give_up(i, running, "scan still running at the stop: the process ends without it");
+        if (!watch_[v.id].hung) give_up(v, "scan still running at the stop: the process ends without it");
       }
       if (in_scan || waited >= grace_ns + kLeaving) return false;
     }
@@ -93,20 +122,37 @@ bool Supervisor::stop(std::int64_t grace_ns) {
   return true;
 }
 
-bool Supervisor::pop_event(Event& e) {
+bool Supervisor::pop_event(SupervisorEvent& e) {
+  std::lock_guard lock(mutex_);
   if (events_.empty()) return false;
-  e = events_.front();
+  e = std::move(events_.front());
   events_.pop_front();
   return true;
 }
 
+bool Supervisor::hung(const Task* t) const {
+  std::lock_guard lock(mutex_);
+  auto it = hung_.find(t);
+  return it != hung_.end() && it->second;
+}
+
 bool Supervisor::any_hung() const {
-  return std::any_of(watch_.begin(), watch_.end(), [](const Watch& w) { return w.hung; });
+  std::lock_guard lock(mutex_);
+  return std::any_of(hung_.begin(), hung_.end(), [](const auto& h) { return h.second; });
 }
 
 bool Supervisor::all_stopped() const {
-  return !program_->tasks.empty() &&
-         std::all_of(program_->tasks.begin(), program_->tasks.end(), [](const auto& t) { return t->stopped(); });
+  // Under the mutex: forget() takes it before an old program goes, so no
+  // task read here can be freed meanwhile.
+  std::lock_guard lock(mutex_);
+  const auto threads = runner_->threads();
+  bool any = false;
+  for (const auto& v : threads) {
+    if (!v.alive || !v.task) continue;
+    any = true;
+    if (!v.task->stopped()) return false;
+  }
+  return any;
 }
 
 }  // namespace syncplc

@@ -72,21 +72,21 @@ void Task::finalize() {
   last_fault_scan_.assign(blocks.size(), 0);
   for (auto& b : blocks) {
     b.pins.clear();
-    for (auto idx : b.pin_cell) b.pins.push_back(&image[idx]);
+    for (auto idx : b.pin_cell) b.pins.push_back(&image_[idx]);
     b.block->bind_pins(b.pins.data());
   }
   for (auto& ch : channels) {
     ch->resize(owned_cells);
-    ch->fill(image.data());
+    ch->fill(image_.data());
   }
   forces_.reserve(force_capacity);
   // Pins are the image's last part (the loader lays them out after the tags and copies).
-  auto first = static_cast<std::uint32_t>(image.size());
+  auto first = static_cast<std::uint32_t>(image_.size());
   for (auto& b : blocks) {
     b.forces = 0;
     if (!b.pin_cell.empty()) first = std::min(first, *std::min_element(b.pin_cell.begin(), b.pin_cell.end()));
   }
-  monitor_.resize(first, static_cast<std::uint32_t>(image.size()) - first, image.data());
+  monitor_.resize(first, static_cast<std::uint32_t>(image_.size()) - first, image_.data());
 }
 
 void Task::reset_timing() {
@@ -120,12 +120,12 @@ void Task::apply_writes() noexcept {
       apply_force_command(w);
       continue;
     }
-    image[w.cell] = w.value;
+    image_[w.cell] = w.value;
     ++n;
   }
   // During an online change HMIs already write to the new program: its
   // queue is applied here, so a write takes effect at the next scan as ever.
-  if (TaskHandover* h = handover_.load(std::memory_order_acquire)) n += h->apply_successor_writes(image.data());
+  if (TaskHandover* h = handover_.load(std::memory_order_acquire)) n += h->apply_successor_writes(image_.data());
   if (n) stats.writes_applied.fetch_add(n, std::memory_order_relaxed);
 }
 
@@ -139,15 +139,15 @@ void Task::apply_force_command(const QueuedWrite& w) noexcept {
     slot.value = w.value;
     bool added = false;
     // Full cannot happen: Program::force admits no more than the table holds.
-    if (forces_.set(slot, image.data(), &added) && added && w.block < blocks.size()) ++blocks[w.block].forces;
+    if (forces_.set(slot, image_.data(), &added) && added && w.block < blocks.size()) ++blocks[w.block].forces;
   } else if (w.kind == WriteKind::Unforce) {
     ForceSlot gone;
-    if (forces_.clear(w.cell, image.data(), &gone) && gone.block < blocks.size()) --blocks[gone.block].forces;
+    if (forces_.clear(w.cell, image_.data(), &gone) && gone.block < blocks.size()) --blocks[gone.block].forces;
   }
 }
 
 void Task::run_block(std::size_t i, ScanContext& ctx) noexcept {
-  Cell* img = image.data();
+  Cell* img = image_.data();
   auto& b = blocks[i];
   if (i >= unit_delays) run_copies(img, b.copy_in);
   ctx.block = static_cast<std::int32_t>(i);
@@ -156,7 +156,7 @@ void Task::run_block(std::size_t i, ScanContext& ctx) noexcept {
 }
 
 void Task::run_forced_block(std::size_t i, ScanContext& ctx) noexcept {
-  Cell* img = image.data();
+  Cell* img = image_.data();
   auto& b = blocks[i];
   const auto k = static_cast<std::uint32_t>(i);
   if (i >= unit_delays) {
@@ -174,7 +174,7 @@ void Task::scan(ScanContext& ctx) noexcept {
   ctx.task = index_;
   ctx.events = this;
   now_ = ctx.now_ns;
-  Cell* img = image.data();
+  Cell* img = image_.data();
 
   apply_writes();                                       // 1 (force commands too)
   const bool forced = !forces_.empty();
@@ -212,14 +212,14 @@ void Task::scan(ScanContext& ctx) noexcept {
 void Task::publish() noexcept {
   // LET: this scan's outputs are visible from its next grid point on.
   const SnapshotStamp stamp{scan_count_, now_, now_ + cfg_.period_ns};
-  for (auto& ch : channels) ch->publish(image.data(), stamp);
-  monitor_.publish(image.data(), scan_count_);  // pins, only while someone monitors (pin_monitor.hpp)
-  if (TaskHandover* h = handover_.load(std::memory_order_acquire)) h->mirror(image.data(), stamp);
+  for (auto& ch : channels) ch->publish(image_.data(), stamp);
+  monitor_.publish(image_.data(), scan_count_);  // pins, only while someone monitors (pin_monitor.hpp)
+  if (TaskHandover* h = handover_.load(std::memory_order_acquire)) h->mirror(image_.data(), stamp);
   published_.fetch_add(1, std::memory_order_release);
 }
 
 void Task::publish_for_predecessor(const SnapshotStamp& s) noexcept {
-  for (auto& ch : channels) ch->publish(image.data(), s);
+  for (auto& ch : channels) ch->publish(image_.data(), s);
   published_.fetch_add(1, std::memory_order_release);  // holds the writes applied for this task (Modbus FC 23 waits)
 }
 
@@ -234,8 +234,17 @@ Task::Next Task::account(std::int64_t k, std::int64_t planned, std::int64_t star
   Next next{k + 1, false};
   if (end > release_ns(k + 1)) {
     stats.overruns.fetch_add(1, std::memory_order_relaxed);
-    if (!overrun_series_) push(Event{planned, index_, -1, EventKind::ScanOverrun, "scan overran its period",
-                                     static_cast<double>(exec) * 1e-9});
+    // Say why: a scan longer than its period, or one that started so late
+    // (a busy CPU, an earlier overrun) that a short scan still ended past
+    // the next release.
+    const std::int64_t late = start - planned;
+    if (!overrun_series_) {
+      if (exec <= cfg_.period_ns && late > 0)
+        push(Event{planned, index_, -1, EventKind::ScanLate, "scan started late and ended after its next release",
+                   static_cast<double>(late) * 1e-9});
+      else
+        push(Event{planned, index_, -1, EventKind::ScanOverrun, "scan overran its period", static_cast<double>(exec) * 1e-9});
+    }
     overrun_series_ = true;
     const std::int64_t since = end - cfg_.phase_ns;
     if (cfg_.missed == MissedCycles::Skip) {
@@ -285,7 +294,7 @@ void Task::stop_now(std::int64_t planned, bool safe, const char* why) noexcept {
 }
 
 void Task::apply_safe_state(ScanContext& ctx) noexcept {
-  for (const auto& [cell, value] : safe_values) image[cell] = value;
+  for (const auto& [cell, value] : safe_values) image_[cell] = value;
   for (auto* d : drivers) d->write_outputs(ctx);
   publish();
   push(Event{ctx.now_ns, index_, -1, EventKind::SafeStateApplied, "outputs driven to their safe values", 0});

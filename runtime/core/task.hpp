@@ -22,6 +22,8 @@
 #include "runtime/core/block.hpp"
 #include "runtime/core/force_table.hpp"
 #include "runtime/core/histogram.hpp"
+#include "runtime/core/image_access.hpp"
+#include "runtime/core/instance_signature.hpp"
 #include "runtime/core/io_driver.hpp"
 #include "runtime/core/pin_monitor.hpp"
 #include "runtime/core/spsc_ring.hpp"
@@ -105,7 +107,9 @@ struct BlockInstance {
   std::string name;
   const BlockTypeInfo* type = nullptr;
   IecType datatype = IecType::LREAL;
-  std::vector<Cell> params;         // by ParamDecl index, as loaded (online change compares them)
+  // Structure, parameters, wiring and state layout as loaded: what online
+  // change, retain and the historian compare (instance_signature.hpp).
+  InstanceSignature signature;
   std::unique_ptr<Block> block;
   std::vector<Cell*> pins;          // bound pin cells, by declaration index
   std::vector<std::uint32_t> pin_cell;  // image index of each pin (its first element)
@@ -137,7 +141,11 @@ class Task : private EventSink {
   std::uint16_t index() const { return index_; }
 
   // --- built by the loader ---------------------------------------------------
-  std::vector<Cell> image;          // [owned tags | foreign tag copies | pins]
+  // The process image, [owned tags | foreign tag copies | pins]: the task's
+  // real-time state, reachable only with an ImageAccess (image_access.hpp).
+  std::vector<Cell>& image(ImageAccess) noexcept { return image_; }
+  const std::vector<Cell>& image(ImageAccess) const noexcept { return image_; }
+  std::size_t image_cells() const noexcept { return image_.size(); }
   std::uint32_t owned_cells = 0;    // published range: image[0, owned_cells)
   std::vector<BlockInstance> blocks;  // execution order; unit delays first
   std::size_t unit_delays = 0;      // blocks[0, unit_delays) are unit delays
@@ -255,6 +263,7 @@ class Task : private EventSink {
 
   std::uint16_t index_;
   TaskConfig cfg_;
+  std::vector<Cell> image_;
   SpscRing<QueuedWrite> writes_;
   std::mutex write_producers_;  // taken only by writers (non-real-time threads)
   SpscRing<Event> events_;

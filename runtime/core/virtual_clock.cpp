@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <limits>
 
+#include "runtime/core/task_switch.hpp"
+
 namespace syncplc {
 
 VirtualClock::VirtualClock(Program& program) : program_(&program) {
@@ -59,6 +61,10 @@ void VirtualClock::begin_change(ProgramChange& change) {
   }
 }
 
+OldGrid VirtualClock::old_grid(const TaskState& s) {
+  return OldGrid{s.k, s.prev_planned, s.not_before, s.task->stopped()};
+}
+
 void VirtualClock::switch_task(TaskState& s) {
   TaskHandover* h = s.task->handover();
   if (!h->to) {
@@ -67,18 +73,16 @@ void VirtualClock::switch_task(TaskState& s) {
     h->finish();
     return;
   }
-  const std::int64_t start = std::max(s.task->release_ns(s.k), s.not_before);
-  const bool restarted = s.task->stopped();
+  // task_switch.hpp: the same rule as each real-time thread's.
+  const NewGrid next = new_grid(*h, old_grid(s));
   h->to->reset_timing();
   h->perform();
   h->finish();
   s.task = h->to;
-  if (h->timing_changed || restarted) {
-    // The new grid (or the grid after a stop) from the switch on.
-    const auto& c = s.task->config();
-    s.k = std::max<std::int64_t>(0, (start - c.phase_ns + c.period_ns - 1) / c.period_ns);
-    if (restarted) s.prev_planned = s.task->release_ns(s.k) - c.period_ns;  // dt of one period, as in real time
-  }
+  s.stopped = false;  // as the real-time thread: a stopped task restarts with the new program
+  s.k = next.k;
+  s.prev_planned = next.prev_planned;
+  if (next.skipped) s.task->stats.skipped.fetch_add(next.skipped, std::memory_order_relaxed);
 }
 
 void VirtualClock::finish_change() {
@@ -103,9 +107,8 @@ void VirtualClock::run_until(std::int64_t t, bool inclusive) {
       for (auto& s : state_) {
         if (s.gone) continue;
         TaskHandover* h = s.task->handover();
-        if (h && h->from == s.task && s.publish_at < 0 &&
-            std::max(s.task->release_ns(s.k), s.not_before) >= change_->switch_ns &&
-            std::max(s.task->release_ns(s.k), s.not_before) <= (inclusive ? t : t - 1))
+        if (h && h->from == s.task && s.publish_at < 0 && switch_due(*h, old_grid(s)) &&
+            switch_at(*h, old_grid(s)) <= (inclusive ? t : t - 1))
           switch_task(s);
         h = s.task->handover();
         if (!s.gone && h && h->from == s.task) all = false;

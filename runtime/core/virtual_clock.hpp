@@ -19,6 +19,7 @@
 
 #include "runtime/core/program.hpp"
 #include "runtime/core/program_change.hpp"
+#include "runtime/core/task_switch.hpp"
 
 namespace syncplc {
 
@@ -37,6 +38,11 @@ class VirtualClock {
   // Scans of the current program's task (an online change carries the count over).
   std::uint64_t scans(std::uint16_t task) const;
   Program& program() const { return *program_; }
+  // The clock's one thread is every task's thread: virtual-time tools
+  // (scan-cycle tests, traces, metrics) touch the images through it
+  // (image_access.hpp), between two run_until calls or in an observer.
+  ImageAccess image_access() const { return ImageAccess{}; }
+  Cell* live_cell(const CellRef& r) const { return program_->live_cell(r, ImageAccess{}); }
 
   // Online change: from now on every old task mirrors its publications; each
   // task switches at its first release at or after change.switch_ns (set it
@@ -57,6 +63,7 @@ class VirtualClock {
     bool gone = false;               // removed by an online change
   };
   void flush_observer();
+  static OldGrid old_grid(const TaskState& s);
   // At a task's first release >= T: switches it (true) or ends it (removed).
   void switch_task(TaskState& s);
   void finish_change();

@@ -1,6 +1,6 @@
 // What the store status block of input registers shows (docs/modbus.md,
 // "Store status"): the state of the PLC's database, read by the server thread
-// from whoever owns the store (runtime/cli/store_status.hpp). The server has
+// from whoever owns the store (runtime/plc/store_status.hpp). The server has
 // no idea what a store is; it asks this interface once per request that
 // reads the block.
 #pragma once

@@ -1,6 +1,7 @@
 // Building the Program from checked declarations: blocks created by their
 // factories, each task's image laid out (owned tags, copies of other tasks'
 // tags, pins), connections as copies, snapshot channels, drivers bound.
+#include <algorithm>
 #include <map>
 #include <stdexcept>
 
@@ -22,9 +23,21 @@ class LoaderBlockSetup final : public BlockSetup {
       throw std::out_of_range(in_.type->name + ": no such parameter");
     return params_[static_cast<std::size_t>(index)];
   }
-  bool connected(int pin) const override { return connected_.at(static_cast<std::size_t>(pin)); }
+  // What the factory reads of the wiring becomes part of the instance's
+  // signature (instance_signature.hpp): an online change that changes it
+  // must not keep the instance as it is.
+  bool connected(int pin) const override {
+    const bool c = connected_.at(static_cast<std::size_t>(pin));
+    seen_[static_cast<std::size_t>(pin)] = c ? WiringSeen::Wired : WiringSeen::Unwired;
+    return c;
+  }
+  std::vector<WiringSeen> take_seen() { return std::move(seen_); }
   std::uint32_t pin_length(int pin) const override { return in_.pin_length.at(static_cast<std::size_t>(pin)); }
-  std::int64_t task_period_ns() const override { return period_; }
+  std::int64_t task_period_ns() const override {
+    period_read_ = true;  // a sampling time fixed at creation: part of the signature
+    return period_;
+  }
+  bool period_read() const { return period_read_; }
   std::uint64_t seed() const override { return seed_; }
   void error(const std::string& message) override { d_.error(in_.loc, in_.name + " (" + in_.type->name + "): " + message); }
   void unknown_param(std::string_view name) const override {
@@ -38,6 +51,8 @@ class LoaderBlockSetup final : public BlockSetup {
   const InstanceDecl& in_;
   std::vector<Cell> params_;
   std::vector<bool> connected_;
+  mutable std::vector<WiringSeen> seen_ = std::vector<WiringSeen>(connected_.size(), WiringSeen::NotAsked);
+  mutable bool period_read_ = false;
   std::int64_t period_;
   std::uint64_t seed_;
   Diagnostics& d_;
@@ -49,11 +64,44 @@ bool pin_connected(const InstanceDecl& in, std::size_t p) {
          std::any_of(es.begin(), es.end(), [](int c) { return c >= 0; });
 }
 
-std::vector<std::unique_ptr<Block>> create_blocks(const Declarations& p, Diagnostics& diags) {
-  std::vector<std::unique_ptr<Block>> blocks(p.instances.size());
+// How each pin of `in` is fed (the signature's wiring part).
+std::vector<PinFeed> pin_feeds(const InstanceDecl& in, const Wiring& w) {
+  std::vector<PinFeed> feeds(in.type->pins.size());
+  auto source_text = [&](int c) -> std::string {
+    return c >= 0 && static_cast<std::size_t>(c) < w.connections.size() ? w.connections[static_cast<std::size_t>(c)].src.text
+                                                                        : std::string("?");
+  };
+  for (std::size_t q = 0; q < feeds.size(); ++q) {
+    if (in.type->pins[q].dir != PinDir::In) continue;
+    PinFeed& f = feeds[q];
+    if (in.source[q] >= 0 || in.source[q] == kBrokenSource) {
+      f.kind = PinFeed::Kind::Wired;
+      f.from = source_text(in.source[q]);
+    } else if (in.input(q)) {
+      f.kind = PinFeed::Kind::Constant;
+    }
+    const auto& es = in.element_source[q];
+    if (std::any_of(es.begin(), es.end(), [](int c) { return c >= 0; })) {
+      f.kind = PinFeed::Kind::Wired;
+      f.from.clear();
+      for (std::size_t k = 0; k < es.size(); ++k) f.from += (k ? "," : "") + (es[k] >= 0 ? source_text(es[k]) : "-");
+    }
+  }
+  return feeds;
+}
+
+struct Created {
+  std::unique_ptr<Block> block;
+  std::vector<WiringSeen> seen;
+  std::int64_t period_ns = 0;  // the task period, when the factory read it
+};
+
+std::vector<Created> create_blocks(const Declarations& p, Diagnostics& diags) {
+  std::vector<Created> blocks(p.instances.size());
   std::size_t i = 0;
   for (const auto& in : p.instances) {
-    auto& block = blocks[i++];
+    Created& made = blocks[i++];
+    auto& block = made.block;
     if (!in.values_ok || (in.type->is_generic() && !in.datatype)) continue;  // already reported
     std::vector<bool> connected;
     for (std::size_t q = 0; q < in.type->pins.size(); ++q) connected.push_back(pin_connected(in, q));
@@ -65,6 +113,8 @@ std::vector<std::unique_ptr<Block>> create_blocks(const Declarations& p, Diagnos
     } catch (const std::exception& e) {
       diags.error(in.loc, in.name + " (" + in.type->name + "): " + e.what());
     }
+    made.seen = setup.take_seen();
+    if (setup.period_read()) made.period_ns = p.tasks[static_cast<std::size_t>(in.task)].cfg.period_ns;
     if (!block && diags.size() == before) diags.error(in.loc, in.name + " (" + in.type->name + ") could not be created");
     if (block && in.retain && block->retain_cells() == 0)
       diags.error(in.retain_loc, in.name + " (" + in.type->name + ") has no state to retain (retain: and persistent: "
@@ -75,9 +125,17 @@ std::vector<std::unique_ptr<Block>> create_blocks(const Declarations& p, Diagnos
 
 }  // namespace
 
+// The build's access to the images it lays out (image_access.hpp): no thread
+// runs the program yet. Only build_program may take it.
+class ProgramBuilder {
+  static ImageAccess access() { return ImageAccess{}; }
+  friend std::unique_ptr<Program> build_program(Declarations& p, const Wiring& w, const BlockOrder& o, Diagnostics& diags);
+};
+
 std::unique_ptr<Program> build_program(Declarations& p, const Wiring& w, const BlockOrder& o, Diagnostics& diags) {
+  const ImageAccess access = ProgramBuilder::access();
   // Blocks are created whatever failed before, so that their factories' errors are reported too.
-  std::vector<std::unique_ptr<Block>> created = create_blocks(p, diags);
+  std::vector<Created> created = create_blocks(p, diags);
   if (!diags.empty()) return nullptr;
   auto prog = std::make_unique<Program>();
   prog->name = p.name;
@@ -108,7 +166,7 @@ std::unique_ptr<Program> build_program(Declarations& p, const Wiring& w, const B
     if (p.instances[i].retain) {
       auto t = static_cast<std::size_t>(p.instances[i].task);
       retain_cell[i] = next[t];
-      grow(t, created[i]->retain_cells());
+      grow(t, created[i].block->retain_cells());
     }
   for (std::size_t t = 0; t < nt; ++t) prog->tasks[t]->owned_cells = next[t];
   std::vector<std::map<int, std::uint32_t>> foreign(nt);  // task -> tag -> local cell
@@ -139,25 +197,23 @@ std::unique_ptr<Program> build_program(Declarations& p, const Wiring& w, const B
     }
   }
   if (too_large) return nullptr;
-  for (std::size_t t = 0; t < nt; ++t) prog->tasks[t]->image.assign(next[t], Cell{});
+  for (std::size_t t = 0; t < nt; ++t) prog->tasks[t]->image(access).assign(next[t], Cell{});
 
   // --- initial values ----------------------------------------------------------
   for (const auto& td : p.tags) {
-    auto& img = prog->tasks[td.tag.owner]->image;
+    auto& img = prog->tasks[td.tag.owner]->image(access);
     std::copy(td.tag.init.begin(), td.tag.init.end(), img.begin() + td.tag.cell);
   }
   for (std::size_t t = 0; t < nt; ++t)
     for (const auto& [tag, cell] : foreign[t]) {
       const auto& init = p.tags[static_cast<std::size_t>(tag)].tag.init;
-      std::copy(init.begin(), init.end(), prog->tasks[t]->image.begin() + cell);
+      std::copy(init.begin(), init.end(), prog->tasks[t]->image(access).begin() + cell);
     }
   for (std::size_t i = 0; i < p.instances.size(); ++i) {
-    auto& img = prog->tasks[static_cast<std::size_t>(p.instances[i].task)]->image;
-    for (std::size_t q = 0; q < p.instances[i].pin_values.size(); ++q) {
-      const auto& v = p.instances[i].pin_values[q];
+    auto& img = prog->tasks[static_cast<std::size_t>(p.instances[i].task)]->image(access);
+    for (const auto& [q, v] : p.instances[i].pin_values.lists())
       for (std::uint32_t k = 0; !v.empty() && k < p.instances[i].pin_length[q]; ++k)
         img[pin_cells[i][q] + k] = v.size() == 1 ? v[0] : v[k];
-    }
   }
 
   for (std::size_t t = 0; t < nt; ++t) prog->tasks[t]->unit_delays = o.delays[t];
@@ -176,19 +232,25 @@ std::unique_ptr<Program> build_program(Declarations& p, const Wiring& w, const B
       bi.name = in.name;
       bi.type = in.type;
       bi.datatype = in.datatype.value_or(IecType::LREAL);
-      bi.params = in.param_cells;
       bi.pin_cell = pin_cells[i];
       bi.pin_length = in.pin_length;
-      bi.block = std::move(created[i]);
+      bi.block = std::move(created[i].block);
+      InstanceSignature& sig = bi.signature;
+      sig.type = in.type;
+      // The state's identity: a CTU<INT>'s count is no CTU<DINT>'s.
+      sig.type_name = in.type->is_generic() ? in.type->name + "<" + std::string(type_name(bi.datatype)) + ">" : in.type->name;
+      sig.pin_length = in.pin_length;
+      sig.params = in.param_cells;
+      sig.feeds = pin_feeds(in, w);
+      sig.seen = std::move(created[i].seen);
+      sig.period_ns = created[i].period_ns;
+      sig.state = {bi.block->retain_cells(), bi.block->retain_layout()};
       if (in.retain) {
         bi.retain_cell = retain_cell[i];
         bi.retain_length = bi.block->retain_cells();
-        bi.block->save_retain(&task.image[bi.retain_cell]);
+        bi.block->save_retain(&task.image(access)[bi.retain_cell]);
         task.retained_blocks.push_back(static_cast<std::uint32_t>(k));
-        // The state's identity: a CTU<INT>'s count is no CTU<DINT>'s.
-        const std::string type = in.type->is_generic() ? in.type->name + "<" + std::string(type_name(bi.datatype)) + ">"
-                                                       : in.type->name;
-        prog->retained.push_back({in.name, type, bi.block->retain_layout(), static_cast<std::uint16_t>(t),
+        prog->retained.push_back({in.name, sig.state_identity(), static_cast<std::uint16_t>(t),
                                   static_cast<std::uint32_t>(k), bi.retain_cell, bi.retain_length, in.persistent});
       }
       task.blocks.push_back(std::move(bi));
@@ -250,7 +312,7 @@ std::unique_ptr<Program> build_program(Declarations& p, const Wiring& w, const B
       b.bound_tags.push_back(ti < 0 ? "" : p.tags[static_cast<std::size_t>(ti)].tag.name);
       if (ti < 0) continue;
       std::uint32_t c = local_cell(ti, t);
-      cells[i] = &task.image[c];
+      cells[i] = &task.image(access)[c];
       const auto& tg = p.tags[static_cast<std::size_t>(ti)].tag;
       if (dd.driver->channels()[i].dir == PinDir::Out && tg.owner != t && !tg.safe.empty())
         for (std::uint32_t k = 0; k < tg.length; ++k) task.safe_values.emplace_back(c + k, tg.safe[k]);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <utility>
 
 #include "runtime/core/reference.hpp"
 #include "runtime/core/units.hpp"
@@ -140,15 +141,16 @@ Wiring wire_connections(Declarations& p, Diagnostics& diags) {
         const auto& o = w.connections[static_cast<std::size_t>(ci)];
         diags.error(c.dst_loc, cd.dst.text + " already has a source (" + o.src.text + " -> " + o.dst.text + " at " + o.loc.text() + ")");
       };
-      auto& es = di.element_source[pi];
       if (di.source[pi] >= 0) { already(di.source[pi]); continue; }
       if (di.input(pi)) { diags.error(c.dst_loc, cd.dst.text + " is connected and also given a constant in inputs:"); continue; }
       if (cd.dst.element) {
+        auto& es = di.element_source.of(pi);
         if (es.empty()) es.assign(di.pin_length[pi], -1);
         int& slot = es[*cd.dst.element];
         if (slot >= 0) { already(slot); continue; }
         slot = static_cast<int>(w.connections.size());
       } else {
+        const auto& es = std::as_const(di).element_source[pi];
         auto taken = std::find_if(es.begin(), es.end(), [](int c) { return c >= 0; });
         if (taken != es.end()) { already(*taken); continue; }
         di.source[pi] = static_cast<int>(w.connections.size());

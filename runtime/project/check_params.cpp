@@ -88,7 +88,7 @@ void check_params(Declarations& p, Diagnostics& diags) {
 
 void check_values(Declarations& p, Diagnostics& diags) {
   for (auto& in : p.instances) {
-    in.pin_values.assign(in.type->pins.size(), {});
+    in.pin_values.clear();
     for (std::size_t q = 0; q < in.type->pins.size(); ++q) {
       const auto& decl = in.type->pins[q];
       IecType pt = decl.cls == TypeClass::Exact ? decl.type : in.datatype.value_or(IecType::LREAL);
@@ -96,7 +96,7 @@ void check_values(Declarations& p, Diagnostics& diags) {
       if (const ConfigNode* v = in.input(q)) {
         if (v->is_scalar()) {
           // One value: the scalar pin's value, or every element of an array pin.
-          if (auto c = parse_literal(pt, decl.unit, v->scalar, v->loc, what, diags)) in.pin_values[q].push_back(*c);
+          if (auto c = parse_literal(pt, decl.unit, v->scalar, v->loc, what, diags)) in.pin_values.of(q).push_back(*c);
           else in.values_ok = false;
         } else if (v->is_list() && decl.is_array()) {
           if (!in.params_ok) continue;  // its length is unknown
@@ -107,21 +107,24 @@ void check_values(Declarations& p, Diagnostics& diags) {
             in.values_ok = false;
             continue;
           }
+          std::vector<Cell> cells;
+          cells.reserve(len);
           for (std::size_t k = 0; k < v->items.size(); ++k) {
             const auto& item = v->items[k];
             std::optional<Cell> c;
             if (!item.is_scalar()) diags.error(item.loc, what + "[" + std::to_string(k + 1) + "]: expected a value");
             else c = parse_literal(pt, decl.unit, item.scalar, item.loc, what + "[" + std::to_string(k + 1) + "]", diags);
-            if (c) in.pin_values[q].push_back(*c);
+            if (c) cells.push_back(*c);
             else in.values_ok = false;
           }
+          if (!cells.empty()) in.pin_values.of(q) = std::move(cells);
         } else {
           diags.error(v->loc, what + (decl.is_array() ? ": expected a value or a list of values" : ": expected a value"));
           in.values_ok = false;
         }
       } else if (!decl.init.empty()) {
         std::string err;
-        if (auto c = parse_value(pt, decl.init, &err)) in.pin_values[q].push_back(*c);
+        if (auto c = parse_value(pt, decl.init, &err)) in.pin_values.of(q).push_back(*c);
       }
     }
   }

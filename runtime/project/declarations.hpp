@@ -53,6 +53,34 @@ struct TagDecl {
   std::vector<int> reader_tasks;
 };
 
+// A list per pin, kept only for the pins that have one: element sources of
+// array pins wired by element, constants and initial values. A block type
+// has up to a dozen pins and few of them have a list; a vector per pin was
+// a quarter of the loader's memory at 100,000 blocks (docs/benchmarks.md,
+// section 6). A pin without a list reads as an empty one.
+template <class T>
+class PinLists {
+ public:
+  const std::vector<T>& operator[](std::size_t pin) const {
+    for (const auto& [p, v] : lists_)
+      if (p == pin) return v;
+    static const std::vector<T> none;
+    return none;
+  }
+  // The pin's list, made when it has none yet.
+  std::vector<T>& of(std::size_t pin) {
+    for (auto& [p, v] : lists_)
+      if (p == pin) return v;
+    return lists_.emplace_back(static_cast<std::uint32_t>(pin), std::vector<T>{}).second;
+  }
+  // (pin, list) of the pins that have one, in the order they were made.
+  const std::vector<std::pair<std::uint32_t, std::vector<T>>>& lists() const { return lists_; }
+  void clear() { lists_.clear(); }
+
+ private:
+  std::vector<std::pair<std::uint32_t, std::vector<T>>> lists_;
+};
+
 struct InstanceDecl {
   std::string name;
   const BlockTypeInfo* type = nullptr;
@@ -78,9 +106,9 @@ struct InstanceDecl {
   // Filled by the checks:
   std::vector<int> source;                // connection index feeding each input pin, -1 none, kBrokenSource
   std::vector<std::uint32_t> pin_length;  // elements per pin (1 for a scalar), set from parameters
-  std::vector<std::vector<int>> element_source;  // array input pins: connection feeding each element, -1 none
+  PinLists<int> element_source;           // array input pins wired by element: connection feeding each element, -1 none
   bool params_ok = true;                  // parameters parsed (so array pin lengths are known)
-  std::vector<std::vector<Cell>> pin_values;  // constants and pin inits by pin index
+  PinLists<Cell> pin_values;              // constants and pin inits by pin index
   std::vector<Cell> param_cells;                // by ParamDecl index
   bool values_ok = true;
 

@@ -18,12 +18,12 @@ namespace {
 
 // Stage 1: the YAML tree into declarations. The tree is not used after it.
 Declarations read_declarations(ConfigNode& root, const std::string& path, const LoadOptions& opts, Diagnostics& diags,
-                               std::vector<store::SourceFile>& sources) {
+                               std::vector<store::SourceFile>& sources, YamlBudget& budget) {
   Declarations p;
   p.file = path;
   const BlockRegistry& blocks = opts.blocks ? *opts.blocks : builtin_blocks();
   const DriverRegistry& drivers = opts.drivers ? *opts.drivers : builtin_drivers();
-  merge_includes(root, path, diags, &sources);
+  merge_includes(root, path, diags, &sources, budget);
   for (const auto& [k, v] : root.map)
     if (!kTopKeys.count(k))
       diags.error(v.loc, "unknown top-level key '" + k + "' (project, include, tasks, tags, blocks, connections, drivers, traces, watch, metrics, modbus, store)");
@@ -34,7 +34,8 @@ Declarations read_declarations(ConfigNode& root, const std::string& path, const 
   if (auto* n = root.find("tags")) read_tags(*n, p, diags);
   if (auto* n = root.find("modbus")) read_modbus_section(*n, p.modbus, diags);
   if (auto* n = root.find("store")) read_store_section(*n, p.store, diags);
-  if (auto* n = root.find("blocks")) read_blocks(*n, blocks, p, diags);
+  for (auto& [k, v] : root.map)
+    if (k == "blocks") read_blocks(v, blocks, p, diags);
   std::set<std::string> driver_overrides;
   for (auto& [k, v] : root.map)
     if (k == "drivers") driver_overrides = override_driver_settings(v, opts, diags);
@@ -47,8 +48,9 @@ Declarations read_declarations(ConfigNode& root, const std::string& path, const 
   return p;
 }
 
+// `budget`: what reading the project file used of the load's YAML budget.
 LoadResult load_tree(ConfigNode root, const std::string& path, const LoadOptions& opts, Diagnostics diags,
-                     std::vector<store::SourceFile> sources) {
+                     std::vector<store::SourceFile> sources, YamlBudget& budget) {
   LoadResult r;
   r.sources = std::move(sources);
   if (!diags.empty()) {
@@ -60,14 +62,22 @@ LoadResult load_tree(ConfigNode root, const std::string& path, const LoadOptions
     r.diagnostics = std::move(diags);
     return r;
   }
-  Declarations p = read_declarations(root, path, opts, diags, r.sources);
+  Declarations p = read_declarations(root, path, opts, diags, r.sources, budget);
   root = ConfigNode{};  // the declarations hold what is needed (a large project's tree is most of the memory)
+  auto cancelled = [&] {
+    if (!opts.cancel || !opts.cancel->load(std::memory_order_relaxed)) return false;
+    diags.error(SourceLoc{path, 1, 1}, "the load was cancelled: the PLC is stopping");
+    r.diagnostics = std::move(diags);
+    return true;
+  };
+  if (cancelled()) return r;
 
   // Stage 2: checks.
   check_addresses(p, diags);
   check_modbus_places(p, diags);
   check_params(p, diags);  // before connections: parameters size the array pins
   Wiring w = wire_connections(p, diags);
+  std::vector<ConnectionText>().swap(p.connections);  // resolved into w, not needed again (100,000 connections: 14 MB)
   infer_types(p, w, diags);
   check_connections(p, w, diags);
   find_owners(p, w, diags);
@@ -76,6 +86,11 @@ LoadResult load_tree(ConfigNode root, const std::string& path, const LoadOptions
   check_values(p, diags);
   BlockOrder o = order_blocks(p, w, diags);
   check_refs(p, diags);
+  if (cancelled()) return r;
+
+  // Retain's "changed project" (docs/store.md): hashed before the build, so
+  // that the files' copies it makes are gone before the program's memory peaks.
+  const std::string content_hash = diags.empty() ? store::make_content(r.sources).hash : std::string();
 
   // Stage 3: the Program (its blocks' factories report errors too).
   std::unique_ptr<Program> prog = build_program(p, w, o, diags);
@@ -84,7 +99,7 @@ LoadResult load_tree(ConfigNode root, const std::string& path, const LoadOptions
     r.program = std::move(prog);
     r.modbus = build_modbus(p);
     r.store = build_store(p);
-    r.store.content_hash = store::make_content(r.sources).hash;  // retain's "changed project" (docs/store.md)
+    r.store.content_hash = content_hash;
     store::build_trend_folds(*r.program, r.store);  // the tasks' historian buckets, sized before they run
   }
   r.diagnostics = std::move(diags);
@@ -112,15 +127,17 @@ bool parse_override(const std::string& text, ParamOverride& out) {
 
 LoadResult load_project_text(const std::string& text, const std::string& name, const LoadOptions& options) {
   Diagnostics d;
-  ConfigNode root = read_yaml_string(text, name, d);
-  return load_tree(std::move(root), name, options, std::move(d), {{name, text}});
+  YamlBudget budget;
+  ConfigNode root = read_yaml_string(text, name, d, &budget);
+  return load_tree(std::move(root), name, options, std::move(d), {{name, text}}, budget);
 }
 
 LoadResult load_project(const std::string& path, const LoadOptions& options) {
   Diagnostics d;
   std::vector<store::SourceFile> sources;
-  ConfigNode root = read_yaml_file(path, d, &sources);
-  return load_tree(std::move(root), path, options, std::move(d), std::move(sources));
+  YamlBudget budget;  // the project file and every file it includes
+  ConfigNode root = read_yaml_file(path, d, &sources, &budget);
+  return load_tree(std::move(root), path, options, std::move(d), std::move(sources), budget);
 }
 
 }  // namespace syncplc

@@ -4,6 +4,7 @@
 // is never replaced by one that did not load.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -32,6 +33,9 @@ struct LoadOptions {
   std::vector<ParamOverride> overrides;    // --set instance.param=value
   const BlockRegistry* blocks = nullptr;   // default: builtin_blocks()
   const DriverRegistry* drivers = nullptr; // default: builtin_drivers()
+  // Set (by another thread) to give up between stages: a PLC that stops
+  // while it loads a project for an online change does not wait for it.
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 struct LoadResult {

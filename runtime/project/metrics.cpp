@@ -18,14 +18,14 @@ MotionMetrics::MotionMetrics(const MetricsSettings& m) : from_ns_(m.from_ns) {
   e_.assign(n, 0.0);
 }
 
-void MotionMetrics::sample(const Program& p, std::int64_t t, std::uint64_t owner_scans) {
+void MotionMetrics::sample(const Program& p, ImageAccess a, std::int64_t t, std::uint64_t owner_scans) {
   if (errors_.empty() || owner_scans == last_scans_) return;
   last_scans_ = owner_scans;
   if (t < from_ns_) return;
   const std::size_t n = errors_.size();
   for (std::size_t i = 0; i < n; ++i) {
     const auto& r = errors_[i];
-    Cell c = p.tasks[r.task]->image[r.cell];
+    Cell c = p.tasks[r.task]->image(a)[r.cell];
     e_[i] = r.type == IecType::REAL ? static_cast<double>(c.get<float>()) : c.get<double>();
   }
   double track = 0, sync = 0, prefix = 0;

@@ -28,7 +28,8 @@ class MotionMetrics {
  public:
   explicit MotionMetrics(const MetricsSettings& m);
   // After the scans of time t: samples when the errors' task scanned since the last call.
-  void sample(const Program& p, std::int64_t t, std::uint64_t owner_scans);
+  // In virtual time, from the clock's observer: `a` is the clock's (image_access.hpp).
+  void sample(const Program& p, ImageAccess a, std::int64_t t, std::uint64_t owner_scans);
   bool enabled() const { return !errors_.empty(); }
   std::uint16_t task() const { return task_; }
 

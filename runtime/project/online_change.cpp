@@ -13,8 +13,9 @@ std::string change_summary(const ProgramChange& c) {
   for (TaskFate f : {TaskFate::Kept, TaskFate::Retimed, TaskFate::Added, TaskFate::Removed, TaskFate::Restarted})
     if (fates[static_cast<int>(f)] || f == TaskFate::Kept)
       tasks += (tasks.empty() ? "" : ", ") + fmt::format("{} {}", fates[static_cast<int>(f)], task_fate_name(f));
-  std::string out = fmt::format("instances: {} kept, {} retuned, {} new, {} removed; tasks: {}; {} tag value{} carried over",
-                                c.count(InstanceFate::Kept), c.count(InstanceFate::Retuned), c.count(InstanceFate::New),
+  std::string out = fmt::format("instances: {} kept, {} retuned, {} rewired, {} new, {} removed; tasks: {}; {} tag value{} carried over",
+                                c.count(InstanceFate::Kept), c.count(InstanceFate::Retuned), c.count(InstanceFate::Rewired),
+                                c.count(InstanceFate::New),
                                 c.count(InstanceFate::Removed), tasks, c.tags_carried, c.tags_carried == 1 ? "" : "s");
   if (!c.forces.empty()) {
     const auto kept = static_cast<std::size_t>(std::count_if(c.forces.begin(), c.forces.end(), [](const ForceChange& f) { return f.kept; }));

@@ -13,7 +13,7 @@ const std::set<std::string> kTopKeys = {"project", "include", "tasks", "tags", "
 namespace {
 
 void merge_level(ConfigNode& root, const std::string& path, int depth, std::vector<std::string>& include_stack,
-                 Diagnostics& diags, std::vector<store::SourceFile>* read) {
+                 Diagnostics& diags, std::vector<store::SourceFile>* read, YamlBudget& budget) {
   const ConfigNode* inc = root.find("include");
   if (!inc) return;
   std::vector<const ConfigNode*> files;
@@ -22,6 +22,7 @@ void merge_level(ConfigNode& root, const std::string& path, int depth, std::vect
   else { diags.error(inc->loc, "include: a file name or a list of file names"); return; }
   if (depth > 8) { diags.error(inc->loc, "includes nested deeper than 8 levels"); return; }
   for (const ConfigNode* f : files) {
+    if (budget.exhausted) return;  // reported where it ran out; reading on would repeat it for every file
     if (!f->is_scalar()) { diags.error(f->loc, "include: expected a file name"); continue; }
     std::filesystem::path p = std::filesystem::path(path).parent_path() / f->scalar;
     std::error_code ec;
@@ -33,7 +34,7 @@ void merge_level(ConfigNode& root, const std::string& path, int depth, std::vect
       continue;
     }
     Diagnostics local;
-    ConfigNode sub = read_yaml_file(p.string(), local, read);
+    ConfigNode sub = read_yaml_file(p.string(), local, read, &budget);
     for (const auto& e : local.list()) {
       if (e.loc.line == 0) diags.error(f->loc, "include '" + f->scalar + "': " + e.message);
       else diags.error(e.loc, e.message);
@@ -41,7 +42,7 @@ void merge_level(ConfigNode& root, const std::string& path, int depth, std::vect
     if (!local.empty()) continue;
     if (!sub.is_map()) { diags.error(f->loc, "include '" + f->scalar + "' is not a map of sections"); continue; }
     include_stack.push_back(canonical);
-    merge_level(sub, p.string(), depth + 1, include_stack, diags, read);
+    merge_level(sub, p.string(), depth + 1, include_stack, diags, read, budget);
     include_stack.pop_back();
     for (auto& [k, v] : sub.map) {
       if (k == "include") continue;
@@ -70,10 +71,11 @@ void merge_level(ConfigNode& root, const std::string& path, int depth, std::vect
 
 }  // namespace
 
-void merge_includes(ConfigNode& root, const std::string& path, Diagnostics& diags, std::vector<store::SourceFile>* read) {
+void merge_includes(ConfigNode& root, const std::string& path, Diagnostics& diags, std::vector<store::SourceFile>* read,
+                    YamlBudget& budget) {
   std::error_code ec;
   std::vector<std::string> include_stack = {std::filesystem::weakly_canonical(path, ec).string()};  // outermost first
-  merge_level(root, path, 0, include_stack, diags, read);
+  merge_level(root, path, 0, include_stack, diags, read, budget);
 }
 
 }  // namespace syncplc

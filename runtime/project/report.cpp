@@ -24,7 +24,7 @@ void print_task_table(std::ostream& os, const Program& p) {
                       format_duration(c.period_ns), format_duration(c.phase_ns), c.priority,
                       c.watchdog ? format_duration(c.watchdog_ns) : "-", c.watchdog ? std::to_string(c.sensitivity) : "-",
                       c.watchdog ? std::string(watchdog_action_name(c.action)) : "-", missed_cycles_name(c.missed),
-                      t->blocks.size(), t->image.size());
+                      t->blocks.size(), t->image_cells());
   }
 }
 
@@ -118,6 +118,10 @@ std::string format_event(const Program& p, const Event& e) {
   std::string where = p.tasks[e.task]->config().name;
   if (e.block >= 0 && static_cast<std::size_t>(e.block) < p.tasks[e.task]->blocks.size())
     where += "/" + p.tasks[e.task]->blocks[static_cast<std::size_t>(e.block)].name;
+  return format_event(where, e);
+}
+
+std::string format_event(const std::string& where, const Event& e) {
   return fmt::format("[{:.6f}s] {:<14} {}: {}{}", static_cast<double>(e.time_ns) * 1e-9, event_kind_name(e.kind), where,
                      e.message, event_value_text(e));
 }
@@ -126,6 +130,7 @@ std::string event_value_text(const Event& e) {
   if (e.kind == EventKind::WatchdogTrip || e.kind == EventKind::ScanOverrun)
     return " (scan took " + format_ns(static_cast<std::int64_t>(e.value * 1e9)) + ")";
   if (e.kind == EventKind::ScanHung) return " (running for " + format_ns(static_cast<std::int64_t>(e.value * 1e9)) + ")";
+  if (e.kind == EventKind::ScanLate) return " (started " + format_ns(static_cast<std::int64_t>(e.value * 1e9)) + " after its release)";
   return "";
 }
 

@@ -18,6 +18,8 @@ void print_driver_counters(std::ostream& os, const Program& p);
 // Drains every task's event ring and prints the events. Returns how many.
 std::size_t print_events(std::ostream& os, Program& p);
 std::string format_event(const Program& p, const Event& e);
+// The same line for an event of `where` (a task's name; the supervisor's events).
+std::string format_event(const std::string& where, const Event& e);
 // What an event's value means, as format_event appends it: " (scan took 1.2ms)", or "".
 std::string event_value_text(const Event& e);
 std::string format_ns(std::int64_t ns);  // 1.234ms, 12us, 3.5s

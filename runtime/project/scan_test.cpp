@@ -386,7 +386,7 @@ ScanTestCaseResult run_case(const std::string& project, const LoadOptions& base,
   VirtualClock clock(p);
   MotionMetrics metrics(loaded.metrics);
   if (metrics.enabled())
-    clock.on_time_point([&](std::int64_t t) { metrics.sample(p, t, clock.scans(metrics.task())); });
+    clock.on_time_point([&](std::int64_t t) { metrics.sample(p, clock.image_access(), t, clock.scans(metrics.task())); });
   auto metric_value = [&](const Target& t) {
     switch (t.metric) {
       case Target::MetricKind::TrackRsme: return metrics.track_rsme();
@@ -408,7 +408,7 @@ ScanTestCaseResult run_case(const std::string& project, const LoadOptions& base,
           Cell c;
           p.drivers[static_cast<std::size_t>(t.driver)].driver->read_output(t.channel, &c);
           x = cell_as_double(t.type, c);
-        } else x = cell_as_double(t.type, *p.live_cell(t.ref));
+        } else x = cell_as_double(t.type, *clock.live_cell(t.ref));
         if (as.max || as.min) {
           if ((as.max && !(x <= *as.max)) || (as.min && !(x >= *as.min)))
             r.failures.push_back(fmt::format("{}: case '{}' {}: {} is {}, expected{}{}", as.loc.text(), c.name, a->when,
@@ -433,7 +433,7 @@ ScanTestCaseResult run_case(const std::string& project, const LoadOptions& base,
       }
       std::vector<Cell> actual(t.length);
       if (t.kind == Target::DriverOut) p.drivers[static_cast<std::size_t>(t.driver)].driver->read_output(t.channel, actual.data());
-      else std::copy(p.live_cell(t.ref), p.live_cell(t.ref) + t.length, actual.begin());
+      else std::copy(clock.live_cell(t.ref), clock.live_cell(t.ref) + t.length, actual.begin());
       ++r.steps_checked;
       for (std::uint32_t i = 0; i < t.length; ++i) {
         if (values_equal(t.type, actual[i], as.values[i], as.tolerance)) continue;

@@ -12,6 +12,7 @@
 #include "runtime/project/declarations.hpp"
 #include "runtime/project/diagnostics.hpp"
 #include "runtime/project/loader.hpp"
+#include "runtime/project/yaml_tree.hpp"
 
 namespace syncplc {
 
@@ -31,15 +32,18 @@ bool parse_tag_type(const std::string& s, IecType& t, std::uint32_t& len, std::i
 // --- 1. read: YAML -> Declarations -----------------------------------------------
 // Top-level keys; include: files merged into the root (read_includes.cpp).
 extern const std::set<std::string> kTopKeys;
-// Each file read is added to `read`.
-void merge_includes(ConfigNode& root, const std::string& path, Diagnostics& diags, std::vector<store::SourceFile>* read);
+// Each file read is added to `read`; every file read counts against `budget`
+// (the whole load's, yaml_tree.hpp), and none is read once it is used up.
+void merge_includes(ConfigNode& root, const std::string& path, Diagnostics& diags, std::vector<store::SourceFile>* read,
+                    YamlBudget& budget);
 void read_project(const ConfigNode& n, Declarations& p, Diagnostics& diags);  // read_sections.cpp
 void read_tasks(const ConfigNode& n, Declarations& p, Diagnostics& diags);
 void read_tags(const ConfigNode& n, Declarations& p, Diagnostics& diags);
 void read_connections(const ConfigNode& n, Declarations& p, Diagnostics& diags);
 void read_refs(const ConfigNode& root, const char* key, RefList& out, Diagnostics& diags);
 void read_metrics(const ConfigNode& n, Declarations& p, Diagnostics& diags);
-void read_blocks(const ConfigNode& n, const BlockRegistry& blocks, Declarations& p, Diagnostics& diags);  // read_blocks.cpp
+// read_blocks.cpp; empties each block's node once it is read (the tree is not used after stage 1).
+void read_blocks(ConfigNode& n, const BlockRegistry& blocks, Declarations& p, Diagnostics& diags);
 // read_drivers.cpp. --set driver.key=value rewrites the driver's settings
 // before it is created; returns the drivers so changed.
 std::set<std::string> override_driver_settings(ConfigNode& drivers, const LoadOptions& opts, Diagnostics& diags);

@@ -21,9 +21,9 @@ void write_trace_header(std::ostream& os, const Program& p) {
   os << '\n';
 }
 
-void write_trace_row(std::ostream& os, const Program& p, std::int64_t time_ns) {
+void write_trace_row(std::ostream& os, const Program& p, ImageAccess a, std::int64_t time_ns) {
   os << fmt::format("{:.9f}", static_cast<double>(time_ns) * 1e-9);
-  for (const auto& c : p.traces) os << ',' << format_trace_value(c.ref.type, *p.live_cell(c.ref));
+  for (const auto& c : p.traces) os << ',' << format_trace_value(c.ref.type, *p.live_cell(c.ref, a));
   os << '\n';
 }
 

@@ -11,7 +11,8 @@
 namespace syncplc {
 
 void write_trace_header(std::ostream& os, const Program& p);
-void write_trace_row(std::ostream& os, const Program& p, std::int64_t time_ns);
+// In virtual time: `a` is the clock's (image_access.hpp).
+void write_trace_row(std::ostream& os, const Program& p, ImageAccess a, std::int64_t time_ns);
 std::string format_trace_value(IecType t, Cell c);
 
 }  // namespace syncplc

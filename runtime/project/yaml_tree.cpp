@@ -1,16 +1,13 @@
 #include "runtime/project/yaml_tree.hpp"
 
-#include <yaml-cpp/eventhandler.h>
-#include <yaml-cpp/exceptions.h>
-#include <yaml-cpp/mark.h>
-#include <yaml-cpp/parser.h>
+#include <yaml.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
-#include <functional>
 #include <iterator>
 #include <map>
-#include <sstream>
+#include <string_view>
 
 namespace syncplc {
 
@@ -26,65 +23,70 @@ std::vector<Diagnostic> Diagnostics::sorted() const {
 
 namespace {
 
-SourceLoc loc_of(const YAML::Mark& m, const SourceFile& file) {
-  return SourceLoc{file, m.line + 1, m.column + 1};
-}
+// A file passed its budget or depth: the parse stops there.
+struct Refused {
+  SourceLoc loc;
+  std::string message;
+  bool budget = false;  // the load's budget is used up (not only this file's depth)
+};
 
-// Builds the ConfigNode tree straight from the parser's events: no yaml-cpp
-// node tree in between, which for a large project took several times the
-// memory of the tree kept (issue 11: 100,000 blocks in under 300 MB).
-class TreeBuilder final : public YAML::EventHandler {
+// Builds the ConfigNode tree from libyaml's events: no parser's own node
+// tree in between, which for a large project took several times the memory
+// of the tree kept (issue 11: 100,000 blocks in under 300 MB). Counts every
+// node against the load's budget, an alias as the nodes it names, before
+// the alias is copied.
+class TreeBuilder {
  public:
-  TreeBuilder(const std::string& file, Diagnostics& diags) : file_(file), diags_(diags) {}
+  TreeBuilder(const std::string& file, Diagnostics& diags, YamlBudget& budget)
+      : file_(file), diags_(diags), budget_(budget) {}
   ConfigNode root;
 
-  void OnDocumentStart(const YAML::Mark&) override {}
-  void OnDocumentEnd() override {}
-  void OnNull(const YAML::Mark& m, YAML::anchor_t anchor) override {
+  SourceLoc place(int line0, int col0) const { return SourceLoc{file_, line0 + 1, col0 + 1}; }
+
+  void null(const SourceLoc& at, const std::string& anchor) {
+    count(at, 1);
     ConfigNode c;
-    c.loc = loc_of(m, file_);
-    done(std::move(c), anchor);
+    c.loc = at;
+    done(std::move(c), anchor, 1, 0);
   }
-  void OnAlias(const YAML::Mark& m, YAML::anchor_t anchor) override {
-    auto it = anchors_.find(anchor);
-    if (it == anchors_.end()) {
-      diags_.error(loc_of(m, file_), "an alias inside the node it names");
-      done(ConfigNode{ConfigNode::Kind::Null, "", {}, {}, loc_of(m, file_)}, 0);
-      return;
-    }
-    done(ConfigNode(it->second), 0);  // a copy, with the anchored node's places
-  }
-  void OnScalar(const YAML::Mark& m, const std::string&, YAML::anchor_t anchor, const std::string& value) override {
+  void scalar(const SourceLoc& at, const std::string& anchor, std::string value) {
+    count(at, 1);
     ConfigNode c;
     c.kind = ConfigNode::Kind::Scalar;
-    c.scalar = value;
-    c.loc = loc_of(m, file_);
-    done(std::move(c), anchor);
+    c.scalar = std::move(value);
+    c.loc = at;
+    done(std::move(c), anchor, 1, 0);
   }
-  void OnSequenceStart(const YAML::Mark& m, const std::string&, YAML::anchor_t anchor, YAML::EmitterStyle::value) override {
-    open(ConfigNode::Kind::List, m, anchor);
+  void alias(const SourceLoc& at, const std::string& name) {
+    auto it = anchors_.find(name);
+    if (it == anchors_.end()) {
+      bool open = false;
+      for (const auto& f : stack_) open |= f.anchor == name;
+      diags_.error(at, open ? "an alias inside the node it names" : "alias *" + name + ": no anchor &" + name + " before it");
+      done(ConfigNode{ConfigNode::Kind::Null, "", {}, {}, at}, "", 0, 0);
+      return;
+    }
+    const Anchored& a = it->second;
+    if (stack_.size() + a.height > YamlBudget::kMaxDepth)
+      throw Refused{at, "alias *" + name + " nests the file deeper than " + std::to_string(YamlBudget::kMaxDepth) + " levels"};
+    if (a.nodes > budget_.limit() - budget_.used)
+      throw Refused{at,
+                    "alias *" + name + " expands the file past its limit of " + std::to_string(budget_.limit()) +
+                        " YAML nodes (one per byte of the project's files, at least " +
+                        std::to_string(YamlBudget::kMinNodes) + "): aliases are not expanded that far",
+                    true};
+    budget_.used += a.nodes;
+    done(ConfigNode(a.node), "", a.nodes, a.height);  // a copy, with the anchored node's places
   }
-  void OnSequenceEnd() override { close(); }
-  void OnMapStart(const YAML::Mark& m, const std::string&, YAML::anchor_t anchor, YAML::EmitterStyle::value) override {
-    open(ConfigNode::Kind::Map, m, anchor);
-  }
-  void OnMapEnd() override { close(); }
-
- private:
-  struct Frame {
-    ConfigNode node;
-    YAML::anchor_t anchor = 0;
-    bool have_key = false;  // maps: the next node is the value of `key`
-    bool key_ok = false;
-    std::string key;
-    SourceLoc key_loc;
-  };
-
-  void open(ConfigNode::Kind kind, const YAML::Mark& m, YAML::anchor_t anchor) {
+  void open(ConfigNode::Kind kind, const SourceLoc& at, const std::string& anchor) {
+    if (stack_.size() + 1 > YamlBudget::kMaxDepth)
+      throw Refused{at, "YAML nested deeper than " + std::to_string(YamlBudget::kMaxDepth) + " levels"};
+    count(at, 1);
     Frame f;
     f.node.kind = kind;
-    f.node.loc = loc_of(m, file_);
+    f.node.loc = at;
     f.anchor = anchor;
+    f.first = budget_.used - 1;
     stack_.push_back(std::move(f));
   }
   void close() {
@@ -92,16 +94,45 @@ class TreeBuilder final : public YAML::EventHandler {
     stack_.pop_back();
     f.node.map.shrink_to_fit();  // kept for the whole load: no doubling slack
     f.node.items.shrink_to_fit();
-    done(std::move(f.node), f.anchor);
+    done(std::move(f.node), f.anchor, budget_.used - f.first, f.height);
   }
+
+ private:
+  struct Frame {
+    ConfigNode node;
+    std::string anchor;
+    std::size_t first = 0;  // the budget's count before this node
+    std::size_t height = 1;  // lists and maps nested in it, itself included
+    bool have_key = false;  // maps: the next node is the value of `key`
+    bool key_ok = false;
+    std::string key;
+    SourceLoc key_loc;
+  };
+  struct Anchored {
+    ConfigNode node;
+    std::size_t nodes = 0;   // what an alias of it adds to the budget
+    std::size_t height = 0;  // what it adds to the depth
+  };
+
+  void count(const SourceLoc& at, std::size_t n) {
+    if (n > budget_.limit() - budget_.used)
+      throw Refused{at,
+                    "the project's files pass their limit of " + std::to_string(budget_.limit()) +
+                        " YAML nodes (one per byte of the project's files, at least " +
+                        std::to_string(YamlBudget::kMinNodes) + "; a file included more than once counts each time)",
+                    true};
+    budget_.used += n;
+  }
+
   // A complete node: the root, an item of a list, or a key or value of a map.
-  void done(ConfigNode c, YAML::anchor_t anchor) {
-    if (anchor) anchors_[anchor] = c;
+  void done(ConfigNode c, const std::string& anchor, std::size_t nodes, std::size_t height) {
+    if (!anchor.empty()) anchors_[anchor] = Anchored{c, nodes, height};
     if (stack_.empty()) {
       root = std::move(c);
       return;
     }
     Frame& f = stack_.back();
+    if (height + 1 > f.height) f.height = height + 1;
     if (f.node.is_list()) {
       f.node.items.push_back(std::move(c));
       return;
@@ -127,8 +158,9 @@ class TreeBuilder final : public YAML::EventHandler {
 
   const SourceFile file_;  // one name shared by every node
   Diagnostics& diags_;
+  YamlBudget& budget_;
   std::vector<Frame> stack_;
-  std::map<YAML::anchor_t, ConfigNode> anchors_;
+  std::map<std::string, Anchored> anchors_;
 };
 
 // What usually causes a syntax error on this line, for the two mistakes
@@ -152,40 +184,112 @@ std::string syntax_hint(const std::string& line) {
   return "";
 }
 
-// `line_of` gives the text of a 0-based line, for the hint.
-ConfigNode read_yaml_stream(std::istream& in, const std::string& name, Diagnostics& diags,
-                            const std::function<std::string(int)>& line_of) {
-  TreeBuilder b(name, diags);
+// Line `n` (0-based) of a text; "" past its end.
+std::string nth_line(const std::string& text, std::size_t n) {
+  std::size_t at = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    at = text.find('\n', at);
+    if (at == std::string::npos) return "";
+    ++at;
+  }
+  return text.substr(at, text.find('\n', at) - at);
+}
+
+// libyaml's parser and its current event, released however the read ends.
+struct Parser {
+  yaml_parser_t p;
+  Parser() { yaml_parser_initialize(&p); }
+  ~Parser() { yaml_parser_delete(&p); }
+};
+struct Event {
+  yaml_event_t e{};
+  ~Event() { yaml_event_delete(&e); }
+};
+
+std::string text_of(const yaml_char_t* s) { return s ? reinterpret_cast<const char*>(s) : ""; }
+
+// A plain scalar without a tag that YAML reads as null (as yaml-cpp did):
+// the empty value of `key:`, `~`, `null`.
+bool is_null(const yaml_event_t& e) {
+  const auto& sc = e.data.scalar;
+  if (sc.style != YAML_PLAIN_SCALAR_STYLE || sc.tag) return false;
+  const std::string_view v(reinterpret_cast<const char*>(sc.value), sc.length);
+  return v.empty() || v == "~" || v == "null" || v == "Null" || v == "NULL";
+}
+
+// A syntax error where libyaml found it, with what it was reading and from where.
+void syntax_error(const yaml_parser_t& p, const std::string& text, const std::string& name, Diagnostics& diags) {
+  std::size_t line = p.problem_mark.line, col = p.problem_mark.column;
+  if (p.error == YAML_READER_ERROR) {  // bad bytes: only an offset
+    const std::size_t at = std::min(p.problem_offset, text.size());
+    line = static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
+    col = at - (line ? text.rfind('\n', at - 1) + 1 : 0);
+  }
+  std::string msg = "YAML syntax error: " + std::string(p.problem ? p.problem : "the parser stopped");
+  // The context's place, when it is another: the start of what was left open.
+  if (p.context && (p.context_mark.line != p.problem_mark.line || p.context_mark.column != p.problem_mark.column))
+    msg += " (" + std::string(p.context) + " that starts at line " + std::to_string(p.context_mark.line + 1) +
+           ", column " + std::to_string(p.context_mark.column + 1) + ")";
+  diags.error(SourceLoc{name, static_cast<int>(line) + 1, static_cast<int>(col) + 1}, msg + syntax_hint(nth_line(text, line)));
+}
+
+// The first document of `text` (as yaml-cpp's YAML::Load read), from
+// libyaml's events: a tenth of yaml-cpp's time for a large project's flow
+// maps (docs/benchmarks.md, section 6).
+ConfigNode read_yaml_events(const std::string& text, const std::string& name, Diagnostics& diags, YamlBudget& budget) {
+  TreeBuilder b(name, diags, budget);
   b.root.loc = SourceLoc{name, 0, 0};
+  Parser parser;
+  yaml_parser_set_input_string(&parser.p, reinterpret_cast<const unsigned char*>(text.data()), text.size());
   try {
-    YAML::Parser parser(in);
-    parser.HandleNextDocument(b);  // the first document, as YAML::Load reads
-  } catch (const YAML::Exception& e) {
-    diags.error(loc_of(e.mark, name), "YAML syntax error: " + e.msg + syntax_hint(line_of(e.mark.line)));
+    for (bool more = true; more;) {
+      Event ev;
+      if (!yaml_parser_parse(&parser.p, &ev.e)) {
+        syntax_error(parser.p, text, name, diags);
+        return ConfigNode{};
+      }
+      const yaml_event_t& e = ev.e;
+      const SourceLoc at = b.place(static_cast<int>(e.start_mark.line), static_cast<int>(e.start_mark.column));
+      switch (e.type) {
+        case YAML_SCALAR_EVENT:
+          if (is_null(e)) b.null(at, text_of(e.data.scalar.anchor));
+          else b.scalar(at, text_of(e.data.scalar.anchor), std::string(reinterpret_cast<const char*>(e.data.scalar.value), e.data.scalar.length));
+          break;
+        case YAML_ALIAS_EVENT: b.alias(at, text_of(e.data.alias.anchor)); break;
+        case YAML_SEQUENCE_START_EVENT: b.open(ConfigNode::Kind::List, at, text_of(e.data.sequence_start.anchor)); break;
+        case YAML_MAPPING_START_EVENT: b.open(ConfigNode::Kind::Map, at, text_of(e.data.mapping_start.anchor)); break;
+        case YAML_SEQUENCE_END_EVENT:
+        case YAML_MAPPING_END_EVENT: b.close(); break;
+        case YAML_DOCUMENT_END_EVENT:
+        case YAML_STREAM_END_EVENT: more = false; break;  // the first document only
+        default: break;
+      }
+    }
+  } catch (const Refused& r) {
+    diags.error(r.loc, r.message);
+    if (r.budget) budget.exhausted = true;
     return ConfigNode{};
   }
   return std::move(b.root);
 }
 
-// Line `n` (0-based) of a text; "" past its end.
-std::string nth_line(std::istream& in, int n) {
-  std::string line;
-  for (int i = 0; i <= n && std::getline(in, line); ++i)
-    if (i == n) return line;
-  return "";
+// `key` names the file in the budget.
+ConfigNode read_text(const std::string& text, const std::string& name, const std::string& key, Diagnostics& diags,
+                     YamlBudget* budget) {
+  YamlBudget own;
+  YamlBudget& b = budget ? *budget : own;
+  b.add_file(key, text.size());
+  return read_yaml_events(text, name, diags, b);
 }
 
 }  // namespace
 
-ConfigNode read_yaml_string(const std::string& text, const std::string& name, Diagnostics& diags) {
-  std::istringstream in(text);
-  return read_yaml_stream(in, name, diags, [&](int n) {
-    std::istringstream again(text);
-    return nth_line(again, n);
-  });
+ConfigNode read_yaml_string(const std::string& text, const std::string& name, Diagnostics& diags, YamlBudget* budget) {
+  return read_text(text, name, name, diags, budget);
 }
 
-ConfigNode read_yaml_file(const std::string& path, Diagnostics& diags, std::vector<store::SourceFile>* read) {
+ConfigNode read_yaml_file(const std::string& path, Diagnostics& diags, std::vector<store::SourceFile>* read,
+                          YamlBudget* budget) {
   std::ifstream in(path, std::ios::binary);
   if (!in) {
     diags.error(SourceLoc{path, 0, 0}, "cannot open file");
@@ -196,8 +300,12 @@ ConfigNode read_yaml_file(const std::string& path, Diagnostics& diags, std::vect
     diags.error(SourceLoc{path, 0, 0}, "cannot read file");
     return ConfigNode{};
   }
-  if (read) read->push_back({path, text});
-  return read_yaml_string(text, path, diags);
+  std::error_code ec;
+  std::string key = std::filesystem::weakly_canonical(path, ec).string();
+  if (key.empty()) key = path;
+  if (!read) return read_text(text, path, key, diags, budget);
+  read->push_back({path, std::move(text)});  // parsed where it is kept: one copy of a large file, not two
+  return read_text(read->back().text, path, key, diags, budget);
 }
 
 }  // namespace syncplc

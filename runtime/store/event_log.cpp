@@ -85,9 +85,11 @@ const SchemaPart& EventLog::schema() {
 
 EventRetention retention_of(const StoreSettings& s) { return EventRetention{s.events_max_count, s.events_max_age_ns}; }
 
-EventLog::EventLog(EventQueue& queue, EventRetention retention) : queue_(queue), retention_(retention) {}
+EventLog::EventLog(EventQueue& queue, EventRetention retention) : queue_(queue), retention_(retention), wall_(wall_now_ns) {}
 
-bool EventLog::prepare(Database& db, std::string* error) { return ensure_schema(db.sql(), schema(), error); }
+bool EventLog::prepare(Database& db, std::string* error) {
+  return ensure_schema(db.sql(), schema(), error) && RetentionClock::prepare(db.sql(), error);
+}
 
 std::int64_t EventLog::due_ns() const {
   if (!batch_.empty() || !queue_.empty()) return 0;
@@ -100,9 +102,9 @@ void EventLog::switch_program(Program& next, const StoreSettings& settings) {
   next_retention_ns_ = 0;  // the new limits apply at the next run
 }
 
-void EventLog::enforce_retention(SQLite::Database& db, std::int64_t wall_now) {
+void EventLog::enforce_retention(SQLite::Database& db, std::int64_t now) {
   SQLite::Statement by_age(db, "DELETE FROM events WHERE time_ns < ?");
-  by_age.bind(1, wall_now - retention_.max_age_ns);
+  by_age.bind(1, now - retention_.max_age_ns);
   by_age.exec();
   // The newest max_count rows stay (ids grow with insertion).
   SQLite::Statement by_count(db, "DELETE FROM events WHERE id <= (SELECT max(id) FROM events) - ?");
@@ -134,7 +136,7 @@ void EventLog::run(Database& db, std::int64_t now_ns, bool final) {
     ins.exec();
     ins.reset();
   }
-  enforce_retention(sql, wall_now_ns());
+  enforce_retention(sql, clock_.now(sql, wall_(), now_ns));
   t.commit();  // throws when the disk is full or the file read-only: batch_ stays for the next try
   queue_.settle(batch_.size());
   batch_.clear();

@@ -3,7 +3,7 @@
 // (run's main thread, the Modbus server thread) hand records to an
 // EventQueue; the EventLog job writes what is queued, one transaction per
 // run, and keeps the table within the project's events_max_count and
-// events_max_age.
+// events_max_age (an age by the retention clock, retention_clock.hpp).
 //
 // The queue is bounded (kEventQueueCapacity records, those waiting for a
 // failed transaction included): while the database refuses to write (disk
@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "runtime/store/retention_clock.hpp"
 #include "runtime/store/schema.hpp"
 #include "runtime/store/store_thread.hpp"
 
@@ -88,12 +89,17 @@ class EventLog : public StoreJob {
   void run(Database& db, std::int64_t now_ns, bool final) override;
   void switch_program(Program& next, const StoreSettings& settings) override;
 
-  // Applies the limits now (also done by run(), at most every kRetentionEveryNs).
-  void enforce_retention(SQLite::Database& db, std::int64_t wall_now);
+  // Applies the limits now (also done by run()); `now` by the retention
+  // clock (retention_clock.hpp).
+  void enforce_retention(SQLite::Database& db, std::int64_t now);
+  // The wall clock run() reads (a test steps it). Before the first run.
+  void set_wall_clock(WallClock clock) { wall_ = std::move(clock); }
 
  private:
   EventQueue& queue_;
   EventRetention retention_;
+  WallClock wall_;
+  RetentionClock clock_{"events"};
   std::vector<EventRecord> batch_;  // taken, waiting for a commit (kept across a failed run)
   // Read by due_ns() while switch_program (under StoreThread::exclusive) may set it.
   std::atomic<std::int64_t> next_retention_ns_{0};

@@ -4,7 +4,6 @@
 #include <SQLiteCpp/Transaction.h>
 
 #include <cmath>
-#include <ctime>
 
 #include "runtime/core/monotonic_clock.hpp"
 #include "runtime/store/event_log.hpp"
@@ -22,7 +21,7 @@ bool passes_deadband(const TrendBucket& b, double deadband, const std::optional<
 
 }  // namespace
 
-Historian::Historian(Program& p, const StoreSettings& s) : settings_(s) { served_ = take_series(p, s); }
+Historian::Historian(Program& p, const StoreSettings& s) : settings_(s), wall_(wall_now_ns) { served_ = take_series(p, s); }
 
 Historian::Feed Historian::take_series(Program& p, const StoreSettings& s) {
   Feed f;
@@ -34,6 +33,7 @@ Historian::Feed Historian::take_series(Program& p, const StoreSettings& s) {
     if (series_[i].spec.type != ts.type || series_[i].spec.rate_ns != ts.rate_ns || series_[i].spec.unit != ts.unit ||
         series_[i].spec.deadband != ts.deadband || series_[i].id == 0)
       series_changed_ = true;
+    f.rate_ns.push_back(ts.rate_ns);
     series_[i].spec = std::move(ts);
     f.active.push_back(static_cast<std::uint32_t>(i));
   }
@@ -43,7 +43,7 @@ Historian::Feed Historian::take_series(Program& p, const StoreSettings& s) {
 }
 
 bool Historian::prepare(Database& db, std::string* error) {
-  if (!ensure_trend_schema(db.sql(), error)) return false;
+  if (!ensure_trend_schema(db.sql(), error) || !RetentionClock::prepare(db.sql(), error)) return false;
   register_series(db.sql());
   return true;
 }
@@ -86,7 +86,7 @@ void Historian::drain(Feed& f) {
         lost_.fetch_add(1, std::memory_order_relaxed);  // the database refused for long: what comes now is lost, the queue (and its order) stays
         continue;
       }
-      queue_.push_back(Queued{f.active[b.series], b});
+      queue_.push_back(Queued{f.active[b.series], f.rate_ns[b.series], b});
     }
     const std::uint64_t dropped = fold.dropped();
     lost_.fetch_add(dropped - f.seen_dropped[t], std::memory_order_relaxed);
@@ -119,8 +119,8 @@ void Historian::store_queue(SQLite::Database& db) {
     const double mean = b.sum / b.count;
     ins.reset();
     ins.bind(1, s.id);
-    ins.bind(2, *time_base_ + b.index * s.spec.rate_ns);
-    ins.bind(3, s.spec.rate_ns);
+    ins.bind(2, *time_base_ + b.index * q.rate_ns);
+    ins.bind(3, q.rate_ns);
     ins.bind(4, b.min);
     ins.bind(5, b.max);
     ins.bind(6, mean);
@@ -141,14 +141,20 @@ void Historian::run(Database& db, std::int64_t now, bool final) {
   if (!time_base_) {
     const std::int64_t epoch = served_.program->epoch_ns.load(std::memory_order_acquire);
     if (epoch < 0) return;  // not running in real time yet: the buckets wait in the queue
-    time_base_ = epoch + (wall_now_ns() - monotonic_ns());
+    time_base_ = epoch + (wall_() - monotonic_ns());
   }
   if (final || now >= next_commit_) {
     if (!queue_.empty()) store_queue(db.sql());
     next_commit_ = now + kCommitNs;
   }
   if (!final && now >= next_retention_) {
-    apply_trend_retention(db.sql(), settings_, wall_now_ns());
+    std::int64_t retention_now = 0;
+    {
+      SQLite::Transaction tr(db.sql());
+      retention_now = clock_.now(db.sql(), wall_(), now);
+      tr.commit();
+    }
+    apply_trend_retention(db.sql(), settings_, retention_now);
     next_retention_ = now + kRetentionNs;
   }
 }

@@ -20,6 +20,7 @@
 #include <optional>
 #include <vector>
 
+#include "runtime/store/retention_clock.hpp"
 #include "runtime/store/store_thread.hpp"
 #include "runtime/store/trend_series.hpp"
 
@@ -39,6 +40,8 @@ class Historian final : public StoreJob {
   // default taken from the program's real-time epoch at the first run; a
   // virtual-time test sets it.
   void set_time_base(std::int64_t wall_ns) { time_base_ = wall_ns; }
+  // The wall clock run() reads (a test steps it). Before the first run.
+  void set_wall_clock(WallClock clock) { wall_ = std::move(clock); }
   // Buckets lost so far: dropped by a full task ring or a full queue. Any thread.
   std::uint64_t lost() const { return lost_.load(std::memory_order_relaxed); }
   std::uint64_t stored() const { return stored_; }
@@ -54,6 +57,7 @@ class Historian final : public StoreJob {
  private:
   struct Queued {
     std::uint32_t series;  // index in series_
+    std::int64_t rate_ns;  // the bucket's length as its program folded it (an online change may change the series')
     TrendBucket bucket;
   };
   struct Series {
@@ -66,6 +70,7 @@ class Historian final : public StoreJob {
   struct Feed {
     Program* program = nullptr;
     std::vector<std::uint32_t> active;        // the program's fold series number -> index in series_
+    std::vector<std::int64_t> rate_ns;        // the program's fold series number -> its bucket length
     std::vector<std::uint64_t> seen_dropped;  // per task: its fold's dropped() counted so far
   };
   // The program's series, by label: series_ only grows (an online change
@@ -83,6 +88,8 @@ class Historian final : public StoreJob {
   std::deque<Queued> queue_;
   bool series_changed_ = true;               // series_ has entries not yet in trend_series
   std::optional<std::int64_t> time_base_;
+  WallClock wall_;
+  RetentionClock clock_{"trends"};
   std::int64_t next_drain_ = 0, next_commit_ = 0, next_retention_ = 0;
   std::atomic<std::uint64_t> lost_{0};
   std::uint64_t stored_ = 0;

@@ -49,12 +49,6 @@ std::int64_t unix_ns() {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count();
 }
 
-std::string tag_identity(const Tag& t) {
-  if (!t.is_array && t.length == 1) return std::string(type_name(t.type));
-  return fmt::format("ARRAY[{}..{}] OF {}", t.array_lower, t.array_lower + static_cast<std::int64_t>(t.length) - 1,
-                     type_name(t.type));
-}
-
 // What a person reading the table sees: "42", "[1, 2, 3]", "CTU<INT> state".
 std::string shown(const Program& p, const RetainVar& v, const Cell* cells) {
   if (v.instance >= 0) {
@@ -104,7 +98,6 @@ void record_project(SQLite::Database& db, const Program& p, const std::string& h
   q.exec();
 }
 
-Cell* image_of(Program& p, const RetainVar& v) { return p.tasks[v.task]->image.data() + v.cell; }
 
 }  // namespace
 
@@ -133,7 +126,7 @@ std::vector<RetainVar> retained_vars(const Program& p) {
   }
   for (std::size_t i = 0; i < p.retained.size(); ++i) {
     const auto& r = p.retained[i];
-    vars.push_back({r.name, "block", fmt::format("{} state {} ({} cells)", r.type, r.layout, r.length), r.persistent,
+    vars.push_back({r.name, "block", r.identity, r.persistent,
                     r.task, r.cell, r.length, static_cast<int>(i), -1});
   }
   return vars;
@@ -141,11 +134,42 @@ std::vector<RetainVar> retained_vars(const Program& p) {
 
 bool prepare_retain_tables(SQLite::Database& db, std::string* error) { return ensure_schema(db, kRetainSchema, error); }
 
-std::vector<std::string> restore_retain(SQLite::Database& db, Program& p, StartMode mode, const std::string& hash) {
+bool retain_tables_readable(SQLite::Database& db, std::string* error) {
+  const int have = schema_version(db, kRetainSchema.name);
+  const int known = static_cast<int>(kRetainSchema.migrations.size());
+  if (have == 0 || have == known) return true;
+  *error = "the database's retain tables are version " + std::to_string(have) + " and this syncplc reads version " +
+           std::to_string(known) + (have < known ? " (a read-only database is not migrated)" : "");
+  return false;
+}
+
+// The restore's access to the images (image_access.hpp): before the first
+// scan, no thread runs the program.
+class RetainRestore {
+ public:
+  static std::vector<std::string> restore(SQLite::Database& db, Program& p, StartMode mode, const std::string& hash,
+                                          bool record);
+  static void read(const Program& p, const RetainVar& v, Cell* out) {
+    const Cell* c = p.tasks[v.task]->image(ImageAccess{}).data() + v.cell;
+    std::copy(c, c + v.length, out);
+  }
+
+ private:
+  static Cell* image_of(Program& p, const RetainVar& v) { return p.tasks[v.task]->image(ImageAccess{}).data() + v.cell; }
+};
+
+std::vector<std::string> restore_retain(SQLite::Database& db, Program& p, StartMode mode, const std::string& hash,
+                                        bool record) {
+  return RetainRestore::restore(db, p, mode, hash, record);
+}
+
+std::vector<std::string> RetainRestore::restore(SQLite::Database& db, Program& p, StartMode mode,
+                                                const std::string& hash, bool record) {
   std::vector<std::string> lines, missed;
   const auto vars = retained_vars(p);
+  const bool tables = db.tableExists("retain_value");  // a read-only database may have none yet
   std::string last_hash;
-  {
+  if (tables) {
     SQLite::Statement q(db, "SELECT content_hash FROM retain_project WHERE id = 1");
     if (q.executeStep()) last_hash = q.getColumn(0).getString();
   }
@@ -155,7 +179,7 @@ std::vector<std::string> restore_retain(SQLite::Database& db, Program& p, StartM
     std::vector<Cell> cells;
   };
   std::map<std::string, Stored> stored;
-  if (mode != StartMode::Origin) {
+  if (tables && mode != StartMode::Origin) {
     SQLite::Statement q(db, "SELECT name, identity, value FROM retain_value");
     while (q.executeStep()) {
       Stored s{q.getColumn(1).getString(), {}};
@@ -166,11 +190,9 @@ std::vector<std::string> restore_retain(SQLite::Database& db, Program& p, StartM
     }
   }
 
-  SQLite::Transaction tr(db);
-  SQLite::Statement up(db, kUpsert);
   std::size_t restored = 0;
-  const std::int64_t now = unix_ns();
   std::set<std::string> declared;
+  std::vector<const RetainVar*> initial;  // not restored: the row is to hold the initial value
   for (const auto& v : vars) {
     declared.insert(v.name);
     auto it = stored.find(v.name);
@@ -191,39 +213,49 @@ std::vector<std::string> restore_retain(SQLite::Database& db, Program& p, StartM
       continue;
     }
     if (!why.empty()) missed.push_back(v.name + ": not restored: " + why);
-    // The row now holds what the PLC starts with: a crash before the first
-    // store cycle must not bring back the value just refused.
-    upsert(up, p, v, image_of(p, v), now);
+    initial.push_back(&v);
   }
   std::size_t dropped = 0;
   for (const auto& [name, s] : stored)
     if (!declared.count(name)) ++dropped;
-  if (dropped || mode == StartMode::Origin) {
-    // Values of variables the project no longer retains go (CODESYS drops them too).
-    SQLite::Statement all(db, "SELECT name FROM retain_value");
-    std::vector<std::string> gone;
-    while (all.executeStep())
-      if (!declared.count(all.getColumn(0).getString())) gone.push_back(all.getColumn(0).getString());
-    SQLite::Statement del(db, "DELETE FROM retain_value WHERE name = ?");
-    for (const auto& g : gone) {
-      del.reset();
-      del.bind(1, g);
-      del.exec();
+
+  if (record) {
+    SQLite::Transaction tr(db);
+    // The rows now hold what the PLC starts with: a crash before the first
+    // store cycle must not bring back the value just refused.
+    SQLite::Statement up(db, kUpsert);
+    const std::int64_t now = unix_ns();
+    for (const RetainVar* v : initial) upsert(up, p, *v, image_of(p, *v), now);
+    if (dropped || mode == StartMode::Origin) {
+      // Values of variables the project no longer retains go (CODESYS drops them too).
+      SQLite::Statement all(db, "SELECT name FROM retain_value");
+      std::vector<std::string> gone;
+      while (all.executeStep())
+        if (!declared.count(all.getColumn(0).getString())) gone.push_back(all.getColumn(0).getString());
+      SQLite::Statement del(db, "DELETE FROM retain_value WHERE name = ?");
+      for (const auto& g : gone) {
+        del.reset();
+        del.bind(1, g);
+        del.exec();
+      }
     }
+    record_project(db, p, hash);
+    tr.commit();
   }
-  record_project(db, p, hash);
-  tr.commit();
 
   // The channels start with the restored values: readers see them before the first scan.
   for (auto& t : p.tasks)
-    for (auto& ch : t->channels) ch->fill(t->image.data());
+    for (auto& ch : t->channels) ch->fill(t->image(ImageAccess{}).data());
 
   if (vars.empty() && !dropped && mode != StartMode::Origin) return lines;  // nothing retained, nothing to say
   std::string head = fmt::format("retain: {} start: {} of {} retained values restored", start_mode_name(mode), restored,
                                  vars.size());
-  if (mode == StartMode::Origin) head += " (reset origin: every stored value deleted)";
+  if (mode == StartMode::Origin)
+    head += record ? " (reset origin: every stored value deleted)" : " (reset origin: the read-only database keeps its values)";
   else if (changed) head += " (the project changed since the last start: retain values reinitialised, persistent kept)";
-  if (dropped) head += fmt::format("; {} stored values of variables no longer retained dropped", dropped);
+  if (dropped)
+    head += fmt::format("; {} stored values of variables no longer retained {}", dropped,
+                        record ? "dropped" : "left in the read-only database");
   lines.push_back(head);
   for (std::size_t i = 0; i < missed.size() && i < kMaxNoticeLines; ++i) lines.push_back("retain: " + missed[i]);
   if (missed.size() > kMaxNoticeLines) lines.push_back(fmt::format("retain: ... and {} more not restored", missed.size() - kMaxNoticeLines));
@@ -254,8 +286,7 @@ bool RetainJob::prepare(Database& db, std::string* error) {
   notices_ = restore_retain(db.sql(), *program_, mode_, content_hash_);
   // The restored values are what is stored now.
   for (std::size_t i = 0; i < vars_.size(); ++i) {
-    const Cell* c = image_of(*program_, vars_[i]);
-    std::copy(c, c + vars_[i].length, stored_.begin() + offset_[i]);
+    RetainRestore::read(*program_, vars_[i], &stored_[offset_[i]]);
     known_[i] = true;
   }
   schedule(monotonic_ns() + interval_ns_);

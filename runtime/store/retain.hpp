@@ -49,11 +49,18 @@ std::vector<RetainVar> retained_vars(const Program& p);
 // The retain part's tables (schema.hpp).
 bool prepare_retain_tables(SQLite::Database& db, std::string* error);
 
+// Whether the retain tables of a database that is only read (a read-only
+// store) are ones this syncplc reads: none yet, or its own version (a read-only
+// database cannot be migrated). False with `error` otherwise.
+bool retain_tables_readable(SQLite::Database& db, std::string* error);
+
 // Before the first scan: the stored values that may come back by `mode` into
-// the program's images (and block states); the database then holds exactly
-// the values the PLC starts with, and `hash` as the last started content.
+// the program's images (and block states). With `record`, the database then
+// holds exactly the values the PLC starts with, and `hash` as the last
+// started content; without (a read-only store), it is only read.
 // Returns the start-up notice lines (one summary, one per value not restored).
-std::vector<std::string> restore_retain(SQLite::Database& db, Program& p, StartMode mode, const std::string& hash);
+std::vector<std::string> restore_retain(SQLite::Database& db, Program& p, StartMode mode, const std::string& hash,
+                                        bool record = true);
 
 // `syncplc reset cold|origin`: cold deletes retain values (persistent ones
 // stay), origin deletes every stored value. Returns how many were deleted.

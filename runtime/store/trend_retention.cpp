@@ -126,10 +126,10 @@ std::uint64_t trim(SQLite::Database& db, const StoreSettings& s) {
 
 }  // namespace
 
-RetentionReport apply_trend_retention(SQLite::Database& db, const StoreSettings& s, std::int64_t wall_now_ns) {
+RetentionReport apply_trend_retention(SQLite::Database& db, const StoreSettings& s, std::int64_t now_ns) {
   RetentionReport r;
-  r.downsampled = downsample(db, s, wall_now_ns);
-  r.expired = delete_before(db, wall_now_ns - s.trend_max_age_ns);
+  r.downsampled = downsample(db, s, now_ns);
+  r.expired = delete_before(db, now_ns - s.trend_max_age_ns);
   r.trimmed = trim(db, s);
   return r;
 }

@@ -23,7 +23,9 @@ struct RetentionReport {
   std::uint64_t trimmed = 0;      // oldest points deleted for trend_max_size
 };
 
-RetentionReport apply_trend_retention(SQLite::Database& db, const StoreSettings& s, std::int64_t wall_now_ns);
+// `now_ns`: now by the retention clock (retention_clock.hpp), not the wall
+// clock as it reads: ages count only as far as the PLC lived through them.
+RetentionReport apply_trend_retention(SQLite::Database& db, const StoreSettings& s, std::int64_t now_ns);
 
 // Bytes of the database's pages in use (page_count - freelist_count): two
 // pragmas, where measuring the trend tables alone (dbstat) would read them whole.

@@ -3,11 +3,10 @@
 #include <stdlib.h>
 #include <sys/stat.h>
 
-#include <yaml-cpp/yaml.h>
-
 #include <filesystem>
 #include <set>
 
+#include "runtime/project/yaml_tree.hpp"
 #include "runtime/store/project_store.hpp"
 
 namespace syncplc::web {
@@ -48,8 +47,11 @@ bool good_name(const std::string& n, std::string* why) {
   return true;
 }
 
+// `dir` "" (a reload or rollback of the instance's own file): nothing to
+// strip; its prefix would be "/", and every slash of the path would go.
 std::string strip_dir(const std::string& text, const std::string& dir) {
   std::string out = text;
+  if (dir.empty()) return out;
   const std::string prefix = dir + "/";
   for (std::size_t at = out.find(prefix); at != std::string::npos; at = out.find(prefix, at)) out.erase(at, prefix.size());
   return out;
@@ -66,26 +68,21 @@ nlohmann::json foreign_includes(const Upload& u) {
   for (const auto& f : u.files) {
     const std::string ext = fs::path(f.path).extension().string();
     if (ext != ".yaml" && ext != ".yml") continue;
-    YAML::Node root;
-    try {
-      root = YAML::Load(f.text);
-    } catch (const YAML::Exception&) {
-      continue;
-    }
-    if (!root.IsMap() || !root["include"]) continue;
-    const YAML::Node inc = root["include"];
-    std::vector<YAML::Node> items;
-    if (inc.IsScalar()) items.push_back(inc);
-    else if (inc.IsSequence())
-      for (const auto& i : inc) items.push_back(i);
-    for (const auto& i : items) {
-      if (!i.IsScalar()) continue;  // the loader's error
-      const std::string name = i.as<std::string>();
+    Diagnostics diags;  // a file the loader cannot read is the loader's to report, with its place
+    const ConfigNode root = read_yaml_string(f.text, f.path, diags);
+    const ConfigNode* inc = diags.empty() && root.is_map() ? root.find("include") : nullptr;
+    if (!inc) continue;
+    std::vector<const ConfigNode*> items;
+    if (inc->is_scalar()) items.push_back(inc);
+    else if (inc->is_list())
+      for (const auto& i : inc->items) items.push_back(&i);
+    for (const ConfigNode* i : items) {
+      if (!i->is_scalar()) continue;  // the loader's error
+      const std::string& name = i->scalar;
       const fs::path p = fs::path(name).is_absolute() ? fs::path(name)
                                                       : (fs::path(f.path).parent_path() / name).lexically_normal();
       if (names.count(p.string())) continue;
-      const auto m = i.Mark();
-      errors.push_back({{"where", f.path + ":" + std::to_string(m.line + 1) + ":" + std::to_string(m.column + 1)},
+      errors.push_back({{"where", i->loc.text()},
                         {"message", "include '" + name + "' is not among the files sent: send every file the project "
                                     "includes, named relative to the main file's directory"}});
     }

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "tests/support/image_key.hpp"
 #include "fblocks/library.hpp"
 #include "runtime/core/virtual_clock.hpp"
 #include "runtime/project/loader.hpp"
@@ -21,7 +22,7 @@ std::unique_ptr<Program> load(const std::string& yaml) {
   return std::move(r.program);
 }
 
-Cell& tag(Program& p, const std::string& name) { return *p.live_cell(*p.resolve(name)); }
+Cell& tag(Program& p, const std::string& name) { return *p.live_cell(*p.resolve(name), ::syncplc::testing::image_key()); }
 
 TEST(EnoProject, PidHoldsItsOutputAndReportsThroughEno) {
   auto p = load(R"(

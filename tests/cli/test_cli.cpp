@@ -229,7 +229,8 @@ TEST(Cli, RunStopsCleanlyOnSigterm) {
   int status = 0;
   auto t0 = std::chrono::steady_clock::now();
   waitpid(pid, &status, 0);
-  EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(5));
+  // Only a run that ignored the signal (and ran on) reaches this guard.
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(60));
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), 0);
   std::string out = slurp(o);
@@ -262,13 +263,8 @@ connections: [level -> m.IN, m.OUT -> out]
           static_cast<char*>(nullptr));
     _exit(127);
   }
-  auto wait_for = [&](const std::string& text) {
-    for (int i = 0; i < 100; ++i) {
-      if (slurp(e).find(text) != std::string::npos) return true;
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
-    return false;
-  };
+  // The line, however long a loaded machine takes (the minute only ends a hang).
+  auto wait_for = [&](const std::string& text) { return syncplc::testing::wait_for_text(e, text, 60); };
   ASSERT_TRUE(syncplc::testing::wait_for_text(e, syncplc::testing::kRunTakesSignals)) << slurp(e);
   write_temp_file("reload.yaml", "tasks: [{name: t, period: 1ms}]\nblocks: [{name: m, type: NOPE}]\n");
   kill(pid, SIGHUP);
@@ -277,7 +273,7 @@ connections: [level -> m.IN, m.OUT -> out]
   EXPECT_EQ(waitpid(pid, nullptr, WNOHANG), 0);  // still running
   write_temp_file("reload.yaml", good + "  # edited\n");
   kill(pid, SIGHUP);
-  EXPECT_TRUE(wait_for("instances: 1 kept, 0 retuned, 0 new, 0 removed; tasks: 1 kept; 2 tag values carried over")) << slurp(e);
+  EXPECT_TRUE(wait_for("instances: 1 kept, 0 retuned, 0 rewired, 0 new, 0 removed; tasks: 1 kept; 2 tag values carried over")) << slurp(e);
   EXPECT_NE(slurp(e).find("  m (MOVE, task t): kept"), std::string::npos) << slurp(e);
   kill(pid, SIGTERM);
   int status = 0;
@@ -356,7 +352,8 @@ drivers:
   kill(pid, SIGTERM);
   int status = 0;
   waitpid(pid, &status, 0);
-  EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(10));
+  // Only a run that waited for the stuck scan (1 h) reaches this guard.
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(60));
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), 4);
   const std::string out = slurp(o), err = slurp(e);
@@ -378,13 +375,8 @@ blocks: [{name: b, type: BURN, task: stuck, inputs: {EXEC: 1h}}]
   const std::string o = path + ".out", e = path + ".err";
   pid_t pid = spawn_run({path, "--no-status", "--duration", "20s", "--http", "127.0.0.1:0"}, o, e);
   ASSERT_GT(pid, 0);
-  auto wait_for = [&](const std::string& text) {
-    for (int i = 0; i < 100; ++i) {
-      if (slurp(e).find(text) != std::string::npos) return true;
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
-    return false;
-  };
+  // The line, however long a loaded machine takes (the minute only ends a hang).
+  auto wait_for = [&](const std::string& text) { return syncplc::testing::wait_for_text(e, text, 60); };
   EXPECT_TRUE(wait_for("stuck: scan did not end: task stopped by the supervisor")) << slurp(e);
   ASSERT_TRUE(syncplc::testing::wait_for_text(e, syncplc::testing::kRunTakesSignals)) << slurp(e);
   kill(pid, SIGHUP);

@@ -62,13 +62,8 @@ struct Instance {
       _exit(127);
     }
   }
-  bool wait_for(const std::string& text) const {
-    for (int i = 0; i < 200; ++i) {
-      if (slurp(err).find(text) != std::string::npos) return true;
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
-    return false;
-  }
+  // The line, however long a loaded machine takes (the minute only ends a hang).
+  bool wait_for(const std::string& text) const { return syncplc::testing::wait_for_text(err, text, 60); }
   int stop() {
     kill(pid, SIGTERM);
     int status = 0;
@@ -77,9 +72,11 @@ struct Instance {
   }
 };
 
-// Polls `syncplc projects` until its listing has `text` (the store thread writes soon after the start).
+// Polls `syncplc projects` until its listing has `text` (the store thread
+// writes soon after the start; the minute's guard only ends a hang).
 bool projects_show(const std::string& db, const std::string& text, std::string* listing) {
-  for (int i = 0; i < 100; ++i) {
+  const auto guard = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (std::chrono::steady_clock::now() < guard) {
     *listing = run_cli("projects --db " + db).out;
     if (listing->find(text) != std::string::npos) return true;
     std::this_thread::sleep_for(std::chrono::milliseconds(50));

@@ -7,10 +7,11 @@
 
 #include "runtime/cli/event_query.hpp"
 #include "runtime/cli/live_screen.hpp"
-#include "runtime/cli/store_status.hpp"
+#include "runtime/plc/store_status.hpp"
 
 namespace syncplc::cli {
 namespace {
+using namespace plc;
 
 constexpr std::int64_t kSecond = 1'000'000'000;
 
@@ -74,7 +75,7 @@ TEST(EventsFormat, AMessageOfSeveralLinesContinuesIndented) {
             "    a.yaml:9:5: error two");
 }
 
-TEST(StoreStatusLine, OkFaultAndOffWithTheCountsBeforeTheErrorText) {
+TEST(StoreStatusLine, OkFaultOffAndReadOnlyWithTheCountsBeforeTheErrorText) {
   StoreStatus st;
   EXPECT_EQ(store_status_line(st, "/var/lib/x/plc.db"), "Store ok  plc.db");
   st.dropped = 3;
@@ -90,6 +91,12 @@ TEST(StoreStatusLine, OkFaultAndOffWithTheCountsBeforeTheErrorText) {
   st.state = StoreStatus::State::Off;
   st.error = "cannot open the database /x/plc.db: unable to open database file";
   EXPECT_EQ(store_status_line(st, "plc.db"), "Store off  cannot open the database /x/plc.db: unable to open database file");
+  EXPECT_STREQ(store_state_name(st.state), "off");
+  st.state = StoreStatus::State::ReadOnly;
+  st.error = "its mode is 0444";
+  EXPECT_EQ(store_status_line(st, "/x/plc.db"), "Store READ-ONLY  plc.db  nothing recorded: its mode is 0444");
+  EXPECT_STREQ(store_state_name(st.state), "read-only") << "as /status says it";
+  EXPECT_EQ(store_status_words(st).state, 3);
 }
 
 TEST(StoreStatusRegisters, WordsSaturateAndSayNoCommitYet) {

@@ -180,10 +180,10 @@ struct PtyRun {
     }
   }
   // Reads until `text` has appeared (false: the child closed the terminal,
-  // or 10 s passed without it).
+  // or a minute passed without it: a guard against a hang only).
   bool read_until(const std::string& text) {
     char buf[4096];
-    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(60);
     while (out.find(text) == std::string::npos) {
       pollfd p{fd, POLLIN, 0};
       if (std::chrono::steady_clock::now() > until || poll(&p, 1, 100) < 0) return false;
@@ -197,7 +197,7 @@ struct PtyRun {
   int finish() {
     read_until("\x01never\x01");  // to the end (EOF)
     int status = 0;
-    for (int i = 0; i < 500 && waitpid(pid, &status, WNOHANG) == 0; ++i)
+    for (int i = 0; i < 6000 && waitpid(pid, &status, WNOHANG) == 0; ++i)  // a minute: a hang guard
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     if (kill(pid, 0) == 0) {  // the test failed: leave nothing running
       kill(pid, SIGKILL);

@@ -21,6 +21,10 @@ import sim_cia402_drive as sim  # noqa: E402  (the plant and the register map)
 
 _running = []
 
+# Only against a hang: how long a reply, a state or a value that must come
+# may take, however loaded the machine.
+REPLY_GUARD = 60.0
+
 
 @atexit.register
 def _kill_leftovers():
@@ -120,7 +124,7 @@ class Axis:
     def target_velocity(self, counts):
         self.write(sim.HR_TARGET_VELOCITY, sim.words32(counts))
 
-    def wait_state(self, state, timeout=3.0):
+    def wait_state(self, state, timeout=REPLY_GUARD):
         """Polls the statusword until it codes `state` (sim.* state)."""
         end = time.monotonic() + timeout
         while True:
@@ -152,15 +156,20 @@ def decode(sw):
     return -1
 
 
-def raw_request(port, pdu, unit=1, tid=0x1234, timeout=1.0):
+def raw_request(port, pdu, unit=1, tid=0x1234, timeout=1.0, reply=True):
     """Sends one Modbus TCP request on a fresh socket; returns the bytes
-    received until the socket is quiet for `timeout` (b"" when nothing)."""
-    with socket.create_connection(("127.0.0.1", port), timeout=timeout) as s:
+    received until the socket is quiet for `timeout` (b"" when nothing).
+    With `reply` (a reply must come) the first byte is awaited up to
+    REPLY_GUARD, however long a loaded machine takes, and only then the
+    quiet `timeout` ends it; without, `timeout` is how long nothing must come."""
+    with socket.create_connection(("127.0.0.1", port), timeout=REPLY_GUARD) as s:
+        s.settimeout(REPLY_GUARD if reply else timeout)
         s.sendall(struct.pack(">HHHB", tid, 0, len(pdu) + 1, unit) + pdu)
         data = b""
         while True:
             try:
                 chunk = s.recv(4096)
+                s.settimeout(timeout)
             except socket.timeout:
                 return data
             if not chunk:

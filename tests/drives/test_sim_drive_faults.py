@@ -51,7 +51,7 @@ def main():
     # silent: connections are accepted, requests are never answered.
     d.ok("silent on")
     t0 = time.monotonic()
-    data = raw_request(d.port, READ_IR, timeout=0.5)
+    data = raw_request(d.port, READ_IR, timeout=0.5, reply=False)
     check(data == b"" and time.monotonic() - t0 >= 0.45, "silent: connected, no reply in 0.5 s")
     with socket.create_connection(("127.0.0.1", d.port), timeout=0.5) as s2:
         s2.sendall(struct.pack(">HHHB", 7, 0, len(READ_HR) + 1, 1) + READ_HR)
@@ -62,6 +62,31 @@ def main():
             check(True, "silent: the connection stays open and quiet")
     d.ok("silent off")
     check(good_reply(raw_request(d.port, READ_IR)), "silent off: answered again")
+
+    # delay: the next COUNT replies leave late, whole and in order; then on time again.
+    d.ok("delay 300 2")
+    with socket.create_connection(("127.0.0.1", d.port), timeout=5) as s3:
+        for tid in (21, 22, 23):
+            t0 = time.monotonic()
+            s3.sendall(struct.pack(">HHHB", tid, 0, len(READ_IR) + 1, 1) + READ_IR)
+            data = b""
+            while len(data) < 9 + 2 * sim.IR_COUNT:
+                chunk = s3.recv(4096)
+                check(chunk != b"", "delay: the connection stays open")
+                data += chunk
+            took = time.monotonic() - t0
+            check(good_reply(data, tid=tid), "delay: reply %d well formed" % tid)
+            if tid < 23:
+                check(took >= 0.29, "delay: reply %d held back 300 ms (%.3f s)" % (tid, took))
+    with socket.create_connection(("127.0.0.1", d.port), timeout=5) as s4:
+        s4.sendall(struct.pack(">HHHB", 24, 0, len(READ_IR) + 1, 1) + READ_IR)
+        check(good_reply(s4.recv(4096), tid=24), "delay: used up after COUNT replies")
+    # a delayed reply whose connection closed meanwhile is dropped; the drive serves on
+    d.ok("delay 200")
+    check(raw_request(d.port, READ_IR, timeout=0.05, reply=False) == b"", "delay: nothing within 50 ms")
+    time.sleep(0.3)
+    check(good_reply(raw_request(d.port, READ_IR)), "delay: the drive answers the next connection")
+    check(d.command("delay 0") .startswith("error"), "delay 0 is refused")
 
     # garbage: one malformed reply per mode.
     expect = {
@@ -96,7 +121,7 @@ def main():
     check(sw & 0x08 and a.actual()["error_code"] == 0x2310, "fault: bit 3 set, error code 16#2310")
 
     # Another unit id: pymodbus ignores it (no reply, as a gateway without the device).
-    check(raw_request(d.port, READ_IR, unit=7, timeout=0.3) == b"", "unit 7: no reply")
+    check(raw_request(d.port, READ_IR, unit=7, timeout=0.3, reply=False) == b"", "unit 7: no reply")
     check(good_reply(raw_request(d.port, READ_IR, unit=1)), "unit 1 answered")
 
     # The mirror of the input registers in holding registers 100..: FC 23
@@ -120,7 +145,7 @@ def main():
         f.write("silent on\n")
         f.flush()
         check(f.readline().strip() == "ok silent on", "control socket: ok silent on")
-        check(raw_request(d.port, READ_IR, timeout=0.3) == b"", "control socket: silent took effect")
+        check(raw_request(d.port, READ_IR, timeout=0.3, reply=False) == b"", "control socket: silent took effect")
         f.write("silent off\nstatus\nnonsense\n")
         f.flush()
         check(f.readline().strip() == "ok silent off", "control socket: ok silent off")
@@ -134,7 +159,7 @@ def main():
     s.close()
     d.p.send_signal(signal.SIGUSR2)
     time.sleep(0.1)
-    check(raw_request(d.port, READ_IR, timeout=0.3) == b"", "SIGUSR2: silent")
+    check(raw_request(d.port, READ_IR, timeout=0.3, reply=False) == b"", "SIGUSR2: silent")
     d.p.send_signal(signal.SIGUSR2)
     time.sleep(0.1)
     check(good_reply(raw_request(d.port, READ_IR)), "SIGUSR2 again: answering")

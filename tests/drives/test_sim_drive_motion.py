@@ -9,14 +9,14 @@ drive's own following error supervision (6065h/6066h -> fault 8611h).
 import math
 import time
 
-from drivelib import Axis, SimDrive, check, decode, sim
+from drivelib import REPLY_GUARD, Axis, SimDrive, check, decode, sim
 
 CPR = (1 << 20) / (2 * math.pi)  # counts per rad (the default 2^20 counts per revolution)
 
 
-def until(axis, pred, timeout=5.0):
-    """Polls the drive until pred(actual values) holds or the (generous)
-    timeout passes; returns the last values, for the caller's check."""
+def until(axis, pred, timeout=REPLY_GUARD):
+    """Polls the drive until pred(actual values) holds or the guard against
+    a hang passes; returns the last values, for the caller's check."""
     end = time.monotonic() + timeout
     while True:
         r = axis.actual()
@@ -126,7 +126,7 @@ def main():
     a.target_position(here)
     a.enable(8)
     a.target_position(here + int(0.5 * CPR))  # far beyond the window
-    sw = a.wait_state(sim.FAULT, timeout=2.0)
+    sw = a.wait_state(sim.FAULT)
     check(a.actual()["error_code"] == sim.ERROR_FOLLOWING, "following error: fault, error code 8611h")
     a.close()
     check(d.stop() == 0, "SIGTERM: clean stop")

@@ -276,7 +276,7 @@ export async function startFixture({ port = 0, users = {}, distDir = DIST } = {}
     }
     if (req.method === 'POST' && path === '/projects/reload') {
       if (!need(req, res, 'engineer')) return;
-      send(res, 200, { ok: true, version: st.versions.length, summary: 'instances: 5 kept, 0 retuned, 0 new, 0 removed', report: { kept: [], retuned: [], new: [], removed: [] } });
+      send(res, 200, { ok: true, version: st.versions.length, summary: 'instances: 5 kept, 0 retuned, 0 rewired, 0 new, 0 removed', report: { kept: [], retuned: [], new: [], removed: [] } });
       return;
     }
     if (req.method === 'GET' && path === '/projects') { send(res, 200, { versions: st.versions }); return; }
@@ -290,7 +290,7 @@ export async function startFixture({ port = 0, users = {}, distDir = DIST } = {}
       st.versions.forEach((v) => { v.running = false; });
       st.versions.push({ version, time_ns: Date.now() * 1e6, origin: 'upload', outcome: 'accepted', project: 'bottle_line 1.0.2', hash: randomBytes(5).toString('hex'), files: Object.keys(b.files).length, errors: [], running: true });
       event('reload', `loaded version ${version}`);
-      send(res, 200, { ok: true, version, errors: [], report: { kept: ['filler', 'capper', 'counter'], retuned: ['speed_pid'], new: ['labeler'], removed: [], summary: 'instances: 3 kept, 1 retuned, 1 new, 0 removed; tasks: 2 kept; 12 tag values carried over' } });
+      send(res, 200, { ok: true, version, errors: [], report: { kept: ['filler', 'capper', 'counter'], retuned: ['speed_pid'], new: ['labeler'], removed: [], summary: 'instances: 3 kept, 1 retuned, 0 rewired, 1 new, 0 removed; tasks: 2 kept; 12 tag values carried over' } });
       return;
     }
     if (req.method === 'POST' && path === '/projects/rollback') {
@@ -301,7 +301,7 @@ export async function startFixture({ port = 0, users = {}, distDir = DIST } = {}
       const version = st.versions.length + 1;
       st.versions.forEach((x) => { x.running = false; });
       st.versions.push({ ...v, version, origin: 'rollback', time_ns: Date.now() * 1e6, running: true });
-      send(res, 200, { ok: true, version, errors: [], report: { kept: ['filler', 'capper'], retuned: [], new: [], removed: ['labeler'], summary: 'instances: 2 kept, 0 retuned, 0 new, 1 removed' } });
+      send(res, 200, { ok: true, version, errors: [], report: { kept: ['filler', 'capper'], retuned: [], new: [], removed: ['labeler'], summary: 'instances: 2 kept, 0 retuned, 0 rewired, 0 new, 1 removed' } });
       return;
     }
     send(res, 404, { error: `no resource ${req.method} ${path}` });

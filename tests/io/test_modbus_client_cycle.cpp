@@ -3,8 +3,10 @@
 // socket, a device in this process that numbers its read replies and stamps
 // every request's arrival, and a test thread that plays the task (latch,
 // then outputs and their hand-over) on an irregular 10-24 ms schedule. The
-// device thread is real, so the bounds are generous and counted over scans
-// (a loaded machine may stall a few).
+// device thread is real: where a test judges what follows each hand-over,
+// the played task waits for that exchange before its next scan (a loaded
+// machine delays the scans, not the order of events), and the judgement is
+// by the order of hand-overs, requests and latches, not by their times.
 #include <arpa/inet.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
@@ -14,6 +16,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
+#include <string>
 #include <atomic>
 #include <chrono>
 #include <mutex>
@@ -165,13 +169,41 @@ struct Scans {
 
 // Scans on an irregular schedule (gaps 10, 16, 10, 24 ms: a free-running
 // 10 ms grid puts two or three requests into the long gaps); scan k writes k.
-Scans play_task(Client& cl, int n) {
+// With `dev` (timing cycle), a scan also waits until the exchange of the
+// last hand-over (its write, then a read) has been answered and the reply is
+// in the driver, so a
+// device thread that a loaded machine holds back delays the scans instead of
+// missing them (the minute per scan only ends a hang).
+Scans play_task(Client& cl, int n, NumberingDevice* dev = nullptr) {
   ScanContext ctx;
   Scans s;
   const std::int64_t gaps[] = {10 * kMs, 16 * kMs, 10 * kMs, 24 * kMs};
   std::int64_t next = monotonic_ns();
   for (int k = 0; k < n; ++k) {
     sleep_until(next);
+    if (dev && k > 0) {
+      const std::int64_t guard = monotonic_ns() + 60'000 * kMs;
+      // The number of the read after the write of the last hand-over's
+      // value k - 1 (an earlier scan's exchange may still end after it).
+      int answer = -1;
+      while (answer < 0 && monotonic_ns() < guard) {
+        bool written = false;
+        for (const auto& q : dev->seen()) {
+          if (q.at > s.hand_over.back() && q.function == 6 && q.value == k - 1) written = true;
+          else if (written && q.function == 3) {
+            answer = q.value;
+            break;
+          }
+        }
+        if (answer < 0) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      }
+      while (monotonic_ns() < guard) {  // its reply through the driver
+        cl.driver->latch_inputs(ctx);
+        if (cl.ch("r_ok").get<bool>() && cl.ch("r").get<std::int16_t>() >= answer) break;
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      }
+      next = std::max(next, monotonic_ns());
+    }
     cl.driver->latch_inputs(ctx);
     s.latched.push_back(cl.ch("r_ok").get<bool>() ? cl.ch("r").get<std::int16_t>() : -1);
     cl.ch("w").set<std::int16_t>(static_cast<std::int16_t>(k));
@@ -182,10 +214,11 @@ Scans play_task(Client& cl, int n) {
   return s;
 }
 
-// Until the device thread has connected and exchanged once (at most 2 s).
+// Until the device thread has connected and exchanged once (the guard, a
+// minute of 5 ms scans, only ends a hang).
 void wait_connected(Client& cl) {
   ScanContext ctx;
-  for (int i = 0; i < 400; ++i) {
+  for (int i = 0; i < 12000; ++i) {
     cl.driver->latch_inputs(ctx);
     if (cl.ch("r_ok").get<bool>()) return;
     cl.driver->write_outputs(ctx);
@@ -195,42 +228,71 @@ void wait_connected(Client& cl) {
 }
 
 struct Verdict {
+  std::string odd;   // the scans that did not follow: their requests (function:value@us after the hand-over)
+  int late = 0;      // scans not judged: the task itself handed over no outputs for kFallback (below)
   int scans = 0;     // scans judged
-  int followed = 0;  // exactly one write then one read, within 8 ms after the hand-over, the write carrying the scan's value
+  int followed = 0;  // exactly one write then one read between the hand-over and the next, the write carrying the scan's value
   int latched = 0;   // the next scan latched the reply of that read
 };
 
-Verdict judge(const Scans& s, const std::vector<Seen>& seen, int first) {
+// A task that hands over nothing for three of its periods gets the device
+// thread's own grid (device_link.hpp, kFallbackPeriods): those scans are the
+// task's lateness (the test thread's, on a loaded machine), not the
+// driver's, and with `excuse_late` are counted apart instead of judged.
+constexpr std::int64_t kFallback = 3 * 10 * kMs;
+
+Verdict judge(const Scans& s, const std::vector<Seen>& seen, int first, bool excuse_late = false) {
   Verdict v;
   for (std::size_t k = static_cast<std::size_t>(first); k + 1 < s.hand_over.size(); ++k) {
+    if (excuse_late && s.hand_over[k + 1] - s.hand_over[k] >= kFallback) {
+      ++v.late;
+      continue;
+    }
     ++v.scans;
     std::vector<Seen> in;  // the requests between this hand-over and the next
     for (const auto& q : seen)
       if (q.at > s.hand_over[k] && q.at <= s.hand_over[k + 1]) in.push_back(q);
     const bool one_each = in.size() == 2 && in[0].function == 6 && in[1].function == 3;
-    if (one_each && in[1].at - s.hand_over[k] <= 8 * kMs && in[0].value == k) ++v.followed;
+    if (one_each && in[0].value == k) ++v.followed;
+    else {
+      v.odd += "scan " + std::to_string(k) + ":";
+      for (const auto& q : in)
+        v.odd += " " + std::to_string(q.function) + ":" + std::to_string(q.value) + "@" +
+                 std::to_string((q.at - s.hand_over[k]) / 1000) + "us";
+      v.odd += "\n";
+    }
     if (one_each && s.latched[k + 1] == in[1].value) ++v.latched;
   }
   return v;
 }
 
-// Every scan's hand-over is followed by its write and then its read, within
-// a bounded time, once per scan, and the next scan latches exactly that
-// read's reply: no repeated and no skipped sample. (`timing: free` fails it:
+// Every scan's hand-over is followed by its write and then its read, before
+// the next hand-over, once per scan, and the next scan latches exactly that
+// read's reply: no repeated and no skipped sample. Judged by the order of
+// events (hand-overs, requests, latches), not by their times. (`timing: free` fails it:
 // its 10 ms grid ignores the scans, test below.)
 TEST(ModbusClientCycle, TheExchangeFollowsEachScansHandOver) {
   NumberingDevice dev;
   Client cl(dev.port, ExchangeTiming::Cycle);
   wait_connected(cl);
-  const Scans s = play_task(cl, 40);
-  const Verdict v = judge(s, dev.seen(), 1);
-  // A loaded machine may stall the device thread past a scan a few times.
-  EXPECT_GE(v.followed, v.scans - 4) << v.followed << " of " << v.scans;
-  EXPECT_GE(v.latched, v.scans - 4) << v.latched << " of " << v.scans;
-  // Repeated or skipped samples: consecutive scans' latched numbers differ by one.
-  int steps = 0;
-  for (std::size_t k = 2; k < s.latched.size(); ++k) steps += s.latched[k] - s.latched[k - 1] == 1;
-  EXPECT_GE(steps, static_cast<int>(s.latched.size()) - 2 - 4);
+  // Rounds of 40 scans until 30 are judged (a loaded machine may make the
+  // played task late for some; ten rounds at most).
+  Verdict all;
+  for (int round = 0; round < 10 && all.scans < 30; ++round) {
+    const Scans s = play_task(cl, 40, &dev);
+    const Verdict v = judge(s, dev.seen(), 1, true);
+    all.scans += v.scans;
+    all.late += v.late;
+    all.followed += v.followed;
+    all.latched += v.latched;
+    all.odd += v.odd;
+  }
+  std::printf("%d scans judged, %d late (the played task's own lateness)\n", all.scans, all.late);
+  ASSERT_GE(all.scans, 30);
+  EXPECT_EQ(all.followed, all.scans) << all.followed << " of " << all.scans << "\n" << all.odd;
+  // Exactly one read per scan, and the next scan latched its reply: no
+  // repeated and no skipped sample.
+  EXPECT_EQ(all.latched, all.scans) << all.latched << " of " << all.scans;
 }
 
 // The free-running grid (the old timing, kept as `timing: free`) does not
@@ -255,16 +317,24 @@ TEST(ModbusClientCycle, WithoutScansTheDeviceThreadFallsBackToItsOwnGrid) {
   wait_connected(cl);
   play_task(cl, 5);
   const std::int64_t last = monotonic_ns();
-  std::this_thread::sleep_for(std::chrono::milliseconds(200));
-  int reads = 0;
-  for (const auto& q : dev.seen()) reads += q.at > last && q.function == 3;
-  // 3 periods of waiting, then every 10 ms: about 17 in 200 ms.
+  // Five reads without a scan (counted; the minute only ends a hang), and no
+  // more than one per 10 ms of the time that took: the groups' own grid,
+  // not a busy loop.
+  auto reads_since = [&] {
+    int n = 0;
+    for (const auto& q : dev.seen()) n += q.at > last && q.function == 3;
+    return n;
+  };
+  while (reads_since() < 5 && monotonic_ns() - last < 60'000 * kMs)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  const std::int64_t waited = monotonic_ns() - last;
+  const int reads = reads_since();
   EXPECT_GE(reads, 5);
-  EXPECT_LE(reads, 25);
+  EXPECT_LE(reads, waited / (10 * kMs) + 2) << waited / kMs << " ms";
   dev.stop();
   ScanContext ctx;
   bool stale = false;
-  for (int i = 0; i < 100 && !stale; ++i) {  // no scan hands over: only the fallback can see it
+  for (int i = 0; i < 6000 && !stale; ++i) {  // no scan hands over: only the fallback can see it (a minute: a hang guard)
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
     cl.driver->latch_inputs(ctx);
     stale = !cl.ch("r_ok").get<bool>();
@@ -298,7 +368,8 @@ TEST(ModbusClientCycle, ADurationGroupGoesWithTheScanNearestItsTime) {
   ASSERT_TRUE(drv.open(&err)) << err;
   ScanContext ctx;
   std::vector<std::int64_t> hand_over;
-  std::int64_t next = monotonic_ns();
+  const std::int64_t opened = monotonic_ns();
+  std::int64_t next = opened;
   for (int k = 0; k < 40; ++k) {
     sleep_until(next);
     drv.latch_inputs(ctx);
@@ -308,15 +379,19 @@ TEST(ModbusClientCycle, ADurationGroupGoesWithTheScanNearestItsTime) {
   }
   drv.close();
   const auto seen = dev.seen();
-  int near = 0;
-  for (const auto& q : seen) {
-    const auto after = std::upper_bound(hand_over.begin(), hand_over.end(), q.at);
-    if (after != hand_over.begin() && q.at - *(after - 1) <= 5 * kMs) ++near;
-  }
-  // 400 ms at one per 30 ms: about 13 (the first at the connection).
+  // Counted between the scans' hand-overs: never two requests between two
+  // hand-overs (at most once a scan), and about one per three scans; a
+  // loaded machine stretches the scans, not these counts.
+  std::vector<int> per_scan(hand_over.size() + 1, 0);
+  for (const auto& q : seen)
+    ++per_scan[static_cast<std::size_t>(std::upper_bound(hand_over.begin(), hand_over.end(), q.at) - hand_over.begin())];
+  int doubled = 0;
+  for (std::size_t k = 1; k < per_scan.size(); ++k) doubled += per_scan[k] > 1;
+  EXPECT_LE(doubled, 1) << "requests between scans, more than one in an interval";
+  // 40 scans at one per three: about 13 (the first at the connection); never
+  // more than one per 30 ms of the time the scans took, however long.
   EXPECT_GE(seen.size(), 9u);
-  EXPECT_LE(seen.size(), 16u);
-  EXPECT_GE(near, static_cast<int>(seen.size()) - 3);  // within 5 ms after a hand-over
+  EXPECT_LE(static_cast<std::int64_t>(seen.size()), (hand_over.back() - opened) / (30 * kMs) + 2);
 }
 
 TEST(ModbusClientCycle, TimingIsADeviceSetting) {

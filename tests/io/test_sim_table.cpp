@@ -201,7 +201,7 @@ drivers:
   for (int i = 0; i < 4; ++i) {
     auto r = p->resolve("theta[" + std::to_string(i + 1) + "]");
     ASSERT_TRUE(r);
-    EXPECT_NEAR(p->live_cell(*r)->get<double>(), analytic(tau[i], k[i], 0, 0, 0.1, 1.0).theta, 1e-10);
+    EXPECT_NEAR(p->live_cell(*r, ::syncplc::testing::image_key())->get<double>(), analytic(tau[i], k[i], 0, 0, 0.1, 1.0).theta, 1e-10);
   }
 }
 

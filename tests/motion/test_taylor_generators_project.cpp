@@ -8,6 +8,7 @@
 #include <numbers>
 #include <string>
 
+#include "tests/support/image_key.hpp"
 #include "runtime/core/virtual_clock.hpp"
 #include "runtime/project/loader.hpp"
 
@@ -57,7 +58,7 @@ std::unique_ptr<Program> load(const std::string& yaml) {
 Cell& tag_cell(Program& p, const std::string& name) {
   auto r = p.resolve(name);
   EXPECT_TRUE(r) << name;
-  return *p.live_cell(*r);
+  return *p.live_cell(*r, ::syncplc::testing::image_key());
 }
 
 TEST(MotionProject, GeneratorsAndEstimatorLoadAndRun) {

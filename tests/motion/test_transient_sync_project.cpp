@@ -6,6 +6,7 @@
 
 #include <string>
 
+#include "tests/support/image_key.hpp"
 #include "runtime/core/virtual_clock.hpp"
 #include "runtime/project/loader.hpp"
 
@@ -50,7 +51,7 @@ connections:
 double value(Program& p, const std::string& ref) {
   auto r = p.resolve(ref);
   EXPECT_TRUE(r) << ref;
-  return r ? p.live_cell(*r)->get<double>() : 0.0;
+  return r ? p.live_cell(*r, ::syncplc::testing::image_key())->get<double>() : 0.0;
 }
 
 TEST(TransientSyncProject, ArraysFromListConstantsAndTags) {
@@ -60,18 +61,18 @@ TEST(TransientSyncProject, ArraysFromListConstantsAndTags) {
   VirtualClock cs(*sync), co(*off);
   cs.run_until(50'000'000);  // a few scans into the transient: axis 3 (0.5 m) runs on a reduced bound
   EXPECT_LT(value(*sync, "vmax[3]"), 5.0);
-  EXPECT_EQ(value(*sync, "vmax[3]"), sync->live_cell(*sync->resolve("ts.v_max_applied[3]"))->get<double>());
+  EXPECT_EQ(value(*sync, "vmax[3]"), sync->live_cell(*sync->resolve("ts.v_max_applied[3]"), ::syncplc::testing::image_key())->get<double>());
   cs.run_until(3'000'000'000);
   co.run_until(3'000'000'000);
   for (Program* p : {sync.get(), off.get()}) {
-    EXPECT_TRUE(p->live_cell(*p->resolve("sync"))->get<bool>());
-    EXPECT_EQ(p->live_cell(*p->resolve("windows"))->get<std::int64_t>(), 1);
+    EXPECT_TRUE(p->live_cell(*p->resolve("sync"), ::syncplc::testing::image_key())->get<bool>());
+    EXPECT_EQ(p->live_cell(*p->resolve("windows"), ::syncplc::testing::image_key())->get<std::int64_t>(), 1);
     EXPECT_NEAR(value(*p, "x[1]"), 2, 1e-9);
     EXPECT_NEAR(value(*p, "x[2]"), -1, 1e-9);
     EXPECT_NEAR(value(*p, "x[3]"), 0.5, 1e-9);
   }
-  EXPECT_EQ(sync->live_cell(*sync->resolve("spread"))->get<std::int64_t>(), 0);
-  EXPECT_GT(off->live_cell(*off->resolve("spread"))->get<std::int64_t>(), 10);
+  EXPECT_EQ(sync->live_cell(*sync->resolve("spread"), ::syncplc::testing::image_key())->get<std::int64_t>(), 0);
+  EXPECT_GT(off->live_cell(*off->resolve("spread"), ::syncplc::testing::image_key())->get<std::int64_t>(), 10);
   EXPECT_GT(value(*sync, "e"), 0);
   EXPECT_LT(value(*sync, "e"), value(*off, "e"));
 }

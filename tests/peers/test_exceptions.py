@@ -266,7 +266,9 @@ def gateway(peer, r, port, tally):
     r.exc(pdu_read(3, 1024, 0), GATEWAY_TARGET, "unit 2, quantity 0", unit=2)
     r.exc(pdu_read(3, 1027, 1), GATEWAY_TARGET, "unit 2, unmapped", unit=2)
     r.exc(pdu_write_single(6, 1024, 9), GATEWAY_TARGET, "unit 2, a write (not applied)", unit=2)
-    # 0 and 255 are answered like unit 1.
+    # 0 and 255 are answered like unit 1. The write of 77 (busy()) is
+    # applied at task main's next scan: read once it is published.
+    P.wait_until(lambda: (peer.read("holding", 1024, 1) == [77], None), "holding 1024 after busy()'s write of 77")
     for unit in (0, 255, 1):
         reply = r.ok(pdu_read(3, 1024, 1), "unit %d" % unit, unit=unit)
         if reply != bytes([3, 2, 0, 77]):

@@ -225,7 +225,9 @@ def main():
     elapsed = time.monotonic() - t0
     c.close()
     assert all(g["values"]["qw_int_r"] == 1234 and g["values"]["mw_arr"] == [9, 8, 7, 6] for g in got), got
-    assert 0.1 < elapsed < 5, elapsed  # 4 periods of 50 ms after the first
+    # 4 periods of 50 ms after the first: not faster than asked (a loaded
+    # machine can only make it slower; the socket's timeout ends a hang)
+    assert elapsed > 0.1, elapsed
     # A client that stops reading its stream costs the others nothing: its
     # events are not queued (each tick takes the newest values), and its
     # worker is cut by the write timeout, not another client's.
@@ -262,9 +264,11 @@ def main():
     # A slow client that never finishes its request holds nobody up.
     slow = socket.create_connection(("127.0.0.1", port))
     slow.sendall(b"GET /api/v1/status HTTP/1.1\r\nHost: 127.0.0.1\r\n")
-    t0 = time.monotonic()
     api.expect(200, "GET", "/status", what="beside a slow client")
-    assert time.monotonic() - t0 < 2, "a request waited for a slow client"
+    # Answered while the slow client's connection is still open: a server
+    # that waited for it would have cut it first (its 5 s read timeout).
+    # The connection's TCP state, not a time: 1 is ESTABLISHED.
+    assert slow.getsockopt(socket.IPPROTO_TCP, socket.TCP_INFO, 1)[0] == 1, "a request waited for a slow client"
     slow.close()
     raw = socket.create_connection(("127.0.0.1", port))
     raw.sendall(b"GARBAGE\r\n\r\n")

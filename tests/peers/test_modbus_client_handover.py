@@ -11,11 +11,8 @@ none closed, and the new group's value arrives through it.
 """
 import os
 import signal
-import socket
-import struct
 import sys
 import tempfile
-import threading
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -38,82 +35,68 @@ drivers:
 """
 
 
-class OneConnectionDevice:
-    """FC 6 only: echoes the request and keeps the register's value."""
+PROJECT_TWO = """
+project: {{name: handover2, version: "{version}"}}
+tasks: [{{name: main, period: 10ms}}]
+tags:
+  - {{name: cmd, type: INT, init: {value}}}
+drivers:
+  - name: io_a
+    type: modbus_client
+    devices: [{{name: dev, port: {port_a}, response_timeout: 200ms, connect_timeout: 200ms, reconnect_min: 20ms}}]
+    groups:
+      - {{name: w, function: write_single_register, address: {address}, every: 20ms}}
+    bind: {{w: cmd}}
+  - name: io_b
+    type: modbus_client
+    devices: [{{name: dev, port: {port_b}, response_timeout: 200ms, connect_timeout: 200ms, reconnect_min: 20ms}}]
+    groups:
+      - {{name: w, function: write_single_register, address: {address}, every: 20ms}}
+    bind: {{w: cmd}}
+"""
 
-    def __init__(self):
-        self.sock = socket.socket()
-        self.sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
-        self.sock.bind(("127.0.0.1", 0))
-        self.sock.listen(8)
-        self.port = self.sock.getsockname()[1]
-        self.registers = [0] * 16
-        self.accepted = 0
-        self.refused = 0
-        self.closed = 0  # the active connection ended (closed by the client)
-        self.active = None
-        self.lock = threading.Lock()
-        threading.Thread(target=self._accept, daemon=True).start()
 
-    def _accept(self):
-        while True:
-            try:
-                c, _ = self.sock.accept()
-            except OSError:
-                return
-            with self.lock:
-                if self.active is not None:
-                    self.refused += 1
-                    c.close()
-                    continue
-                self.accepted += 1
-                self.active = c
-            threading.Thread(target=self._serve, args=(c,), daemon=True).start()
+def two_drivers_of_one_type(binary):
+    """Issue 21: two modbus_client drivers replaced in one change, six times.
+    Each new driver takes over its own predecessor's one connection, never
+    another's: each device sees one connection for the whole run."""
+    dev_a, dev_b = P.OneConnectionDevice(), P.OneConnectionDevice()
+    with tempfile.TemporaryDirectory() as tmp:
+        path = os.path.join(tmp, "handover2.yaml")
 
-    def _serve(self, c):
+        def write(version):
+            with open(path, "w") as f:
+                f.write(PROJECT_TWO.format(version=version, port_a=dev_a.port, port_b=dev_b.port,
+                                           address=version % 8, value=100))
+
+        write(0)
+        server = P.Server(binary, path)
         try:
-            while True:
-                head = self._exact(c, 7)
-                if head is None:
-                    break
-                tid, proto, length, unit = struct.unpack(">HHHB", head)
-                pdu = self._exact(c, length - 1)
-                if pdu is None:
-                    break
-                if pdu[0] == 6:
-                    address, value = struct.unpack(">HH", pdu[1:5])
-                    self.registers[address % 16] = value
-                    c.sendall(head + pdu)
-                else:
-                    c.sendall(struct.pack(">HHHBBB", tid, 0, 3, unit, pdu[0] | 0x80, 1))
-        except OSError:
-            pass
-        with self.lock:
-            self.closed += 1
-            self.active = None
-        c.close()
-
-    @staticmethod
-    def _exact(c, n):
-        b = b""
-        while len(b) < n:
-            k = c.recv(n - len(b))
-            if not k:
-                return None
-            b += k
-        return b
-
-    def wait_register(self, address, value, timeout=20):
-        deadline = time.monotonic() + timeout
-        while self.registers[address] != value:
-            if time.monotonic() > deadline:
-                raise AssertionError("register %d is %d, not %d, after %d s" % (address, self.registers[address], value, timeout))
-            time.sleep(0.01)
+            dev_a.wait_register(0, 100)
+            dev_b.wait_register(0, 100)
+            for v in range(1, 7):
+                write(v)
+                server.proc.send_signal(signal.SIGHUP)
+                P.wait_until(lambda: (sum("reloaded" in l for l in server.stderr_lines) >= v, None),
+                             "reload %d" % v, timeout=20)
+                # The new group's address, written by the new driver (cmd keeps its value across a change).
+                dev_a.wait_register(v % 8, 100)
+                dev_b.wait_register(v % 8, 100)
+            time.sleep(0.3)
+            stderr = "".join(server.stderr_lines)
+            for name, dev in (("a", dev_a), ("b", dev_b)):
+                P.check_true(dev.accepted == 1 and dev.refused == 0 and dev.closed == 0,
+                             "device %s saw %d connections, refused %d, %d closed over six changes\n%s"
+                             % (name, dev.accepted, dev.refused, dev.closed, stderr))
+        finally:
+            server.stop()
+    print("two drivers of one type replaced six times: one connection each, none leaked")
 
 
 def main():
     binary = P.syncplc_binary()
-    dev = OneConnectionDevice()
+    two_drivers_of_one_type(binary)
+    dev = P.OneConnectionDevice()
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "handover.yaml")
 

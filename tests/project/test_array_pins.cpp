@@ -27,7 +27,7 @@ std::vector<std::string> array_errors(const std::string& text, std::vector<Param
 double value(Program& p, const std::string& ref) {
   auto r = p.resolve(ref);
   EXPECT_TRUE(r) << ref;
-  return r ? p.live_cell(*r)->get<double>() : 0.0;
+  return r ? p.live_cell(*r, ::syncplc::testing::image_key())->get<double>() : 0.0;
 }
 
 TEST(ArrayPins, WholeArraysConnectToArrayTags) {

@@ -21,7 +21,8 @@ tags: []
 )");
   EXPECT_FALSE(r.ok());
   EXPECT_EQ(r.program, nullptr);
-  EXPECT_THAT(errors(r), ElementsAre("p.yaml:3:5: YAML syntax error: end of map flow not found"));
+  EXPECT_THAT(errors(r), ElementsAre("p.yaml:3:5: YAML syntax error: did not find expected ',' or '}' (while parsing a flow "
+                                     "mapping that starts at line 2, column 5)"));
 }
 
 TEST(LoadErrors, YamlSyntaxErrorBadIndentation) {
@@ -1173,14 +1174,15 @@ tasks: [{name: main, period: 10 ms}]
 
 TEST(LoadErrors, YamlSyntaxErrorsHintAtTabsAndPercentSigns) {
   EXPECT_THAT(errors("tasks:\n\t- {name: main, period: 1ms}\n"),
-              ElementsAre("p.yaml:2:2: YAML syntax error: illegal block entry (the line has a tab: YAML indents with "
-                          "spaces only)"));
+              ElementsAre("p.yaml:2:1: YAML syntax error: found character that cannot start any token (the line has a "
+                          "tab: YAML indents with spaces only)"));
   EXPECT_THAT(errors(R"(
 tasks: [{name: main, period: 1ms}]
 tags:
   - {name: a, type: BOOL, address: %IX0.0}
 )"),
-              ElementsAre("p.yaml:3:36: YAML syntax error: unknown token (a value starting with % must be quoted, "
+              ElementsAre("p.yaml:3:36: YAML syntax error: found character that cannot start any token (a value "
+                          "starting with % must be quoted, "
                           "e.g. address: \"%IX0.0\")"));
   // Quoted, a % is no hint's business.
   EXPECT_THAT(errors(R"(
@@ -1188,7 +1190,8 @@ tasks: [{name: main, period: 1ms
 tags:
   - {name: a, type: BOOL, address: "%IX0.0"}
 )"),
-              ElementsAre("p.yaml:3:3: YAML syntax error: illegal block entry"));
+              ElementsAre("p.yaml:2:5: YAML syntax error: did not find expected ',' or '}' (while parsing a flow "
+                          "mapping that starts at line 1, column 9)"));
 }
 
 TEST(LoadErrors, UnitWithoutCaretSuggestsOne) {

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <limits>
 
+#include "tests/support/image_key.hpp"
 #include "runtime/core/virtual_clock.hpp"
 #include "tests/project/loader_test_util.hpp"
 
@@ -25,7 +26,7 @@ const BlockInstance& instance(const Program& p, const std::string& name) {
 
 Cell init_cell(const Program& p, const std::string& tag, std::uint32_t element = 0) {
   const Tag* t = p.find_tag(tag);
-  return p.tasks[t->owner]->image[t->cell + element];
+  return p.tasks[t->owner]->image(::syncplc::testing::image_key())[t->cell + element];
 }
 
 // --- the example project ---------------------------------------------------------------
@@ -256,7 +257,7 @@ drivers:
   EXPECT_EQ(p.tasks[1]->channels.size(), 2u);
   EXPECT_EQ(p.tasks[0]->channels.size(), 1u);
   // image: owned | foreign copies | pins (two blocks of two pins and ENO)
-  EXPECT_EQ(p.tasks[0]->image.size(), 3u + 2u + 2u * 3u);
+  EXPECT_EQ(p.tasks[0]->image_cells(), 3u + 2u + 2u * 3u);
 }
 
 TEST(LoadOk, ArrayTagsTakeLengthCells) {
@@ -306,10 +307,10 @@ connections:
   VirtualClock clock(p);
   clock.run_until(0, true);
   const Tag* copy0 = p.find_tag("copy");
-  EXPECT_EQ(p.live_cell({copy0->owner, copy0->cell, IecType::INT, 1})->get<std::int16_t>(), 0) << "not visible at 0";
+  EXPECT_EQ(p.live_cell({copy0->owner, copy0->cell, IecType::INT, 1}, ::syncplc::testing::image_key())->get<std::int16_t>(), 0) << "not visible at 0";
   clock.run_until(10'000'000, true);
   const Tag* copy = p.find_tag("copy");
-  EXPECT_EQ(p.live_cell({copy->owner, copy->cell, IecType::INT, 1})->get<std::int16_t>(), 1);
+  EXPECT_EQ(p.live_cell({copy->owner, copy->cell, IecType::INT, 1}, ::syncplc::testing::image_key())->get<std::int16_t>(), 1);
 }
 
 // --- generic type inference ---------------------------------------------------------------
@@ -354,7 +355,7 @@ connections:
   for (const char* n : {"add", "mul", "lim", "cmp"}) EXPECT_EQ(instance(*r.program, n).datatype, IecType::DINT) << n;
   // Constants on generic pins are read in the inferred type.
   const auto& lim = instance(*r.program, "lim");
-  EXPECT_EQ(r.program->tasks[0]->image[lim.pin_cell[0]].get<std::int32_t>(), -5);
+  EXPECT_EQ(r.program->tasks[0]->image(::syncplc::testing::image_key())[lim.pin_cell[0]].get<std::int32_t>(), -5);
 }
 
 TEST(LoadOk, InferenceRunsBackwardsFromAnOutput) {
@@ -492,7 +493,7 @@ connections:
   ASSERT_EQ(t.copy_out.size(), 1u);
   EXPECT_EQ(t.copy_out[0].src, t.pin_cell[2]);
   EXPECT_EQ(t.copy_out[0].dst, p.find_tag("lamp")->cell);
-  EXPECT_EQ(p.tasks[0]->image[t.pin_cell[1]].get<std::int64_t>(), 20'000'000);  // PT constant
+  EXPECT_EQ(p.tasks[0]->image(::syncplc::testing::image_key())[t.pin_cell[1]].get<std::int64_t>(), 20'000'000);  // PT constant
 }
 
 // --- arrays ---------------------------------------------------------------------------------------

@@ -46,7 +46,7 @@ metrics: {axis_errors: e, from: 0s}
   EXPECT_EQ(r.metrics.axis_errors[2].label, "e[3]");
   VirtualClock clock(*p);
   MotionMetrics m(r.metrics);
-  clock.on_time_point([&](std::int64_t t) { m.sample(*p, t, clock.scans(m.task())); });
+  clock.on_time_point([&](std::int64_t t) { m.sample(*p, clock.image_access(), t, clock.scans(m.task())); });
   clock.run_until(100'000'000);  // scans 0..99 of servo, and the slow task's own time points
   ASSERT_EQ(m.samples(), 100u);
   double track = 0, sync = 0;
@@ -78,7 +78,7 @@ metrics: {axis_errors: [e1, e2], from: 10ms}
   ASSERT_TRUE(p);
   VirtualClock clock(*p);
   MotionMetrics m(r.metrics);
-  clock.on_time_point([&](std::int64_t t) { m.sample(*p, t, clock.scans(m.task())); });
+  clock.on_time_point([&](std::int64_t t) { m.sample(*p, clock.image_access(), t, clock.scans(m.task())); });
   clock.run_until(50'000'000);
   EXPECT_EQ(m.samples(), 40u);
   EXPECT_NEAR(m.track_rsme(), std::sqrt(29.0), 1e-12);

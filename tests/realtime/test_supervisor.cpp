@@ -9,6 +9,7 @@
 #include <chrono>
 #include <thread>
 
+#include "runtime/core/program_change.hpp"
 #include "runtime/core/supervisor.hpp"
 #include "runtime/io/memory_driver.hpp"
 #include "runtime/io/safe_output_latch.hpp"
@@ -52,7 +53,7 @@ drivers:
 }
 
 template <class F>
-bool eventually(F f, std::chrono::milliseconds limit = std::chrono::milliseconds(10000)) {
+bool eventually(F f, std::chrono::milliseconds limit = std::chrono::milliseconds(60000)) {  // a hang guard only
   const auto until = std::chrono::steady_clock::now() + limit;
   while (!f()) {
     if (std::chrono::steady_clock::now() > until) return false;
@@ -81,8 +82,8 @@ Outputs outputs(Program& p) {
 
 std::vector<EventKind> kinds(Supervisor& s) {
   std::vector<EventKind> v;
-  Event e;
-  while (s.pop_event(e)) v.push_back(e.kind);
+  SupervisorEvent e;
+  while (s.pop_event(e)) v.push_back(e.event.kind);
   return v;
 }
 
@@ -118,7 +119,7 @@ TEST_F(SupervisorTest, AScanThatDoesNotEndIsGivenUpOnAndItsOutputsMadeSafe) {
   testing::hang_armed().store(true);
   ASSERT_TRUE(eventually([&] {
     supervisor->check();
-    return supervisor->hung(0);
+    return supervisor->hung(program->tasks[0].get());
   }));
   EXPECT_TRUE(program->tasks[0]->stopped());
   EXPECT_FALSE(program->tasks[1]->stopped());
@@ -157,7 +158,7 @@ TEST_F(SupervisorTest, ALogWatchdogReportsALongScanAndWaitsLongerBeforeGivingUp)
     return !seen.empty();
   }));
   EXPECT_EQ(seen, std::vector<EventKind>{EventKind::ScanHung});
-  EXPECT_FALSE(supervisor->hung(0));
+  EXPECT_FALSE(supervisor->hung(program->tasks[0].get()));
   EXPECT_EQ(outputs(*program).speed, 12.5) << "reported only";
   supervisor->check();
   EXPECT_TRUE(kinds(*supervisor).empty()) << "once a scan";
@@ -172,6 +173,42 @@ TEST_F(SupervisorTest, AStopOfHealthyTasksJoinsEveryThread) {
   EXPECT_FALSE(runner->running());
   EXPECT_FALSE(supervisor->any_hung());
   EXPECT_TRUE(kinds(*supervisor).empty());
+}
+
+// Issue 21: a scan that hangs while an online change is under way, in the
+// old task before its switch, whose driver the change replaces. The outputs
+// made safe are those of the driver the stuck task really uses, not those of
+// the new program's driver (which no task has used yet).
+TEST_F(SupervisorTest, AScanThatHangsDuringAnOnlineChangeMakesTheDriverInUseSafe) {
+  start("{time: 2ms, sensitivity: 2, action: stop}");
+  // The same project with a driver whose settings differ (a spare channel):
+  // the change replaces it, opened beside the running one as `run` does.
+  std::string b = project("{time: 2ms, sensitivity: 2, action: stop}");
+  b.replace(b.find("      - {name: level, dir: out, type: LREAL}"), 0, "      - {name: spare, dir: out, type: LREAL}\n");
+  auto next = load_test_project(b);
+  ASSERT_TRUE(next);
+  auto change = plan_change(*program, *next);
+  ASSERT_EQ(change->new_drivers.size(), 1u) << "the driver is replaced";
+  std::string err;
+  ASSERT_TRUE(next->drivers[0].driver->open(&err)) << err;
+  change->switch_ns = runner->now_ns() + 60'000'000'000;  // far ahead: the old task hangs before its switch
+  runner->begin_change(*change);
+  supervisor->watch(*next);
+  testing::hang_armed().store(true);
+  ASSERT_TRUE(eventually([&] {
+    supervisor->check();
+    return supervisor->hung(program->tasks[0].get());
+  }));
+  const Outputs in_use = outputs(*program);
+  EXPECT_FALSE(in_use.motor) << "the driver the stuck task uses took its safe outputs";
+  EXPECT_EQ(in_use.speed, 0.0);
+  EXPECT_EQ(outputs(*next).speed, 0.0);
+  EXPECT_EQ(kinds(*supervisor), (std::vector<EventKind>{EventKind::ScanHung, EventKind::SafeStateApplied}));
+  testing::hang_release().store(true);
+  runner->request_stop();
+  runner->join();
+  runner.reset();
+  next->drivers[0].driver->close();
 }
 
 TEST(SupervisorLimits, HangLimitOfTasksWithoutAStoppingWatchdog) {

@@ -11,8 +11,7 @@ Checks:
   kept (their state: the reference time base, the plant);
 - the client's one connection is never dropped and every read is answered;
 - the tracking error trace is continuous across each reload: of the reloads,
-  no more than 3 (or than the scans the run counted as overrun or skipped)
-  see, between two reads that span it, a change larger than ten times the
+  no more than 3 see, between two reads that span it, a change larger than ten times the
   99th percentile of the changes between reads that span none (a reference or
   plant that restarted would jump at every reload, by the whole error; a rare
   jump is this virtual machine's host stalling the task, which happens as
@@ -195,9 +194,10 @@ def main():
         scans, overruns, skipped, trips = (int(g) for g in m.groups()[:4])
         print("servo: %d scans, %d overruns, %d skipped, %d watchdog trips; start jitter min/mean/p99/max %s"
               % (scans, overruns, skipped, trips, m.group(5)))
-        # A scan the host stalled (counted as overrun or skipped) makes a jump
-        # too, reloads or not: those are not the reloads' doing.
-        if reloads and jumps > max(3, skipped + overruns):
+        # The bound does not grow with the overruns and skips the run counted:
+        # a test that loosened itself under load would pass a reload that
+        # jumps whenever the machine is busy.
+        if reloads and jumps > 3:
             raise AssertionError("the tracking error jumps at %d of %d reloads (worst %.3g rad against p99 %.3g; "
                                  "the run counted %d overruns, %d skipped)" % (jumps, reloads, max(worst), p99,
                                                                              overruns, skipped))

@@ -120,7 +120,7 @@ TEST(Force, ATagABlockWritesHoldsForEveryLaterReaderInTheScan) {
   ASSERT_TRUE(run.p->force("mid", "9").ok);
   run.scans(3);
   EXPECT_EQ(seen("a"), 1.0);
-  EXPECT_EQ(run.p->live_cell(*run.p->resolve("a.OUT"))->get<double>(), 1.0) << "the writer's own pin is not forced";
+  EXPECT_EQ(run.p->live_cell(*run.p->resolve("a.OUT"), ::syncplc::testing::image_key())->get<double>(), 1.0) << "the writer's own pin is not forced";
   EXPECT_EQ(seen("r"), 9.0);
   EXPECT_EQ(published(*run.p, "mid"), 9.0);
   EXPECT_EQ(output(*run.p), 9.0);

@@ -319,7 +319,7 @@ connections:
   for (const auto& d : r.diagnostics.list()) ADD_FAILURE() << d.text();
   ASSERT_TRUE(r.program);
   Program& p = *r.program;
-  auto cell = [&](const char* name) -> Cell& { return *p.live_cell(*p.resolve(name)); };
+  auto cell = [&](const char* name) -> Cell& { return *p.live_cell(*p.resolve(name), ::syncplc::testing::image_key()); };
   VirtualClock clock(p);
   clock.run_until(5'000'000);  // warm up, uncounted
   cell("enable").set<bool>(true);

@@ -141,7 +141,7 @@ TEST(OnlineChange, AddedRemovedAndRetimedTasks) {
   EXPECT_EQ(tag(*r.b, "total"), 200.0);
   auto acc2 = r.b->resolve("acc2.SUM");
   ASSERT_TRUE(acc2);
-  EXPECT_EQ(r.b->live_cell(*acc2)->get<double>(), 40.0);
+  EXPECT_EQ(r.b->live_cell(*acc2, ::syncplc::testing::image_key())->get<double>(), 40.0);
 
   // And back: extra removed, its last scan the one before T.
   auto third = load_test_project(project("K: 1"));
@@ -155,6 +155,65 @@ TEST(OnlineChange, AddedRemovedAndRetimedTasks) {
   EXPECT_TRUE(removed);
   EXPECT_EQ(tag(*third, "total"), 300.0);
   EXPECT_EQ(c->scans(0), 300u);
+}
+
+// A task whose period changes starts its new grid at the switch instant T,
+// not at its first old release after T (issue 21: 1 s -> 10 ms lost up to a
+// second of scans, uncounted).
+std::string retimed_project(const char* period, const char* extra = "") {
+  return std::string("tasks:\n  - {name: t, period: ") + period + "}\n" + extra +
+         "blocks:\n  - {name: rec, type: RECORD, task: t, inputs: {IN: 1.0}}\n";
+}
+
+std::vector<std::int64_t> record_times() {
+  std::vector<std::int64_t> out;
+  for (const auto& r : records()) out.push_back(r.now_ns);
+  return out;
+}
+
+TEST(OnlineChange, ARetimedTaskStartsItsNewGridAtTheSwitchInstant) {
+  for (std::int64_t T : {2'500'000'000LL, 2'505'000'000LL}) {
+    records().clear();
+    auto a = load_test_project(retimed_project("1s"));
+    VirtualClock c(*a);
+    c.run_until(1'200'000'000);
+    auto b = load_test_project(retimed_project("10ms"));
+    auto change = plan_change(*a, *b);
+    change->switch_ns = T;
+    c.begin_change(*change);
+    c.run_until(3'500'000'000);
+    ASSERT_TRUE(c.change_complete());
+    EXPECT_EQ(change->tasks[0].fate, TaskFate::Retimed);
+    // Old scans at 0, 1 and 2 s; from the first 10 ms point at or after T on.
+    const std::int64_t first_new = (T + 9'999'999) / 10'000'000 * 10'000'000;
+    std::vector<std::int64_t> want{0, 1'000'000'000, 2'000'000'000};
+    for (std::int64_t t = first_new; t < 3'500'000'000; t += 10'000'000) want.push_back(t);
+    EXPECT_EQ(record_times(), want) << "T " << T;
+    EXPECT_EQ(b->tasks[0]->stats.skipped.load(), 0u);
+    // The first new scan's dt is the time since the last old one.
+    EXPECT_EQ(records()[3].dt_ns, first_new - 2'000'000'000);
+  }
+}
+
+TEST(OnlineChange, ARetimedTaskWhoseLastScanRanPastTCountsTheGapAsSkipped) {
+  records().clear();
+  // The old task's scan at 2 s takes 0.53 s (BURN): it ends at 2.53 s, past T = 2.5 s.
+  auto a = load_test_project(std::string("tasks:\n  - {name: t, period: 1s}\n") +
+                             "blocks:\n  - {name: rec, type: RECORD, task: t, inputs: {IN: 1.0}}\n"
+                             "  - {name: b, type: BURN, task: t, inputs: {EXEC: 530ms}}\n");
+  ASSERT_TRUE(a);
+  VirtualClock c(*a);
+  c.run_until(1'200'000'000);
+  auto b = load_test_project(retimed_project("10ms"));
+  auto change = plan_change(*a, *b);
+  change->switch_ns = 2'500'000'000;
+  c.begin_change(*change);
+  c.run_until(3'000'000'000);
+  ASSERT_TRUE(c.change_complete());
+  const auto t = record_times();
+  ASSERT_GE(t.size(), 4u);
+  EXPECT_EQ(t[3], 2'530'000'000) << "the first new grid point after the old scan ended";
+  EXPECT_EQ(b->tasks[0]->stats.skipped.load(), 3u) << "2.50, 2.51 and 2.52 s got no scan";
 }
 
 TEST(OnlineChange, AWriteQueuedToTheNewProgramTakesEffectAtTheNextScan) {

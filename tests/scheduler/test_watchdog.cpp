@@ -4,6 +4,7 @@
 
 #include "runtime/core/virtual_clock.hpp"
 #include "runtime/io/memory_driver.hpp"
+#include "runtime/project/report.hpp"
 #include "tests/support/project_fixture.hpp"
 
 namespace syncplc {
@@ -191,6 +192,30 @@ TEST(Overrun, AScanEndingExactlyOnTheNextReleaseIsNotAnOverrun) {
   EXPECT_EQ(s.scans, 10u);
   EXPECT_EQ(s.overruns, 0u);
   EXPECT_EQ(s.jitter.max, 0);
+}
+
+// Issue 21: an overrun caused by a late start (a busy CPU in real time) is
+// reported as such, not as a scan that "overran its period" in 200 µs.
+TEST(Overrun, ALateStartIsReportedAsTheCause) {
+  auto p = load_test_project(project("missed_cycles: skip"));
+  ASSERT_TRUE(p);
+  Task& t = *p->tasks[0];
+  // Released at 0, started 9.9 ms late, a 0.2 ms scan: it ends after the release at 10 ms.
+  t.account(0, 0, 9'900'000, 10'100'000);
+  Event e;
+  ASSERT_TRUE(t.pop_event(e));
+  EXPECT_EQ(e.kind, EventKind::ScanLate);
+  EXPECT_EQ(event_kind_name(e.kind), "overrun") << "logged with the other overruns";
+  EXPECT_DOUBLE_EQ(e.value, 0.0099);
+  EXPECT_EQ(format_event(*p, e), "[0.000000s] overrun        t: scan started late and ended after its next release (started 9.9ms after its release)");
+  // A scan on time ends the series of overruns; then one longer than its
+  // period is an overrun of its own.
+  t.account(1, 10'000'000, 10'100'000, 10'200'000);
+  EXPECT_FALSE(t.pop_event(e));
+  t.account(2, 20'000'000, 20'000'000, 45'000'000);
+  ASSERT_TRUE(t.pop_event(e));
+  EXPECT_EQ(e.kind, EventKind::ScanOverrun);
+  EXPECT_EQ(format_event(*p, e), "[0.020000s] overrun        t: scan overran its period (scan took 25ms)");
 }
 
 }  // namespace

@@ -20,10 +20,7 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-std::string read_all(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(f), {});
-}
+using testing::read_all;
 
 TEST(Database, CreatesTheFileAndItsDirectoryInWalModeWithFullSync) {
   const std::string path = testing::fresh_dir("create") + "/state/syncplc/plc.db";
@@ -44,26 +41,9 @@ TEST(Database, ASecondWriterIsRefusedWithTheHoldersPid) {
   std::string err;
   auto first = Database::open(path, nullptr, &err);
   ASSERT_TRUE(first) << err;
-  // Another process: flock is per open file description, so a fork that
-  // opens the file again is a second instance.
-  int pipefd[2];
-  ASSERT_EQ(pipe(pipefd), 0);
-  const pid_t child = fork();
-  if (child == 0) {
-    OpenReport r;
-    std::string e;
-    auto second = Database::open(path, &r, &e);
-    const std::string out = (second ? "opened" : (r.locked ? "locked: " : "failed: ") + e);
-    if (write(pipefd[1], out.data(), out.size()) < 0) _exit(2);
-    _exit(0);
-  }
-  close(pipefd[1]);
-  std::string got;
-  char buf[512];
-  for (ssize_t n; (n = read(pipefd[0], buf, sizeof buf)) > 0;) got.append(buf, static_cast<std::size_t>(n));
-  close(pipefd[0]);
-  int status = 0;
-  waitpid(child, &status, 0);
+  // Another process (flock is per open file description: a fork that opens
+  // the file again is a second instance).
+  const std::string got = testing::open_in_another_process(path);
   EXPECT_THAT(got, HasSubstr("locked: the database " + path + " is in use by another syncplc instance (pid " +
                              std::to_string(getpid()) + ")"));
   // Once the first is gone, the database opens again.
@@ -98,11 +78,13 @@ TEST(Database, ADamagedDatabaseIsMovedAsideWithItsWal) {
     ASSERT_TRUE(db) << err;
     db->sql().exec("CREATE TABLE t (k INTEGER PRIMARY KEY, v TEXT); CREATE INDEX t_v ON t (v)");
     SQLite::Statement ins(db->sql(), "INSERT INTO t (v) VALUES (?)");
+    db->sql().exec("BEGIN");  // one sync, not 2000
     for (int i = 0; i < 2000; ++i) {
       ins.bind(1, "value " + std::to_string(i * 7919));
       ins.exec();
       ins.reset();
     }
+    db->sql().exec("COMMIT");
     db->sql().exec("PRAGMA wal_checkpoint(TRUNCATE)");
   }
   // Scribble over the middle pages (the header stays a database's).

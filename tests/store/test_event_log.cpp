@@ -165,7 +165,7 @@ TEST(EventLog, AReadOnlyDatabaseRefusesWithSqliteReadonlyAndTheRecordsWait) {
 }
 
 template <class F>
-bool eventually(F&& f, int ms = 10000) {
+bool eventually(F&& f, int ms = 60000) {  // a guard against a hang only
   for (int i = 0; i < ms / 5; ++i) {
     if (f()) return true;
     std::this_thread::sleep_for(std::chrono::milliseconds(5));

@@ -194,6 +194,52 @@ TEST(Historian, AnOnlineChangeAndACleanStopLoseNoScan) {
   EXPECT_EQ(db->sql().execAndGet("SELECT count(*) FROM trend_series").getInt(), 2);
 }
 
+// A series whose rate an online change changes: every bucket keeps the rate
+// it was folded with. The old program's buckets (100 ms) are stamped on the
+// 100 ms grid, the new one's on the 10 ms grid from the switch on; none is
+// stamped in the future or on the other's grid (issue 21).
+TEST(Historian, ARateChangedByAnOnlineChangeStampsEachBucketWithItsOwnRate) {
+  const auto project = [](const char* rate, double in) {
+    return std::string("tasks: [{name: fast, period: 1ms}]\n") + "tags: [{name: x, type: LREAL, task: fast, trend: {rate: " +
+           rate + "}}]\n" + "blocks: [{name: m, type: MOVE, datatype: LREAL, inputs: {IN: " + std::to_string(in) +
+           "}}]\n" + "connections: [m.OUT -> x]\n" + "store: {trend_raw_age: 36500d, trend_max_age: 36500d}\n";
+  };
+  auto ra = load_test_result(project("100ms", 1.0));
+  ASSERT_TRUE(ra.ok());
+  auto db = memory();
+  Historian h(*ra.program, ra.store);
+  h.set_time_base(kT0);
+  std::string err;
+  ASSERT_TRUE(h.prepare(*db, &err)) << err;
+  VirtualClock clock(*ra.program);
+  clock.run_until(242 * kMs);
+  h.run(*db, 0, false);  // the old buckets 0 and 100 ms are queued (and stored) before the change
+  auto rb = load_test_result(project("10ms", 3.0));
+  ASSERT_TRUE(rb.ok());
+  auto change = plan_change(*ra.program, *rb.program);
+  change->switch_ns = 250 * kMs;
+  clock.begin_change(*change);
+  h.switch_program(*rb.program, rb.store);
+  clock.run_until(400 * kMs);
+  ASSERT_TRUE(clock.change_complete());
+  h.tasks_ended(*ra.program);
+  h.run(*db, 2'000'000'000, false);
+  const auto pts = points(*db, "x");
+  ASSERT_FALSE(pts.empty());
+  std::int64_t scans = 0;
+  for (const auto& pt : pts) {
+    const std::int64_t at = (pt.t - kT0) / kMs;
+    EXPECT_LT(at, 400) << "a bucket stamped after the last scan";
+    if (pt.max == 1.0) EXPECT_EQ(at % 100, 0) << "an old bucket off the 100 ms grid, at " << at << " ms";
+    if (pt.min == 3.0) EXPECT_GE(at, 250) << "a new bucket before the switch, at " << at << " ms";
+    scans += pt.count;
+  }
+  // 0..249 ms in three old buckets (the last cut by the switch), 250..389 ms in new ones.
+  EXPECT_EQ(starts(*db, "x").front(), 0);
+  EXPECT_EQ(scans, 390);
+  EXPECT_EQ(db->sql().execAndGet("SELECT count(*) FROM trend_point WHERE span = 100000000").getInt(), 3);
+}
+
 // Raw points of one series "s", every second from `from` for `n` seconds, value i.
 void insert_raw(Database& db, std::int64_t from, int n) {
   db.sql().exec("INSERT OR IGNORE INTO trend_series (id, label, tag, element, type, unit, rate_ns, deadband) "

@@ -8,7 +8,9 @@
 
 #include <fstream>
 
+#include "tests/support/image_key.hpp"
 #include "runtime/core/monotonic_clock.hpp"
+#include "runtime/core/program_change.hpp"
 #include "runtime/core/virtual_clock.hpp"
 #include "runtime/project/loader.hpp"
 #include "runtime/store/retain.hpp"
@@ -29,7 +31,7 @@ struct Plc {
   Program& program() { return *loaded.program; }
   Cell* cell(const std::string& tag) {
     const Tag* t = program().find_tag(tag);
-    return &program().tasks[t->owner]->image[t->cell];
+    return &program().tasks[t->owner]->image(::syncplc::testing::image_key())[t->cell];
   }
   std::int64_t dint(const std::string& tag) { return cell(tag)->get<std::int32_t>(); }
   // The scans released at 0 .. ns of virtual time.
@@ -320,8 +322,8 @@ TEST_F(Retain, ARestartAfterAnOnlineChangeIsAWarmStartOfTheNewProject) {
   LoadResult next = load_project(project);
   ASSERT_TRUE(next.ok());
   // What the handover carries over, and a change after it.
-  next.program->tasks[0]->image[next.program->find_tag("keep")->cell].set<std::int32_t>(200);
-  next.program->tasks[0]->image[next.program->find_tag("r")->cell].set<std::int32_t>(101);
+  next.program->tasks[0]->image(::syncplc::testing::image_key())[next.program->find_tag("keep")->cell].set<std::int32_t>(200);
+  next.program->tasks[0]->image(::syncplc::testing::image_key())[next.program->find_tag("r")->cell].set<std::int32_t>(101);
   next.program->tasks[0]->publish();
   a.job->switch_program(*next.program, next.store);
   a.job->run(*a.db, monotonic_ns(), true);
@@ -331,6 +333,68 @@ TEST_F(Retain, ARestartAfterAnOnlineChangeIsAWarmStartOfTheNewProject) {
   Plc b = start();  // the edited file again: not a changed project
   EXPECT_EQ(b.dint("r"), 101);
   EXPECT_EQ(b.dint("keep"), 200);
+}
+
+// Issue 21: from the moment an online change begins the retain job reads
+// the new program's snapshots; before the old task first mirrors into them
+// they must already hold the running state, never the fresh instance's
+// initial one (a kill -9 in that window restarted the counter from 0).
+TEST_F(Retain, AnOnlineChangeNeverLetsTheJobStoreAFreshInstancesInitialState) {
+  write(kCounter);
+  Plc a = start();
+  VirtualClock clock(a.program());
+  clock.run_until(10'000'000);  // scans at 0 .. 9 ms: count 10
+  ASSERT_EQ(a.dint("count"), 10);
+  a.job->run(*a.db, monotonic_ns(), false);  // stored: the delay's state 10
+  write(std::string(kCounter) + "# edited\n");
+  LoadResult next = load_project(project);
+  ASSERT_TRUE(next.ok());
+  auto change = plan_change(a.program(), *next.program);
+  change->switch_ns = 20'000'000;
+  clock.begin_change(*change);
+  a.job->switch_program(*next.program, next.store);
+  a.job->run(*a.db, monotonic_ns() + 10'000'000'000, false);  // before the old task's next scan
+  // kill -9 here: the next start restores what the job stored.
+  a.job.reset();
+  a.db.reset();
+  Plc b = start();
+  b.scan(0);
+  EXPECT_EQ(b.dint("count"), 11) << "the stored state was the fresh instance's, not the running one's";
+}
+
+// Issue 21: a persistent instance re-created by an online change (a
+// structural parameter changed) keeps its state, as a stop and start of the
+// changed project would have restored it.
+TEST_F(Retain, APersistentInstanceRecreatedByAnOnlineChangeKeepsItsState) {
+  const auto pid = [](int anti_windup) {
+    return std::string(R"(
+tasks: [{name: main, period: 1ms}]
+tags: [{name: y, type: LREAL}]
+blocks:
+  - {name: pid, type: PID, persistent: true, params: {Kp: 1.0, Ti: 1.0, anti_windup: )") +
+           std::to_string(anti_windup) + R"(}, inputs: {setpoint: 1.0, actual: 0.0}}
+connections: [pid.y -> y]
+)";
+  };
+  write(pid(1));
+  Plc a = start();
+  VirtualClock clock(a.program());
+  clock.run_until(100'000'000);  // 100 scans: the integral holds 0.1 (e = 1, Ti = 1 s)
+  const double before = a.cell("y")->get<double>();
+  ASSERT_GT(before, 1.05);
+  write(pid(0));
+  LoadResult next = load_project(project);
+  ASSERT_TRUE(next.ok());
+  auto change = plan_change(a.program(), *next.program);
+  ASSERT_EQ(change->instances[0].fate, InstanceFate::New);
+  EXPECT_THAT(change->instances[0].detail, HasSubstr("persistent state carried over"));
+  change->switch_ns = 110'000'000;
+  clock.begin_change(*change);
+  clock.run_until(111'000'000);
+  ASSERT_TRUE(clock.change_complete());
+  const Tag* y = next.program->find_tag("y");
+  const double after = next.program->tasks[0]->image(::syncplc::testing::image_key())[y->cell].get<double>();
+  EXPECT_GT(after, before) << "the integral went on; a fresh PID would give 1.001";
 }
 
 TEST_F(Retain, ResetColdDeletesRetainValuesAndOriginEverything) {

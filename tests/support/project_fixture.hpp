@@ -7,6 +7,7 @@
 #include <string>
 
 #include "runtime/project/loader.hpp"
+#include "tests/support/image_key.hpp"
 #include "tests/support/test_blocks.hpp"
 
 namespace syncplc {
@@ -26,7 +27,7 @@ inline std::unique_ptr<Program> load_test_project(const std::string& yaml) { ret
 inline Cell& tag_cell(Program& p, const std::string& name) {
   auto r = p.resolve(name);
   EXPECT_TRUE(r) << name;
-  return *p.live_cell(*r);
+  return *p.live_cell(*r, testing::image_key());
 }
 
 }  // namespace syncplc

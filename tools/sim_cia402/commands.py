@@ -30,6 +30,11 @@ def command(line, drive, loop, server, stop):
             Faults.silent = args[0] == "on"
         elif cmd == "garbage" and len(args) == 1 and (args[0] in GARBAGE_MODES or args[0] == "off"):
             Faults.garbage = None if args[0] == "off" else args[0]
+        elif cmd == "delay" and 1 <= len(args) <= 2:
+            ms, count = float(args[0]), int(args[1]) if len(args) == 2 else 1
+            if not (0 < ms <= 60000 and count > 0):
+                raise ValueError("delay MS [COUNT]: 0 < MS <= 60000, COUNT > 0")
+            Faults.delay_s, Faults.delayed_left = ms / 1000.0, count
         elif cmd == "fault" and args == ["clear"]:
             drive.clear_persistent()
         elif cmd == "fault" and 1 <= len(args) <= 2 and (len(args) == 1 or args[1] == "persist"):

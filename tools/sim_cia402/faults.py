@@ -1,6 +1,7 @@
 """Injected reply faults: a silent drive, malformed replies of every kind,
-on pymodbus's connection handler."""
+late replies, on pymodbus's connection handler."""
 
+import asyncio
 import random
 import struct
 
@@ -11,6 +12,10 @@ class Faults:
     """What the server does to its replies; set by the command thread."""
     silent = False
     garbage = None  # None or a mode
+    # `delay MS [COUNT]`: the next COUNT replies leave MS ms late (a drive
+    # that stalls: its master's response timeout decides what that costs)
+    delay_s = 0.0
+    delayed_left = 0
 
 
 GARBAGE_MODES = ("bytes", "tid", "unit", "function", "length", "short", "oversized", "exception")
@@ -62,8 +67,23 @@ class FaultyHandler(ModbusConnectedRequestHandler):
     def send(self, message, *addr, **kwargs):
         if Faults.silent:
             return
+        if Faults.delayed_left > 0 and message.should_respond:
+            Faults.delayed_left -= 1
+            # on the server's loop (this is its thread): the reply is sent
+            # later on the same connection, or dropped if it closed meanwhile
+            asyncio.get_running_loop().call_later(Faults.delay_s, self._late_send, message, addr, kwargs)
+            return
+        self._send_now(message, addr, kwargs)
+
+    def _send_now(self, message, addr, kwargs):
         mode = Faults.garbage
         if mode is None or kwargs.get("skip_encoding") or not message.should_respond:
             super().send(message, *addr, **kwargs)
             return
         self._send_(malformed(self.framer.buildPacket(message), mode))
+
+    def _late_send(self, message, addr, kwargs):
+        if self.transport is None or self.transport.is_closing():
+            return
+        if not Faults.silent:
+            self._send_now(message, addr, kwargs)

@@ -158,7 +158,7 @@ export function normalizeProjectReport(d) {
   const errors = (d.errors || (d.error ? [{ message: d.error, where: d.where }] : [])).map(normalizeError);
   const c = d.report || d.changes || d.change || null;
   const report = c ? {
-    kept: names(c.kept), retuned: names(c.retuned), new: names(c.new || c.added), removed: names(c.removed),
+    kept: names(c.kept), retuned: names(c.retuned), rewired: names(c.rewired), new: names(c.new || c.added), removed: names(c.removed),
     summary: c.summary || d.summary || '',
   } : null;
   return { ok: d.ok !== undefined ? !!d.ok : errors.length === 0, errors, report, version: first(d.version, null) };

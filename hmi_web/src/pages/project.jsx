@@ -42,7 +42,7 @@ function SourceView({ file, errors, focusLine }) {
 
 function ChangeReport({ report }) {
   if (!report) return null;
-  const groups = [['kept', 'Kept (state carried over)'], ['retuned', 'Retuned (new tunable parameters, state kept)'], ['new', 'New'], ['removed', 'Removed']];
+  const groups = [['kept', 'Kept (state carried over)'], ['retuned', 'Retuned (new tunable parameters, state kept)'], ['rewired', 'Rewired (new wiring, state kept)'], ['new', 'New'], ['removed', 'Removed']];
   return (
     <section class="card report" id="change-report">
       <h2>What the change did</h2>

@@ -1,4 +1,4 @@
-#include "runtime/cli/run_events.hpp"
+#include "runtime/plc/events.hpp"
 
 #include <fmt/format.h>
 
@@ -6,45 +6,51 @@
 #include "runtime/core/monotonic_clock.hpp"
 #include "runtime/project/report.hpp"
 
-namespace syncplc::cli {
+namespace syncplc::plc {
 
-void RunEvents::set_epoch(std::int64_t epoch_monotonic_ns) {
+void EventRecorder::set_epoch(std::int64_t epoch_monotonic_ns) {
   wall_at_epoch_ns_ = store::wall_now_ns() - (monotonic_ns() - epoch_monotonic_ns);
 }
 
-void RunEvents::started(const std::string& project, const std::string& database) {
+void EventRecorder::started(const std::string& project, const std::string& database) {
   store_.record(store::EventRecord{store::wall_now_ns(), "start", "", std::nullopt, "run",
                                    "syncplc run " + project + " (database " + database + ")", ""});
 }
 
-void RunEvents::stopped(const std::string& why) {
+void EventRecorder::stopped(const std::string& why) {
   store_.record(store::EventRecord{store::wall_now_ns(), "stop", "", std::nullopt, "run", why, ""});
 }
 
-void RunEvents::start_failed(const std::string& why) {
+void EventRecorder::start_failed(const std::string& why) {
   store_.record(store::EventRecord{store::wall_now_ns(), "start-failed", "", std::nullopt, "run", why, ""});
 }
 
-void RunEvents::reloaded(bool accepted, const std::string& summary, const std::vector<std::string>& lines) {
+void EventRecorder::reloaded(bool accepted, const std::string& summary, const std::vector<std::string>& lines) {
   std::string message = summary;
   for (const auto& l : lines) message += "\n" + l;  // the errors of a rejected project, or what changed
   store_.record(store::EventRecord{store::wall_now_ns(), accepted ? "reload" : "reload-failed", "", std::nullopt,
                                    "run", message, ""});
 }
 
-void RunEvents::task_event(const Program& p, const Event& e) {
+void EventRecorder::task_event(const Program& p, const Event& e) {
   const auto& task = *p.tasks[e.task];
   std::string source = task.config().name;
   if (e.block >= 0 && static_cast<std::size_t>(e.block) < task.blocks.size())
     source += "/" + task.blocks[static_cast<std::size_t>(e.block)].name;
+  record_task_event(task.config().name, source, e);
+}
+
+void EventRecorder::task_event(const std::string& task, const Event& e) { record_task_event(task, task, e); }
+
+void EventRecorder::record_task_event(const std::string& task, const std::string& source, const Event& e) {
   std::string message = e.message + event_value_text(e);
   if (e.kind == EventKind::BlockFault) message += fmt::format(" (value {})", e.value);
   store_.record(store::EventRecord{
-      wall_at_epoch_ns_ + e.time_ns, std::string(event_kind_name(e.kind)), task.config().name,
+      wall_at_epoch_ns_ + e.time_ns, std::string(event_kind_name(e.kind)), task,
       e.scan == Event::kNoScan ? std::nullopt : std::optional<std::uint64_t>(e.scan), source, message, ""});
 }
 
-void RunEvents::written(const Program& program, modbus::ClientAddress client, const ModbusPoint* const* points,
+void EventRecorder::written(const Program& program, modbus::ClientAddress client, const ModbusPoint* const* points,
                         const QueuedWrite* values, std::size_t n) {
   // One event per request: the values in address order, as "tag[element] := value".
   std::string message;
@@ -60,18 +66,9 @@ void RunEvents::written(const Program& program, modbus::ClientAddress client, co
   store_.record(store::EventRecord{store::wall_now_ns(), "hmi-write", task, std::nullopt, "modbus", message, modbus::client_text(client)});
 }
 
-void RunEvents::refused(modbus::ClientAddress client, const char* why) {
+void EventRecorder::refused(modbus::ClientAddress client, const char* why) {
   store_.record(store::EventRecord{store::wall_now_ns(), "modbus-refused", "", std::nullopt, "modbus",
                                    std::string("connection refused: ") + why, modbus::client_text(client)});
 }
 
-void drain_task_events(std::ostream& os, Program& p, RunEvents* log) {
-  Event e;
-  for (auto& t : p.tasks)
-    while (t->pop_event(e)) {
-      os << format_event(p, e) << "\n";
-      if (log) log->task_event(p, e);
-    }
-}
-
-}  // namespace syncplc::cli
+}  // namespace syncplc::plc

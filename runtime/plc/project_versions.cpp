@@ -1,4 +1,4 @@
-#include "runtime/cli/project_versions.hpp"
+#include "runtime/plc/project_versions.hpp"
 
 #include <unistd.h>
 
@@ -7,10 +7,10 @@
 #include <filesystem>
 #include <fstream>
 
-#include "runtime/cli/plc_store.hpp"
+#include "runtime/plc/store_link.hpp"
 #include "runtime/store/database.hpp"
 
-namespace syncplc::cli {
+namespace syncplc::plc {
 namespace fs = std::filesystem;
 
 store::ProjectLoad project_load(const LoadResult& r, const std::string& project_file, const std::string& origin,
@@ -112,4 +112,4 @@ void record_rejected_run(const std::string& db_path, const store::ProjectLoad& l
   }
 }
 
-}  // namespace syncplc::cli
+}  // namespace syncplc::plc

@@ -1,11 +1,10 @@
-#include "runtime/cli/serve_modbus.hpp"
+#include "runtime/plc/modbus_host.hpp"
 
-#include <iostream>
 #include <set>
 #include <string>
 #include <tuple>
 
-namespace syncplc::cli {
+namespace syncplc::plc {
 
 bool same_server(const ModbusConfig& a, const ModbusConfig& b) {
   auto key = [](const ModbusConfig& c) {
@@ -27,7 +26,8 @@ ModbusConfig server_config(const ModbusConfig& project, std::optional<int> port_
 }
 
 std::unique_ptr<modbus::Server> start_modbus(Program& p, const ModbusSettings& s, std::optional<int> port_override,
-                                             modbus::ServerAudit* audit, const modbus::StoreStatusSource* store_status) {
+                                             modbus::ServerAudit* audit, const modbus::StoreStatusSource* store_status,
+                                             std::ostream& log) {
   ModbusConfig cfg = server_config(s.server, port_override);
   if (!cfg.enabled) return nullptr;
   auto server = std::make_unique<modbus::Server>(p, ModbusSettings{cfg, s.places});
@@ -35,10 +35,10 @@ std::unique_ptr<modbus::Server> start_modbus(Program& p, const ModbusSettings& s
   server->set_store_status(store_status);
   std::string err;
   if (!server->start(&err)) {
-    std::cerr << "syncplc: modbus: " << err << "\n";
+    log << "syncplc: modbus: " << err << "\n";
     return nullptr;
   }
-  std::cerr << "syncplc: modbus: listening on " << server->endpoint() << " (unit " << cfg.unit_id << ", "
+  log << "syncplc: modbus: listening on " << server->endpoint() << " (unit " << cfg.unit_id << ", "
             << server->handler_map_size() << " values mapped)\n";
   if (server->off_task_cpus()) {
     std::set<int> pinned;
@@ -46,10 +46,10 @@ std::unique_ptr<modbus::Server> start_modbus(Program& p, const ModbusSettings& s
       if (t->config().cpu >= 0) pinned.insert(t->config().cpu);
     std::string cpus;
     for (int c : pinned) cpus += (cpus.empty() ? "" : ", ") + std::to_string(c);
-    std::cerr << "syncplc: modbus: the server thread keeps off CPU " << cpus << " (pinned tasks)\n";
+    log << "syncplc: modbus: the server thread keeps off CPU " << cpus << " (pinned tasks)\n";
   }
-  if (!server->warning().empty()) std::cerr << "syncplc: modbus: warning: " << server->warning() << "\n";
+  if (!server->warning().empty()) log << "syncplc: modbus: warning: " << server->warning() << "\n";
   return server;
 }
 
-}  // namespace syncplc::cli
+}  // namespace syncplc::plc

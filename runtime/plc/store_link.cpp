@@ -1,11 +1,11 @@
-#include "runtime/cli/plc_store.hpp"
+#include "runtime/plc/store_link.hpp"
 
 #include <cstdlib>
 #include <filesystem>
 
 #include "runtime/store/historian.hpp"
 
-namespace syncplc::cli {
+namespace syncplc::plc {
 namespace fs = std::filesystem;
 
 std::string default_database_path() {
@@ -43,15 +43,17 @@ bool add_jobs(store::StoreThread& st, Program& p, const LoadResult& loaded, stor
 
 }  // namespace
 
-std::unique_ptr<PlcStore> PlcStore::open(const std::string& path, Program& p, const LoadResult& loaded,
+std::unique_ptr<StoreLink> StoreLink::open(const std::string& path, Program& p, const LoadResult& loaded,
                                          std::vector<std::string>& notices, std::string* error, store::StartMode start) {
-  std::unique_ptr<PlcStore> s(new PlcStore);
+  std::unique_ptr<StoreLink> s(new StoreLink);
   s->path_ = path;
   store::OpenReport report;
   std::string why;
-  auto db = store::Database::open(path, &report, &why);
+  store::OpenOptions options;
+  options.allow_read_only = true;
+  auto db = store::Database::open(path, &report, &why, options);
   if (!db) {
-    if (report.locked) {
+    if (report.locked || report.busy) {
       *error = why;
       return nullptr;
     }
@@ -60,6 +62,7 @@ std::unique_ptr<PlcStore> PlcStore::open(const std::string& path, Program& p, co
     notices.push_back("store off: " + why + "; retain values start from their initial values and nothing is recorded");
     return s;
   }
+  if (report.read_only) return open_read_only(std::move(s), *db, report.read_only_reason, p, loaded, notices, error, start);
   if (!report.moved_aside.empty())
     notices.push_back("store: the database " + path + " was unreadable (" + report.problem + "); it was moved to " +
                       report.moved_aside + " and a new one started: retain values start from their initial values");
@@ -76,37 +79,59 @@ std::unique_ptr<PlcStore> PlcStore::open(const std::string& path, Program& p, co
   return s;
 }
 
-PlcStore::~PlcStore() { stop(); }
+std::unique_ptr<StoreLink> StoreLink::open_read_only(std::unique_ptr<StoreLink> s, store::Database& db,
+                                                   const std::string& reason, Program& p, const LoadResult& loaded,
+                                                   std::vector<std::string>& notices, std::string* error,
+                                                   store::StartMode start) {
+  // No store thread: the values come back from the file as it is, and the
+  // connection closes before the first scan (it leaves no file behind).
+  s->read_only_reason_ = reason;
+  try {
+    if (!store::retain_tables_readable(db.sql(), error)) return nullptr;
+    s->retain_notices_ = store::restore_retain(db.sql(), p, start, loaded.store.content_hash, /*record=*/false);
+  } catch (const std::exception& e) {
+    s->read_only_reason_.clear();
+    s->off_reason_ = "the database " + s->path_ + " is write-protected and cannot be read: " + e.what();
+    notices.push_back("store off: " + s->off_reason_ + "; retain values start from their initial values and nothing is recorded");
+    return s;
+  }
+  notices.push_back("store READ-ONLY: the database " + s->path_ + " is write-protected (" + reason +
+                    "): retained values come from it, but nothing is recorded (no events, retained values, trends "
+                    "or project versions) until it is writable and run starts again");
+  return s;
+}
 
-void PlcStore::start() {
+StoreLink::~StoreLink() { stop(); }
+
+void StoreLink::start() {
   if (thread_) thread_->start();
 }
 
-void PlcStore::stop() {
+void StoreLink::stop() {
   if (thread_) thread_->stop();
 }
 
-void PlcStore::switch_program(Program& next, const LoadResult& loaded) {
+void StoreLink::switch_program(Program& next, const LoadResult& loaded) {
   if (thread_) thread_->switch_program(next, loaded.store);
 }
 
-void PlcStore::tasks_ended(Program& p) {
+void StoreLink::tasks_ended(Program& p) {
   if (thread_) thread_->tasks_ended(p);
 }
 
-std::uint64_t PlcStore::trend_buckets_lost() const { return historian_ ? historian_->lost() : 0; }
+std::uint64_t StoreLink::trend_buckets_lost() const { return historian_ ? historian_->lost() : 0; }
 
-void PlcStore::record(store::ProjectLoad load) {
+void StoreLink::record(store::ProjectLoad load) {
   if (!projects_) return;
   projects_->submit(std::move(load));
   thread_->wake();
 }
 
-void PlcStore::record(store::EventRecord r) {
+void StoreLink::record(store::EventRecord r) {
   if (thread_) events_.push(std::move(r));
 }
 
-void PlcStore::watch_health() {
+void StoreLink::watch_health() {
   if (!thread_) return;
   const store::StoreHealth h = thread_->health();
   if (h.fault == fault_seen_) return;
@@ -119,14 +144,14 @@ void PlcStore::watch_health() {
                             ""});
 }
 
-store::StoreHealth PlcStore::health() const {
+store::StoreHealth StoreLink::health() const {
   if (!thread_) {
     store::StoreHealth h;
-    h.fault = true;
-    h.last_error = off_reason_;
+    h.fault = !read_only();
+    h.last_error = read_only() ? read_only_reason_ : off_reason_;
     return h;
   }
   return thread_->health();
 }
 
-}  // namespace syncplc::cli
+}  // namespace syncplc::plc

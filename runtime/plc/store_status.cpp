@@ -1,4 +1,4 @@
-#include "runtime/cli/store_status.hpp"
+#include "runtime/plc/store_status.hpp"
 
 #include <fmt/format.h>
 
@@ -7,9 +7,9 @@
 
 #include "runtime/core/monotonic_clock.hpp"
 
-namespace syncplc::cli {
+namespace syncplc::plc {
 
-StoreStatus store_status(const PlcStore& s) {
+StoreStatus store_status(const StoreLink& s) {
   StoreStatus st;
   const store::StoreHealth h = s.health();
   st.error = h.last_error;
@@ -18,8 +18,21 @@ StoreStatus store_status(const PlcStore& s) {
   st.dropped = s.events().dropped();
   st.trend_lost = s.trend_buckets_lost();
   if (h.last_ok_ns > 0) st.since_ok_ns = monotonic_ns() - h.last_ok_ns;
-  st.state = !s.on() ? StoreStatus::State::Off : h.fault ? StoreStatus::State::Fault : StoreStatus::State::Ok;
+  st.state = s.read_only() ? StoreStatus::State::ReadOnly
+             : !s.on()      ? StoreStatus::State::Off
+             : h.fault      ? StoreStatus::State::Fault
+                            : StoreStatus::State::Ok;
   return st;
+}
+
+const char* store_state_name(StoreStatus::State s) {
+  switch (s) {
+    case StoreStatus::State::Ok: return "ok";
+    case StoreStatus::State::Fault: return "FAULT";
+    case StoreStatus::State::Off: return "off";
+    case StoreStatus::State::ReadOnly: return "read-only";
+  }
+  return "?";
 }
 
 std::string store_status_line(const StoreStatus& st, const std::string& path) {
@@ -35,11 +48,14 @@ std::string store_status_line(const StoreStatus& st, const std::string& path) {
       line = fmt::format("Store FAULT  {} pending  {} failures  {}", st.pending, st.failures, st.error);
       break;
     case StoreStatus::State::Off: line = "Store off  " + st.error; break;
+    case StoreStatus::State::ReadOnly:
+      line = fmt::format("Store READ-ONLY  {}  nothing recorded: {}", std::filesystem::path(path).filename().string(), st.error);
+      break;
   }
   return line;
 }
 
-void print_store_status(std::ostream& os, const PlcStore& s) {
+void print_store_status(std::ostream& os, const StoreLink& s) {
   const StoreStatus st = store_status(s);
   switch (st.state) {
     case StoreStatus::State::Ok:
@@ -52,6 +68,9 @@ void print_store_status(std::ostream& os, const PlcStore& s) {
       break;
     case StoreStatus::State::Off:
       os << "\nStore: off (" << st.error << "): nothing was recorded\n";
+      return;
+    case StoreStatus::State::ReadOnly:
+      os << "\nStore: READ-ONLY, " << s.path() << " (" << st.error << "): retained values were restored from it, nothing was recorded\n";
       return;
   }
   if (st.dropped) os << "  " << st.dropped << " event records dropped (the queue of " << s.events().capacity() << " was full)\n";
@@ -70,6 +89,6 @@ modbus::StoreStatusWords store_status_words(const StoreStatus& st) {
   return w;
 }
 
-modbus::StoreStatusWords StoreStatusRegisters::store_status_words() const { return cli::store_status_words(store_status(store_)); }
+modbus::StoreStatusWords StoreStatusRegisters::store_status_words() const { return plc::store_status_words(store_status(store_)); }
 
-}  // namespace syncplc::cli
+}  // namespace syncplc::plc

@@ -1,26 +1,28 @@
-// What `syncplc run` records in the event log (docs/store.md, "The event
+// What the PLC records in the event log (docs/store.md, "The event
 // log"): its start and stop, reloads, the tasks' and the supervisor's events
 // with their wall time, task and scan, and, as the Modbus server's audit
 // trail, every write an HMI made with its address and every refused
-// connection. Everything goes through PlcStore::record (a bounded queue the
+// connection. Everything goes through StoreLink::record (a bounded queue the
 // store thread empties); nothing here runs on a task thread.
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <ostream>
 #include <string>
 #include <vector>
 
-#include "runtime/cli/plc_store.hpp"
+#include "runtime/plc/store_link.hpp"
 #include "runtime/core/block.hpp"
 #include "runtime/core/program.hpp"
 #include "runtime/modbus/audit.hpp"
+#include "runtime/plc/transaction.hpp"
 
-namespace syncplc::cli {
+namespace syncplc::plc {
 
-class RunEvents : public modbus::ServerAudit {
+class EventRecorder : public modbus::ServerAudit {
  public:
-  explicit RunEvents(PlcStore& store) : store_(store) {}
+  explicit EventRecorder(StoreLink& store) : store_(store) {}
 
   // The tasks' time axis starts at `epoch_monotonic_ns` (RealtimeRunner::
   // epoch_ns): from then on events' times convert to wall time.
@@ -37,6 +39,8 @@ class RunEvents : public modbus::ServerAudit {
   void reloaded(bool accepted, const std::string& summary, const std::vector<std::string>& lines);
   // A task's or the supervisor's event, from `p` (the program that raised it).
   void task_event(const Program& p, const Event& e);
+  // An event of the supervisor's about the task named `task`.
+  void task_event(const std::string& task, const Event& e);
 
   // modbus::ServerAudit, on the server thread.
   void written(const Program& program, modbus::ClientAddress client, const ModbusPoint* const* points,
@@ -44,12 +48,21 @@ class RunEvents : public modbus::ServerAudit {
   void refused(modbus::ClientAddress client, const char* why) override;
 
  private:
-  PlcStore& store_;
+  void record_task_event(const std::string& task, const std::string& source, const Event& e);
+  StoreLink& store_;
   std::int64_t wall_at_epoch_ns_ = 0;  // CLOCK_REALTIME at the tasks' time 0
 };
 
-// Prints every queued event of p's tasks to `os` (as run prints them) and
-// records each in `log` when it is not null.
-void drain_task_events(std::ostream& os, Program& p, RunEvents* log);
+// The events' part in an online change: at completion, the old program's
+// tasks' last events are routed (printed and recorded) before it goes.
+class EventsChange final : public ChangeParticipant {
+ public:
+  explicit EventsChange(std::function<void(Program&)> route) : route_(std::move(route)) {}
+  const char* name() const override { return "events"; }
+  void complete(ChangeContext& c) override { route_(c.from); }
 
-}  // namespace syncplc::cli
+ private:
+  std::function<void(Program&)> route_;
+};
+
+}  // namespace syncplc::plc

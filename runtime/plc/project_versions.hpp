@@ -10,7 +10,7 @@
 #include "runtime/project/loader.hpp"
 #include "runtime/store/project_store.hpp"
 
-namespace syncplc::cli {
+namespace syncplc::plc {
 
 // A load as the project store records it: `origin` "run", "reload",
 // "rollback", "boot"; `source` where it came from ("" : the project file's
@@ -40,4 +40,4 @@ std::int64_t take_reload_request(const std::string& pid_file);
 // (nothing when another instance holds it: that one's writer owns it).
 void record_rejected_run(const std::string& db_path, const store::ProjectLoad& load);
 
-}  // namespace syncplc::cli
+}  // namespace syncplc::plc
