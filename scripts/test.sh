@@ -33,8 +33,9 @@ bash scripts/build.sh build-asan -DSYNCPLC_UNITY=ON -DSYNCPLC_SANITIZE=address,u
    ctest --output-on-failure -j "$jobs" -LE no_cxx)
 
 echo "== ThreadSanitizer"
-# Only what the threaded and CLI tests need: the other suites do not run here.
-SYNCPLC_TARGETS="syncplc test_realtime test_cli test_store test_io test_web" \
+# Only what the threaded and CLI tests need (the target threaded_and_cli_tests,
+# tests/CMakeLists.txt): the other suites do not run here.
+SYNCPLC_TARGETS="threaded_and_cli_tests" \
   bash scripts/build.sh build-tsan -DSYNCPLC_UNITY=ON -DSYNCPLC_SANITIZE=thread -DSYNCPLC_BENCH=OFF
 (cd build-tsan && TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
    ctest --output-on-failure -j "$jobs" -L 'threaded|cli|peers' -LE no_cxx)
