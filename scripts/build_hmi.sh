@@ -18,8 +18,11 @@ apt_install() {
   $SUDO apt-get install -y -qq --no-install-recommends "$@"
 }
 
-command -v npm >/dev/null || apt_install nodejs npm
-[ "$browser" = 1 ] && [ ! -x /usr/bin/chromium ] && apt_install chromium
+# One apt-get run for whatever is missing (each run starts with an update).
+missing=()
+command -v npm >/dev/null || missing+=(nodejs npm)
+[ "$browser" = 1 ] && [ ! -x /usr/bin/chromium ] && missing+=(chromium)
+[ ${#missing[@]} -eq 0 ] || apt_install "${missing[@]}"
 
 cd hmi_web
 # npm ci starts from an empty node_modules every time: skip it when the

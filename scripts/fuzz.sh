@@ -2,31 +2,50 @@
 # Runs the libFuzzer targets for a bounded time each (default 60 s), under
 # AddressSanitizer and UndefinedBehaviorSanitizer, from the committed seed
 # corpus (copied: libFuzzer adds what it finds to its first corpus folder).
-# Usage: scripts/fuzz.sh [SECONDS] [BUILD_DIR]. A crash, leak, sanitizer
-# report or failed check stops with a non-zero status and leaves the input in
-# BUILD_DIR/fuzz-artifacts/ (rerun it: BUILD_DIR/fuzz/<target> <file>).
+# Usage: scripts/fuzz.sh [SECONDS] [BUILD_DIR] [CMAKE_ARGS...] (the extra
+# arguments go to the configure step, e.g. -DSYNCPLC_UNITY=ON). A crash, leak,
+# sanitizer report or failed check stops with a non-zero status and leaves the
+# input in BUILD_DIR/fuzz-artifacts/ (rerun it: BUILD_DIR/fuzz/<target> <file>).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
 dir=${2:-build-fuzz}
+shift $(( $# < 2 ? $# : 2 ))
 SYNCPLC_TARGETS="fuzz_modbus_request fuzz_modbus_reply" bash scripts/build.sh "$dir" -DCMAKE_CXX_COMPILER=clang++ \
-  -DSYNCPLC_FUZZ=ON -DSYNCPLC_SANITIZE=address,undefined -DSYNCPLC_TESTS=OFF -DSYNCPLC_BENCH=OFF
+  -DSYNCPLC_FUZZ=ON -DSYNCPLC_SANITIZE=address,undefined -DSYNCPLC_TESTS=OFF -DSYNCPLC_BENCH=OFF "$@"
 mkdir -p "$dir/fuzz-artifacts"
-# The server's request path, then the client driver's reply path.
-for target in modbus_request modbus_reply; do
+# The server's request path and the client driver's reply path side by side:
+# a fuzzer is one process, so on two cores each still has one to itself.
+fuzz() {
+  local target=$1 corpus status=0
   corpus=$(mktemp -d)
   cp "fuzz/corpus/$target"/* "$corpus/"
-  log="$dir/fuzz-artifacts/fuzz_$target.log"
-  status=0
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
     "$dir/fuzz/fuzz_$target" -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=10 \
-    -artifact_prefix="$dir/fuzz-artifacts/" -print_final_stats=1 "$corpus" >"$log" 2>&1 || status=$?
+    -artifact_prefix="$dir/fuzz-artifacts/fuzz_$target-" -print_final_stats=1 "$corpus" \
+    >"$dir/fuzz-artifacts/fuzz_$target.log" 2>&1 || status=$?
   rm -rf "$corpus"
+  return "$status"
+}
+targets=(modbus_request modbus_reply)
+pids=()
+for target in "${targets[@]}"; do
+  fuzz "$target" &
+  pids+=($!)
+done
+failed=0
+for i in "${!targets[@]}"; do
+  target=${targets[$i]}
+  log="$dir/fuzz-artifacts/fuzz_$target.log"
+  status=0
+  wait "${pids[$i]}" || status=$?
   if [ "$status" -ne 0 ]; then
     cat "$log"
     echo "fuzz_$target failed (status $status); the input is in $dir/fuzz-artifacts/"
-    exit "$status"
+    failed=$status
+    continue
   fi
-  grep -E '^(INFO: Seed|#[0-9]+ +DONE|stat::)' "$log"
+  grep -E '^(INFO: Seed|#[0-9]+[[:space:]]+DONE|stat::)' "$log"
   echo "fuzz_$target: no failure in $seconds s"
 done
+exit "$failed"

@@ -1,14 +1,15 @@
 #!/usr/bin/env bash
 # Installs what is needed, builds, and runs every test three times:
 #   1. the release build (RelWithDebInfo), all tests;
-#   2. AddressSanitizer + UndefinedBehaviorSanitizer, all tests;
+#   2. AddressSanitizer + UndefinedBehaviorSanitizer, all tests but those in
+#      which none of syncplc's C++ runs (label "no_cxx");
 #   3. ThreadSanitizer, the tests of threaded parts (label "threaded": the real-time
 #      runner, the store, the modbus_client driver's device threads, the HTTP server), the CLI
 #      tests and the peer tests (label "peers": pymodbus, mbpoll and the
-#      simulated drives against the real `syncplc run`);
+#      simulated drives against the real `syncplc run`), "no_cxx" left out;
 #   4. the libFuzzer harnesses of the Modbus server's request path and the
-#      modbus_client driver's reply path, 60 s each under ASan + UBSan
-#      (scripts/fuzz.sh; built with clang).
+#      modbus_client driver's reply path, 60 s each (side by side) under ASan +
+#      UBSan (scripts/fuzz.sh; built with clang).
 # Any failure stops the script with a non-zero status.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -17,23 +18,27 @@ bash scripts/build_hmi.sh --browser  # the HMI and chromium for its browser test
 jobs=$(nproc)
 
 echo "== release build"
+# Every build here is from scratch, so in unity batches (-DSYNCPLC_UNITY=ON:
+# half the compile time, docs/benchmarks.md section 13).
 # Line tables only (-g1): stack traces keep their lines, the build takes 30 %
 # less time than with full debug information.
-bash scripts/build.sh build -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG"
+bash scripts/build.sh build -DSYNCPLC_UNITY=ON -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG"
 (cd build && ctest --output-on-failure -j "$jobs")
 
 echo "== AddressSanitizer + UndefinedBehaviorSanitizer"
-bash scripts/build.sh build-asan -DSYNCPLC_SANITIZE=address,undefined -DSYNCPLC_BENCH=OFF
-# Not hmi.fixture_pages: the HMI against a JavaScript fixture, no C++ in it.
+bash scripts/build.sh build-asan -DSYNCPLC_UNITY=ON -DSYNCPLC_SANITIZE=address,undefined -DSYNCPLC_BENCH=OFF
+# Not the tests labelled no_cxx (the HMI's JavaScript alone, the simulated
+# drive alone): none of syncplc's C++ runs in them, the release stage ran them.
 (cd build-asan && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-   ctest --output-on-failure -j "$jobs" -E '^hmi[.]fixture_pages$')
+   ctest --output-on-failure -j "$jobs" -LE no_cxx)
 
 echo "== ThreadSanitizer"
-# Only what the threaded and CLI tests need: the other suites do not run here.
-SYNCPLC_TARGETS="syncplc test_realtime test_cli test_store test_io test_web" \
-  bash scripts/build.sh build-tsan -DSYNCPLC_SANITIZE=thread -DSYNCPLC_BENCH=OFF
+# Only what the threaded and CLI tests need (the target threaded_and_cli_tests,
+# tests/CMakeLists.txt): the other suites do not run here.
+SYNCPLC_TARGETS="threaded_and_cli_tests" \
+  bash scripts/build.sh build-tsan -DSYNCPLC_UNITY=ON -DSYNCPLC_SANITIZE=thread -DSYNCPLC_BENCH=OFF
 (cd build-tsan && TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
-   ctest --output-on-failure -j "$jobs" -L 'threaded|cli|peers')
+   ctest --output-on-failure -j "$jobs" -L 'threaded|cli|peers' -LE no_cxx)
 echo "== libFuzzer: the Modbus request and reply paths"
-bash scripts/fuzz.sh 60 build-fuzz
+bash scripts/fuzz.sh 60 build-fuzz -DSYNCPLC_UNITY=ON
 echo "== all test runs passed"

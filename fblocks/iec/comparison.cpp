@@ -7,7 +7,7 @@
 namespace syncplc::iec {
 namespace {
 
-enum : int { kIn1 = 0, kIn2 = 1, kOut = 2 };
+enum : int { kCmpIn1 = 0, kCmpIn2 = 1, kCmpOut = 2 };
 
 template <class Cmp>
 struct CompareOf {
@@ -17,7 +17,7 @@ struct CompareOf {
 
    public:
     explicit Block(BlockSetup&) {}
-    void execute(ScanContext&) noexcept override { out<bool>(kOut, Cmp{}(in<V>(kIn1), in<V>(kIn2))); }
+    void execute(ScanContext&) noexcept override { out<bool>(kCmpOut, Cmp{}(in<V>(kCmpIn1), in<V>(kCmpIn2))); }
   };
 };
 

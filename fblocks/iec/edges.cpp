@@ -4,13 +4,13 @@
 namespace syncplc::iec {
 namespace {
 
-enum : int { kClk = 0, kQ = 1 };
+enum : int { kClk = 0, kTrigQ = 1 };
 
 class RTrig final : public Block {
  public:
   void execute(ScanContext&) noexcept override {
     const bool clk = in<bool>(kClk);
-    out<bool>(kQ, clk && !m_);
+    out<bool>(kTrigQ, clk && !m_);
     m_ = clk;
   }
 
@@ -22,7 +22,7 @@ class FTrig final : public Block {
  public:
   void execute(ScanContext&) noexcept override {
     const bool clk = in<bool>(kClk);
-    out<bool>(kQ, !clk && m_);
+    out<bool>(kTrigQ, !clk && m_);
     m_ = clk;
   }
 

@@ -5,14 +5,14 @@
 namespace syncplc::iec {
 namespace {
 
-enum : int { kIn = 0, kOut = 1 };
+enum : int { kDelayIn = 0, kDelayOut = 1 };
 
 // Copies whole cells, so one implementation serves every type; the initial
 // all-zero cell is the zero of every type (FALSE, 0, 0.0, T#0s).
 class UnitDelay final : public Block {
  public:
-  void execute(ScanContext&) noexcept override { *pin_cell(kOut) = state_; }
-  void end_of_scan() noexcept override { state_ = *pin_cell(kIn); }
+  void execute(ScanContext&) noexcept override { *pin_cell(kDelayOut) = state_; }
+  void end_of_scan() noexcept override { state_ = *pin_cell(kDelayIn); }
   // The sample survives a restart: a loop through the delay goes on from it.
   std::uint32_t retain_cells() const noexcept override { return 1; }
   void save_retain(Cell* out) const noexcept override { out[0] = state_; }

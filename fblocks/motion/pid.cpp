@@ -92,7 +92,7 @@ std::unique_ptr<Block> make_pd(BlockSetup& s) {
 // ---- PID --------------------------------------------------------------------
 
 enum : int {
-  kSp = 0, kPv, kFf, kManual, kManualValue, kReset,  // inputs
+  kSp = 0, kPv, kFf, kManual, kManualValue, kPidReset,  // inputs
   kY, kErr, kSat,                                     // outputs
 };
 
@@ -151,7 +151,7 @@ class Pid final : public Block {
       first_ = false;
     }
     bool clipped = false;
-    if (in<bool>(kReset)) {
+    if (in<bool>(kPidReset)) {
       integral_ = 0;
       d_ = 0;
       s_prev_ = s;

@@ -18,7 +18,7 @@ namespace syncplc::cli {
 namespace {
 
 // --follow asks this often: one small request, answered from the server's memory or database.
-constexpr auto kFollowPoll = std::chrono::milliseconds(500);
+constexpr auto kApiFollowPoll = std::chrono::milliseconds(500);
 // The most the API sends in one answer (docs/http-api.md).
 constexpr int kMaxEvents = 10000;
 
@@ -71,7 +71,7 @@ int events_through_api(const EventsOptions& o) {
       }
       if (!o.follow) return kExitOk;
       std::cout.flush();
-      for (auto slept = std::chrono::milliseconds(0); slept < kFollowPoll && !g_stop; slept += std::chrono::milliseconds(50))
+      for (auto slept = std::chrono::milliseconds(0); slept < kApiFollowPoll && !g_stop; slept += std::chrono::milliseconds(50))
         std::this_thread::sleep_for(std::chrono::milliseconds(50));
       if (g_stop) return kExitOk;
     }

@@ -110,7 +110,7 @@ bool read_password(bool from_stdin, Secret& password, std::string* error) {
   return true;
 }
 
-std::string utc_time(std::int64_t ns) {
+std::string created_utc(std::int64_t ns) {
   const time_t s = static_cast<time_t>(ns / 1'000'000'000);
   tm t{};
   gmtime_r(&s, &t);
@@ -133,7 +133,7 @@ int list_users(web::UserStore& users) {
   }
   std::cout << fmt::format("{:<24}  {:<8}  {}\n", "name", "role", "created (UTC)");
   for (const auto& u : all)
-    std::cout << fmt::format("{:<24}  {:<8}  {}\n", u.name, web::role_name(u.role), utc_time(u.created_ns));
+    std::cout << fmt::format("{:<24}  {:<8}  {}\n", u.name, web::role_name(u.role), created_utc(u.created_ns));
   return kExitOk;
 }
 

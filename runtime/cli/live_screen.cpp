@@ -79,7 +79,7 @@ void restore_fatal_handlers() {
   sigaction(SIGTSTP, &g_previous_tstp, nullptr);
 }
 
-std::size_t terminal_width() {
+std::size_t screen_width() {
   winsize w{};
   if (ioctl(STDOUT_FILENO, TIOCGWINSZ, &w) != 0 || w.ws_col == 0) return 80;
   return std::clamp<std::size_t>(w.ws_col, 40, 240);
@@ -304,7 +304,7 @@ LiveView LiveScreen::view(Program& p, double elapsed_s, const modbus::Server* se
 
 void LiveScreen::draw(Program& p, double elapsed_s, const modbus::Server* server, const Supervisor* supervisor) {
   if (!entered_) return;
-  const std::string text = render_live_screen(view(p, elapsed_s, server, supervisor), terminal_width());
+  const std::string text = render_live_screen(view(p, elapsed_s, server, supervisor), screen_width());
   // Home, each line cleared to its end, the rest below cleared: no flicker of a whole-screen clear.
   std::string out = "\x1b[H";
   std::size_t at = 0;

@@ -7,7 +7,7 @@
 namespace syncplc {
 namespace {
 
-const char* const kSectionKeys =
+const char* const kStoreKeys =
     "path, retain_interval, events_max_count, events_max_age, trend_raw_age, trend_downsample, trend_max_age, trend_max_size";
 
 // A positive duration setting.
@@ -55,7 +55,7 @@ void read_store_section(const ConfigNode& n, store::StoreSettings& out, Diagnost
   out.declared = true;
   if (n.is_scalar() && n.scalar.empty()) return;  // `store:` alone: the defaults
   if (!n.is_map()) {
-    d.error(n.loc, std::string("store: expected a map (") + kSectionKeys + ")");
+    d.error(n.loc, std::string("store: expected a map (") + kStoreKeys + ")");
     return;
   }
   for (const auto& [k, v] : n.map) {
@@ -86,7 +86,7 @@ void read_store_section(const ConfigNode& n, store::StoreSettings& out, Diagnost
       else if (*b < (1ULL << 20)) d.error(v.loc, "store trend_max_size " + v.scalar + " is below 1MiB");
       else out.trend_max_bytes = *b;
     } else {
-      d.error(v.loc, "unknown key '" + k + "' in store (" + kSectionKeys + ")");
+      d.error(v.loc, "unknown key '" + k + "' in store (" + kStoreKeys + ")");
     }
   }
   if (out.trend_raw_age_ns > out.trend_max_age_ns)

@@ -17,7 +17,7 @@
 namespace syncplc {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kQuietNaN = std::numeric_limits<double>::quiet_NaN();
 
 std::set<std::string> ordinary_inputs(const BlockTypeInfo& t) {
   std::set<std::string> s;
@@ -44,7 +44,7 @@ double other_value(const ParamDecl& p, const BlockHarness::Options& o) {
   return v;
 }
 
-std::vector<std::uint64_t> outputs(BlockHarness& h, const BlockTypeInfo& t) {
+std::vector<std::uint64_t> output_cells(BlockHarness& h, const BlockTypeInfo& t) {
   std::vector<std::uint64_t> v;
   for (const auto& p : t.pins)
     if (p.dir == PinDir::Out)
@@ -86,7 +86,7 @@ TEST(Tuning, EveryTuningInputActsAsItsParameter) {
             }
         a.scan();
         b.scan();
-        ASSERT_EQ(outputs(a, *t), outputs(b, *t)) << "scan " << scan;
+        ASSERT_EQ(output_cells(a, *t), output_cells(b, *t)) << "scan " << scan;
       }
       EXPECT_TRUE(a.events().empty());
     }
@@ -173,7 +173,7 @@ TEST(Tuning, PidTuningInputsAreValidatedAndBumpless) {
   ASSERT_EQ(l.pid.events().size(), 1u);
   EXPECT_STREQ(l.pid.events()[0].message, "tuning input invalid, last valid value kept");
   EXPECT_EQ(l.pid.events()[0].value, -1.0);
-  l.pid.set<double>("Ti_in", kNaN);
+  l.pid.set<double>("Ti_in", kQuietNaN);
   l.step();
   EXPECT_FALSE(l.pid.get<bool>("ENO"));
   // out_max below out_min (-100): refused by the block.

@@ -12,8 +12,8 @@ namespace syncplc {
 namespace {
 
 // Backing cells for every channel of a driver, bound to it.
-struct Rig {
-  explicit Rig(IoDriver& d) : drv(d) {
+struct OutputRig {
+  explicit OutputRig(IoDriver& d) : drv(d) {
     for (const auto& c : d.channels()) storage.emplace_back(c.length, Cell{});
     std::vector<Cell*> cells;
     for (auto& s : storage) cells.push_back(s.data());
@@ -45,7 +45,7 @@ Cell lreal(double v) {
 TEST(SafeOutputs, MemoryDriverHoldsTheSafeValuesAgainstLaterScans) {
   MemoryDriver d({{"a", PinDir::Out, IecType::LREAL, 2, "", ""}, {"b", PinDir::Out, IecType::LREAL, 1, "", ""},
                   {"in", PinDir::In, IecType::LREAL, 1, "", ""}});
-  Rig r(d);
+  OutputRig r(d);
   r.set(0, 0, 1.0);
   r.set(0, 1, 2.0);
   r.set(1, 0, 3.0);
@@ -76,7 +76,7 @@ TEST(SafeOutputs, SimTableDrivesTheAxesWithTheSafeCommandsFromTheNextLatch) {
   c.axes.assign(2, AxisModel{0.055, 35.6206});
   c.actuation_delay_ns = 200'000;
   SimTableDriver d(c);
-  Rig r(d);
+  OutputRig r(d);
   r.latch(0);
   r.set(SimTableDriver::kCmd, 0, 0.5);
   r.set(SimTableDriver::kCmd, 1, 0.25);
@@ -102,7 +102,7 @@ TEST(SafeOutputs, SimRingSendsOneSafeFrameToEveryNode) {
   c.loss.model = LossConfig::Model::Bernoulli;
   c.loss.p = 1.0;  // the program's frames are all lost; the safe frame is not
   SimRingDriver d(c);
-  Rig r(d);
+  OutputRig r(d);
   r.latch(0);
   r.set(SimRingDriver::kMasterCmd, 0, 4.0);
   r.set(SimRingDriver::kMasterCmd, 1, 6.0);

@@ -30,12 +30,12 @@ BlockHarness make(const char* type, std::map<std::string, std::string> params, s
   return BlockHarness(builtin_blocks(), type, o);
 }
 
-std::string errors_of(const BlockHarness& h) {
+std::string harness_errors(const BlockHarness& h) {
   std::string s;
   for (const auto& e : h.errors()) s += e + "\n";
   return s;
 }
-#define ASSERT_OK(h) ASSERT_TRUE((h).ok()) << errors_of(h)
+#define ASSERT_OK(h) ASSERT_TRUE((h).ok()) << harness_errors(h)
 
 // Samples of named outputs, one per scan.
 struct Trace {
@@ -66,7 +66,7 @@ TEST(CosineTrajectory, AmplitudeAndOmegaAreRequired) {
   auto h = make("COSINE_TRAJECTORY", {{"omega", "1"}});
   EXPECT_FALSE(h.ok());
   auto g = make("COSINE_TRAJECTORY", {{"amplitude", "1"}, {"omega", "1"}});
-  EXPECT_TRUE(g.ok()) << errors_of(g);
+  EXPECT_TRUE(g.ok()) << harness_errors(g);
   EXPECT_FALSE(make("COSINE_TRAJECTORY", {{"amplitude", "1"}, {"omega", "0"}}).ok());
   EXPECT_FALSE(make("COSINE_TRAJECTORY", {{"amplitude", "1"}, {"omega", "1"}, {"cycles", "-1"}}).ok());
 }

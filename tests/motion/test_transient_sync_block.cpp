@@ -11,9 +11,9 @@
 namespace syncplc::motion::synctest {
 namespace {
 
-constexpr std::int64_t k10ms = 10'000'000;
+constexpr std::int64_t kPeriod10ms = 10'000'000;
 
-BlockHarness::Options params(std::map<std::string, std::string> p, std::int64_t period = k10ms) {
+BlockHarness::Options params(std::map<std::string, std::string> p, std::int64_t period = kPeriod10ms) {
   BlockHarness::Options o;
   o.params = std::move(p);
   o.period_ns = period;
@@ -104,7 +104,7 @@ void compare_with_filters(int n, int rule, std::uint64_t seed) {
       }
     }
     if (uni(0, 1) < 0.01) {  // skipped releases: 1 to 3 missed periods, caught up by the next scan
-      const std::int64_t skip = k10ms * static_cast<std::int64_t>(uni(1, 4));
+      const std::int64_t skip = kPeriod10ms * static_cast<std::int64_t>(uni(1, 4));
       sync.set_now_ns(sync.now_ns() + skip);
       for (auto& g : f) g->set_now_ns(g->now_ns() + skip);
       ++skips;
@@ -145,7 +145,7 @@ TEST(TransientSyncBlock, SingleAxisIsTheNonlinearFilter) {
 TEST(TransientSyncBlock, RuleOffIsIndependentFilters) { compare_with_filters(5, kOff, 202); }
 
 TEST(TransientSyncBlock, InvalidBoundsOnOneAxis) {
-  Instance in(3, kUnified, k10ms);
+  Instance in(3, kUnified, kPeriod10ms);
   ASSERT_TRUE(in.ok()) << in.errors();
   in.set_bounds(table2_cycled(3));
   for (int i = 0; i < 3; ++i) in.set_ref(i, 0, 0);
@@ -256,7 +256,7 @@ TEST(TransientSyncBlock, ResetAndStart) {
 TEST(TransientSyncBlock, DerivedReferenceVelocity) {
   const int n = 3;
   const double T = 0.01;
-  Instance sync(n, kUnified, k10ms, false), off(n, kOff, k10ms, false);
+  Instance sync(n, kUnified, kPeriod10ms, false), off(n, kOff, kPeriod10ms, false);
   ASSERT_TRUE(sync.ok()) << sync.errors();
   ASSERT_TRUE(off.ok()) << off.errors();
   const auto b = table2_cycled(n);

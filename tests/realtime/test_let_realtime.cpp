@@ -32,7 +32,7 @@ using testing::LogBlock;
 // it; mid (2 ms, harmonic) and odd (3 ms, phase
 // 0.25 ms, non-harmonic, higher priority than the producer) read the count;
 // mid doubles what it read, which odd reads too (a chain of two exchanges).
-const char* kProject = R"(
+const char* kLetProject = R"(
 tasks:
   - {name: fast, period: 1ms, priority: 60}
   - {name: mid, period: 2ms, priority: 50}
@@ -61,7 +61,7 @@ std::vector<LogBlock::Sample> samples(Program& p, const std::string& instance) {
 }
 
 TEST(LetRealtime, RealTimeGivesTheVirtualClocksValuesScanByScan) {
-  auto rt = load_test_project(kProject);
+  auto rt = load_test_project(kLetProject);
   ASSERT_TRUE(rt);
   {
     auto options = quiet_options();
@@ -95,7 +95,7 @@ TEST(LetRealtime, RealTimeGivesTheVirtualClocksValuesScanByScan) {
                         {"odd_log", behind(0), late(2)},
                         {"odd_log2", behind(0) + behind(1) + late(1), late(2)}};
 
-  auto vt = load_test_project(kProject);
+  auto vt = load_test_project(kLetProject);
   ASSERT_TRUE(vt);
   std::int64_t last_release = 0;
   for (const char* log : {"mid_log", "odd_log", "odd_log2"})

@@ -16,7 +16,7 @@ namespace {
 // A fast task publishes four equal values; a slower task counts scans in
 // which they differ; the test thread reads the published array concurrently
 // and writes a setpoint through the queue.
-const char* kProject = R"(
+const char* kRealtimeProject = R"(
 tasks:
   - {name: fast, period: 200us, priority: 60}
   - {name: slow, period: 1ms, priority: 50}
@@ -56,7 +56,7 @@ connections:
 )";
 
 TEST(Realtime, SnapshotsAreNeverTornAcrossThreadsAndQueuedWritesArrive) {
-  auto p = load_test_project(kProject);
+  auto p = load_test_project(kRealtimeProject);
   ASSERT_TRUE(p);
   RealtimeRunner runner(*p, quiet_options());
   runner.start();

@@ -27,7 +27,7 @@ void write(const fs::path& p, const std::string& text) {
   std::ofstream(p, std::ios::binary) << text;
 }
 
-std::unique_ptr<Database> open_db(const std::string& dir) {
+std::unique_ptr<Database> open_project_db(const std::string& dir) {
   OpenReport report;
   std::string err;
   auto db = Database::open(dir + "/plc.db", &report, &err);
@@ -95,7 +95,7 @@ TEST(ProjectStore, TheContentHashIsTheDocumentedSha256) {
 
 TEST(ProjectStore, IdenticalFilesAreStoredOnceAndEachLoadIsItsOwnVersion) {
   const std::string dir = testing::fresh_dir("dedupe");
-  auto db = open_db(dir);
+  auto db = open_project_db(dir);
   const std::string main = write_project(dir);
   auto r = load_project(main);
   EXPECT_EQ(record_load(db->sql(), load_of(r, "run")), 1);
@@ -120,7 +120,7 @@ TEST(ProjectStore, IdenticalFilesAreStoredOnceAndEachLoadIsItsOwnVersion) {
 
 TEST(ProjectStore, ARejectedLoadKeepsItsFilesAndErrorsAndIsNeverTheLastAccepted) {
   const std::string dir = testing::fresh_dir("rejected");
-  auto db = open_db(dir);
+  auto db = open_project_db(dir);
   const std::string good = write_project(dir + "/good");
   record_load(db->sql(), load_of(load_project(good), "run"));
   auto bad = load_project(write_project(dir + "/bad", "NOPE"));
@@ -141,7 +141,7 @@ TEST(ProjectStore, ARejectedLoadKeepsItsFilesAndErrorsAndIsNeverTheLastAccepted)
 
 TEST(ProjectStore, AProjectFileThatCannotBeReadIsARejectedVersionWithoutFiles) {
   const std::string dir = testing::fresh_dir("missing");
-  auto db = open_db(dir);
+  auto db = open_project_db(dir);
   auto r = load_project(dir + "/nothing.yaml");
   ASSERT_FALSE(r.ok());
   EXPECT_TRUE(r.sources.empty());
@@ -169,7 +169,7 @@ TEST(ProjectStore, ALoadWithAMissingIncludeKeepsTheFilesItRead) {
 
 TEST(ProjectStore, AnExtractedVersionLoadsAsTheOriginalDid) {
   const std::string dir = testing::fresh_dir("extract");
-  auto db = open_db(dir);
+  auto db = open_project_db(dir);
   record_load(db->sql(), load_of(load_project(write_project(dir + "/src")), "run"));
   std::string err;
   const std::string main = extract_files(version_files(db->sql(), 1), dir + "/out", &err);
