@@ -84,7 +84,10 @@ def main():
     assert names == ["main"], names
     main_task = st["tasks"][0]
     assert main_task["period_ns"] == 2_000_000 and main_task["state"] == "running", main_task
-    assert sum(main_task["jitter"]["histogram"]["counts"]) > 0, main_task["jitter"]
+    # The HTTP API answers from when it listens, which can be before the
+    # task's first jitter sample is published: wait for one.
+    peerlib.wait_until(lambda: (lambda j: (sum(j["histogram"]["counts"]) > 0, j))(
+        api.expect(200, "GET", "/status")["tasks"][0]["jitter"]), "the main task's jitter histogram")
     tags = api.expect(200, "GET", "/tags?filter=mw_arr")["tags"]
     assert [t["name"] for t in tags] == ["mw_arr", "mw_arr_r"], tags
     assert tags[0]["is_array"] and tags[0]["length"] == 4 and tags[0]["value"] == [1, 2, 3, 4], tags[0]

@@ -385,7 +385,11 @@ connections: [acc.SUM -> total]
   p->with_view([&](const plc::Plc::View& v) { skipped = v.program.tasks[0]->stats.skipped.load(); });
   p->stop("test");
   for (const auto& l : r.lines) std::cout << l << "\n";
-  EXPECT_EQ(skipped, 0u) << "scans counted as skipped because T was set before the readers' lock";
+  // T set before the readers' lock puts the new grid's start 300 ms in the
+  // past: about 75 skipped grid points of 4 ms. A machine that stalls the
+  // task thread skips a few on its own (2 in one CI run), so the bound is
+  // well between the two.
+  EXPECT_LE(skipped, 10u) << "scans counted as skipped because T was set before the readers' lock";
 }
 
 }  // namespace

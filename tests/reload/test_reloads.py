@@ -10,13 +10,19 @@ Checks:
 - every reload is accepted; the controllers, estimators and both drivers are
   kept (their state: the reference time base, the plant);
 - the client's one connection is never dropped and every read is answered;
-- the tracking error trace is continuous across each reload: of the reloads,
-  no more than 3 see, between two reads that span it, a change larger than ten times the
-  99th percentile of the changes between reads that span none (a reference or
-  plant that restarted would jump at every reload, by the whole error; a rare
-  jump is this virtual machine's host stalling the task, which happens as
-  often without reloads: run with RELOADS 0 for the same count over 100
-  windows of the same length);
+- the tracking error trace is continuous across each reload: of the reloads
+  during which the servo task ran every scan on time, no more than 3 see,
+  between two reads that span it, a change larger than ten times the 99th
+  percentile of the changes between reads that span none (a reference or
+  plant that restarted would jump at every reload, by the whole error). A
+  scan the host stalled into an overrun or a skipped grid point makes such a
+  jump on its own, with or without a reload (run with RELOADS 0 for the same
+  count over 100 windows of the same length): the servo's overruns and
+  skipped counts, read from `GET /api/v1/status` after each window, set
+  aside the windows in which they grew (since the previous window's end) and
+  the windows after those (a skipped 1 ms grid point moves the reference
+  by up to 12.6 mrad at the demo's top speed, and the controller takes a
+  while to pull the error back); at least 50 windows must be left to judge;
 - no scan is late because of a reload: at most 3 of the 100 switches see the
   first scan of the new program start more than 500 us after its release
   (`run` measures it and the report says it), for the same reason.
@@ -32,6 +38,7 @@ With RELOADS 0 it runs the same setup for SECONDS without a reload (the
 benchmark's baseline) and checks only the statistics.
 """
 
+import json
 import os
 import re
 import shutil
@@ -41,6 +48,7 @@ import sys
 import tempfile
 import threading
 import time
+import urllib.request
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "peers"))
 import peerlib as P  # noqa: E402
@@ -105,6 +113,16 @@ class Reader(threading.Thread):
             self.error = e
 
 
+def servo_stalls(http_port):
+    """The servo task's overruns plus skipped grid points so far."""
+    with urllib.request.urlopen("http://127.0.0.1:%d/api/v1/status" % http_port, timeout=10) as r:
+        status = json.load(r)
+    for t in status["tasks"]:
+        if t["name"] == "servo":
+            return t["overruns"] + t["skipped"]
+    raise AssertionError("no task servo in GET /status: %r" % status["tasks"])
+
+
 def main():
     binary = P.syncplc_binary()
     reloads = int(sys.argv[2]) if len(sys.argv) > 2 else 100
@@ -114,14 +132,18 @@ def main():
     try:
         project = make_project(tmp)
         tally = P.Tally()
-        server = P.Server(binary, project, extra=("--pid-file", pid_file))
+        server = P.Server(binary, project, extra=("--pid-file", pid_file, "--http", "127.0.0.1:0",
+                                                  "--db", ":memory:"))
+        http_port = server.http_port()
         reader = Reader(server.port, tally)
         try:
             time.sleep(0.5)
             reader.start()
             time.sleep(0.5)
             windows = []
+            grew = []  # per window: the servo overran or skipped since the last window's end
             switch_late_us = []
+            stalls = servo_stalls(http_port)
             if reloads == 0:
                 # The baseline: the same number of windows of the same length
                 # as a run of 100 reloads, without reloading.
@@ -130,6 +152,9 @@ def main():
                     time.sleep(plain_seconds / 200)
                     windows.append((t0, time.monotonic()))
                     time.sleep(plain_seconds / 200)
+                    now = servo_stalls(http_port)
+                    grew.append(now > stalls)
+                    stalls = now
             for k in range(reloads):
                 edit(project, k)
                 t0 = time.monotonic()
@@ -152,6 +177,9 @@ def main():
                 if reader.error:
                     raise reader.error
                 time.sleep(0.03)
+                now = servo_stalls(http_port)
+                grew.append(now > stalls)
+                stalls = now
             time.sleep(0.3)
         finally:
             reader.stop = True
@@ -177,9 +205,16 @@ def main():
         for ta, tb, j in pairs:
             for i in spans(ta, tb):
                 worst[i] = max(worst[i], j)
-        jumps = sum(1 for w in worst if w > 10 * p99 + 1e-9)
-        print("reads: %d; |delta err| p99 between reads without a reload %.3g rad; reloads with a larger jump "
-              "than 10x that: %d of %d" % (len(s), p99, jumps, len(windows)))
+        stalled = [g or (i > 0 and grew[i - 1]) for i, g in enumerate(grew)]
+        judged = [w for w, st in zip(worst, stalled) if not st]
+        jumps = sum(1 for w in judged if w > 10 * p99 + 1e-9)
+        stalled_jumps = sum(1 for w, st in zip(worst, stalled) if st and w > 10 * p99 + 1e-9)
+        print("reads: %d; |delta err| p99 between reads without a reload %.3g rad; windows with a larger jump "
+              "than 10x that: %d of the %d in which the servo ran every scan on time (and %d of the %d in which "
+              "it overran or skipped)" % (len(s), p99, jumps, len(judged), stalled_jumps, len(worst) - len(judged)))
+        if len(judged) < 50:
+            raise AssertionError("the servo overran or skipped in %d of %d windows: too few left to judge the "
+                                 "reloads' continuity" % (len(worst) - len(judged), len(worst)))
         if reloads:
             late = sum(1 for x in switch_late_us if x > 500)
             print("switches: first new scan late by at most %.1f us (median %.1f us); %d of %d over 500 us"
@@ -194,13 +229,13 @@ def main():
         scans, overruns, skipped, trips = (int(g) for g in m.groups()[:4])
         print("servo: %d scans, %d overruns, %d skipped, %d watchdog trips; start jitter min/mean/p99/max %s"
               % (scans, overruns, skipped, trips, m.group(5)))
-        # The bound does not grow with the overruns and skips the run counted:
-        # a test that loosened itself under load would pass a reload that
-        # jumps whenever the machine is busy.
+        # The bound does not grow with the overruns and skips: the windows in
+        # which the servo stalled are set aside, not given a looser bound, so a
+        # reload that jumps on a busy machine still fails in the windows left.
         if reloads and jumps > 3:
-            raise AssertionError("the tracking error jumps at %d of %d reloads (worst %.3g rad against p99 %.3g; "
-                                 "the run counted %d overruns, %d skipped)" % (jumps, reloads, max(worst), p99,
-                                                                             overruns, skipped))
+            raise AssertionError("the tracking error jumps at %d of %d reloads during which the servo ran every "
+                                 "scan on time (worst %.3g rad against p99 %.3g)" % (jumps, len(judged),
+                                                                                  max(judged), p99))
         print("test_reloads: OK (%d reloads)" % reloads)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
