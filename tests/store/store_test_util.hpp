@@ -130,6 +130,17 @@ class ShellHolding {
 // `out_file`; as the user `uid` (and group `gid`) when uid >= 0 (the test
 // runs as root). Returns its pid.
 inline pid_t spawn_syncplc(const std::vector<std::string>& args, const std::string& out_file, int uid = -1, int gid = -1) {
+  // Another user may not reach the build tree (a clone in a 0700 mktemp
+  // directory): that user runs a copy of the binary beside its output.
+  std::string binary = SYNCPLC_BINARY;
+  if (uid >= 0) {
+    namespace fs = std::filesystem;
+    const fs::path copy = fs::path(out_file).parent_path() / "syncplc";
+    if (!fs::exists(copy)) fs::copy_file(SYNCPLC_BINARY, copy);
+    fs::permissions(copy, fs::perms::owner_all | fs::perms::group_read | fs::perms::group_exec |
+                              fs::perms::others_read | fs::perms::others_exec, fs::perm_options::replace);
+    binary = copy.string();
+  }
   const pid_t child = fork();
   if (child == 0) {
     const int fd = ::open(out_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
@@ -140,10 +151,10 @@ inline pid_t spawn_syncplc(const std::vector<std::string>& args, const std::stri
       setenv("HOME", std::filesystem::path(out_file).parent_path().c_str(), 1);
     }
     std::vector<char*> argv;
-    argv.push_back(const_cast<char*>(SYNCPLC_BINARY));
+    argv.push_back(binary.data());
     for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
     argv.push_back(nullptr);
-    execv(SYNCPLC_BINARY, argv.data());
+    execv(binary.c_str(), argv.data());
     _exit(127);
   }
   return child;
