@@ -4,7 +4,7 @@ import { useEffect, useState } from 'preact/hooks';
 import { logout, me } from './api/endpoints.js';
 import { current, end, onSession } from './auth/session.js';
 import { restart } from './live/hub.js';
-import { useConnection } from './live/hooks.js';
+import { useConnection, useLink } from './live/hooks.js';
 import { LoginDialog } from './components/login.jsx';
 import { OverviewPage } from './pages/overview.jsx';
 import { TagsPage } from './pages/tags.jsx';
@@ -28,20 +28,26 @@ const pageFromHash = () => {
 };
 
 const CONNECTION_WORDS = {
-  idle: ['Not streaming', 'idle'],
+  unknown: ['Connecting…', 'connecting'],
+  online: ['Connected', 'live'],
   connecting: ['Connecting…', 'connecting'],
   live: ['Live', 'live'],
   paused: ['Paused (page hidden)', 'idle'],
   lost: ['Connection lost', 'lost'],
 };
 
-function ConnectionBadge() {
-  const c = useConnection();
-  // Pages without live values (overview, events, trends) poll: no badge then.
-  if (c.state === 'idle') return null;
-  const [text, cls] = CONNECTION_WORDS[c.state] || CONNECTION_WORDS.idle;
+// What the page's values rest on: the live stream while one runs, else the
+// requests the page polls with (overview, events, trends, project): every
+// page says whether the PLC answers.
+function linkState(stream, polled) {
+  if (stream.state !== 'idle') return stream;
+  return polled;
+}
+
+function ConnectionBadge({ c }) {
+  const [text, cls] = CONNECTION_WORDS[c.state] || CONNECTION_WORDS.unknown;
   const title = c.state === 'lost'
-    ? `${c.error || 'The live stream stopped.'} Trying again in ${Math.ceil((c.retryInMs || 0) / 1000)} s.`
+    ? `${c.error || 'The PLC does not answer.'}${c.retryInMs ? ` Trying again in ${Math.ceil(c.retryInMs / 1000)} s.` : ''}`
     : text;
   return <span class={`conn conn-${cls}`} role="status" data-state={c.state} title={title}>{text}</span>;
 }
@@ -51,7 +57,7 @@ export function App() {
   const [menuOpen, setMenuOpen] = useState(false);
   const [session, setSession] = useState(current());
   const [loginOpen, setLoginOpen] = useState(false);
-  const conn = useConnection();
+  const conn = linkState(useConnection(), useLink());
 
   useEffect(() => {
     const onHash = () => { setPage(pageFromHash()); setMenuOpen(false); };
@@ -82,7 +88,7 @@ export function App() {
             <a href={`#/${p.id}`} class={p.id === page.id ? 'active' : ''} aria-current={p.id === page.id ? 'page' : undefined}>{p.label}</a>
           ))}
         </nav>
-        <ConnectionBadge />
+        <ConnectionBadge c={conn} />
         <div class="who">
           {session ? (
             <>
@@ -98,10 +104,10 @@ export function App() {
       </header>
       {conn.state === 'lost' ? (
         <div class="banner banner-lost" role="alert">
-          Connection to the PLC lost: {conn.error || 'no answer'}. Values shown are the last received. Trying again…
+          Connection to the PLC lost: {conn.error || 'no answer'}. Values shown are the last received, greyed out. Trying again…
         </div>
       ) : null}
-      <main class="page" id={`page-${page.id}`}>
+      <main class="page" id={`page-${page.id}`} data-link={conn.state === 'lost' ? 'lost' : 'ok'}>
         <Page session={session} onLogin={() => setLoginOpen(true)} />
       </main>
       <LoginDialog open={loginOpen} onClose={() => setLoginOpen(false)} />

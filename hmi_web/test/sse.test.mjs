@@ -29,3 +29,10 @@ test('back-off doubles from 0.5 s to at most 10 s with a ±20 % spread', () => {
   assert.equal(backoffMs(0, () => 0), 400);
   assert.equal(backoffMs(0, () => 1), 600);
 });
+
+test('a stream is taken as lost after 2 s without an event, or three periods at a low rate', async () => {
+  const { silenceLimitMs } = await import('../src/api/stream.js');
+  assert.equal(silenceLimitMs(10), 2000);
+  assert.equal(silenceLimitMs(50), 2000);
+  assert.equal(silenceLimitMs(1), 3000);
+});

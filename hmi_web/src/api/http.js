@@ -2,6 +2,8 @@
 // The session token goes in `Authorization: Bearer`, never in a cookie
 // (credentials: 'omit'), so another site's page cannot act with it.
 
+import { link } from './link.js';
+
 export const API_PREFIX = '/api/v1';
 
 // An error the pages can show as is: `message` in words, `where` the
@@ -72,11 +74,16 @@ export async function request(method, path, { query, body, signal } = {}) {
     init.body = JSON.stringify(body);
   }
   let res;
+  const ended = link.started();
   try {
     res = await fetch(apiUrl(path, query), init);
+    link.answered();
   } catch (e) {
     if (e && e.name === 'AbortError') throw e;
+    link.failed(statusWords(0));
     throw new ApiError(0, statusWords(0));
+  } finally {
+    ended();
   }
   let data = null;
   const type = res.headers.get('Content-Type') || '';

@@ -3,14 +3,25 @@
 // Server-Sent Events, reconnected with back-off, stopped while the page is
 // hidden (a phone in a pocket costs the PLC nothing).
 import { apiUrl, authHeaders, statusWords } from './http.js';
+import { NO_ANSWER_MS } from './link.js';
 import { SseParser, backoffMs } from './sse.js';
 
 // onValues({tNs, values, forced}); onState({state: 'connecting'|'live'|'lost'|'paused'|'idle', error, retryInMs})
+// The server sends an event every 1/rate s whatever the values do: a stream
+// silent for longer than this is taken as lost (a PLC stopped by SIGSTOP or a
+// cable pulled leaves the TCP connection open and just quiet), closed and
+// tried again.
+export function silenceLimitMs(rate) {
+  return Math.max(NO_ANSWER_MS, Math.ceil(3000 / rate));
+}
+
 export function openStream({ refs, rate = 10, onValues, onState }) {
   let stopped = false;
   let controller = null;
   let attempt = 0;
   let timer = null;
+  let silence = null;
+  let silent = false;
 
   const state = (s, extra = {}) => onState && onState({ state: s, ...extra });
 
@@ -21,6 +32,14 @@ export function openStream({ refs, rate = 10, onValues, onState }) {
     if (!refs.length) { state('idle'); return; }
     if (controller) controller.abort(); // never two streams at once
     controller = new AbortController();
+    const mine = controller;
+    silent = false;
+    // (Re)armed by every chunk read: connecting counts too.
+    const heard = () => {
+      clearTimeout(silence);
+      silence = setTimeout(() => { silent = true; mine.abort(); }, silenceLimitMs(rate));
+    };
+    heard();
     if (!attempt) state('connecting'); // while retrying, the state stays 'lost'
     let error = null;
     let streamError = null;
@@ -39,6 +58,7 @@ export function openStream({ refs, rate = 10, onValues, onState }) {
       for (;;) {
         const { value, done } = await reader.read();
         if (done) break;
+        heard();
         for (const ev of parser.push(value)) {
           if (ev.event === 'error') {
             // The server says why it ends the stream (e.g. a ref it does not know).
@@ -55,8 +75,10 @@ export function openStream({ refs, rate = 10, onValues, onState }) {
       }
       error = streamError || 'The PLC closed the live stream.';
     } catch (e) {
-      if (stopped || (e && e.name === 'AbortError')) return;
-      error = e && e.message ? e.message : String(e);
+      if (stopped || (e && e.name === 'AbortError' && !silent)) return;
+      error = silent ? `no update from the PLC for ${silenceLimitMs(rate) / 1000} s` : (e && e.message ? e.message : String(e));
+    } finally {
+      clearTimeout(silence);
     }
     if (stopped) return;
     if (typeof document !== 'undefined' && document.hidden) { state('paused'); return; }
@@ -83,6 +105,7 @@ export function openStream({ refs, rate = 10, onValues, onState }) {
     close() {
       stopped = true;
       clearTimeout(timer);
+      clearTimeout(silence);
       if (controller) controller.abort();
       if (typeof document !== 'undefined') document.removeEventListener('visibilitychange', onVisibility);
     },

@@ -1,6 +1,7 @@
 // Preact hooks over the live hub.
 import { useEffect, useState } from 'preact/hooks';
 import { connectionState, onConnection, subscribe } from './hub.js';
+import { link } from '../api/link.js';
 
 // Re-renders the component at most every `minMs` with the newest values of refs.
 export function useLive(refs, minMs = 100) {
@@ -30,5 +31,12 @@ export function useLiveCallback(refs, fn) {
 export function useConnection() {
   const [c, setC] = useState(connectionState());
   useEffect(() => onConnection(setC), []);
+  return c;
+}
+
+// Whether the PLC answers the page's requests (api/link.js).
+export function useLink() {
+  const [c, setC] = useState(link.state());
+  useEffect(() => link.onChange(setC), []);
   return c;
 }
