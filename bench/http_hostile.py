@@ -1,0 +1,312 @@
+"""Hostile HTTP clients beside a 1 ms task (issue 22; docs/benchmarks.md,
+"Hostile HTTP clients").
+
+One `syncplc run projects/four_axis_table/sync.yaml --http 127.0.0.1:0`
+(the demo's 1 ms servo task at SCHED_FIFO 80, both simulated drivers), and in
+one script, one after the other, windows of SECONDS each:
+
+  quiet    nothing but the measurements below;
+  hostile  at once: IDLE idle connections (connected, nothing sent), 10
+           slowloris clients (a header line every second, never the end of
+           the header block), 50 live streams (`GET /api/v1/stream`, 20
+           updates a second, read as they come), a chunked flood (an
+           anonymous `POST /api/v1/login` with an endless chunked body, as
+           fast as the socket takes it, again when cut) and a header flood
+           (endless header lines, again when cut); each flood stops after
+           600 MiB and 200 MiB in all, the sizes the issue reproduced with.
+
+Measured in each window:
+  - the servo task's start jitter p99 over the window, from two
+    `GET /status?histograms=full` snapshots taken just before and just after
+    it (the difference of the task's own buckets, each within 1/32 of its
+    values): the snapshots are taken while no attacker runs, so a server that
+    refuses connections under attack still answers them;
+  - a new Modbus TCP client every 100 ms: connect, one read (FC 3), the time
+    to its reply; a client not served within 1 s counts as not served;
+  - the PLC's resident memory (VmRSS), every 100 ms, the largest.
+
+Prints one line per window and the aims: p99 within 10 % of the quiet
+window's, every Modbus client served within 5 ms, resident memory bounded
+(the largest within 64 MB of the quiet window's).
+
+    /usr/bin/python3 bench/http_hostile.py build/syncplc [SECONDS [IDLE]]
+"""
+
+import json
+import os
+import re
+import resource
+import socket
+import struct
+import subprocess
+import sys
+import threading
+import time
+import urllib.request
+
+ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
+PROJECT = os.path.join(ROOT, "projects", "four_axis_table", "sync.yaml")
+
+
+def start_plc(binary):
+    args = [binary, "run", PROJECT, "--no-status", "--modbus-port", "0", "--http", "127.0.0.1:0",
+            "--db", ":memory:", "-d", "600s"]
+    proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    http = modbus = None
+    lines = []
+    deadline = time.monotonic() + 60
+    while (http is None or modbus is None) and time.monotonic() < deadline:
+        line = proc.stderr.readline()
+        if not line:
+            break
+        lines.append(line)
+        m = re.search(r"HTTP API on http://127\.0\.0\.1:(\d+)/", line)
+        if m:
+            http = int(m.group(1))
+        m = re.search(r"modbus: listening on 127\.0\.0\.1:(\d+)", line)
+        if m:
+            modbus = int(m.group(1))
+    if http is None or modbus is None:
+        proc.kill()
+        raise SystemExit("syncplc run did not report its ports:\n" + "".join(lines))
+    threading.Thread(target=lambda: [None for _ in proc.stderr], daemon=True).start()
+    return proc, http, modbus
+
+
+def servo_jitter_buckets(http):
+    with urllib.request.urlopen("http://127.0.0.1:%d/api/v1/status?histograms=full" % http, timeout=30) as r:
+        status = json.load(r)
+    for t in status["tasks"]:
+        if t["name"] == "servo":
+            full = t["jitter"]["full"]
+            return dict(zip(full["upper_ns"], full["counts"]))
+    raise SystemExit("no task servo in /status")
+
+
+def p99_between(a, b):
+    diff = sorted((u, b[u] - a.get(u, 0)) for u in b if b[u] - a.get(u, 0) > 0)
+    total = sum(n for _, n in diff)
+    if not total:
+        return float("nan"), 0
+    seen = 0
+    for upper, n in diff:
+        seen += n
+        if seen >= 0.99 * total:
+            return upper, total
+    return diff[-1][0], total
+
+
+def rss_kb(pid):
+    with open("/proc/%d/status" % pid) as f:
+        for line in f:
+            if line.startswith("VmRSS:"):
+                return int(line.split()[1])
+    return 0
+
+
+class Sampler(threading.Thread):
+    """A new Modbus TCP client every 100 ms, and VmRSS."""
+
+    def __init__(self, pid, modbus):
+        super().__init__(daemon=True)
+        self.pid, self.modbus = pid, modbus
+        self.latencies_ms, self.unserved, self.rss_max_kb = [], 0, 0
+        self.stop = False
+
+    def one_client(self):
+        t0 = time.perf_counter()
+        try:
+            with socket.create_connection(("127.0.0.1", self.modbus), timeout=1.0) as s:
+                s.sendall(struct.pack(">HHHBBHH", 1, 0, 6, 1, 3, 0, 1))
+                if not s.recv(256):
+                    return None
+            return (time.perf_counter() - t0) * 1e3
+        except OSError:
+            return None
+
+    def run(self):
+        while not self.stop:
+            ms = self.one_client()
+            if ms is None:
+                self.unserved += 1
+            else:
+                self.latencies_ms.append(ms)
+            self.rss_max_kb = max(self.rss_max_kb, rss_kb(self.pid))
+            time.sleep(0.1)
+
+
+class Attack:
+    """The hostile clients, each kind in its own threads; stop() ends them all."""
+
+    def __init__(self, http, idle):
+        self.http, self.idle = http, idle
+        self.stopping = False
+        self.socks = []
+        self.threads = []
+        self.refused = 0
+        self.stream_bytes = 0
+        self.flood_bytes = 0
+        self.chunked_left = 600 << 20
+        self.header_left = 200 << 20
+        self.lock = threading.Lock()
+
+    def connect(self):
+        s = socket.create_connection(("127.0.0.1", self.http), timeout=5)
+        with self.lock:
+            self.socks.append(s)
+        return s
+
+    def spawn(self, fn, n=1):
+        for _ in range(n):
+            t = threading.Thread(target=self.guard, args=(fn,), daemon=True)
+            t.start()
+            self.threads.append(t)
+
+    def guard(self, fn):
+        while not self.stopping:
+            try:
+                fn()
+            except OSError:
+                with self.lock:
+                    self.refused += 1
+                time.sleep(0.05)
+
+    def idle_connections(self):
+        for _ in range(self.idle):
+            if self.stopping:
+                return
+            try:
+                self.connect()
+            except OSError:
+                with self.lock:
+                    self.refused += 1
+        while not self.stopping:
+            time.sleep(0.2)
+
+    def slowloris(self):
+        s = self.connect()
+        s.sendall(b"GET /api/v1/status HTTP/1.1\r\nHost: 127.0.0.1\r\n")
+        k = 0
+        while not self.stopping:
+            s.sendall(b"X-Slow-%d: %d\r\n" % (k, k))
+            k += 1
+            time.sleep(1.0)
+
+    def stream(self):
+        s = self.connect()
+        s.sendall(b"GET /api/v1/stream?refs=err,pos&rate=20 HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n")
+        s.settimeout(5)
+        while not self.stopping:
+            b = s.recv(65536)
+            if not b:
+                raise OSError("stream closed")
+            with self.lock:
+                self.stream_bytes += len(b)
+
+    def chunked_flood(self):
+        s = self.connect()
+        s.sendall(b"POST /api/v1/login HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\n"
+                  b"Transfer-Encoding: chunked\r\n\r\n")
+        chunk = b"%x\r\n%s\r\n" % (65536, b"a" * 65536)
+        while not self.stopping and self.chunked_left > 0:
+            s.sendall(chunk)
+            with self.lock:
+                self.flood_bytes += len(chunk)
+                self.chunked_left -= len(chunk)
+        while not self.stopping:
+            time.sleep(0.2)
+
+    def header_flood(self):
+        s = self.connect()
+        s.sendall(b"GET /api/v1/status HTTP/1.1\r\nHost: 127.0.0.1\r\n")
+        line = b"X-Flood: " + b"b" * 8000 + b"\r\n"
+        while not self.stopping and self.header_left > 0:
+            s.sendall(line * 8)
+            with self.lock:
+                self.flood_bytes += 8 * len(line)
+                self.header_left -= 8 * len(line)
+        while not self.stopping:
+            time.sleep(0.2)
+
+    def start(self):
+        self.spawn(self.idle_connections)
+        self.spawn(self.slowloris, 10)
+        self.spawn(self.stream, 50)
+        self.spawn(self.chunked_flood)
+        self.spawn(self.header_flood)
+
+    def stop(self):
+        self.stopping = True
+        with self.lock:
+            for s in self.socks:
+                try:
+                    s.shutdown(socket.SHUT_RDWR)
+                except OSError:
+                    pass
+                s.close()
+        for t in self.threads:
+            t.join(timeout=10)
+
+
+def window(name, proc, http, modbus, seconds, idle):
+    before = servo_jitter_buckets(http)
+    sampler = Sampler(proc.pid, modbus)
+    attack = Attack(http, idle) if name == "hostile" else None
+    if attack:
+        attack.start()
+    sampler.start()
+    time.sleep(seconds)
+    sampler.stop = True
+    sampler.join()
+    if attack:
+        attack.stop()
+    time.sleep(1.0)  # the server lets the attackers' connections go
+    after = servo_jitter_buckets(http)
+    p99, scans = p99_between(before, after)
+    lat = sorted(sampler.latencies_ms)
+    r = {
+        "p99_us": p99 / 1e3, "scans": scans, "modbus_clients": len(lat) + sampler.unserved,
+        "modbus_unserved": sampler.unserved, "modbus_max_ms": lat[-1] if lat else float("nan"),
+        "modbus_over_5ms": sum(1 for x in lat if x > 5.0) + sampler.unserved,
+        "rss_max_mb": sampler.rss_max_kb / 1024.0,
+    }
+    extra = ""
+    if attack:
+        extra = "; attackers: %d connections refused or cut, %.0f MB of floods sent, %.1f MB of stream events read" % (
+            attack.refused, attack.flood_bytes / 1e6, attack.stream_bytes / 1e6)
+    print("%-8s %d s: servo start jitter p99 %.1f us over %d scans; %d new Modbus clients, %d not served, "
+          "slowest %.2f ms, %d over 5 ms; PLC resident memory at most %.1f MB%s"
+          % (name, seconds, r["p99_us"], scans, r["modbus_clients"], r["modbus_unserved"], r["modbus_max_ms"],
+             r["modbus_over_5ms"], r["rss_max_mb"], extra), flush=True)
+    return r
+
+
+def main():
+    binary = sys.argv[1]
+    seconds = int(sys.argv[2]) if len(sys.argv) > 2 else 10
+    idle = int(sys.argv[3]) if len(sys.argv) > 3 else 1000
+    soft, hard = resource.getrlimit(resource.RLIMIT_NOFILE)
+    resource.setrlimit(resource.RLIMIT_NOFILE, (hard, hard))
+    proc, http, modbus = start_plc(binary)
+    try:
+        time.sleep(1.0)
+        quiet = window("quiet", proc, http, modbus, seconds, idle)
+        hostile = window("hostile", proc, http, modbus, seconds, idle)
+        alive = proc.poll() is None
+    finally:
+        proc.terminate()
+        try:
+            proc.wait(timeout=30)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+    ok_jitter = hostile["p99_us"] <= 1.10 * quiet["p99_us"]
+    ok_modbus = hostile["modbus_over_5ms"] == 0
+    ok_rss = hostile["rss_max_mb"] <= quiet["rss_max_mb"] + 64
+    print("aims: jitter p99 within 10 %% of quiet: %s (%.1f vs %.1f us); every new Modbus client within 5 ms: %s; "
+          "resident memory within 64 MB of quiet: %s (%.1f vs %.1f MB); PLC still running: %s"
+          % ("met" if ok_jitter else "NOT met", hostile["p99_us"], quiet["p99_us"], "met" if ok_modbus else "NOT met",
+             "met" if ok_rss else "NOT met", hostile["rss_max_mb"], quiet["rss_max_mb"], "yes" if alive else "NO"))
+
+
+if __name__ == "__main__":
+    main()
