@@ -46,3 +46,9 @@ test('project files: named from their common folder; the main file is the one no
   const byLine = errorsByLine([{ where: { file: '/tmp/x/table.yaml', line: 3, col: 1 }, message: 'm' }, { where: null, message: 'n' }], 'table.yaml');
   assert.deepEqual([...byLine.keys()], [3]);
 });
+
+test('a tag with hmi: none is named for who sees it: engineers only', async () => {
+  const { ACCESS_WORDS, tagMatches } = await import('../src/lib/tag_filter.js');
+  assert.equal(ACCESS_WORDS.none, 'engineers only (hmi: none)');
+  assert.ok(tagMatches({ name: 'sw', type: 'BOOL', access: 'none' }, 'engineers', 'TRUE'));
+});

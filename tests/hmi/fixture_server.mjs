@@ -128,7 +128,7 @@ export async function startFixture({ port = 0, users = {}, distDir = DIST } = {}
     const t = now();
     const hist = (scale) => ({ bounds_ns: [1e3, 2e3, 5e3, 1e4, 2e4, 5e4, 1e5, 2e5, 5e5], counts: [0, Math.round(t * 800 * scale), Math.round(t * 160 * scale), Math.round(t * 30 * scale), Math.round(t * 8 * scale), Math.round(t * scale), Math.round(t * 0.1 * scale), 1, 0, 0] });
     return {
-      runtime: { version: '0.1.0', project_file: '/srv/plc/projects/bottle_line/bottle_line.yaml', program: 'bottle_line', program_version: '1.0.1', project_version: 3, uptime_s: t + 7260, store: { state: 'ok' }, modbus: '127.0.0.1:5020' },
+      runtime: { version: '0.1.0', project_file: '/srv/plc/projects/bottle_line/bottle_line.yaml', program: st.program || 'bottle_line', program_version: '1.0.1', project_version: 3, uptime_s: t + 7260, store: { state: 'ok' }, modbus: '127.0.0.1:5020' },
       tasks: [
         { name: 'servo', period_ns: 1e6, priority: 80, cpu: 1, state: 'running', scans: Math.floor(t * 1000) + 7260000, overruns: 2, watchdog_trips: 0,
           exec: { last_ns: 41200, min_ns: 28100, max_ns: 212000, mean_ns: 39800, p99_ns: 88000, histogram: { bounds_ns: [2e4, 5e4, 1e5, 2e5, 5e5], counts: [Math.round(t * 20), Math.round(t * 950), Math.round(t * 25), Math.round(t * 2), 1] } }, jitter: { min_ns: 1200, max_ns: 187000, p99_ns: 14200, histogram: hist(1) } },

@@ -273,6 +273,37 @@ test('events: newest first, following new ones, filtered by kind', async () => {
   await page.close();
 });
 
+test('layout: a long project name and a long event message stay inside their boxes', async () => {
+  fixture.state.program = 'bottle_line_with_a_name_far_longer_than_any_column_of_the_overview_has_room_for';
+  try {
+    const page = await open('overview');
+    const project = page.locator('.runtime .stat', { hasText: 'Project' }).locator('dd');
+    await project.filter({ hasText: 'far_longer' }).waitFor();
+    const running = page.locator('.runtime .stat', { hasText: 'Running for' });
+    const a = await project.boundingBox();
+    const b = await running.boundingBox();
+    const overlap = !(a.x + a.width <= b.x || b.x + b.width <= a.x || a.y + a.height <= b.y || b.y + b.height <= a.y);
+    assert.ok(!overlap, `the project name ${JSON.stringify(a)} overlaps "Running for" ${JSON.stringify(b)}`);
+    // The name is wrapped inside its box, not cut or spilled.
+    assert.ok(await project.evaluate((e) => e.scrollWidth <= e.clientWidth + 1), 'the project name fits its box');
+    await page.close();
+  } finally {
+    delete fixture.state.program;
+  }
+  const long = `reload refused: ${'project.yaml:12:7: unknown block type ADDD; '.repeat(12)}`;
+  fixture.state.events.push({ id: fixture.state.events.length + 1, time_ns: Date.now() * 1e6, kind: 'reload-failed', task: null, message: long, scan: null });
+  const id = fixture.state.events.length;
+  const page = await open('events');
+  const cell = page.locator(`#events-table tr[data-id="${id}"] td[data-label="What"]`);
+  await cell.waitFor();
+  const wrap = await page.locator('.table-wrap').boundingBox();
+  const box = await cell.boundingBox();
+  assert.ok(box.x + box.width <= wrap.x + wrap.width + 1, `the message ends at ${box.x + box.width}, past the table's right edge ${wrap.x + wrap.width}`);
+  assert.ok(await page.locator('.table-wrap').evaluate((e) => e.scrollWidth <= e.clientWidth + 1), 'no sideways scrolling to read it');
+  assert.match(await cell.innerText(), /unknown block type ADDD; $/m);
+  await page.close();
+});
+
 test('project: a bad upload shows its error at its line; a good one loads with the change report; rollback', async () => {
   const page = await open('project');
   assert.equal(await page.getByRole('button', { name: 'Roll back to this' }).first().isDisabled(), true);

@@ -1,7 +1,9 @@
 // The Tags page's filter: every word typed must appear in the tag's name,
 // type, unit, task, access, description or shown value. Pure (test/lists.test.mjs).
 
-export const ACCESS_WORDS = { readwrite: 'read & write', read: 'read only', none: 'not shown' };
+// hmi: none is hidden from every reader but an engineer (docs/http-api.md,
+// "Who sees what"): a page that shows such a tag is an engineer's.
+export const ACCESS_WORDS = { readwrite: 'read & write', read: 'read only', none: 'engineers only (hmi: none)' };
 
 export function tagMatches(t, q, value) {
   if (!q) return true;
