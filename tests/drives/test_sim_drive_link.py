@@ -11,6 +11,8 @@ Checked (issue 22):
 - link back: the drive's first command is that Quick stop; it makes 11 and
   12 (ramp, Switch on disabled) and stays there, motionless, however long,
   until a new enable (enable FALSE, then TRUE) walks it up again (2, 3, 4);
+- the statusword group's `_cycles` counts the scans its values are old while
+  the drive is silent, and is back to 0..2 when it answers again;
 - no target step at any time: the drive itself measures the largest change
   of its target position 607Ah between two of its cycles in Operation
   enabled (the first against the actual position): at most what the
@@ -55,6 +57,10 @@ def main():
     def flags():
         return hmi.read_discrete_inputs(0, 2, slave=1).bits[:2]  # ready, link
 
+    def sw_cycles():
+        hi, lo = reg(5, 2)
+        return (hi << 16) | lo
+
     def plc_target():
         hi, lo = reg(2, 2)
         v = (hi << 16) | lo
@@ -84,6 +90,8 @@ def main():
     check(drive.status()["transitions"][-3:] == [2, 3, 4], "the drive made 2, 3, 4")
     wait("the axis moves along the cosine past 0.8 rad", lambda: drive.status()["position"] > 0.8)
 
+    wait("sw_cycles 0: a scan shows the reply to its own cycle's request", lambda: sw_cycles() == 0)
+
     # --- link lost ---
     drive.ok("silent on")
     wait("the block sees the link lost (link_ok FALSE)", lambda: not flags()[1])
@@ -104,10 +112,15 @@ def main():
             frozen, st["target"])
     drive_cycles_pass(300, unchanged_target)
     check(True, "nothing was written to the drive while the link was down")
+    # 300 drive cycles are 30 of the task's 10 ms scans: the statusword shown
+    # is that many scans old, and sw_cycles says so.
+    n = sw_cycles()
+    check(n >= 20, "sw_cycles counts the scans since the last reply's request: %d" % n)
 
     # --- link back ---
     drive.ok("silent off")
     wait("the link returns", lambda: flags()[1])
+    wait("sw_cycles back to a reply of the last scans", lambda: sw_cycles() <= 2)
     wait("the drive quick stops and ends in Switch on disabled",
          lambda: drive.status()["state"] == "Switch on disabled")
     t = drive.status()["transitions"]
