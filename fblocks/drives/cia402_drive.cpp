@@ -34,7 +34,7 @@ enum : int {
 };
 
 // Parameter indices (declaration order below).
-enum : int { kPCounts = 0, kPTorqueScale, kPIdle, kPTimeout, kPFeWindow, kPFeTime };
+enum : int { kPCounts = 0, kPTorqueScale, kPIdle, kPTimeout, kPFeWindow, kPFeTime, kPDisableStop, kPLinkLostStop };
 
 struct DriveConfig {
   double counts_per_unit = 1;
@@ -43,11 +43,15 @@ struct DriveConfig {
   double fe_window = 0;  // 0 = no following error supervision
   double fe_time_s = 0;
   Goal idle = Goal::kSwitchOnDisabled;
+  Stop disable = Stop::kQuickStop;
+  Stop link_lost = Stop::kQuickStop;
 };
 
 MasterConfig master_config(const DriveConfig& c) {
   MasterConfig m;
   m.idle = c.idle;
+  m.disable = c.disable;
+  m.link_lost = c.link_lost;
   m.transition_timeout_ns = std::llround(c.timeout_s * 1e9);
   return m;
 }
@@ -97,25 +101,32 @@ class Cia402Drive final : public Block {
     if (!mo.fault && mo.state != State::kUnknown) fault_code_ = 0;
     if (mo.fault_event) raise(ctx, EventKind::DriverFault, "CIA402_DRIVE: drive fault (statusword: fault reaction active or fault)", error_code);
     if (mo.recovered_event) raise(ctx, EventKind::Info, "CIA402_DRIVE: drive fault cleared (the drive left Fault)", mi.statusword);
+    if (mo.link_lost_event)
+      raise(ctx, EventKind::DriverFault,
+            "CIA402_DRIVE: link lost (link_ok FALSE): stop commanded, targets held; a new enable is needed", mi.statusword);
     if (mo.timeout_event)
       raise(ctx, EventKind::DriverFault,
             "CIA402_DRIVE: state transition or mode change not completed within transition_timeout", mi.statusword);
 
     // Targets. Position targets follow the actual position except while the
-    // drive runs in the requested position mode, so enabling (or switching
-    // into) cyclic synchronous position never makes the drive jump to a
-    // stale target; velocity and torque targets are 0 outside their modes.
+    // drive runs in the requested position mode and the goal is Operation
+    // enabled, so enabling (or switching into) cyclic synchronous position,
+    // or stopping, never makes the drive jump to a stale target; velocity and
+    // torque targets are 0 outside their modes. While the link is down the
+    // actual position is stale (or a read group's safe value): the target
+    // last commanded is held, never one computed from it.
     const double k = c_.counts_per_unit;
     const std::int32_t actual = in<std::int32_t>(kPositionActual);
     const double position = actual / k;
-    const bool enabled = mo.state == State::kOperationEnabled;
+    const bool enabled = mo.state == State::kOperationEnabled && mo.run;
     const bool pos_mode = enabled && mo.in_mode && is_position_mode(mi.mode);
     const bool vel_mode = enabled && is_velocity_mode(mi.mode);
     const bool trq_mode = enabled && is_torque_mode(mi.mode);
     const double xs = in<double>(kPositionSet), vs = in<double>(kVelocitySet);
     out<std::uint16_t>(kControlword, mo.controlword);
     write_mode(kModesOfOperation, mi.mode);
-    out<std::int32_t>(kTargetPosition, pos_mode ? saturate<std::int32_t>(xs * k) : actual);
+    if (mi.link_ok) target_ = pos_mode ? saturate<std::int32_t>(xs * k) : actual;
+    out<std::int32_t>(kTargetPosition, target_);
     out<std::int32_t>(kTargetVelocity, vel_mode ? saturate<std::int32_t>(vs * k) : 0);
     out<std::int32_t>(kVelocityOffset, pos_mode ? saturate<std::int32_t>(vs * k) : 0);
     out<std::int16_t>(kTargetTorque, trq_mode ? saturate<std::int16_t>(in<double>(kTorqueSet) * c_.torque_scale) : 0);
@@ -175,6 +186,7 @@ class Cia402Drive final : public Block {
   IecType mode_type_;
   Master m_;
   std::uint16_t fault_code_ = 0;
+  std::int32_t target_ = 0;  // the target position last commanded (held while the link is down)
   bool fe_outside_ = false, fe_exceeded_ = false;
   std::int64_t fe_since_ = 0;
 };
@@ -189,6 +201,9 @@ std::unique_ptr<Block> make_cia402(BlockSetup& s) {
   c.fe_time_s = motion::ctl::real_param(s, "following_error_time", &ok);
   const long long idle = motion::ctl::int_param(s, "idle_state", &ok);
   c.idle = idle == 1 ? Goal::kReadyToSwitchOn : idle == 2 ? Goal::kSwitchedOn : Goal::kSwitchOnDisabled;
+  const long long disable = motion::ctl::int_param(s, "disable_stop", &ok);
+  c.disable = disable == 1 ? Stop::kShutdown : disable == 2 ? Stop::kDirect : Stop::kQuickStop;
+  c.link_lost = motion::ctl::int_param(s, "link_lost_stop", &ok) == 1 ? Stop::kDirect : Stop::kQuickStop;
   if (ok && !(c.counts_per_unit > 0)) {
     s.error(s.type().name + ": counts_per_unit must be greater than 0");
     ok = false;
@@ -214,8 +229,10 @@ void register_cia402_drive(BlockRegistry& r) {
       "disabled, 2 Ready to switch on, 3 Switched on, 4 Operation enabled, 5 Quick stop active, 6 Fault "
       "reaction active, 7 Fault) and writes the controlword 6040h command that moves the drive one transition "
       "per scan towards what the inputs ask: enable TRUE -> Operation enabled (Shutdown 16#06, Switch on "
-      "16#07, Enable operation 16#0F); enable FALSE -> idle_state (Disable operation, Shutdown or Disable "
-      "voltage 16#00); quick_stop TRUE -> Quick stop 16#02 (then the drive goes to Switch on disabled); a "
+      "16#07, Enable operation 16#0F); enable FALSE -> idle_state, leaving Operation enabled as disable_stop says "
+      "(default Quick stop 16#02, held until the drive reports it stopped, so its 605Ah ramp acts; 1 Shutdown or "
+      "Disable operation; 2 the direct command, Disable voltage 16#00 coasting towards idle_state 0); "
+      "quick_stop TRUE -> Quick stop 16#02 (then the drive goes to Switch on disabled); a "
       "rising edge of reset in Fault -> Fault reset (bit 7 rises after a scan with it low, and stays high until "
       "the drive leaves Fault or the timeout ends). modes_of_operation (6060h) = mode; in_mode when the display "
       "(6061h) equals it. Targets in counts (x counts_per_unit): in a position mode (1, 7, 8 = CSP) while "
@@ -225,9 +242,14 @@ void register_cia402_drive(BlockRegistry& r) {
       "torque_set x torque_scale (0.1 % of rated torque); else 0. following_error = position_set - position in "
       "a position mode, following_error_exceeded when it stays outside following_error_window for "
       "following_error_time. timeout when a transition or mode change has not completed within "
-      "transition_timeout. link_ok FALSE (stale bus data): state -1, the controlword is held, timers restart. "
-      "Events: driver-fault on entering a fault (value: error code 603Fh), on a timeout and on the following "
-      "error window; info when the drive leaves Fault. The mode pins are ANY_INT (default SINT, as 6060h). "
+      "transition_timeout. link_ok (required: wire the bus's quality flag) FALSE: state -1, the controlword is "
+      "Quick stop 16#02 (link_lost_stop 1: Disable voltage 16#00), target_position holds the value last commanded, "
+      "velocity and torque targets 0, timers restart; after the link returns the drive is stopped the same way "
+      "until enable has been FALSE with link_ok TRUE (a new enable); a drive found in Operation enabled at the "
+      "first statusword is treated the same. "
+      "Events: driver-fault on entering a fault (value: error code 603Fh), on a link loss, on a timeout and on "
+      "the following error window; info when the drive leaves Fault. The mode pins are ANY_INT (default SINT, "
+      "as 6060h). "
       "See docs/drives.md.";
   t.reference =
       "CiA 402-2 / IEC 61800-7-201 (profile type 1): PDS finite state automaton and its transitions 0-16, "
@@ -242,7 +264,8 @@ void register_cia402_drive(BlockRegistry& r) {
       input("velocity_set", IecType::LREAL).unit("unit/s")
           .doc("velocity set point (velocity modes) or feed-forward (velocity_offset, position modes)"),
       input("torque_set", IecType::LREAL).doc("torque set point in torque modes (x torque_scale)"),
-      input("link_ok", IecType::BOOL).init("TRUE").doc("FALSE: the drive's values are stale (bus fault)"),
+      input("link_ok", IecType::BOOL).required()
+          .doc("the bus's quality flag for the drive's values (e.g. a request group's _ok); FALSE: stale, the drive is stopped"),
       input("statusword", IecType::UINT).doc("statusword 6041h"),
       input("modes_display", TypeClass::ANY_INT).doc("modes of operation display 6061h"),
       input("position_actual", IecType::DINT).unit("count").doc("position actual value 6064h"),
@@ -281,6 +304,11 @@ void register_cia402_drive(BlockRegistry& r) {
           .doc("following error window (as 6065h); 0 = not supervised"),
       parameter("following_error_time", IecType::LREAL).init("0").min(0.0).unit("s").tunable()
           .doc("time outside the window before following_error_exceeded (as 6066h)"),
+      parameter("disable_stop", IecType::INT).init("0").min(0.0).max(2.0)
+          .doc("how enable FALSE leaves Operation enabled: 0 Quick stop (605Ah ramp), 1 Shutdown / Disable operation "
+               "(605Bh / 605Ch), 2 the direct command (idle_state 0: Disable voltage, the motor coasts)"),
+      parameter("link_lost_stop", IecType::INT).init("0").min(0.0).max(1.0)
+          .doc("the command while link_ok is FALSE and until a new enable: 0 Quick stop, 1 Disable voltage (coasts)"),
   };
   t.create = make_cia402;
   r.add(std::move(t));

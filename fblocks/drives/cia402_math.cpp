@@ -120,7 +120,7 @@ std::uint16_t holding_command(int r) noexcept {
 
 }  // namespace
 
-std::uint16_t command_for(State s, Goal goal, bool reset) noexcept {
+std::uint16_t command_for(State s, Goal goal, bool reset, Stop stop, bool stopped) noexcept {
   if (s == State::kFault) return reset ? cw::kFaultResetCmd : cw::kDisableVoltage;  // 15 on the edge
   if (goal == Goal::kQuickStop) return cw::kQuickStopCmd;  // 7, 10, 11; then 12 by the drive
   const int want = rank(goal);
@@ -137,11 +137,23 @@ std::uint16_t command_for(State s, Goal goal, bool reset) noexcept {
     case State::kSwitchedOn:
       return holding_command(want);                            // 4, hold, 6, 10
     case State::kOperationEnabled:
-      return holding_command(want);                            // hold, 5, 8, 9
+      if (want == 3) return cw::kEnableOperationCmd;           // hold
+      // Leaving Operation enabled: the drive's ramps act unless the project
+      // asked for the direct command (9 coasts the motor).
+      switch (stop) {
+        case Stop::kQuickStop: return cw::kQuickStopCmd;       // 11 (605Ah)
+        case Stop::kShutdown: return want == 2 ? cw::kDisableOperation : cw::kShutdown;  // 5 (605Ch), 8 (605Bh)
+        case Stop::kDirect: return holding_command(want);      // 5, 8, 9
+      }
+      return cw::kQuickStopCmd;
     case State::kQuickStopActive:
       // 16 where the drive's quick stop option code (605Ah = 5..8) keeps it
       // here; with codes 0..4 it goes to Switch on disabled itself (12).
-      return want == 3 ? cw::kEnableOperationCmd : cw::kDisableVoltage;
+      if (want == 3) return cw::kEnableOperationCmd;
+      // Disable voltage here (12) would cut the ramp short and let the motor
+      // coast: the quick stop is held until the drive reports it stopped
+      // (statusword bit 10 in Quick stop active).
+      return stopped ? cw::kDisableVoltage : cw::kQuickStopCmd;
     case State::kFault:
       break;
   }
@@ -169,19 +181,34 @@ MasterOutputs Master::step(const MasterInputs& in, std::int64_t now_ns) noexcept
     since_ns_ = now_ns;
   }
   if (!in.link_ok) {
-    // Nothing is known of the drive: hold the command (it does not get
-    // there anyway) and restart the transition timer when the link returns.
-    o.controlword = last_cw_;
+    // Nothing is known of the drive. It must not run on with what it had:
+    // the link-loss command (Quick stop, or Disable voltage when the project
+    // chose it) goes out with every write that still reaches the drive, and
+    // is the first command it gets when the link returns. Operation resumes
+    // only after enable has been FALSE with the link up (a new enable).
+    o.link_lost_event = link_prev_;
+    link_prev_ = false;
+    // Before the link was first up this is the start (no reply yet), not a loss.
+    link_lost_ = link_lost_ || ever_up_;
+    o.controlword = last_cw_ = c_.link_lost == Stop::kDirect ? cw::kDisableVoltage : cw::kQuickStopCmd;
     o.state = State::kUnknown;
     o.fault = was_fault_;
     o.busy = true;
+    o.link_lost = true;
     last_state_ = State::kUnknown;
     since_ns_ = now_ns;
     timed_out_ = false;
     reset_pending_ = false;
     return o;
   }
+  link_prev_ = true;
   const State s = decode_statusword(in.statusword);
+  // A drive already in Operation enabled (or stopping in Quick stop active)
+  // at the first statusword was not enabled by this master (a restarted
+  // PLC): as after a link loss, it is stopped and needs a new enable.
+  if (!ever_up_ && (s == State::kOperationEnabled || s == State::kQuickStopActive)) link_lost_ = true;
+  ever_up_ = true;
+  if (link_lost_ && !in.enable) link_lost_ = false;  // the next rising enable is a new one
   const bool fault = s == State::kFault || s == State::kFaultReactionActive;
   if (fault && !was_fault_) o.fault_event = true;
   if (!fault && was_fault_ && s != State::kUnknown) o.recovered_event = true;
@@ -189,12 +216,20 @@ MasterOutputs Master::step(const MasterInputs& in, std::int64_t now_ns) noexcept
   if (edge && fault) reset_pending_ = true;
   if (!fault) reset_pending_ = false;
 
-  Goal goal = in.quick_stop ? Goal::kQuickStop : in.enable ? Goal::kOperationEnabled : c_.idle;
+  Goal goal = in.enable ? Goal::kOperationEnabled : c_.idle;
+  Stop stop = c_.disable;
+  if (in.quick_stop) {
+    goal = Goal::kQuickStop;
+  } else if (link_lost_) {
+    goal = c_.link_lost == Stop::kDirect ? Goal::kSwitchOnDisabled : Goal::kQuickStop;
+    stop = c_.link_lost;
+  }
   // The fault reset is the 0 -> 1 edge of bit 7: a pending reset is given
   // only once a scan has already seen the fault (and written bit 7 = 0).
   const bool reset_now = reset_pending_ && s == State::kFault &&
                          (last_state_ == State::kFault || last_state_ == State::kFaultReactionActive);
-  const std::uint16_t c = command_for(s, goal, reset_now);
+  const bool stopped = (in.statusword & sw::kTargetReached) != 0;
+  const std::uint16_t c = command_for(s, goal, reset_now, stop, stopped);
 
   if (s != last_state_ || c != last_cw_ || in.mode != last_mode_) {
     since_ns_ = now_ns;
@@ -206,6 +241,8 @@ MasterOutputs Master::step(const MasterInputs& in, std::int64_t now_ns) noexcept
 
   o.controlword = c;
   o.state = s;
+  o.run = goal == Goal::kOperationEnabled;
+  o.link_lost = link_lost_;
   o.fault = fault;
   o.in_mode = in.mode_display == in.mode;
   o.operation_enabled = s == State::kOperationEnabled && o.in_mode;
@@ -218,7 +255,7 @@ MasterOutputs Master::step(const MasterInputs& in, std::int64_t now_ns) noexcept
     // reset input edge is a new edge for the drive too.
     if (reset_pending_) {
       reset_pending_ = false;
-      o.controlword = last_cw_ = command_for(s, goal, false);
+      o.controlword = last_cw_ = command_for(s, goal, false, stop, stopped);
     }
   }
   o.timeout = timed_out_;

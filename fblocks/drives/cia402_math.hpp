@@ -106,12 +106,27 @@ enum class Goal : std::uint8_t {
   kQuickStop,          // quick_stop TRUE: quick stop, then switch on disabled
 };
 
+// How a drive leaves Operation enabled for a goal below it (enable FALSE, or
+// the link-loss reaction). The drive's own option codes decide the ramp of
+// each command: 605Ah for Quick stop, 605Bh for Shutdown, 605Ch for Disable
+// operation; Disable voltage switches the power stage off (the motor coasts).
+enum class Stop : std::uint8_t {
+  kQuickStop,       // Quick stop (11), held while the drive ramps (statusword
+                    // bit 10 in Quick stop active: stopped), then the goal
+  kShutdown,        // Disable operation (5) towards Switched on, else Shutdown (8)
+  kDirect,          // the goal's own command: 5, 8, or Disable voltage (9)
+                    // towards Switch on disabled, where the motor coasts
+};
+
 // The controlword command that moves a drive in `s` one transition towards
 // `goal` (the commands of the command coding table, one step per scan, so
 // every transition is visible in the statusword). In Fault the command is
 // Disable voltage (bit 7 = 0, ready for a reset edge) unless `reset` is TRUE,
-// which gives the fault reset command (bit 7 = 1).
-std::uint16_t command_for(State s, Goal goal, bool reset) noexcept;
+// which gives the fault reset command (bit 7 = 1). `stop` chooses how
+// Operation enabled is left for a goal below it; `stopped` is the
+// statusword's bit 10 (in Quick stop active: the quick stop ramp is done).
+std::uint16_t command_for(State s, Goal goal, bool reset, Stop stop = Stop::kQuickStop,
+                          bool stopped = true) noexcept;
 
 // TRUE when a drive in `s` has reached `goal` (Quick stop active counts as
 // reached for kQuickStop and kSwitchOnDisabled: a drive with quick stop
@@ -132,6 +147,12 @@ struct MasterInputs {
 
 struct MasterConfig {
   Goal idle = Goal::kSwitchOnDisabled;   // where enable FALSE leads
+  Stop disable = Stop::kQuickStop;       // how enable FALSE leaves Operation enabled
+  // The command while the link is down, and the goal after it returns until
+  // enable has been seen FALSE: kQuickStop (Quick stop, 0002h) or kDirect
+  // (Disable voltage 0000h, the motor coasts); kShutdown is not offered here
+  // (from Switch on disabled it would be transition 2, a step up).
+  Stop link_lost = Stop::kQuickStop;
   std::int64_t transition_timeout_ns = 1'000'000'000;
 };
 
@@ -148,6 +169,11 @@ struct MasterOutputs {
   bool fault_event = false;        // entered Fault reaction active / Fault
   bool recovered_event = false;    // left Fault for a non-fault state
   bool timeout_event = false;      // timeout became TRUE
+  // The program's targets may reach the drive: the goal is Operation enabled
+  // (enable TRUE, no quick stop, no link loss waiting for a new enable).
+  bool run = false;
+  bool link_lost = false;          // the link is down, or it returned and enable has not been FALSE since
+  bool link_lost_event = false;    // link_ok fell (this scan)
 };
 
 class Master {
@@ -164,6 +190,9 @@ class Master {
   bool reset_pending_ = false;  // a reset edge not yet answered by the drive
   bool was_fault_ = false;
   bool timed_out_ = false;
+  bool link_lost_ = false;      // latched at a link loss until enable is seen FALSE with the link up
+  bool link_prev_ = false;      // link_ok last scan (the loss event)
+  bool ever_up_ = false;        // the link has been up (a later FALSE is a loss, not the start)
   State last_state_ = State::kUnknown;
   std::uint16_t last_cw_ = 0;
   int last_mode_ = 0;

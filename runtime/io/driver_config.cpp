@@ -123,13 +123,20 @@ std::int64_t DriverConfig::duration_at(const ConfigNode& n, const std::string& w
 std::int64_t DriverConfig::duration_ns(const std::string& key, std::int64_t def, std::int64_t min, std::int64_t max) {
   const ConfigNode* n = cfg_.find(key);
   if (!n) return def;
-  std::int64_t v = duration_at(*n, key);
-  if (v < 0) return def;
-  if (v < min || v > max) {
-    error(n->loc, key + " " + n->scalar + " is outside " + format_duration(min) + " .. " + format_duration(max));
+  // Parsed here, not by duration_at: its -1 for "not a duration" would make
+  // a negative duration look like no value and pass silently.
+  std::string err;
+  const auto v = n->is_scalar() ? parse_duration_ns(n->scalar, &err) : std::nullopt;
+  if (!v) {
+    error(n->loc, key + ": '" + n->scalar + "' is not a duration" + (err.empty() ? "" : " (" + err + ")"));
     return def;
   }
-  return v;
+  if (*v < min || *v > max) {
+    error(n->loc, key + " " + n->scalar + (*v < 0 ? " is negative; it must be within " : " is outside ") +
+                      format_duration(min) + " .. " + format_duration(max));
+    return def;
+  }
+  return *v;
 }
 
 bool DriverConfig::boolean(const std::string& key, bool def) {

@@ -2,7 +2,8 @@
 // IEC 61800-7-201, the finite state automaton figure), written from the
 // standard independently of fblocks/drives/cia402_math, as a drive would run
 // it: one transition per drive cycle, decided from the controlword, with the
-// automatic transitions 0, 1, 12 (quick stop option codes 0..4), 13 and 14.
+// automatic transitions 0, 1, 12 (quick stop option codes 0..4), 13 and 14;
+// in Quick stop active bit 10 (target reached) tells the ramp is done.
 // It logs every transition it makes, so a test can check that the block
 // walked it through each arrow of the figure.
 #pragma once
@@ -97,6 +98,7 @@ class DriveModel {
       s |= 0x20;  // quick stop bit (low active)
     if (state_ == State::kSwitchedOn || state_ == State::kOperationEnabled || state_ == State::kQuickStopActive)
       s |= 0x10;  // voltage enabled
+    if (state_ == State::kQuickStopActive && timer_ <= 0) s |= 0x0400;  // target reached: the quick stop ramp is done
     return s;
   }
   State state() const { return state_; }

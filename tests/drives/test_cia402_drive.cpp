@@ -12,6 +12,7 @@
 
 #include "fblocks/library.hpp"
 #include "runtime/core/block_harness.hpp"
+#include "runtime/project/loader.hpp"
 #include "tests/drives/cia402_drive_model.hpp"
 
 namespace syncplc::drives::test {
@@ -34,6 +35,7 @@ struct Rig {
   explicit Rig(BlockHarness::Options o = {}, DriveModel::Options mo = {})
       : b(builtin_blocks(), "CIA402_DRIVE", std::move(o)), d(mo) {
     EXPECT_TRUE(b.ok()) << errors_of(b);
+    b.set<bool>("link_ok", true);
   }
   void scan() {
     b.set<std::uint16_t>("statusword", d.statusword());
@@ -86,6 +88,8 @@ TEST(Cia402Drive, InvalidParametersFailAtLoad) {
            {{{"transition_timeout", "0"}}, "transition_timeout must be greater than 0"},
            {{{"idle_state", "3"}}, "idle_state must be in"},
            {{{"following_error_window", "-1"}}, "following_error_window must be >="},
+           {{{"disable_stop", "3"}}, "disable_stop must be in"},
+           {{{"link_lost_stop", "2"}}, "link_lost_stop must be in"},
        }) {
     BlockHarness h(builtin_blocks(), "CIA402_DRIVE", opts(p));
     EXPECT_FALSE(h.ok()) << what;
@@ -93,14 +97,39 @@ TEST(Cia402Drive, InvalidParametersFailAtLoad) {
   }
 }
 
+// link_ok is required: an unwired one is a load error at the block (on main
+// it defaulted to TRUE, failing open); a constant given on purpose loads.
+TEST(Cia402Drive, AnUnwiredLinkOkIsALoadError) {
+  const std::string head = R"(
+tasks: [{name: servo, period: 1ms}]
+tags: [{name: sw, type: UINT}]
+blocks:
+  - name: axis1
+    type: CIA402_DRIVE
+)";
+  LoadOptions lo;
+  lo.blocks = &builtin_blocks();
+  auto r = load_project_text(head + "connections: [sw -> axis1.statusword]\n", "p.yaml", lo);
+  std::string all;
+  for (const auto& d : r.diagnostics.list()) all += d.text() + "\n";
+  EXPECT_FALSE(r.program);
+  EXPECT_NE(all.find("p.yaml:5:5"), std::string::npos) << all;
+  EXPECT_NE(all.find("input axis1.link_ok must be connected or given a value in inputs:"), std::string::npos) << all;
+  auto ok = load_project_text(head + "    inputs: {link_ok: TRUE}\nconnections: [sw -> axis1.statusword]\n", "p.yaml", lo);
+  for (const auto& d : ok.diagnostics.list()) ADD_FAILURE() << d.text();
+  EXPECT_TRUE(ok.program);
+}
+
 // The block walks the drive model through every arrow of the figure; the
 // model logs the numbers of the transitions it made.
 TEST(Cia402Drive, EveryTransitionOfThePdsFsa) {
   std::set<int> seen;
-  auto run = [&](int idle, int qs_option, auto&& script) {
+  // disable_stop 1 (Shutdown / Disable operation) and 2 (the direct
+  // command) for 5, 8 and 9; the default (Quick stop) is tested below.
+  auto run = [&](int idle, int qs_option, auto&& script, int disable_stop = 1) {
     DriveModel::Options mo;
     mo.quick_stop_option = qs_option;
-    Rig r(opts({{"idle_state", std::to_string(idle)}}), mo);
+    Rig r(opts({{"idle_state", std::to_string(idle)}, {"disable_stop", std::to_string(disable_stop)}}), mo);
     script(r);
     for (int n : r.d.transitions()) seen.insert(n);
   };
@@ -144,7 +173,7 @@ TEST(Cia402Drive, EveryTransitionOfThePdsFsa) {
     r.d.cycle(0x07, 8);  // Switched on
     EXPECT_TRUE(r.until(State::kSwitchOnDisabled));
     EXPECT_EQ(r.d.transitions().back(), 10);
-  });
+  }, /*disable_stop=*/2);
   // 11, 12 (quick stop option code 2: the drive ends in Switch on disabled).
   run(0, 2, [](Rig& r) {
     r.set_enable(true);
@@ -367,6 +396,7 @@ TEST(Cia402Drive, ModePinsTakeINTWhenTheInstanceIsINT) {
   o.datatype = IecType::INT;
   BlockHarness b(builtin_blocks(), "CIA402_DRIVE", o);
   ASSERT_TRUE(b.ok()) << errors_of(b);
+  b.set<bool>("link_ok", true);
   b.set<std::int16_t>("mode", 9);
   b.set<std::int16_t>("modes_display", 9);
   b.set<std::uint16_t>("statusword", 0x0627);
@@ -385,6 +415,7 @@ TEST(Cia402Drive, AModeBeyondAnyDrivesRangeIsClamped) {
   o.datatype = IecType::LINT;
   BlockHarness b(builtin_blocks(), "CIA402_DRIVE", o);
   ASSERT_TRUE(b.ok()) << errors_of(b);
+  b.set<bool>("link_ok", true);
   b.set<std::int64_t>("mode", 1'000'000'000'000LL);
   b.set<std::int64_t>("modes_display", -1'000'000'000'000LL);
   b.set<std::uint16_t>("statusword", 0x0240);
@@ -431,23 +462,119 @@ TEST(Cia402Drive, FollowingErrorWindow) {
   EXPECT_FALSE(r.b.get<bool>("following_error_exceeded"));
 }
 
-TEST(Cia402Drive, LinkLossThenARestartedDriveIsWalkedUpAgain) {
+// The link lost in Operation enabled (CSP, the axis at a set point away
+// from 0): the block commands Quick stop at once, never Enable operation, and
+// holds the target it last commanded although the actual position input now
+// shows the read group's safe value 0; back, the drive (still in Operation
+// enabled) is quick stopped and stays down until a new enable.
+TEST(Cia402Drive, LinkLossQuickStopsHoldsTheTargetAndNeedsANewEnable) {
+  Rig r(opts({{"counts_per_unit", "1000"}}));
+  r.position_counts = 5000;
+  r.b.set<double>("position_set", 5.0);
+  r.set_enable(true);
+  ASSERT_TRUE(r.until(State::kOperationEnabled));
+  r.scan();
+  ASSERT_EQ(r.b.get<std::int32_t>("target_position"), 5000);
+  ASSERT_EQ(r.b.get<std::uint16_t>("controlword"), 0x0F);
+  ASSERT_TRUE(r.b.events().empty());
+  r.b.set<bool>("link_ok", false);
+  for (int i = 0; i < 5; ++i) {
+    r.b.set<std::uint16_t>("statusword", 0);     // the read group's safe values
+    r.b.set<std::int32_t>("position_actual", 0);
+    r.b.scan();  // the bus is down: the drive sees nothing
+    EXPECT_EQ(r.state(), State::kUnknown);
+    EXPECT_FALSE(r.b.get<bool>("operation_enabled"));
+    EXPECT_EQ(r.b.get<std::uint16_t>("controlword"), 0x02) << i;  // Quick stop, not the held 000Fh
+    EXPECT_EQ(r.b.get<std::int32_t>("target_position"), 5000) << i;  // held, not the stale 0
+    EXPECT_TRUE(r.b.get<bool>("busy"));
+  }
+  ASSERT_EQ(r.b.events().size(), 1u);
+  EXPECT_EQ(r.b.events()[0].kind, EventKind::DriverFault);
+  EXPECT_NE(std::string(r.b.events()[0].message).find("link lost"), std::string::npos);
+  // Back: the drive ran on (6007h = 0) in Operation enabled.
+  r.b.set<bool>("link_ok", true);
+  r.scan();
+  EXPECT_EQ(r.b.get<std::uint16_t>("controlword"), 0x02);
+  EXPECT_EQ(r.b.get<std::int32_t>("target_position"), 5000);  // the actual position, fresh
+  ASSERT_TRUE(r.until(State::kSwitchOnDisabled));
+  for (int i = 0; i < 50; ++i) {  // enable is still TRUE: no walk up without a new one
+    r.scan();
+    ASSERT_EQ(r.state(), State::kSwitchOnDisabled);
+    ASSERT_NE(r.b.get<std::uint16_t>("controlword"), 0x06);
+  }
+  const auto t = r.d.transitions();
+  EXPECT_EQ(std::vector<int>(t.end() - 2, t.end()), (std::vector<int>{11, 12}));
+  r.set_enable(false);
+  r.scan();
+  r.set_enable(true);
+  ASSERT_TRUE(r.until(State::kOperationEnabled));
+}
+
+// A drive that restarted during the outage reports Switch on disabled: it
+// too waits for a new enable.
+TEST(Cia402Drive, LinkLossThenARestartedDriveWaitsForANewEnable) {
   Rig r;
   r.set_enable(true);
   ASSERT_TRUE(r.until(State::kOperationEnabled));
   r.b.set<bool>("link_ok", false);
-  for (int i = 0; i < 5; ++i) {
-    r.b.set<std::uint16_t>("statusword", 0);
-    r.b.scan();  // the bus is down: the drive sees nothing
-    EXPECT_EQ(r.state(), State::kUnknown);
-    EXPECT_FALSE(r.b.get<bool>("operation_enabled"));
-    EXPECT_EQ(r.b.get<std::uint16_t>("controlword"), 0x0F);  // held
-    EXPECT_TRUE(r.b.get<bool>("busy"));
-  }
+  r.b.scan();
   r.d = DriveModel();  // the drive restarted meanwhile
   r.b.set<bool>("link_ok", true);
+  ASSERT_TRUE(r.until(State::kSwitchOnDisabled));
+  for (int i = 0; i < 20; ++i) r.scan();
+  EXPECT_EQ(r.d.state(), State::kSwitchOnDisabled);
+  r.set_enable(false);
+  r.scan();
+  r.set_enable(true);
   ASSERT_TRUE(r.until(State::kOperationEnabled));
-  EXPECT_TRUE(r.b.events().empty());
+}
+
+// enable FALSE in Operation enabled: by default Quick stop (11), held while
+// the drive ramps, so its 605Ah ramp acts; never Disable voltage (9).
+TEST(Cia402Drive, DisableFromOperationEnabledLetsTheDriveRamp) {
+  Rig r;
+  r.set_enable(true);
+  ASSERT_TRUE(r.until(State::kOperationEnabled));
+  r.set_enable(false);
+  r.scan();
+  EXPECT_EQ(r.b.get<std::uint16_t>("controlword"), 0x02);
+  ASSERT_TRUE(r.until(State::kSwitchOnDisabled));
+  const auto t = r.d.transitions();
+  EXPECT_EQ(std::vector<int>(t.end() - 2, t.end()), (std::vector<int>{11, 12}));
+  EXPECT_EQ(std::count(t.begin(), t.end(), 9), 0);
+  // With quick stop option code 6 the drive stays in Quick stop active: the
+  // block holds Quick stop until the ramp is done (bit 10), then 12.
+  DriveModel::Options mo;
+  mo.quick_stop_option = 6;
+  Rig q(opts(), mo);
+  q.set_enable(true);
+  ASSERT_TRUE(q.until(State::kOperationEnabled));
+  q.set_enable(false);
+  ASSERT_TRUE(q.until(State::kQuickStopActive));
+  int held = 0;  // scans in Quick stop active with the quick stop still commanded
+  for (int i = 0; i < 20 && q.d.state() == State::kQuickStopActive; ++i) {
+    q.scan();
+    held += q.b.get<std::uint16_t>("controlword") == 0x02;
+  }
+  EXPECT_GE(held, 2);  // the model's ramp takes 3 cycles
+  EXPECT_EQ(q.d.state(), State::kSwitchOnDisabled);
+  EXPECT_EQ(q.d.transitions().back(), 12);
+}
+
+// The project may ask for coasting: disable_stop 2 with idle_state 0 is
+// Disable voltage (9); link_lost_stop 1 is Disable voltage on a link loss.
+TEST(Cia402Drive, CoastingOnlyWhenTheProjectAsks) {
+  Rig r(opts({{"disable_stop", "2"}, {"link_lost_stop", "1"}}));
+  r.set_enable(true);
+  ASSERT_TRUE(r.until(State::kOperationEnabled));
+  r.set_enable(false);
+  ASSERT_TRUE(r.until(State::kSwitchOnDisabled));
+  EXPECT_EQ(r.d.transitions().back(), 9);
+  r.set_enable(true);
+  ASSERT_TRUE(r.until(State::kOperationEnabled));
+  r.b.set<bool>("link_ok", false);
+  r.b.scan();
+  EXPECT_EQ(r.b.get<std::uint16_t>("controlword"), 0x00);
 }
 
 }  // namespace

@@ -74,10 +74,23 @@ TEST(Cia402Controlword, CommandCodingTable) {
   EXPECT_EQ(command_for(State::kReadyToSwitchOn, G::kOperationEnabled, false), 0x07);
   EXPECT_EQ(command_for(State::kSwitchedOn, G::kOperationEnabled, false), 0x0F);
   EXPECT_EQ(command_for(State::kOperationEnabled, G::kOperationEnabled, false), 0x0F);
-  // Down from Operation enabled: 5, 8, 9.
-  EXPECT_EQ(command_for(State::kOperationEnabled, G::kSwitchedOn, false), 0x07);
-  EXPECT_EQ(command_for(State::kOperationEnabled, G::kReadyToSwitchOn, false), 0x06);
-  EXPECT_EQ(command_for(State::kOperationEnabled, G::kSwitchOnDisabled, false), 0x00);
+  // Down from Operation enabled: by default Quick stop (11) whatever the
+  // goal, so the drive's 605Ah ramp acts; Stop::kShutdown gives 5 and 8
+  // (605Ch, 605Bh ramps); only Stop::kDirect gives Disable voltage (9).
+  for (G g : {G::kSwitchedOn, G::kReadyToSwitchOn, G::kSwitchOnDisabled})
+    EXPECT_EQ(command_for(State::kOperationEnabled, g, false), 0x02);
+  EXPECT_EQ(command_for(State::kOperationEnabled, G::kSwitchedOn, false, Stop::kShutdown), 0x07);
+  EXPECT_EQ(command_for(State::kOperationEnabled, G::kReadyToSwitchOn, false, Stop::kShutdown), 0x06);
+  EXPECT_EQ(command_for(State::kOperationEnabled, G::kSwitchOnDisabled, false, Stop::kShutdown), 0x06);
+  EXPECT_EQ(command_for(State::kOperationEnabled, G::kSwitchedOn, false, Stop::kDirect), 0x07);
+  EXPECT_EQ(command_for(State::kOperationEnabled, G::kReadyToSwitchOn, false, Stop::kDirect), 0x06);
+  EXPECT_EQ(command_for(State::kOperationEnabled, G::kSwitchOnDisabled, false, Stop::kDirect), 0x00);
+  // Quick stop active below Operation enabled: the quick stop is held while
+  // the drive ramps (bit 10 low), Disable voltage (12) once it stopped.
+  for (Stop st : {Stop::kQuickStop, Stop::kShutdown, Stop::kDirect}) {
+    EXPECT_EQ(command_for(State::kQuickStopActive, G::kSwitchOnDisabled, false, st, false), 0x02);
+    EXPECT_EQ(command_for(State::kQuickStopActive, G::kSwitchOnDisabled, false, st, true), 0x00);
+  }
   // 6, 7, 10 and holding.
   EXPECT_EQ(command_for(State::kSwitchedOn, G::kReadyToSwitchOn, false), 0x06);
   EXPECT_EQ(command_for(State::kSwitchedOn, G::kSwitchOnDisabled, false), 0x00);
@@ -181,20 +194,130 @@ TEST(Cia402Master, FaultWithoutResetIsNoTimeout) {
   }
 }
 
-TEST(Cia402Master, LinkDownHoldsTheCommandAndForgetsTheState) {
+// A link lost in Operation enabled: Quick stop at once (not the held 000Fh),
+// the state forgotten; after the link returns the drive is stopped until
+// enable has been FALSE with the link up, then a new enable walks it up.
+TEST(Cia402Master, LinkLossQuickStopsAndNeedsANewEnable) {
   Master m;
   MasterInputs in;
   in.enable = true;
   in.mode = in.mode_display = 8;
   in.statusword = 0x23;
   EXPECT_EQ(m.step(in, 0).controlword, 0x0F);
+  in.statusword = 0x27;
+  MasterOutputs o = m.step(in, 1'000'000);
+  EXPECT_TRUE(o.run);
+  EXPECT_FALSE(o.link_lost);
   in.link_ok = false;
   in.statusword = 0;  // stale value: must not be decoded
-  const MasterOutputs o = m.step(in, 1'000'000);
+  o = m.step(in, 2'000'000);
   EXPECT_EQ(o.state, State::kUnknown);
-  EXPECT_EQ(o.controlword, 0x0F);
+  EXPECT_EQ(o.controlword, 0x02);
   EXPECT_FALSE(o.operation_enabled);
+  EXPECT_FALSE(o.run);
+  EXPECT_TRUE(o.link_lost);
+  EXPECT_TRUE(o.link_lost_event);
   EXPECT_FALSE(o.fault_event);
+  o = m.step(in, 3'000'000);
+  EXPECT_EQ(o.controlword, 0x02);
+  EXPECT_FALSE(o.link_lost_event);  // once
+  // The link returns, the drive still in Operation enabled, enable still TRUE:
+  // Quick stop, held while the drive ramps, no Enable operation.
+  in.link_ok = true;
+  in.statusword = 0x27;
+  o = m.step(in, 4'000'000);
+  EXPECT_EQ(o.controlword, 0x02);
+  EXPECT_FALSE(o.run);
+  EXPECT_TRUE(o.link_lost);
+  in.statusword = 0x07;  // Quick stop active, ramping
+  for (std::int64_t t = 5; t < 20; ++t) {
+    o = m.step(in, t * 1'000'000);
+    ASSERT_EQ(o.controlword, 0x02) << t;
+  }
+  in.statusword = 0x40;  // the drive ended in Switch on disabled (605Ah 0..4)
+  for (std::int64_t t = 20; t < 40; ++t) {
+    o = m.step(in, t * 1'000'000);
+    ASSERT_EQ(o.controlword, 0x02) << t;  // never Shutdown: enable is not new
+    ASSERT_FALSE(o.busy);
+  }
+  in.enable = false;
+  o = m.step(in, 40'000'000);
+  EXPECT_FALSE(o.link_lost);
+  EXPECT_EQ(o.controlword, 0x00);
+  in.enable = true;  // the new enable
+  o = m.step(in, 41'000'000);
+  EXPECT_TRUE(o.run);
+  EXPECT_EQ(o.controlword, 0x06);
+}
+
+TEST(Cia402Master, LinkLossCanCoastWhenTheProjectAsks) {
+  MasterConfig c;
+  c.link_lost = Stop::kDirect;
+  Master m(c);
+  MasterInputs in;
+  in.enable = true;
+  in.mode = in.mode_display = 8;
+  in.statusword = 0x27;
+  m.step(in, 0);
+  in.link_ok = false;
+  EXPECT_EQ(m.step(in, 1'000'000).controlword, 0x00);
+  in.link_ok = true;
+  const MasterOutputs o = m.step(in, 2'000'000);
+  EXPECT_EQ(o.controlword, 0x00);  // 9
+  EXPECT_FALSE(o.run);
+}
+
+// Before the link is first up is the start, not a loss: enable TRUE from the
+// start walks the drive up once the first statusword arrives.
+TEST(Cia402Master, NoReplyYetIsNoLinkLoss) {
+  Master m;
+  MasterInputs in;
+  in.enable = true;
+  in.link_ok = false;
+  MasterOutputs o = m.step(in, 0);
+  EXPECT_FALSE(o.link_lost_event);
+  EXPECT_FALSE(o.run);
+  in.link_ok = true;
+  in.statusword = 0x40;
+  o = m.step(in, 1'000'000);
+  EXPECT_TRUE(o.run);
+  EXPECT_EQ(o.controlword, 0x06);
+}
+
+// A drive found in Operation enabled at the first statusword (a restarted
+// PLC, a drive left running): stopped, and a new enable is needed.
+TEST(Cia402Master, ADriveFoundRunningAtTheStartIsStopped) {
+  Master m;
+  MasterInputs in;
+  in.enable = true;
+  in.mode = in.mode_display = 8;
+  in.statusword = 0x27;
+  const MasterOutputs o = m.step(in, 0);
+  EXPECT_EQ(o.controlword, 0x02);
+  EXPECT_FALSE(o.run);
+  EXPECT_TRUE(o.link_lost);
+}
+
+// enable FALSE in Operation enabled: Quick stop by default, held until the
+// drive reports the ramp done, never Disable voltage first.
+TEST(Cia402Master, DisableGoesThroughQuickStopByDefault) {
+  Master m;
+  MasterInputs in;
+  in.enable = true;
+  in.mode = in.mode_display = 8;
+  in.statusword = 0x40;
+  m.step(in, 0);
+  in.statusword = 0x27;
+  in.enable = false;
+  m.step(in, 0);
+  MasterOutputs o = m.step(in, 1'000'000);
+  EXPECT_EQ(o.controlword, 0x02);
+  in.statusword = 0x07;  // ramping
+  o = m.step(in, 2'000'000);
+  EXPECT_EQ(o.controlword, 0x02);
+  in.statusword = 0x07 | sw::kTargetReached;  // stopped (option code 5..8 keeps it here)
+  o = m.step(in, 3'000'000);
+  EXPECT_EQ(o.controlword, 0x00);  // 12
 }
 
 }  // namespace

@@ -154,6 +154,42 @@ drivers:
   EXPECT_EQ(e.size(), 2u);
 }
 
+// A negative duration is an error where it is written, never the default
+// taken silently (on main "-5ms" parsed as "no value" and passed every check).
+TEST(ModbusClientConfig, NegativeDurationsAreErrorsWhereTheyAre) {
+  auto e = loadertest::errors(R"(
+tasks: [{name: main, period: 10ms}]
+drivers:
+  - name: io
+    type: modbus_client
+    devices:
+      - name: a
+        port: 5020
+        response_timeout: -5ms
+        connect_timeout: -1s
+        reconnect_min: -100ms
+        reconnect_max: -1s
+        stale_after: -200ms
+    groups:
+      - name: w
+        function: 6
+        address: 0
+        on_change: true
+        every: -10ms
+        alive_every: -1s
+        stale_after: -1ms
+)");
+  EXPECT_THAT(e, has_error("p.yaml:8:27", "response_timeout -5ms is negative; it must be within 1ms .. 1m"));
+  EXPECT_THAT(e, has_error("p.yaml:9:26", "connect_timeout -1s is negative"));
+  EXPECT_THAT(e, has_error("p.yaml:10:24", "reconnect_min -100ms is negative"));
+  EXPECT_THAT(e, has_error("p.yaml:11:24", "reconnect_max -1s is negative"));
+  EXPECT_THAT(e, has_error("p.yaml:12:22", "stale_after -200ms is negative"));
+  EXPECT_THAT(e, has_error("p.yaml:18:16", "every -10ms is negative"));
+  EXPECT_THAT(e, has_error("p.yaml:19:22", "alive_every -1s is negative"));
+  EXPECT_THAT(e, has_error("p.yaml:20:22", "stale_after -1ms is negative"));
+  EXPECT_EQ(e.size(), 8u);
+}
+
 TEST(ModbusClientConfig, AtStopIsKeepOrSafe) {
   const std::string head = R"(
 tasks: [{name: main, period: 10ms}]

@@ -250,6 +250,77 @@ TEST(ModbusClientLatch, AReopenedDriverServesNothingOfThePreviousRun) {
   EXPECT_EQ(r.tag("err").get<std::uint16_t>(), 268);  // no reply yet
 }
 
+// Per-cycle freshness (as EtherCAT's working counter tells a frame's age):
+// g_ok says the last exchange succeeded, g_cycles how many scans old the
+// request of the values shown is: 0 for the reply to this cycle's request
+// (sent after the previous scan's hand-over), n while no newer reply came.
+TEST(ModbusClientLatch, CyclesSayHowManyScansOldTheValuesAre) {
+  Rig r(R"(
+tasks: [{name: main, period: 10ms}]
+tags:
+  - {name: v, type: "ARRAY[1..2] OF INT"}
+  - {name: ok, type: BOOL}
+  - {name: cycles, type: UDINT}
+drivers:
+  - name: io
+    type: modbus_client
+    devices: [{name: dev, port: 5020}]
+    groups: [{name: g, function: 3, address: 0, count: 2}]
+    bind: {g: v, g_ok: ok, g_cycles: cycles}
+)");
+  r.run_to(0);  // scan 0 latches (0 hand-overs so far), then hands over (1)
+  EXPECT_FALSE(r.tag("ok").get<bool>());
+  Cell v[2];
+  r.d->inject(0, 0, 5 * ms, v, 1 * ms, 1, /*cycle=*/1);  // the request after scan 0's hand-over
+  r.run_to(10 * ms);
+  EXPECT_TRUE(r.tag("ok").get<bool>());
+  EXPECT_EQ(r.tag("cycles").get<std::uint32_t>(), 0u);  // this cycle's
+  r.run_to(40 * ms);  // three scans without a newer reply (a device slower than the task)
+  EXPECT_TRUE(r.tag("ok").get<bool>()) << "ok: the last exchange succeeded";
+  EXPECT_EQ(r.tag("cycles").get<std::uint32_t>(), 3u) << "...but its values are three scans old";
+  r.d->inject(0, 0, 45 * ms, v, 41 * ms, 1, /*cycle=*/4);  // sent after scan 3's hand-over, in after scan 4's
+  r.run_to(50 * ms);
+  EXPECT_EQ(r.tag("cycles").get<std::uint32_t>(), 1u);
+}
+
+// The write gate's scan side: outputs handed over carry the connection on
+// which every reading group of the device has good values latched (0: none
+// yet, or one failed); a device without reads needs none (kAnyEpoch).
+TEST(ModbusClientLatch, OutputsCarryTheConnectionTheirReadsCameFrom) {
+  Rig r(project("hold"));
+  r.run_to(0);
+  EXPECT_EQ(r.d->handed_over_epoch(1), 0u);  // no reply yet: the device thread holds the write back
+  Cell v[2];
+  r.d->inject(0, 0, 5 * ms, v, 1 * ms, /*epoch=*/1);
+  r.run_to(10 * ms);
+  EXPECT_EQ(r.d->handed_over_epoch(1), 1u);
+  r.d->inject(0, code(ClientError::ConnectionLost), 15 * ms, nullptr, 15 * ms, 1);
+  r.run_to(20 * ms);
+  EXPECT_EQ(r.d->handed_over_epoch(1), 0u);
+  r.d->inject(0, 0, 25 * ms, v, 21 * ms, /*epoch=*/2);  // reconnected
+  r.run_to(30 * ms);
+  EXPECT_EQ(r.d->handed_over_epoch(1), 2u);
+  auto p = load_test_project(R"(
+tasks: [{name: main, period: 10ms}]
+tags: [{name: cmd, type: INT}]
+drivers:
+  - name: io
+    type: modbus_client
+    devices: [{name: dev, port: 5020}]
+    groups: [{name: w, function: 6, address: 0}]
+    bind: {w: cmd}
+)");
+  auto* d = dynamic_cast<ModbusClientDriver*>(p->drivers[0].driver.get());
+  d->set_network(false);
+  std::string err;
+  ASSERT_TRUE(p->open_drivers(&err)) << err;
+  ScanContext ctx;
+  d->latch_inputs(ctx);
+  d->write_outputs(ctx);
+  EXPECT_EQ(d->handed_over_epoch(0), GroupHandover::kAnyEpoch);
+  p->close_drivers();
+}
+
 // Function 23 reads only with its write: an unbound write side is refused
 // at open, with what to bind, instead of a group that never asks.
 TEST(ModbusClientLatch, AFunction23GroupWithoutItsWriteBoundDoesNotOpen) {

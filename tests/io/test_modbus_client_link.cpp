@@ -15,6 +15,7 @@
 #include <atomic>
 #include <chrono>
 #include <functional>
+#include <mutex>
 #include <thread>
 #include <vector>
 
@@ -369,6 +370,138 @@ TEST(ModbusClientLink, AnOnChangeGroupWritesAgainEveryAliveEvery) {
   driver.close();
 }
 
+// One request as a device saw it: the connection it came on (1, 2, ...),
+// its function code and, for FC 6, the value written.
+struct Seen {
+  int connection = 0, function = 0, value = 0;
+};
+
+// Replies to FC 3 (one register), FC 6 (echo) and FC 23 (one register read)
+// and logs every request; `drop` closes the connection after the next reply.
+struct LoggingDevice {
+  std::mutex m;
+  std::vector<Seen> log;
+  std::atomic<bool> drop{false};
+  std::atomic<int>* connections = nullptr;
+  Bytes answer(const Bytes& q) {
+    Bytes r;
+    if (q[7] == 6) r = q;
+    else r = {q[0], q[1], 0, 0, 0, 5, q[6], q[7], 2, 0x01, 0x02};
+    {
+      std::lock_guard lock(m);
+      log.push_back(Seen{connections->load(), q[7], static_cast<std::int16_t>((q[10] << 8) | q[11])});
+    }
+    if (drop.exchange(false)) r.push_back(0xEE);
+    return r;
+  }
+  std::vector<Seen> seen() {
+    std::lock_guard lock(m);
+    return log;
+  }
+  int count(int function) {
+    int n = 0;
+    for (const auto& s : seen()) n += s.function == function;
+    return n;
+  }
+};
+
+struct GateRig {
+  explicit GateRig(std::uint16_t port, std::vector<RequestGroup> groups) {
+    ModbusClientConfig cfg;
+    ClientDevice d;
+    d.name = "dev";
+    d.port = port;
+    d.response_timeout_ns = 200'000'000;
+    d.reconnect_min_ns = d.reconnect_max_ns = 10'000'000;
+    cfg.devices.push_back(d);
+    cfg.groups = std::move(groups);
+    driver = std::make_unique<ModbusClientDriver>(cfg);
+    driver->set_name("io");
+    cells.assign(driver->channels().size(), Cell{});
+    std::vector<Cell*> ptrs;
+    for (auto& c : cells) ptrs.push_back(&c);
+    driver->bind(ptrs);
+    std::string err;
+    EXPECT_TRUE(driver->open(&err)) << err;
+  }
+  ~GateRig() { driver->close(); }
+  Cell& ch(const char* name) { return cells[static_cast<std::size_t>(driver->channel_index(name))]; }
+  void scan() {
+    ScanContext ctx;
+    driver->latch_inputs(ctx);
+    driver->write_outputs(ctx);
+  }
+  std::unique_ptr<ModbusClientDriver> driver;
+  std::vector<Cell> cells;
+};
+
+RequestGroup group(const char* name, ModbusFunction f, std::uint16_t address) {
+  RequestGroup g;
+  g.name = name;
+  g.function = f;
+  g.address = address;
+  g.interval_ns = 5'000'000;
+  if (f == ModbusFunction::ReadWriteMultipleRegisters) g.write_address = 10, g.write_count = 1;
+  return g;
+}
+
+// The write gate: outputs a scan handed over before the device's first good
+// read on a connection (a drive block's initial controlword 0 and target 0)
+// are never sent; the first write carries values computed from latched
+// reads; after a reconnect the device is read again before it is written.
+TEST(ModbusClientLink, NoWriteBeforeTheFirstGoodReadOnEachConnection) {
+  LoggingDevice log;
+  FakeDevice dev([&](const Bytes& q) { return log.answer(q); });
+  log.connections = &dev.connections;
+  GateRig rig(dev.port, {group("r", ModbusFunction::ReadHoldingRegisters, 0),
+                         group("w", ModbusFunction::WriteSingleRegister, 4)});
+  rig.ch("w").set<std::int16_t>(7);
+  rig.scan();  // before any reply: the outputs of a scan that knows nothing of the device
+  ASSERT_TRUE(eventually([&] { return log.count(3) >= 5; }));
+  EXPECT_EQ(log.count(6), 0) << "a write went out before the scan had latched a good read";
+  rig.ch("w").set<std::int16_t>(8);
+  ASSERT_TRUE(eventually([&] {
+    rig.scan();
+    return log.count(6) >= 1;
+  }));
+  for (const auto& s : log.seen())
+    if (s.function == 6) EXPECT_EQ(s.value, 8) << "the values handed over before the first read were written";
+  // A reconnect: the first request on the new connection is a read.
+  log.drop = true;
+  ASSERT_TRUE(eventually([&] {
+    rig.scan();
+    for (const auto& s : log.seen())
+      if (s.connection == 2 && s.function == 6) return true;
+    return false;
+  }));
+  for (const auto& s : log.seen())
+    if (s.connection == 2) {
+      EXPECT_EQ(s.function, 3) << "the first request after the reconnect";
+      break;
+    }
+  EXPECT_EQ(rig.ch("w_reconnects").get<std::uint32_t>(), 1u);
+}
+
+// A device whose only group is FC 23 (write and read in one exchange) is read
+// first too: its read side alone (FC 3) until a scan latched it.
+TEST(ModbusClientLink, AFunction23GroupReadsAloneUntilAScanLatchedIt) {
+  LoggingDevice log;
+  FakeDevice dev([&](const Bytes& q) { return log.answer(q); });
+  log.connections = &dev.connections;
+  GateRig rig(dev.port, {group("rw", ModbusFunction::ReadWriteMultipleRegisters, 0)});
+  rig.ch("rw_write").set<std::int16_t>(5);
+  ScanContext ctx;
+  rig.driver->write_outputs(ctx);  // handed over, never latched
+  ASSERT_TRUE(eventually([&] { return log.count(3) >= 3; }));
+  EXPECT_EQ(log.count(23), 0);
+  ASSERT_TRUE(eventually([&] {
+    rig.scan();
+    return log.count(23) >= 1;
+  }));
+  rig.driver->latch_inputs(ctx);
+  EXPECT_EQ(rig.ch("rw").get<std::int16_t>(), 0x0102);
+}
+
 // A driver with one FC 6 group writing register 4 every 20 ms, against
 // `dev`. The scans write 7; only at_stop writes the safe value.
 struct StopRig {
@@ -469,6 +602,60 @@ TEST(ModbusClientAtStop, AMuteDeviceDelaysTheStopByABoundedTime) {
   EXPECT_TRUE(reg.mute.load());                    // it ended while the device was still mute
   EXPECT_GE(took, std::chrono::milliseconds(50));  // it did wait for the device
   EXPECT_EQ(counter(*rig.driver, "w.safe_at_stop"), 0.0);
+}
+
+// at_stop safe with a dead device beside a live one whose bound is long: the
+// stop waits for the dead device its own bound (connect_timeout + 2 x
+// response_timeout = 150 ms), not the live device's (30 s); the live one
+// acknowledged its safe value.
+TEST(ModbusClientAtStop, EachDeviceIsWaitedForByItsOwnBound) {
+  Register4 dead, live;
+  FakeDevice a(dead.answer()), b(live.answer());
+  ModbusClientConfig cfg;
+  cfg.safe_at_stop = true;
+  for (std::uint16_t port : {a.port, b.port}) {
+    ClientDevice d;
+    d.name = port == a.port ? "dead" : "live";
+    d.port = port;
+    d.response_timeout_ns = d.connect_timeout_ns = port == a.port ? 50'000'000 : 10'000'000'000;
+    cfg.devices.push_back(d);
+    RequestGroup g;
+    g.name = port == a.port ? "wa" : "wb";
+    g.device = cfg.devices.size() - 1;
+    g.function = ModbusFunction::WriteSingleRegister;
+    g.address = 4;
+    g.interval_ns = 20'000'000;
+    cfg.groups.push_back(g);
+  }
+  ModbusClientDriver driver(cfg);
+  driver.set_name("io");
+  std::vector<Cell> cells(driver.channels().size());
+  std::vector<Cell*> ptrs;
+  for (auto& c : cells) ptrs.push_back(&c);
+  driver.bind(ptrs);
+  auto ch = [&](const char* name) -> Cell& { return cells[static_cast<std::size_t>(driver.channel_index(name))]; };
+  std::string err;
+  ASSERT_TRUE(driver.open(&err)) << err;
+  ScanContext ctx;
+  ch("wa").set<std::int16_t>(7);
+  ch("wb").set<std::int16_t>(7);
+  driver.write_outputs(ctx);
+  ASSERT_TRUE(eventually([&] {
+    driver.latch_inputs(ctx);
+    return ch("wa_ok").get<bool>() && ch("wb_ok").get<bool>();
+  }));
+  dead.mute = true;
+  std::vector<SafeOutput> safe = {SafeOutput{driver.channel_index("wa"), 0, Cell{}},
+                                  SafeOutput{driver.channel_index("wb"), 0, Cell{}}};
+  for (auto& o : safe) o.value.set<std::int16_t>(-3);
+  const auto t0 = Clock::now();
+  driver.stop_outputs(safe.data(), safe.size());
+  const auto took = Clock::now() - t0;
+  driver.close();
+  EXPECT_EQ(live.value.load(), -3);
+  EXPECT_EQ(counter(driver, "wb.safe_at_stop"), 1.0);
+  EXPECT_EQ(counter(driver, "wa.safe_at_stop"), 0.0);
+  EXPECT_LT(took, std::chrono::seconds(10)) << "the dead device was waited for as long as the live one's bound (30 s)";
 }
 
 // Online change of a changed driver (IoDriver::will_take_over, take_over):

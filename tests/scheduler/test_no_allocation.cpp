@@ -281,7 +281,7 @@ connections:
 
 // CIA402_DRIVE (fblocks/drives): two instances (SINT and INT mode pins) with
 // the drive's objects set to every state, a fault with its events, a reset, a
-// mode change and the following error window.
+// mode change, the following error window and a link loss.
 TEST(ScanPath, Cia402DriveDoesNotAllocate) {
   LoadOptions lo;
   lo.blocks = &builtin_blocks();
@@ -299,6 +299,7 @@ tags:
   - {name: x_set, type: LREAL}
   - {name: actual, type: DINT}
   - {name: error_code, type: UINT}
+  - {name: link_ok, type: BOOL, init: TRUE}
 blocks:
   - {name: a1, type: CIA402_DRIVE, params: {transition_timeout: 0.005, following_error_window: 1, following_error_time: 0.002}}
   - {name: a2, type: CIA402_DRIVE, params: {idle_state: 2}}
@@ -315,6 +316,8 @@ connections:
   - statusword -> a2.statusword
   - display16 -> a2.modes_display
   - mode16 -> a2.mode
+  - link_ok -> a1.link_ok
+  - link_ok -> a2.link_ok
 )", "cia402_alloc.yaml", lo);
   for (const auto& d : r.diagnostics.list()) ADD_FAILURE() << d.text();
   ASSERT_TRUE(r.program);
@@ -349,6 +352,10 @@ connections:
   window(0x0240);  // recovered: event
   cell("mode").set<std::int8_t>(3);
   window(0x0237);  // mode not displayed: timeout
+  cell("link_ok").set<bool>(false);
+  window(0x0237);  // link lost: event, quick stop
+  cell("link_ok").set<bool>(true);
+  window(0x0207);  // back: quick stopped until a new enable
   EXPECT_EQ(allocations, 0);
   EXPECT_GT(p.tasks[0]->stats.summary().scans, 100u);
 }

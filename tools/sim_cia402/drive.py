@@ -47,6 +47,12 @@ class Drive(PdsStateMachine):
         self.u = 0.0
         self.limited = False
         self.fe_since = None
+        # The target-step check (status: target, max_target_step): the
+        # largest change of 607Ah between two cycles in Operation enabled
+        # in CSP, counting the first such cycle against the actual
+        # position: a master that sends a target from stale data shows here.
+        self.prev_target = None
+        self.max_target_step = 0
 
     # -- one drive cycle --
     def cycle(self):
@@ -56,10 +62,22 @@ class Drive(PdsStateMachine):
         if mode in SUPPORTED_MODES:
             self.mode_display = mode  # an unsupported mode is refused: the display keeps the last one
         self.fsa(cw, r)
+        self.watch_target(r)
         self.control(r)
         self.plant.step(self.u)
         self.cycles += 1
         self.publish(r)
+
+    def watch_target(self, r):
+        if self.state == OPERATION_ENABLED and self.mode_display == 8:
+            xt = s32(r[HR_TARGET_POSITION], r[HR_TARGET_POSITION + 1])
+            ref = self.prev_target
+            if ref is None:
+                ref = math.floor(self.plant.position * self.counts_per_rad)
+            self.max_target_step = max(self.max_target_step, abs(xt - ref))
+            self.prev_target = xt
+        else:
+            self.prev_target = None
 
     def enter_operation(self):
         self.v_ref = self.plant.velocity
@@ -182,4 +200,6 @@ class Drive(PdsStateMachine):
                 "mode_display": self.mode_display, "position": self.plant.position,
                 "velocity": self.plant.velocity, "u": self.u, "error_code": self.error_code,
                 "cycles": self.cycles, "transitions": [n for _, n in self.transitions],
-                "comm_losses": self.comm_losses, "silent_for": self.liveness.silent_for()}
+                "comm_losses": self.comm_losses, "silent_for": self.liveness.silent_for(),
+                "target": s32(*self.hr.getValues(HR_TARGET_POSITION, 2)),
+                "max_target_step": self.max_target_step}

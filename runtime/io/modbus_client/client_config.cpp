@@ -271,7 +271,7 @@ std::optional<ModbusClientConfig> read_modbus_client_config(const ConfigNode& en
     auto g = read_group(gn, cfg.devices, setup.task_period_ns(), setup);
     if (!g) { ok = false; continue; }
     // The group's channels are named after it: two groups must not produce one name.
-    std::vector<std::string> mine = {g->name, g->name + "_write", g->name + "_ok", g->name + "_age", g->name + "_error",
+    std::vector<std::string> mine = {g->name, g->name + "_write", g->name + "_ok", g->name + "_age", g->name + "_cycles", g->name + "_error",
                                      g->name + "_reaction", g->name + "_requests", g->name + "_errors",
                                      g->name + "_timeouts", g->name + "_reconnects"};
     bool clash = false;

@@ -96,7 +96,13 @@ void DeviceLink::flush() noexcept {
 void DeviceLink::fail_others(const GroupHandover* except, ClientError e) {
   const std::int64_t now = clock_();
   for (auto* g : groups_)
-    if (g != except) g->publish(code(e), now, nullptr, now);
+    if (g != except) g->publish(code(e), now, nullptr, now, epoch_, request_cycle());
+}
+
+std::uint32_t DeviceLink::request_cycle() const noexcept {
+  // timing cycle: the hand-over this burst serves; free (and the fallback):
+  // the hand-overs so far.
+  return follows_scan_ ? seen_ : signal_->count();
 }
 
 bool DeviceLink::exchange(GroupHandover& h, std::uint16_t* error) {
@@ -108,10 +114,22 @@ bool DeviceLink::exchange(GroupHandover& h, std::uint16_t* error) {
   r.unit = device_->unit;
   r.address = g.address;
   r.quantity = static_cast<std::uint16_t>(g.count * w);
-  if (g.writes()) {
-    const Cell* out = h.outputs.acquire();
+  bool write = g.writes();
+  const Cell* out = nullptr;  // one acquire: seq, epoch and values of one hand-over
+  if (write) {
+    out = h.outputs.acquire();
     seq = out[GroupHandover::kSeq].get<std::uint64_t>();
     if (seq == 0) return false;  // no scan has handed outputs over yet
+    // The write gate: outputs computed before this connection's first good
+    // reads are not sent (a drive would get a target from stale data).
+    const std::uint64_t epoch = out[GroupHandover::kOutEpoch].get<std::uint64_t>();
+    if (epoch != GroupHandover::kAnyEpoch && epoch != epoch_) {
+      if (!g.reads()) return false;
+      write = false;  // FC 23: its read side alone, as FC 3
+      r.function = ModbusFunction::ReadHoldingRegisters;
+    }
+  }
+  if (write) {
     const Cell* v = out + GroupHandover::kOutValues;
     const std::uint32_t n = g.written_values();
     // on_change: nothing new to write, unless alive_every has passed since
@@ -140,6 +158,7 @@ bool DeviceLink::exchange(GroupHandover& h, std::uint16_t* error) {
   std::uint8_t buf[kMaxAdu];
   const std::size_t len = build_request(r, buf);
   h.requests.fetch_add(1, std::memory_order_relaxed);
+  const std::uint32_t cycle = request_cycle();
   const std::int64_t sent = clock_();
   const std::int64_t deadline = monotonic_ns() + device_->response_timeout_ns;
   ClientError e = link_.send_all(buf, len, deadline);
@@ -165,13 +184,13 @@ bool DeviceLink::exchange(GroupHandover& h, std::uint16_t* error) {
   }
   // An exchange cut short by stop() is the driver closing, not the device failing: not a result.
   if (stopping_.load(std::memory_order_acquire)) return true;
-  if (e == ClientError::None && g.writes()) {
+  if (e == ClientError::None && write) {
     h.have_written = true;
     h.acked.store(seq, std::memory_order_release);
   }
-  if (e != ClientError::None && g.writes()) h.have_written = false;  // write again, whatever on_change says
+  if (e != ClientError::None && write) h.have_written = false;  // write again, whatever on_change says
   *error = code(e);
-  h.publish(code(e), clock_(), e == ClientError::None ? h.read.data() : nullptr, sent);
+  h.publish(code(e), clock_(), e == ClientError::None ? h.read.data() : nullptr, sent, epoch_, cycle);
   return true;
 }
 
@@ -236,7 +255,7 @@ void DeviceLink::run() {
     const int fd = adopted_.exchange(kAwaiting, std::memory_order_acq_rel);
     if (fd >= 0) {
       link_.adopt(fd);
-      connects.fetch_add(1, std::memory_order_relaxed);
+      epoch_ = connects.fetch_add(1, std::memory_order_relaxed) + 1;
       ever = true;  // the device's connection goes on: a later one is a reconnection
     }
     next_connect_ = monotonic_ns();
@@ -270,7 +289,7 @@ void DeviceLink::run() {
         backoff_after_failure();
         continue;
       }
-      connects.fetch_add(1, std::memory_order_relaxed);
+      epoch_ = connects.fetch_add(1, std::memory_order_relaxed) + 1;  // a new connection: the write gate closes
       if (ever) reconnects.fetch_add(1, std::memory_order_relaxed);
       ever = true;
       const std::int64_t now = monotonic_ns();

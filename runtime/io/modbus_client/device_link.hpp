@@ -18,6 +18,14 @@
 // - free: each group on its own grid of `every`, counted from the
 //   connection, free-running against the task's scans.
 //
+// Writes wait for reads (the write gate): on every connection, a write
+// group sends nothing until the outputs handed over come from a scan that
+// latched good replies of every reading group of the device on this
+// connection (their epoch, group_handover.hpp); until then an FC 23 group
+// sends its read side alone (FC 3), so a device whose only group is FC 23
+// is read before it is written too. A device after a reconnect, or at the
+// start, is read first: nothing computed from stale data reaches it.
+//
 // A failure that leaves the byte stream in doubt (everything but an
 // exception reply, client_error.hpp) closes the connection; the failing
 // group publishes its error and the device's other groups `not connected`,
@@ -87,12 +95,15 @@ class DeviceLink {
   // timing cycle: the groups due at the hand-over at `now`, writes first.
   void run_burst(std::int64_t now);
   void backoff_after_failure();
+  // The scans' hand-over count a request sent now belongs to (results' cycle).
+  std::uint32_t request_cycle() const noexcept;
 
   const ClientDevice* device_;
   std::vector<GroupHandover*> groups_;
   Clock clock_;
   TcpLink link_;
   std::uint16_t transaction_ = 0;
+  std::uint64_t epoch_ = 0;           // the connection's number (connects, counted from 1)
   std::int64_t backoff_ = 0, next_connect_ = 0;
   CycleSignal* signal_;
   bool follows_scan_ = false;         // timing cycle (and a task period to fall back on)

@@ -3,12 +3,18 @@
 // consumer each):
 //
 //   results  device thread -> latch_inputs: the newest completed exchange,
-//            cells [seq, error, stamp, sent, read values...] (stamp: the
-//            exchange completed, sent: its request was sent); the latch takes
-//            the newest whole one and never waits for an exchange under way.
+//            cells [seq, error, stamp, sent, epoch, cycle, read values...]
+//            (stamp: the exchange completed, sent: its request was sent,
+//            epoch: the device's connection it ran on, cycle: the scans'
+//            hand-over count when its request was sent); the latch takes the
+//            newest whole one and never waits for an exchange under way.
 //   outputs  write_outputs -> device thread: the newest values to write,
-//            cells [seq, values...]; the device thread writes the newest it
-//            finds when the group is due.
+//            cells [seq, epoch, values...]; the device thread writes the
+//            newest it finds when the group is due, and only when `epoch` is
+//            its connection's: the scan that computed them had latched good
+//            reads of every reading group of the device on this connection
+//            (kAnyEpoch: values that need none, a device without reads or the
+//            safe values).
 //
 // The counters are atomics the scan reads for the status channels and
 // `syncplc run` for IoDriver::counters. The round-trip histograms have one
@@ -29,8 +35,10 @@
 namespace syncplc {
 
 struct GroupHandover {
-  static constexpr std::size_t kSeq = 0, kError = 1, kStamp = 2, kSent = 3, kValues = 4;  // results cells
-  static constexpr std::size_t kOutValues = 1;                                // outputs cells
+  static constexpr std::size_t kSeq = 0, kError = 1, kStamp = 2, kSent = 3, kEpoch = 4, kCycle = 5,
+                               kValues = 6;                       // results cells
+  static constexpr std::size_t kOutEpoch = 1, kOutValues = 2;    // outputs cells
+  static constexpr std::uint64_t kAnyEpoch = ~std::uint64_t{0};  // outputs any connection may carry
 
   explicit GroupHandover(const RequestGroup& g)
       : group(&g), results(kValues + g.read_values()), outputs(kOutValues + g.written_values()) {
@@ -43,12 +51,15 @@ struct GroupHandover {
   // Device thread: one completed exchange (or failure), stamped with the
   // driver's clock; `sent` when its request went out (a failure to connect
   // sent none: the stamp).
-  void publish(std::uint16_t error, std::int64_t stamp, const Cell* values, std::int64_t sent) noexcept {
+  void publish(std::uint16_t error, std::int64_t stamp, const Cell* values, std::int64_t sent, std::uint64_t epoch,
+               std::uint32_t cycle) noexcept {
     Cell* b = results.back();
     b[kSeq].set<std::uint64_t>(++seq);
     b[kError].set<std::uint16_t>(error);
     b[kStamp].set<std::int64_t>(stamp);
     b[kSent].set<std::int64_t>(sent);
+    b[kEpoch].set<std::uint64_t>(epoch);
+    b[kCycle].set<std::uint32_t>(cycle);
     if (!error) reply.record(stamp - sent);
     if (values && !read.empty()) std::copy(values, values + read.size(), b + kValues);
     results.publish();

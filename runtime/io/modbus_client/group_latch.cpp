@@ -31,8 +31,9 @@ GroupTexts make_group_texts(const std::string& driver, const RequestGroup& g) {
   return t;
 }
 
-void GroupLatch::reset(std::int64_t open_ns) noexcept {
+void GroupLatch::reset(std::int64_t open_ns, std::uint32_t open_cycle) noexcept {
   st_ = GroupStatus{};
+  shown_cycle_ = open_cycle;
   seen_ = 0;
   stale_ = false;
   stale_since_ = 0;
@@ -44,7 +45,8 @@ void GroupLatch::raise(const ScanContext& ctx, EventKind kind, const char* text,
   if (ctx.events) ctx.events->push(Event{ctx.now_ns, ctx.task, -1, kind, text, value});
 }
 
-const GroupStatus& GroupLatch::latch(const Cell* r, std::int64_t now, const ScanContext& ctx, Cell* values) noexcept {
+const GroupStatus& GroupLatch::latch(const Cell* r, std::int64_t now, const ScanContext& ctx, Cell* values,
+                                     std::uint32_t cycle) noexcept {
   st_.fresh = false;
   const std::uint64_t seq = r[GroupHandover::kSeq].get<std::uint64_t>();
   if (seq != seen_ && seq != 0) {
@@ -56,6 +58,8 @@ const GroupStatus& GroupLatch::latch(const Cell* r, std::int64_t now, const Scan
       st_.fresh = true;
       st_.sent = r[GroupHandover::kSent].get<std::int64_t>();
       last_ok_ = r[GroupHandover::kStamp].get<std::int64_t>();
+      shown_cycle_ = r[GroupHandover::kCycle].get<std::uint32_t>();
+      st_.epoch = r[GroupHandover::kEpoch].get<std::uint64_t>();
       if (stale_) raise(ctx, EventKind::Info, texts_.recovered, 0);
       stale_ = false;
       reacted_ = false;
@@ -67,6 +71,7 @@ const GroupStatus& GroupLatch::latch(const Cell* r, std::int64_t now, const Scan
       stale_ = true;
       st_.ok = false;
       st_.error = err;
+      st_.epoch = 0;
     }
   }
   if (stale_ && !reacted_ && now - stale_since_ >= g_->stale_after_ns) {
@@ -78,6 +83,10 @@ const GroupStatus& GroupLatch::latch(const Cell* r, std::int64_t now, const Scan
   // A reply published between the latch's clock reading and its acquire is
   // stamped after `now`: its age is 0, not a negative fraction of a µs.
   st_.age_ms = static_cast<double>(std::max<std::int64_t>(now - last_ok_, 0)) * 1e-6;
+  // Unsigned difference: right across the 32-bit count's wrap. A request
+  // sent after this count was read (free timing) is "this cycle's", 0.
+  const std::uint32_t d = cycle - shown_cycle_;
+  st_.cycles = d > 0x80000000u ? 0 : d;
   return st_;
 }
 

@@ -16,7 +16,11 @@
 //   ends within connect_timeout + response_timeout.
 //
 // Age of data: now minus the completion of the last successful exchange (or
-// minus open() before the first), in ms.
+// minus open() before the first), in ms; and in scans (`cycles`): the scans'
+// hand-over count now minus the count when the request of the values shown
+// was sent (or minus the count at open() before the first), so 0 means the
+// values come from the reply to this cycle's request (timing cycle: the
+// exchange after the previous scan's hand-over), n that they are n scans old.
 #pragma once
 
 #include <array>
@@ -45,16 +49,20 @@ struct GroupStatus {
   double age_ms = 0;
   bool fresh = false;        // this latch took new values (copy them to the channel)
   std::int64_t sent = 0;     // when fresh: the request of those values was sent (driver clock)
+  std::uint32_t cycles = 0;  // scans since the request of the values shown was handed over
+  std::uint64_t epoch = 0;   // the connection of the values shown while ok; 0 when not ok
 };
 
 class GroupLatch {
  public:
   GroupLatch() = default;
   GroupLatch(const RequestGroup& g, GroupTexts texts) : g_(&g), texts_(texts) {}
-  void reset(std::int64_t open_ns) noexcept;
+  void reset(std::int64_t open_ns, std::uint32_t open_cycle = 0) noexcept;
   // result: the group's results buffer (GroupHandover layout). Values of a
-  // successful result are copied to `values` (read_values() cells).
-  const GroupStatus& latch(const Cell* result, std::int64_t now, const ScanContext& ctx, Cell* values) noexcept;
+  // successful result are copied to `values` (read_values() cells). cycle:
+  // the scans' hand-over count now.
+  const GroupStatus& latch(const Cell* result, std::int64_t now, const ScanContext& ctx, Cell* values,
+                           std::uint32_t cycle = 0) noexcept;
   const GroupStatus& status() const noexcept { return st_; }
   bool stale() const noexcept { return stale_; }
 
@@ -68,6 +76,7 @@ class GroupLatch {
   bool stale_ = false;            // a failure since the last success
   std::int64_t stale_since_ = 0;
   std::int64_t last_ok_ = 0;      // completion of the last success (or open)
+  std::uint32_t shown_cycle_ = 0; // the hand-over count the shown values' request was sent at (or open's)
   bool reacted_ = false;
 };
 

@@ -31,6 +31,8 @@ ModbusClientDriver::ModbusClientDriver(ModbusClientConfig cfg) : cfg_(std::move(
       c.write = add(g.name + "_write", PinDir::Out, t, g.write_count, g.unit, "values written to " + dev + " (FC 23)");
     c.ok = add(g.name + "_ok", PinDir::In, IecType::BOOL, 1, "", "the last exchange succeeded");
     c.age = add(g.name + "_age", PinDir::In, IecType::LREAL, 1, "ms", "time since the last successful exchange");
+    c.cycles = add(g.name + "_cycles", PinDir::In, IecType::UDINT, 1, "",
+                   "scans since the request of the values shown was handed over (0: this cycle's)");
     c.error = add(g.name + "_error", PinDir::In, IecType::UINT, 1, "", "last error code, 0 when ok");
     c.reaction = add(g.name + "_reaction", PinDir::In, IecType::BOOL, 1, "", "stale past stale_after: the reaction applies");
     c.requests = add(g.name + "_requests", PinDir::In, IecType::UDINT, 1, "", "requests sent");
@@ -43,6 +45,10 @@ ModbusClientDriver::ModbusClientDriver(ModbusClientConfig cfg) : cfg_(std::move(
   closed_reconnects_.assign(cfg_.devices.size(), 0);
   at_stop_.assign(cfg_.groups.size(), -1);
   inherit_.assign(cfg_.devices.size(), false);
+  device_reads_.assign(cfg_.devices.size(), false);
+  for (const auto& g : cfg_.groups)
+    if (g.reads()) device_reads_[g.device] = true;
+  device_epoch_.assign(cfg_.devices.size(), 0);
   reset_exchange();
 }
 
@@ -85,10 +91,11 @@ bool ModbusClientDriver::open(std::string* error) {
   safe_.reset();
   std::fill(at_stop_.begin(), at_stop_.end(), std::int8_t{-1});
   latch_.clear();
+  std::fill(device_epoch_.begin(), device_epoch_.end(), 0);
   const std::int64_t now = clock_();
   for (const auto& g : cfg_.groups) {
     latch_.emplace_back(g, make_group_texts(name(), g));
-    latch_.back().reset(now);
+    latch_.back().reset(now, cycle_.count());
   }
   for (auto& h : handover_) {
     h->reply.reset();
@@ -135,10 +142,11 @@ void ModbusClientDriver::close() noexcept {
 void ModbusClientDriver::latch_inputs(const ScanContext& ctx) noexcept {
   if (latch_.empty()) return;  // never opened
   const std::int64_t now = clock_();
+  const std::uint32_t cycle = cycle_.count();
   for (std::size_t i = 0; i < cfg_.groups.size(); ++i) {
     const RequestGroup& g = cfg_.groups[i];
     GroupHandover& h = *handover_[i];
-    const GroupStatus& st = latch_[i].latch(h.results.acquire(), now, ctx, values_[i].data());
+    const GroupStatus& st = latch_[i].latch(h.results.acquire(), now, ctx, values_[i].data(), cycle);
     if (st.fresh) h.latched.record(now - st.sent);  // O(1), relaxed atomics, no allocation
     const GroupChannels& c = gch_[i];
     if (g.reads()) {
@@ -153,6 +161,7 @@ void ModbusClientDriver::latch_inputs(const ScanContext& ctx) noexcept {
     };
     set(c.ok, st.ok);
     set(c.age, st.age_ms);
+    set(c.cycles, st.cycles);
     set(c.error, st.error);
     set(c.reaction, st.reacting);
     set(c.requests, saturate32(h.requests.load(std::memory_order_relaxed)));
@@ -160,6 +169,19 @@ void ModbusClientDriver::latch_inputs(const ScanContext& ctx) noexcept {
     set(c.timeouts, saturate32(h.timeouts.load(std::memory_order_relaxed)));
     const DeviceLink* link = i < group_link_.size() ? group_link_[i] : nullptr;
     set(c.reconnects, saturate32(link ? link->reconnects.load(std::memory_order_relaxed) : 0));
+  }
+  // The write gate's epoch per device: the connection on which every reading
+  // group of the device has good values latched now (0: not all of them).
+  for (std::size_t d = 0; d < cfg_.devices.size(); ++d) {
+    std::uint64_t e = 0;
+    bool all = true;
+    for (std::size_t i = 0; i < cfg_.groups.size() && all; ++i) {
+      if (cfg_.groups[i].device != d || !cfg_.groups[i].reads()) continue;
+      const GroupStatus& st = latch_[i].status();
+      if (!st.ok || st.epoch == 0 || (e != 0 && st.epoch != e)) all = false;
+      else e = st.epoch;
+    }
+    device_epoch_[d] = all ? e : 0;
   }
 }
 
@@ -177,6 +199,9 @@ void ModbusClientDriver::write_outputs(const ScanContext&) noexcept {
     std::copy(v, v + out_[i].size(), out_[i].begin());
     Cell* b = handover_[i]->outputs.back();
     b[GroupHandover::kSeq].set<std::uint64_t>(++out_seq_[i]);
+    // Computed from the reads this scan latched: sent on that connection only.
+    b[GroupHandover::kOutEpoch].set<std::uint64_t>(device_reads_[g.device] ? device_epoch_[g.device]
+                                                                           : GroupHandover::kAnyEpoch);
     std::copy(out_[i].begin(), out_[i].end(), b + GroupHandover::kOutValues);
     handover_[i]->outputs.publish();
   }
@@ -209,6 +234,7 @@ bool ModbusClientDriver::write_safe_outputs(const SafeOutput* outputs, std::size
     if (!any && out_seq_[i] == 0) continue;  // nothing ever written and no safe value: leave the device alone
     Cell* b = handover_[i]->outputs.back();
     b[GroupHandover::kSeq].set<std::uint64_t>(++out_seq_[i]);
+    b[GroupHandover::kOutEpoch].set<std::uint64_t>(GroupHandover::kAnyEpoch);  // safe values need no reads
     std::copy(out_[i].begin(), out_[i].end(), b + GroupHandover::kOutValues);
     handover_[i]->outputs.publish();
   }
@@ -221,25 +247,23 @@ void ModbusClientDriver::stop_outputs(const SafeOutput* outputs, std::size_t n) 
   // After the last scan: engage() finds no write_outputs under way.
   std::vector<std::uint64_t> before(out_seq_);
   if (!write_safe_outputs(outputs, n)) return;
-  std::int64_t wait_ns = 0;
-  for (const auto& l : links_) {
-    std::int64_t groups = 1;  // the exchange under way
-    for (std::size_t i = 0; i < cfg_.groups.size(); ++i)
-      if (group_link_[i] == l.get()) ++groups;
-    wait_ns = std::max(wait_ns, l->device().connect_timeout_ns + groups * l->device().response_timeout_ns);
-    l->flush();
-  }
+  for (const auto& l : links_) l->flush();
   // The groups write_safe_outputs handed values over to (those with a safe
-  // value, or written before), until their devices have them or the time is up.
+  // value, or written before), until their devices have them or the time is
+  // up: each group's own device's bound, so a dead device costs the stop its
+  // own bound, never another device's longer one.
   auto acknowledged = [&](std::size_t i) {
     return handover_[i]->acked.load(std::memory_order_acquire) >= out_seq_[i];
   };
-  const std::int64_t until = monotonic_ns() + wait_ns;
+  const std::int64_t start = monotonic_ns();
   for (;;) {
     bool all = true;
+    const std::int64_t now = monotonic_ns();
     for (std::size_t i = 0; i < cfg_.groups.size(); ++i)
-      if (out_seq_[i] != before[i] && group_link_[i] && !acknowledged(i)) all = false;
-    if (all || monotonic_ns() >= until) break;
+      if (out_seq_[i] != before[i] && group_link_[i] && !acknowledged(i) &&
+          now < start + stop_bound_ns(cfg_.groups[i].device))
+        all = false;
+    if (all) break;
     timespec ts{0, 1'000'000};
     nanosleep(&ts, nullptr);
   }
@@ -295,9 +319,22 @@ bool ModbusClientDriver::read_output(int channel, Cell* values) const {
   return false;
 }
 
+std::int64_t ModbusClientDriver::stop_bound_ns(std::size_t d) const {
+  std::int64_t groups = 1;  // the exchange under way
+  for (const auto& g : cfg_.groups)
+    if (g.device == d) ++groups;
+  const ClientDevice& dev = cfg_.devices[d];
+  return dev.connect_timeout_ns + groups * dev.response_timeout_ns;
+}
+
 void ModbusClientDriver::inject(std::size_t g, std::uint16_t error, std::int64_t stamp, const Cell* values,
-                                std::int64_t sent) {
-  handover_[g]->publish(error, stamp, values, sent < 0 ? stamp : sent);
+                                std::int64_t sent, std::uint64_t epoch, std::int64_t cycle) {
+  handover_[g]->publish(error, stamp, values, sent < 0 ? stamp : sent, epoch,
+                        cycle < 0 ? cycle_.count() : static_cast<std::uint32_t>(cycle));
+}
+
+std::uint64_t ModbusClientDriver::handed_over_epoch(std::size_t g) {
+  return handover_[g]->outputs.acquire()[GroupHandover::kOutEpoch].get<std::uint64_t>();
 }
 
 const Cell* ModbusClientDriver::handed_over(std::size_t g) {
@@ -363,7 +400,7 @@ DriverTypeInfo modbus_client_driver_type() {
       "connect_timeout, reconnect_min, reconnect_max, word_order, reaction, stale_after, timing (cycle, free)} and cyclic request groups "
       "{name, device, function (1, 2, 3, 4, 5, 6, 15, 16, 23), address, count, write_address, write_count (23), "
       "type, word_order, scale, offset, unit, every (scan or a duration), on_change, alive_every, reaction (hold, safe, stop), "
-      "stale_after, safe}. Channels per group g: g (values), g_write (FC 23), g_ok, g_age (ms), g_error, "
+      "stale_after, safe}. Channels per group g: g (values), g_write (FC 23), g_ok, g_age (ms), g_cycles, g_error, "
       "g_reaction, g_requests, g_errors, g_timeouts, g_reconnects. One thread per device; docs/modbus-client.md.";
   t.create = [](const ConfigNode& node, DriverSetup& setup) -> std::unique_ptr<IoDriver> {
     auto cfg = read_modbus_client_config(node, setup);

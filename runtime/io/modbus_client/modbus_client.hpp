@@ -8,6 +8,8 @@
 //   g_write      out, FC 23 only: the values written (g is the read side)
 //   g_ok         in BOOL    the last exchange succeeded
 //   g_age        in LREAL ms since the last successful exchange completed
+//   g_cycles     in UDINT   scans since the request of the values shown was
+//                           handed over: 0 = the reply to this cycle's request
 //   g_error      in UINT    the last error (client_error.hpp), 0 when ok
 //   g_reaction   in BOOL    stale past stale_after: the reaction applies
 //   g_requests, g_errors, g_timeouts, g_reconnects   in UDINT counters
@@ -48,8 +50,9 @@ class ModbusClientDriver final : public IoDriver {
   void close() noexcept override;
   bool write_safe_outputs(const SafeOutput* outputs, std::size_t n) noexcept override;
   // at_stop safe: the safe outputs sent once more, waiting for every write
-  // group's device to acknowledge them, at most connect_timeout + (its
-  // groups + 1) x response_timeout per device (devices in parallel).
+  // group's device to acknowledge them, each group at most its own device's
+  // connect_timeout + (its groups + 1) x response_timeout (devices in
+  // parallel; a dead device never holds the stop longer than its own bound).
   void stop_outputs(const SafeOutput* outputs, std::size_t n) noexcept override;
   // Online change: a device of `previous` at the same address and port (the
   // unit id is per request, not per connection) hands its open connection
@@ -75,14 +78,22 @@ class ModbusClientDriver final : public IoDriver {
   void set_network(bool on) { network_ = on; }
   // Without network: a result of group g as its device thread would publish it
   // (`sent`: when its request went out; by default at `stamp`).
-  void inject(std::size_t g, std::uint16_t error, std::int64_t stamp, const Cell* values, std::int64_t sent = -1);
+  // epoch: the connection it came on (the write gate); cycle: the hand-over
+  // count its request was sent at (-1: the count now).
+  void inject(std::size_t g, std::uint16_t error, std::int64_t stamp, const Cell* values, std::int64_t sent = -1,
+              std::uint64_t epoch = 1, std::int64_t cycle = -1);
+  // Without network: the epoch the newest outputs handed over for group g
+  // carry (GroupHandover::kAnyEpoch: no reads to wait for).
+  std::uint64_t handed_over_epoch(std::size_t g);
+  // at_stop safe: how long the stop waits for device d at most.
+  std::int64_t stop_bound_ns(std::size_t d) const;
   // Without network: the newest outputs handed over for group g (nullptr before any).
   const Cell* handed_over(std::size_t g);
 
  private:
   void hand_over_to_devices() noexcept;
   struct GroupChannels {
-    int values = -1, write = -1, ok = -1, age = -1, error = -1, reaction = -1;
+    int values = -1, write = -1, ok = -1, age = -1, cycles = -1, error = -1, reaction = -1;
     int requests = -1, errors = -1, timeouts = -1, reconnects = -1;
   };
   ModbusClientConfig cfg_;
@@ -100,6 +111,8 @@ class ModbusClientDriver final : public IoDriver {
   std::vector<std::uint64_t> closed_reconnects_;  // per device: its reconnections when the links were closed
   std::vector<std::int8_t> at_stop_;  // per group: -1 nothing sent at stop, 0 sent but not acknowledged, 1 acknowledged
   std::vector<bool> inherit_;  // per device: its connection comes from the driver this one replaces (will_take_over)
+  std::vector<bool> device_reads_;             // per device: it has a reading group (the write gate applies)
+  std::vector<std::uint64_t> device_epoch_;    // per device: the connection every reading group latched good values of, 0: none
   Clock clock_;
   bool network_ = true;
   bool open_ = false;
