@@ -13,6 +13,7 @@
 #include <optional>
 #include <string>
 
+#include "runtime/web/login_events.hpp"
 #include "runtime/web/plc_host.hpp"
 #include "runtime/web/roles.hpp"
 #include "runtime/web/server.hpp"
@@ -32,6 +33,7 @@ struct ApiContext {
   ServerCounters& counters;
   Sessions sessions;
   LoginLimiter limiter;
+  LoginEvents login_events;
   HashGate hashes;
   // The users' table, opened at the first login (its own connection to the
   // PLC's database; thread-safe). The mutex guards only the opening.

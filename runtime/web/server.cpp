@@ -49,8 +49,8 @@ std::optional<Session> ApiContext::session(const httplib::Request& req) {
 std::optional<Session> ApiContext::session_of(const std::string& token) {
   auto s = sessions.check(token, steady_now_ns());
   if (!s) return s;
-  // `syncplc user remove` or `role` may have changed the user since the
-  // login (another process): the table decides, at every request.
+  // `syncplc user remove`, `passwd` or `role` may have changed the user
+  // since the login (another process): the table's stamp decides, at every request.
   UserStore* users = nullptr;
   {
     std::lock_guard lock(users_mutex);
@@ -63,8 +63,13 @@ std::optional<Session> ApiContext::session_of(const std::string& token) {
   } catch (const std::exception&) {
     now.reset();  // a table that cannot be read grants nothing
   }
-  if (!now || now->role != s->role) {
+  if (!now) {
     sessions.revoke_user(s->user);
+    return std::nullopt;
+  }
+  // Only this token: a login after the change has the new stamp and stays.
+  if (now->stamp != s->stamp || now->role != s->role) {
+    sessions.revoke(token);
     return std::nullopt;
   }
   return s;
