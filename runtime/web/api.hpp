@@ -15,6 +15,7 @@
 
 #include "runtime/web/login_events.hpp"
 #include "runtime/web/plc_host.hpp"
+#include "runtime/web/read_access.hpp"
 #include "runtime/web/roles.hpp"
 #include "runtime/web/server.hpp"
 #include "runtime/web/sessions.hpp"
@@ -35,6 +36,7 @@ struct ApiContext {
   LoginLimiter limiter;
   LoginEvents login_events;
   HashGate hashes;
+  HiddenCellsCache hidden_cells;  // what only engineers see (read_access.hpp)
   // The users' table, opened at the first login (its own connection to the
   // PLC's database; thread-safe). The mutex guards only the opening.
   std::mutex users_mutex;
