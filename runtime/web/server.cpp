@@ -10,6 +10,7 @@
 
 #include "runtime/store/database.hpp"
 #include "runtime/web/api.hpp"
+#include "runtime/web/json_values.hpp"
 #include "runtime/web/worker_pool.hpp"
 
 namespace syncplc::web {
@@ -108,19 +109,13 @@ std::optional<nlohmann::json> ApiContext::json_body(const httplib::Request& req,
     send_error(res, 415, "send the body as application/json (Content-Type was '" + type + "')");
     return std::nullopt;
   }
-  auto j = nlohmann::json::parse(req.body, nullptr, false);
-  if (j.is_discarded()) {
-    // nlohmann's own message names the byte; parse again to get it.
-    std::string why = "the body is not valid JSON";
-    try {
-      (void)nlohmann::json::parse(req.body);
-    } catch (const nlohmann::json::parse_error& e) {
-      why += " (at byte " + std::to_string(e.byte) + ")";
-    }
+  std::string why;
+  auto j = parse_json_body(req.body, &why);  // json_values.hpp: never throws
+  if (!j) {
     send_error(res, 400, why);
     return std::nullopt;
   }
-  if (!j.is_object()) {
+  if (!j->is_object()) {
     send_error(res, 400, "the body must be a JSON object");
     return std::nullopt;
   }
