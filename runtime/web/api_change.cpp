@@ -3,6 +3,7 @@
 // the user and the client.
 #include <vector>
 
+#include "runtime/core/tag_limits.hpp"
 #include "runtime/core/units.hpp"
 #include "runtime/web/api.hpp"
 #include "runtime/web/json_values.hpp"
@@ -82,6 +83,12 @@ std::optional<std::vector<Cell>> written_cells(const Tag& t, bool whole, const n
     if (text) cell = parse_value_in_unit(t.type, t.unit, *text, &why);
     if (!cell) {
       send_error(res, 400, t.name + ": " + why);
+      return std::nullopt;
+    }
+    // The project's engineering limits (tag_limits.hpp): the HMI's
+    // setpoints come this way too.
+    if (std::string outside = outside_limits(t, *cell); !outside.empty()) {
+      send_error(res, 400, t.name + ": " + outside + "; nothing was written");
       return std::nullopt;
     }
     cells.push_back(*cell);
