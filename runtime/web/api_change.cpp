@@ -129,14 +129,18 @@ void add_change_routes(httplib::Server& s, ApiContext& c) {
       auto w = write_target(p, name, res);
       if (!w) return;
       const Tag& t = *w->tag;
+      // The program's own tag first: that, not the role or the hmi: key, is
+      // why a write cannot hold (a tag a block or driver writes can never
+      // be hmi: readwrite).
+      if (!t.writer.empty()) {
+        send_error(res, 409, t.name + " is written by the program (" + t.writer + (t.written_every_scan ? " every scan" : "") +
+                                 "): a write would be overwritten at once; an engineer can force it instead "
+                                 "(syncplc force " + t.name + " VALUE)");
+        return;
+      }
       if (t.hmi != HmiAccess::ReadWrite) {
         send_error(res, 403, t.name + " cannot be written from outside (hmi: " + std::string(hmi_access_name(t.hmi)) +
                                  "; the project gives it hmi: readwrite to allow it)");
-        return;
-      }
-      if (t.written_every_scan) {
-        send_error(res, 409, t.name + " is written every scan by " + t.writer +
-                                 ": a write would be overwritten at once (an engineer can force it)");
         return;
       }
       task = p.tasks[t.owner]->config().name;

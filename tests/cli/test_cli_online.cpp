@@ -314,7 +314,7 @@ TEST_F(OnlineCli, WrongPasswordIsRefused) {
 TEST_F(OnlineCli, ForceAsOperatorIsForbidden) {
   auto r = as("operator", std::string("force ") + OnlinePlc::kTag + " 1");
   EXPECT_EQ(r.rc, kRefused);
-  EXPECT_NE(r.err.find("syncplc: force: refused (403, role too low): "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("syncplc: force: forbidden (403): this needs the engineer role"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("engineer"), std::string::npos) << r.err;
 }
 

@@ -129,7 +129,9 @@ def main():
     api.expect(400, "PUT", "/tags/qw_int", {"value": 70000}, what="out of INT's range")
     api.expect(400, "PUT", "/tags/mw_arr", {"value": [1, 2]}, what="array of the wrong length")
     api.expect(404, "PUT", "/tags/mw_arr[9]", {"value": 1}, what="index out of bounds")
-    api.expect(403, "PUT", "/tags/qw_int_r", {"value": 1}, what="hmi: read")
+    e = api.expect(409, "PUT", "/tags/qw_int_r", {"value": 1}, what="written by the program")
+    assert "written by the program" in e["error"] and "force" in e["error"], e
+    api.expect(403, "PUT", "/tags/pos[1]", {"value": 1}, what="hmi: read")
     api.expect(404, "PUT", "/tags/nope", {"value": 1})
     api.expect(403, "POST", "/forces", {"ref": "iw_const", "value": 77}, what="operator force")
 
