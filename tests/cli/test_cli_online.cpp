@@ -164,6 +164,34 @@ TEST(ProjectUpload, FileOutsideTheDirectoryIsRefusedWithItsInclude) {
       << err;
 }
 
+TEST(ProjectUpload, AnIncludeThatIsASymlinkToAFileOutsideIsRefused) {
+  // The case: `syncplc load` followed such a link and sent the file
+  // it points to, which the PLC then loaded and stored.
+  const fs::path d = project_dir("upload_symlink");
+  put(d / "p/main.yaml", "project: {name: p}\ninclude: [secret.yaml]\n");
+  put(d / "outside/secret.yaml", "tags: [{name: a, type: BOOL, description: not for the PLC}]\n");
+  fs::create_symlink(d / "outside/secret.yaml", d / "p/secret.yaml");
+  std::string err;
+  EXPECT_FALSE(syncplc::cli::collect_project((d / "p/main.yaml").string(), &err));
+  EXPECT_NE(err.find("main.yaml:2:11: include 'secret.yaml' resolves to " + fs::canonical(d / "outside/secret.yaml").string() +
+                     ", outside the project's directory"),
+            std::string::npos)
+      << err;
+  // A directory that is a link out: the same.
+  put(d / "q/main.yaml", "include: [parts/io.yaml]\n");
+  put(d / "outside/parts/io.yaml", "tags: []\n");
+  fs::create_directory_symlink(d / "outside/parts", d / "q/parts");
+  EXPECT_FALSE(syncplc::cli::collect_project((d / "q/main.yaml").string(), &err));
+  EXPECT_NE(err.find("outside the project's directory"), std::string::npos) << err;
+  // A link that stays inside is a file of the project like any other.
+  put(d / "r/main.yaml", "include: [alias.yaml]\n");
+  put(d / "r/real/tags.yaml", "tags: []\n");
+  fs::create_symlink("real/tags.yaml", d / "r/alias.yaml");
+  auto up = syncplc::cli::collect_project((d / "r/main.yaml").string(), &err);
+  ASSERT_TRUE(up) << err;
+  EXPECT_EQ(up->files.at("alias.yaml"), "tags: []\n");
+}
+
 TEST(ProjectUpload, AbsoluteIncludeInsideTheDirectoryIsNamedRelative) {
   const fs::path d = project_dir("upload_absolute");
   put(d / "main.yaml", "include: [" + (d / "sub/a.yaml").string() + "]\n");
