@@ -319,6 +319,11 @@ bool Plc::start_next_change() {
     active_.reset();
     return false;
   }
+  // The file the running program came from is the instance's project file
+  // from now on: GET /status names it, and `reload` or SIGHUP reloads it
+  // (an upload's copy beside the database, a rolled-back version's files),
+  // not the file the instance was started with.
+  options_.project = active_->project_file();
   return true;
 }
 
