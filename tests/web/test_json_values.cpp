@@ -72,7 +72,7 @@ TEST(JsonValues, ABodyThatIsNotJsonOrHoldsANumberBeyondADoubleIsAnErrorNeverAnEx
   EXPECT_FALSE(parse_json_body(R"({"value": -1e400})", &why));
   EXPECT_NE(why.find("too large"), std::string::npos) << why;
   EXPECT_FALSE(parse_json_body("{not json", &why));
-  EXPECT_EQ(why, "the body is not valid JSON (at byte 2)");
+  EXPECT_EQ(why, "the body is not valid JSON (at byte 3)");
   auto ok = parse_json_body(R"({"value": 1e308})", &why);
   ASSERT_TRUE(ok);
   EXPECT_EQ((*ok)["value"].get<double>(), 1e308);

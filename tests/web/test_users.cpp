@@ -316,7 +316,7 @@ TEST(Users, ADamagedRowGivesNoUserAndALogLineNeverACrash) {
   const std::string real = hash_password(kPassword);
   {
     SQLite::Database raw(path, SQLite::OPEN_READWRITE);
-    SQLite::Statement ins(raw, "INSERT INTO users VALUES (?, ?, ?, 1, 1)");
+    SQLite::Statement ins(raw, "INSERT INTO users VALUES (?, ?, ?, 1, 1, 1)");
     auto row = [&](const char* name, const char* role, const std::string& hash) {
       ins.reset();
       ins.bind(1, name);
@@ -330,8 +330,8 @@ TEST(Users, ADamagedRowGivesNoUserAndALogLineNeverACrash) {
     row("long", "viewer", real + std::string(300, 'A'));
     row("nul", "viewer", std::string("$argon2id$\0v=19", 15));
     row("badrole", "admin", real);
-    raw.exec("INSERT INTO users VALUES ('blob', 'viewer', x'00ff00ff', 1, 1)");
-    raw.exec("INSERT INTO users VALUES ('introle', 7, 'x', 1, 1)");
+    raw.exec("INSERT INTO users VALUES ('blob', 'viewer', x'00ff00ff', 1, 1, 1)");
+    raw.exec("INSERT INTO users VALUES ('introle', 7, 'x', 1, 1, 1)");
   }
   for (const char* name : {"garbage", "empty", "cut", "long", "nul", "badrole", "blob", "introle"}) {
     logged.clear();
