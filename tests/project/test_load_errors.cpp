@@ -104,11 +104,11 @@ tags:
   - {name: e, type: INT, min: 0, safe: -1}
 )");
   EXPECT_THAT(e, SizeIs(5));
-  EXPECT_THAT(e, has_error("p.yaml:4:33", "min 10 is above max 5 of a"));
-  EXPECT_THAT(e, has_error("p.yaml:5:32", "min and max are for numeric tags; b is BOOL"));
-  EXPECT_THAT(e, has_error("p.yaml:6:31", "min: "));
-  EXPECT_THAT(e, has_error("p.yaml:7:55", "is above d's max 100"));
-  EXPECT_THAT(e, has_error("p.yaml:8:40", "is below e's min 0"));
+  EXPECT_THAT(e, has_error("p.yaml:3:33", "min 10 is above max 5 of a"));
+  EXPECT_THAT(e, has_error("p.yaml:4:32", "min and max are for numeric tags; b is BOOL"));
+  EXPECT_THAT(e, has_error("p.yaml:5:31", "min: 'lots' is not an integer"));
+  EXPECT_THAT(e, has_error("p.yaml:6:55", "init: 101 m/s is above d's max 100 m/s (its engineering limit)"));
+  EXPECT_THAT(e, has_error("p.yaml:7:40", "safe value: -1 is below e's min 0 (its engineering limit)"));
   auto r = load(R"(
 tasks: [{name: main, period: 1ms}]
 tags:
