@@ -129,7 +129,13 @@ void add_change_routes(httplib::Server& s, ApiContext& c) {
       auto w = write_target(p, name, res);
       if (!w) return;
       const Tag& t = *w->tag;
-      // The program's own tag first: that, not the role or the hmi: key, is
+      // An hmi: none tag is not shown outside the PLC (read_access.hpp):
+      // nothing about it, not even who writes it.
+      if (t.hmi == HmiAccess::None) {
+        send_error(res, 403, t.name + " cannot be written from outside (hmi: none)");
+        return;
+      }
+      // Then the program's own tag: that, not the role or the hmi: key, is
       // why a write cannot hold (a tag a block or driver writes can never
       // be hmi: readwrite).
       if (!t.writer.empty()) {

@@ -226,8 +226,11 @@ def no_5xx_for_a_number_beyond_a_double(api):
 
 
 def a_write_to_a_tag_the_program_writes_says_so(api, port):
-    j = as_user(api, "olga").expect(409, "PUT", "/tags/running", {"value": True})
+    olga = as_user(api, "olga")
+    j = olga.expect(409, "PUT", "/tags/running", {"value": True})
     assert "written by the program" in j["error"] and "force" in j["error"], j
+    j = olga.expect(403, "PUT", "/tags/secret", {"value": 1}, what="an hmi: none tag: not even its writer is told")
+    assert "k_secret" not in j["error"], j
     r = cli(["write", "running", "TRUE", "--url", "http://127.0.0.1:%d" % port], user="olga")
     assert r.returncode == 2, (r.returncode, r.stderr)
     assert "role too low" not in r.stderr and "written by the program" in r.stderr and "force" in r.stderr, r.stderr
