@@ -39,8 +39,8 @@ class HiddenCells {
 };
 
 // One HiddenCells per running program, built by the first read that needs
-// it (a program of 100,000 blocks takes milliseconds), again after an
-// online change. Thread-safe.
+// it (it walks every copy of every block, so not once per request), again
+// after an online change. Thread-safe.
 class HiddenCellsCache {
  public:
   // `generation`: PlcHost::program_generation(), read with `p` held.
