@@ -35,10 +35,12 @@ std::string status_words(int status) {
   switch (status) {
     case 400: return "rejected (400)";
     case 401: return "not logged in (401)";
-    case 403: return "refused (403, role too low)";
+    // The PLC's reason follows: a role too low, a tag without hmi: readwrite or hmi: none.
+    case 403: return "forbidden (403)";
     case 404: return "not found (404)";
     case 405: return "method not allowed (405)";
-    case 409: return "refused by the PLC's state (409)";
+    // The PLC's reason follows: the program writes the tag, a stopped task, a change under way.
+    case 409: return "refused (409)";
     case 413: return "too large (413)";
     case 415: return "not JSON (415)";
     case 429: return "too many login attempts (429)";

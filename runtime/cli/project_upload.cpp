@@ -1,4 +1,5 @@
 #include "runtime/cli/project_upload.hpp"
+#include "runtime/project/inside_dir.hpp"
 #include "runtime/project/yaml_tree.hpp"
 
 #include <filesystem>
@@ -69,6 +70,13 @@ std::optional<ProjectUpload> collect_project(const std::string& main_path, std::
         return std::nullopt;
       }
       if (up.files.count(rel_name)) continue;
+      // The name is inside; what it points to must be too (a symlink to a
+      // file elsewhere is refused here, as the PLC refuses it in an upload).
+      if (std::string target; !resolves_inside(root_abs, root_abs / rel, &target)) {
+        *error = where.text() + ": include '" + file + "' resolves to " + target + ", outside the project's directory " +
+                 root_abs.string() + " (a symbolic link): only files under the main file's directory are sent to the PLC";
+        return std::nullopt;
+      }
       auto sub = read_file(root / rel);
       if (!sub) {
         *error = where.text() + ": include '" + file + "': cannot open file " + (root / rel).string();

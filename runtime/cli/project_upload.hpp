@@ -4,7 +4,9 @@
 // that includes it (docs/project-format.md, "include"). Names are relative
 // to the main file's directory, which is the upload's root on the PLC: a
 // file outside it would have no name there, so it is refused here with the
-// location of the include that names it.
+// location of the include that names it; so is a name inside it that is a
+// symbolic link to a file outside (runtime/project/inside_dir.hpp, the rule
+// the PLC applies to an upload).
 #pragma once
 
 #include <map>

@@ -46,6 +46,10 @@ struct Tag {
   std::vector<Cell> safe;   // empty: no safe value
   std::uint16_t owner = 0;  // the task that writes it and publishes it
   std::uint32_t cell = 0;   // first cell in the owner's image (inside its owned range)
+  // Engineering limits (the project's min: and max:, in the tag's unit):
+  // the range a write from outside (HTTP API, HMI) may set; nullopt: only
+  // the type's own range (tag_limits.hpp).
+  std::optional<double> min, max;
   std::string writer;       // "block x.Q", "driver io.ch", "" (HMI / tests only)
   bool written_every_scan = false;  // by its writer, every element: a write from outside would be overwritten
   SourceLoc loc;

@@ -23,9 +23,11 @@ ChangeRunner::ChangeRunner(const ChangeRequest& request, Setup setup, const std:
     case ChangeRequest::Kind::Load: src = {request.path, "upload", "an upload" + request.by}; break;
     case ChangeRequest::Kind::Rollback: {
       std::string why;
-      auto v = extract_version(setup.store.path(), request.version, &why);
+      bool missing = false;
+      auto v = extract_version(setup.store.path(), request.version, &why, &missing);
       if (!v) {
-        refuse(409, "rollback refused: " + why + "; the running program continues unchanged");
+        // No such version is the caller's mistake (404), not the PLC's state.
+        refuse(missing ? 404 : 409, "rollback refused: " + why + "; the running program continues unchanged");
         return;
       }
       src = {v->project_file, "rollback", "version " + std::to_string(v->number) + request.by};
@@ -33,6 +35,7 @@ ChangeRunner::ChangeRunner(const ChangeRequest& request, Setup setup, const std:
     }
   }
   what_ = src.what();
+  project_file_ = src.path;
   LoadOptions options = setup.options;
   options.cancel = cancel;
   LoadResult next = load_project(src.path, options);

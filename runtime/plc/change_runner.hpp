@@ -52,6 +52,9 @@ class ChangeRunner {
   Transaction* transaction() { return tx_.get(); }
   // The new program, for the PLC to own once the change is complete.
   std::unique_ptr<Program> take_new_program();
+  // The project file the change loaded: after a committed load or rollback,
+  // what the instance's `reload` (and SIGHUP) reloads from then on.
+  const std::string& project_file() const { return project_file_; }
 
  private:
   void refuse(int status, std::string summary, std::vector<std::string> lines = {});
@@ -61,6 +64,7 @@ class ChangeRunner {
   StoreLink* store_ = nullptr;
   ChangeScheduler* scheduler_ = nullptr;
   std::string what_;
+  std::string project_file_;
   std::int64_t give_up_ns_ = 0;
   std::optional<ChangeResult> result_;
   std::string hash_;

@@ -319,6 +319,11 @@ bool Plc::start_next_change() {
     active_.reset();
     return false;
   }
+  // The file the running program came from is the instance's project file
+  // from now on: GET /status names it, and `reload` or SIGHUP reloads it
+  // (an upload's copy beside the database, a rolled-back version's files),
+  // not the file the instance was started with.
+  options_.project = active_->project_file();
   return true;
 }
 
@@ -326,7 +331,10 @@ void Plc::poll_change() {
   if (!active_->poll()) {
     // A task late for its switch: the outcome is given as it stands, the
     // change completes when the task gets there.
-    if (active_->result() && active_done_) finish_request(active_done_, *active_->result());
+    if (active_->result() && active_done_) {
+      refresh_status();
+      finish_request(active_done_, *active_->result());
+    }
     return;
   }
   // The old program goes: every task has left it, its events and trend
@@ -341,6 +349,7 @@ void Plc::poll_change() {
   active_.reset();
   old.reset();
   changes_completed_.fetch_add(1, std::memory_order_release);
+  refresh_status();  // GET /status names the new project file once the answer is out
   if (active_done_) finish_request(active_done_, result);
 }
 

@@ -7,7 +7,6 @@
 #include <filesystem>
 #include <fstream>
 
-#include "runtime/plc/store_link.hpp"
 #include "runtime/store/database.hpp"
 
 namespace syncplc::plc {
@@ -30,7 +29,9 @@ store::ProjectLoad project_load(const LoadResult& r, const std::string& project_
   return l;
 }
 
-std::optional<ExtractedVersion> extract_version(const std::string& db_path, std::int64_t number, std::string* error) {
+std::optional<ExtractedVersion> extract_version(const std::string& db_path, std::int64_t number, std::string* error,
+                                                bool* no_such_version) {
+  if (no_such_version) *no_such_version = false;
   if (db_path == store::kMemoryDatabase) {
     *error = "the database is in memory (--db :memory:): it keeps no project versions to load";
     return std::nullopt;
@@ -44,7 +45,8 @@ std::optional<ExtractedVersion> extract_version(const std::string& db_path, std:
   if (!db) return std::nullopt;
   auto v = number ? store::find_version(db->sql(), number) : store::last_accepted(db->sql());
   if (!v) {
-    *error = number ? "the database " + db_path + " holds no version " + std::to_string(number) + " (syncplc projects lists them)"
+    if (no_such_version) *no_such_version = true;
+    *error = number ? "there is no version " + std::to_string(number) + " in the database " + db_path + " (syncplc projects lists them)"
                     : "the database " + db_path + " holds no accepted project yet: give a project file (syncplc run PROJECT)";
     return std::nullopt;
   }
@@ -53,11 +55,14 @@ std::optional<ExtractedVersion> extract_version(const std::string& db_path, std:
              (v->errors.size() == 1 ? " error" : " errors") + "): only an accepted version can be loaded again";
     return std::nullopt;
   }
-  // Content-addressed: written anew beside, then put in place.
-  const fs::path dir = fs::path(default_database_path()).parent_path() / "projects";
+  // Content-addressed: written anew beside, then put in place. Beside the
+  // database, as the uploads are: one place per database, and private (a
+  // project may hold addresses and settings of the plant).
+  const fs::path dir = fs::absolute(db_path).parent_path() / "projects";
   const std::string final_dir = (dir / v->hash).string(), tmp = final_dir + ".tmp-" + std::to_string(getpid());
   std::error_code ec;
   fs::create_directories(dir, ec);
+  fs::permissions(dir, fs::perms::owner_all, fs::perm_options::replace, ec);
   std::string written = store::extract_files(store::version_files(db->sql(), v->number), tmp, error);
   if (written.empty()) return std::nullopt;
   fs::remove_all(final_dir, ec);

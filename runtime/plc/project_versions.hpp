@@ -24,10 +24,12 @@ struct ExtractedVersion {
   std::string project_file;
 };
 // Version `number` (0: the last accepted one) of the database at `db_path`,
-// read through its own read-only connection and written under the state
-// directory (projects/HASH, 0700). Nullopt with `error` when there is none,
-// it was rejected, or it cannot be written.
-std::optional<ExtractedVersion> extract_version(const std::string& db_path, std::int64_t number, std::string* error);
+// read through its own read-only connection and written beside the
+// database (DIR/projects/HASH for DIR/plc.db, each directory 0700, as the
+// uploads beside it). Nullopt with `error` when there is none (then
+// `no_such_version` is set), it was rejected, or it cannot be written.
+std::optional<ExtractedVersion> extract_version(const std::string& db_path, std::int64_t number, std::string* error,
+                                                bool* no_such_version = nullptr);
 
 // `syncplc reload --version N` leaves this beside the instance's pid file
 // before it signals; `run` takes it (reads and removes) at the signal.

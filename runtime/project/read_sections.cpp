@@ -1,6 +1,7 @@
 // Reading the project's sections into declarations: project, tasks, tags,
 // connections (as written; resolved by check_connections.cpp), traces,
 // watch and metrics. Blocks and drivers have files of their own.
+#include "runtime/core/tag_limits.hpp"
 #include "runtime/core/units.hpp"
 #include "runtime/project/modbus_settings.hpp"
 #include "runtime/project/store_section.hpp"
@@ -121,6 +122,42 @@ void read_tasks(const ConfigNode& n, Declarations& p, Diagnostics& diags) {
   }
 }
 
+// min: and max: of a numeric tag, values of its type in its unit
+// (tag_limits.hpp); min not above max.
+static void read_tag_limits(Tag& tag, const ConfigNode* min, const ConfigNode* max, Diagnostics& diags) {
+  if (tag.type == IecType::BOOL || tag.type == IecType::TIME || is_bit_string(tag.type)) {
+    diags.error((min ? min : max)->loc, "min and max are for numeric tags; " + tag.name + " is " +
+                                           std::string(type_name(tag.type)));
+    return;
+  }
+  auto limit = [&](const ConfigNode* n, const char* key) -> std::optional<double> {
+    if (!n) return std::nullopt;
+    std::string err;
+    auto c = n->is_scalar() ? parse_value_in_unit(tag.type, tag.unit, n->scalar, &err) : std::nullopt;
+    if (!c) {
+      diags.error(n->loc, std::string(key) + ": " + (n->is_scalar() ? err : "expected one value of the tag's type"));
+      return std::nullopt;
+    }
+    return cell_as_double(tag.type, *c);
+  };
+  tag.min = limit(min, "min");
+  tag.max = limit(max, "max");
+  if (tag.min && tag.max && *tag.min > *tag.max) {
+    diags.error(min->loc, "min " + min->scalar + " is above max " + max->scalar + " of " + tag.name);
+    tag.min.reset();
+    tag.max.reset();
+  }
+}
+
+static void check_within_limits(const Tag& tag, const std::vector<Cell>& values, const ConfigNode& n, const char* what,
+                         Diagnostics& diags) {
+  for (const Cell& v : values)
+    if (std::string why = outside_limits(tag, v); !why.empty()) {
+      diags.error(n.loc, std::string(what) + ": " + why);
+      return;
+    }
+}
+
 void read_tags(const ConfigNode& n, Declarations& p, Diagnostics& diags) {
   if (!n.is_list()) { diags.error(n.loc, "tags: expected a list"); return; }
   p.tags.reserve(p.tags.size() + n.items.size());
@@ -130,6 +167,7 @@ void read_tags(const ConfigNode& n, Declarations& p, Diagnostics& diags) {
     td.tag.loc = t.loc;
     bool ok = true, has_type = false;
     const ConfigNode *addr = nullptr, *modbus = nullptr, *init = nullptr, *safe = nullptr, *trend = nullptr;
+    const ConfigNode *min = nullptr, *max = nullptr;
     for (const auto& [k, v] : t.map) {
       if (k == "name") {
         td.tag.name = v.scalar;
@@ -166,9 +204,11 @@ void read_tags(const ConfigNode& n, Declarations& p, Diagnostics& diags) {
       } else if (k == "description") td.tag.description = v.scalar;
       else if (k == "init") init = &v;
       else if (k == "safe") safe = &v;
+      else if (k == "min") min = &v;
+      else if (k == "max") max = &v;
       else if (k == "task") { td.task = v.scalar; td.task_loc = v.loc; }
       else if (k == "modbus") modbus = &v;
-      else diags.error(v.loc, "unknown key '" + k + "' in a tag (name, type, address, modbus, retain, persistent, trend, hmi, unit, description, init, safe, task)");
+      else diags.error(v.loc, "unknown key '" + k + "' in a tag (name, type, address, modbus, retain, persistent, trend, hmi, unit, description, init, safe, min, max, task)");
     }
     if (td.tag.name.empty()) { diags.error(t.loc, "tag without a name"); ok = false; }
     if (!has_type) { diags.error(t.loc, "tag " + td.tag.name + " has no type"); ok = false; }
@@ -192,10 +232,14 @@ void read_tags(const ConfigNode& n, Declarations& p, Diagnostics& diags) {
     if (td.tag.persistent) td.tag.retain = true;  // PERSISTENT implies RETAIN (CODESYS's VAR PERSISTENT RETAIN)
     if (ok && trend) td.trend = read_trend(*trend, td.tag, diags);
     if (!td.task.empty() && p.task_index(td.task) < 0) diags.error(td.task_loc, "unknown task '" + td.task + "'");
+    if (ok && (min || max)) read_tag_limits(td.tag, min, max, diags);
     if (ok) {
       td.tag.init.assign(td.tag.length, Cell{});
       if (init) { auto v = parse_tag_values(td.tag, *init, "init", diags); if (!v.empty()) td.tag.init = v; }
       if (safe) td.tag.safe = parse_tag_values(td.tag, *safe, "safe value", diags);
+      // Its own values within its limits: a limit that refused the tag's init would refuse every setpoint near it.
+      if (init) check_within_limits(td.tag, td.tag.init, *init, "init", diags);
+      if (safe) check_within_limits(td.tag, td.tag.safe, *safe, "safe value", diags);
       p.tag_by_name.emplace(td.tag.name, static_cast<int>(p.tags.size()));
       p.tags.push_back(std::move(td));
     }

@@ -13,7 +13,9 @@
 #include <optional>
 #include <string>
 
+#include "runtime/web/login_events.hpp"
 #include "runtime/web/plc_host.hpp"
+#include "runtime/web/read_access.hpp"
 #include "runtime/web/roles.hpp"
 #include "runtime/web/server.hpp"
 #include "runtime/web/sessions.hpp"
@@ -32,7 +34,9 @@ struct ApiContext {
   ServerCounters& counters;
   Sessions sessions;
   LoginLimiter limiter;
+  LoginEvents login_events;
   HashGate hashes;
+  HiddenCellsCache hidden_cells;  // what only engineers see (read_access.hpp)
   // The users' table, opened at the first login (its own connection to the
   // PLC's database; thread-safe). The mutex guards only the opening.
   std::mutex users_mutex;

@@ -3,6 +3,7 @@
 // the user and the client.
 #include <vector>
 
+#include "runtime/core/tag_limits.hpp"
 #include "runtime/core/units.hpp"
 #include "runtime/web/api.hpp"
 #include "runtime/web/json_values.hpp"
@@ -84,6 +85,12 @@ std::optional<std::vector<Cell>> written_cells(const Tag& t, bool whole, const n
       send_error(res, 400, t.name + ": " + why);
       return std::nullopt;
     }
+    // The project's engineering limits (tag_limits.hpp): the HMI's
+    // setpoints come this way too.
+    if (std::string outside = outside_limits(t, *cell); !outside.empty()) {
+      send_error(res, 400, t.name + ": " + outside + "; nothing was written");
+      return std::nullopt;
+    }
     cells.push_back(*cell);
   }
   return cells;
@@ -122,14 +129,24 @@ void add_change_routes(httplib::Server& s, ApiContext& c) {
       auto w = write_target(p, name, res);
       if (!w) return;
       const Tag& t = *w->tag;
+      // An hmi: none tag is not shown outside the PLC (read_access.hpp):
+      // nothing about it, not even who writes it.
+      if (t.hmi == HmiAccess::None) {
+        send_error(res, 403, t.name + " cannot be written from outside (hmi: none)");
+        return;
+      }
+      // Then the program's own tag: that, not the role or the hmi: key, is
+      // why a write cannot hold (a tag a block or driver writes can never
+      // be hmi: readwrite).
+      if (!t.writer.empty()) {
+        send_error(res, 409, t.name + " is written by the program (" + t.writer + (t.written_every_scan ? " every scan" : "") +
+                                 "): a write would be overwritten at once; an engineer can force it instead "
+                                 "(syncplc force " + t.name + " VALUE)");
+        return;
+      }
       if (t.hmi != HmiAccess::ReadWrite) {
         send_error(res, 403, t.name + " cannot be written from outside (hmi: " + std::string(hmi_access_name(t.hmi)) +
                                  "; the project gives it hmi: readwrite to allow it)");
-        return;
-      }
-      if (t.written_every_scan) {
-        send_error(res, 409, t.name + " is written every scan by " + t.writer +
-                                 ": a write would be overwritten at once (an engineer can force it)");
         return;
       }
       task = p.tasks[t.owner]->config().name;

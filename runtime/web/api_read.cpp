@@ -11,6 +11,7 @@
 #include "runtime/store/project_store.hpp"
 #include "runtime/web/api.hpp"
 #include "runtime/web/program_json.hpp"
+#include "runtime/web/read_access.hpp"
 
 namespace syncplc::web {
 namespace {
@@ -55,6 +56,13 @@ std::unique_ptr<store::Database> read_database(ApiContext& c, httplib::Response&
   return db;
 }
 
+// A version's error lines for a reader who may not see paths.
+nlohmann::json hidden_dirs(const std::vector<std::string>& lines) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& l : lines) out.push_back(without_dirs(l));
+  return out;
+}
+
 }  // namespace
 
 void add_read_routes(httplib::Server& s, ApiContext& c) {
@@ -63,6 +71,7 @@ void add_read_routes(httplib::Server& s, ApiContext& c) {
     nlohmann::json runtime = c.host.runtime_status();
     const nlohmann::json states = runtime.value("task_states", nlohmann::json::object());
     runtime.erase("task_states");
+    if (!sees_everything(c.session(req))) hide_paths(runtime);  // read_access.hpp
     const std::string histograms = req.get_param_value("histograms");
     if (!histograms.empty() && histograms != "full") {
       send_error(res, 400, "histograms='" + histograms + "': the only choice is histograms=full");
@@ -84,11 +93,13 @@ void add_read_routes(httplib::Server& s, ApiContext& c) {
   s.Get("/api/v1/tags", [&c](const httplib::Request& req, httplib::Response& res) {
     if (!c.may_read(req, res)) return;
     const std::string filter = req.get_param_value("filter");
+    const bool all = sees_everything(c.session(req));
     nlohmann::json tags = nlohmann::json::array();
     c.host.with_program([&](Program& p) {
       const ForcedCells forced = forced_cells(p);
       for (const auto& t : p.tags)
-        if (filter.empty() || t.name.find(filter) != std::string::npos) tags.push_back(tag_json(p, t, forced));
+        if ((all || t.hmi != HmiAccess::None) && (filter.empty() || t.name.find(filter) != std::string::npos))
+          tags.push_back(tag_json(p, t, forced));
     });
     send_json(res, 200, {{"tags", tags}});
   });
@@ -96,9 +107,12 @@ void add_read_routes(httplib::Server& s, ApiContext& c) {
   s.Get(R"(/api/v1/tags/([^/]+))", [&c](const httplib::Request& req, httplib::Response& res) {
     if (!c.may_read(req, res)) return;
     const std::string name = req.matches[1];
+    const bool all = sees_everything(c.session(req));
     c.host.with_program([&](Program& p) {
-      if (const Tag* t = p.find_tag(name)) send_json(res, 200, tag_json(p, *t, forced_cells(p)));
-      else send_error(res, 404, "no tag '" + name + "'");
+      const Tag* t = p.find_tag(name);
+      if (!t) send_error(res, 404, "no tag '" + name + "'");
+      else if (!all && t->hmi == HmiAccess::None) send_error(res, 403, hidden_reason(name));
+      else send_json(res, 200, tag_json(p, *t, forced_cells(p)));
     });
   });
 
@@ -110,6 +124,7 @@ void add_read_routes(httplib::Server& s, ApiContext& c) {
       return;
     }
     nlohmann::json values = nlohmann::json::object(), forced = nlohmann::json::object();
+    const bool all = sees_everything(c.session(req));
     bool ok = true;
     // A pin nobody watched has no copy until its task's next publication
     // (pin_monitor.hpp): ask again a little later, without holding the
@@ -118,11 +133,17 @@ void add_read_routes(httplib::Server& s, ApiContext& c) {
       bool starting = false;
       c.host.with_program([&](Program& p) {
         const ForcedCells fc = forced_cells(p);
+        const auto hidden = all ? nullptr : c.hidden_cells.get(p, c.host.program_generation());
         for (const auto& ref : refs) {
           std::string why;
           auto r = p.resolve(ref, &why);
           if (!r) {
             send_error(res, 404, why.empty() ? "no tag or pin '" + ref + "'" : why);
+            ok = false;
+            return;
+          }
+          if (hidden && hidden->hides(*r)) {
+            send_error(res, 403, hidden_reason(ref));
             ok = false;
             return;
           }
@@ -141,9 +162,14 @@ void add_read_routes(httplib::Server& s, ApiContext& c) {
   s.Get("/api/v1/blocks", [&c](const httplib::Request& req, httplib::Response& res) {
     if (!c.may_read(req, res)) return;
     nlohmann::json blocks = nlohmann::json::array();
+    const bool all = sees_everything(c.session(req));
     c.host.with_program([&](Program& p) {
       const ForcedCells fc = forced_cells(p);
-      for (const auto& b : p.block_instances()) blocks.push_back(instance_json(p, b, fc));
+      const auto hidden = all ? nullptr : c.hidden_cells.get(p, c.host.program_generation());
+      for (const auto& b : p.block_instances()) {
+        blocks.push_back(instance_json(p, b, fc));
+        if (hidden) hide_pins(blocks.back(), b, *hidden);
+      }
     });
     send_json(res, 200, {{"blocks", blocks}});
   });
@@ -151,10 +177,13 @@ void add_read_routes(httplib::Server& s, ApiContext& c) {
   s.Get(R"(/api/v1/blocks/([^/]+))", [&c](const httplib::Request& req, httplib::Response& res) {
     if (!c.may_read(req, res)) return;
     const std::string name = req.matches[1];
+    const bool all = sees_everything(c.session(req));
     c.host.with_program([&](Program& p) {
       for (const auto& b : p.block_instances())
         if (b.name == name) {
-          send_json(res, 200, instance_json(p, b, forced_cells(p)));
+          nlohmann::json j = instance_json(p, b, forced_cells(p));
+          if (!all) hide_pins(j, b, *c.hidden_cells.get(p, c.host.program_generation()));
+          send_json(res, 200, j);
           return;
         }
       send_error(res, 404, "no block instance '" + name + "'");
@@ -164,9 +193,13 @@ void add_read_routes(httplib::Server& s, ApiContext& c) {
   s.Get("/api/v1/forces", [&c](const httplib::Request& req, httplib::Response& res) {
     if (!c.may_read(req, res)) return;
     nlohmann::json list = nlohmann::json::array();
+    const bool all = sees_everything(c.session(req));
     c.host.with_program([&](Program& p) {
+      const auto hidden = all ? nullptr : c.hidden_cells.get(p, c.host.program_generation());
       for (const auto& f : p.forces())
-        list.push_back({{"ref", f.ref}, {"value", f.value_text}, {"task", f.task}});
+        list.push_back({{"ref", f.ref},
+                        {"value", hidden && hidden->hides(f.cell) ? nlohmann::json() : nlohmann::json(f.value_text)},
+                        {"task", f.task}});
     });
     send_json(res, 200, {{"forces", list}});
   });
@@ -191,6 +224,7 @@ void add_read_routes(httplib::Server& s, ApiContext& c) {
     f.newest = *since == 0;
     if (req.has_param("kind") && !req.get_param_value("kind").empty()) f.kinds = split_refs(req.get_param_value("kind"));
     nlohmann::json events = nlohmann::json::array();
+    const bool all = sees_everything(c.session(req));
     if (!db->sql().tableExists("events")) {
       send_json(res, 200, {{"events", events}});  // no event recorded yet
       return;
@@ -200,8 +234,8 @@ void add_read_routes(httplib::Server& s, ApiContext& c) {
                         {"time_ns", e.time_ns},
                         {"kind", e.kind},
                         {"task", e.task},
-                        {"source", e.source},
-                        {"message", e.message},
+                        {"source", all ? e.source : without_dirs(e.source)},
+                        {"message", all ? e.message : without_dirs(e.message)},
                         {"client", e.client},
                         {"scan", e.scan ? nlohmann::json(*e.scan) : nlohmann::json()}});
     send_json(res, 200, {{"events", events}});
@@ -220,6 +254,16 @@ void add_read_routes(httplib::Server& s, ApiContext& c) {
     if (!until) return;
     auto points = int_param(req, res, "points", 500);
     if (!points) return;
+    if (!sees_everything(c.session(req))) {
+      bool hidden = false;
+      c.host.with_program([&](Program& p) {
+        if (auto r = p.resolve(tag)) hidden = c.hidden_cells.get(p, c.host.program_generation())->hides(*r);
+      });
+      if (hidden) {
+        send_error(res, 403, hidden_reason(tag));
+        return;
+      }
+    }
     if (*points < 1 || *points > 10000) {
       send_error(res, 400, "points must be 1..10000");
       return;
@@ -273,18 +317,19 @@ void add_read_routes(httplib::Server& s, ApiContext& c) {
     auto db = read_database(c, res);
     if (!db) return;
     const std::string running_hash = c.host.runtime_status().value("project_hash", "");
+    const bool all = sees_everything(c.session(req));
     nlohmann::json versions = nlohmann::json::array();
     if (db->sql().tableExists("project_versions")) {
       for (const auto& v : store::list_versions(db->sql()))
         versions.push_back({{"version", v.number},
                             {"time_ns", v.time_ns},
                             {"origin", v.origin},
-                            {"source", v.source},
+                            {"source", all ? v.source : without_dirs(v.source)},
                             {"outcome", v.accepted ? "accepted" : "rejected"},
                             {"project", v.project_name + (v.project_version.empty() ? "" : " " + v.project_version)},
                             {"hash", v.hash},
                             {"files", v.files},
-                            {"errors", v.errors},
+                            {"errors", all ? nlohmann::json(v.errors) : hidden_dirs(v.errors)},
                             {"running", false}});
       // The newest accepted version whose files are the running program's.
       for (auto it = versions.rbegin(); it != versions.rend(); ++it)

@@ -9,6 +9,7 @@
 #include "runtime/store/event_log.hpp"
 #include "runtime/web/api.hpp"
 #include "runtime/web/program_json.hpp"
+#include "runtime/web/read_access.hpp"
 
 namespace syncplc::web {
 namespace {
@@ -18,6 +19,7 @@ struct StreamState {
   std::int64_t period_ns = 100'000'000;
   std::int64_t next_ns = 0;
   std::string token;                 // "" : an anonymous reader
+  bool sees_everything = false;      // an engineer's stream: hmi: none values too (read_access.hpp)
   std::int64_t session_checked_ns = 0;
   std::uint64_t generation = ~std::uint64_t{0};
   std::vector<std::optional<CellRef>> resolved;
@@ -36,9 +38,14 @@ std::string tick(ApiContext& c, StreamState& st, bool* end) {
       // The program changed (online change): the refs are looked up again.
       st.generation = c.host.program_generation();
       st.resolved.clear();
+      const auto hidden = st.sees_everything ? nullptr : c.hidden_cells.get(p, st.generation);
       for (const auto& ref : st.refs) {
         std::string why;
         auto r = p.resolve(ref, &why);
+        if (r && hidden && hidden->hides(*r)) {
+          r.reset();
+          why = hidden_reason(ref);
+        }
         if (!r) {
           out = event("error", {{"error", why.empty() ? "no tag or pin '" + ref + "'" : why}});
           *end = true;
@@ -91,6 +98,7 @@ void add_stream_routes(httplib::Server& s, ApiContext& c) {
     st->period_ns = static_cast<std::int64_t>(1e9 / rate);
     const std::string auth = req.get_header_value("Authorization");
     if (auth.rfind("Bearer ", 0) == 0) st->token = auth.substr(7);
+    st->sees_everything = sees_everything(c.session(req));
     // Each stream holds a worker: beyond the limit, refuse rather than queue.
     if (c.streams.fetch_add(1) >= c.config.max_streams) {
       c.streams.fetch_sub(1);
@@ -115,7 +123,9 @@ void add_stream_routes(httplib::Server& s, ApiContext& c) {
           // A session logged out or expired ends its streams (checked once a second).
           if (!st->token.empty() && st->next_ns - st->session_checked_ns > 1'000'000'000) {
             st->session_checked_ns = st->next_ns;
-            if (!c.session_of(st->token) && !anonymous_reads(c.config)) {
+            const auto session = c.session_of(st->token);
+            // An engineer's stream also ends with the engineer's rights (hmi: none values).
+            if ((!session && !anonymous_reads(c.config)) || (st->sees_everything && !sees_everything(session))) {
               const std::string e = event("error", {{"error", "the session has ended: log in again"}});
               sink.write(e.data(), e.size());
               sink.done();

@@ -52,4 +52,22 @@ std::optional<std::string> value_text(const nlohmann::json& v, std::string* erro
   return std::nullopt;
 }
 
+std::optional<nlohmann::json> parse_json_body(const std::string& body, std::string* error) {
+  try {
+    return nlohmann::json::parse(body);
+  } catch (const nlohmann::json::parse_error& e) {
+    *error = "the body is not valid JSON (at byte " + std::to_string(e.byte) + ")";
+  } catch (const nlohmann::json::out_of_range& e) {
+    // nlohmann refuses a number beyond a double (1e999) with out_of_range
+    // 406 "number overflow parsing '1e999'", which names the number.
+    std::string what = e.what();
+    const auto quote = what.find('\'');
+    *error = "a number in the body is too large for a 64-bit float" +
+             (quote == std::string::npos ? std::string() : " (" + what.substr(quote) + ")");
+  } catch (const nlohmann::json::exception& e) {
+    *error = std::string("the body is not valid JSON (") + e.what() + ")";
+  }
+  return std::nullopt;
+}
+
 }  // namespace syncplc::web

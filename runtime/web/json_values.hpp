@@ -22,4 +22,9 @@ nlohmann::json cells_json(IecType t, const Cell* c, std::uint32_t n, bool array)
 // for objects, arrays and null.
 std::optional<std::string> value_text(const nlohmann::json& v, std::string* error);
 
+// A request body as JSON; nullopt with `error` saying what is wrong and
+// where ("the body is not valid JSON (at byte 12)", "a number at byte 11 is
+// too large for a double (1e999)"). Never throws: no client input makes a 5xx.
+std::optional<nlohmann::json> parse_json_body(const std::string& body, std::string* error);
+
 }  // namespace syncplc::web

@@ -108,6 +108,8 @@ nlohmann::json tag_json(const Program& p, const Tag& t, const ForcedCells& force
           {"retain", t.retain},
           {"persistent", t.persistent},
           {"description", t.description},
+          {"min", t.min ? nlohmann::json(*t.min) : nlohmann::json()},
+          {"max", t.max ? nlohmann::json(*t.max) : nlohmann::json()},
           {"value", cells_json(t.type, cells.data(), t.length, array)},
           {"forced", f}};
 }

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <set>
 
+#include "runtime/project/inside_dir.hpp"
 #include "runtime/project/yaml_tree.hpp"
 #include "runtime/store/project_store.hpp"
 
@@ -154,10 +155,9 @@ UploadCheck check_upload(const Upload& u, const std::string& root, const LoadOpt
   }
   const LoadResult r = load_project(main, options);
   for (const auto& d : r.diagnostics.sorted()) out.errors.push_back(error_json(d.text(), dir));
-  const std::string inside = fs::weakly_canonical(dir, ec).string() + "/";
   for (const auto& s : r.sources) {
-    const std::string p = fs::weakly_canonical(s.path, ec).string();
-    if (p.rfind(inside, 0) != 0)
+    std::string p;
+    if (!resolves_inside(dir, s.path, &p))
       out.errors.push_back({{"where", nullptr},
                             {"message", "the project reads " + p + ", outside the upload: send every file it includes"}});
   }

@@ -10,6 +10,7 @@
 
 #include "runtime/store/database.hpp"
 #include "runtime/web/api.hpp"
+#include "runtime/web/json_values.hpp"
 #include "runtime/web/worker_pool.hpp"
 
 namespace syncplc::web {
@@ -49,8 +50,8 @@ std::optional<Session> ApiContext::session(const httplib::Request& req) {
 std::optional<Session> ApiContext::session_of(const std::string& token) {
   auto s = sessions.check(token, steady_now_ns());
   if (!s) return s;
-  // `syncplc user remove` or `role` may have changed the user since the
-  // login (another process): the table decides, at every request.
+  // `syncplc user remove`, `passwd` or `role` may have changed the user
+  // since the login (another process): the table's stamp decides, at every request.
   UserStore* users = nullptr;
   {
     std::lock_guard lock(users_mutex);
@@ -63,8 +64,13 @@ std::optional<Session> ApiContext::session_of(const std::string& token) {
   } catch (const std::exception&) {
     now.reset();  // a table that cannot be read grants nothing
   }
-  if (!now || now->role != s->role) {
+  if (!now) {
     sessions.revoke_user(s->user);
+    return std::nullopt;
+  }
+  // Only this token: a login after the change has the new stamp and stays.
+  if (now->stamp != s->stamp || now->role != s->role) {
+    sessions.revoke(token);
     return std::nullopt;
   }
   return s;
@@ -103,19 +109,13 @@ std::optional<nlohmann::json> ApiContext::json_body(const httplib::Request& req,
     send_error(res, 415, "send the body as application/json (Content-Type was '" + type + "')");
     return std::nullopt;
   }
-  auto j = nlohmann::json::parse(req.body, nullptr, false);
-  if (j.is_discarded()) {
-    // nlohmann's own message names the byte; parse again to get it.
-    std::string why = "the body is not valid JSON";
-    try {
-      (void)nlohmann::json::parse(req.body);
-    } catch (const nlohmann::json::parse_error& e) {
-      why += " (at byte " + std::to_string(e.byte) + ")";
-    }
+  std::string why;
+  auto j = parse_json_body(req.body, &why);  // json_values.hpp: never throws
+  if (!j) {
     send_error(res, 400, why);
     return std::nullopt;
   }
-  if (!j.is_object()) {
+  if (!j->is_object()) {
     send_error(res, 400, "the body must be a JSON object");
     return std::nullopt;
   }

@@ -54,7 +54,7 @@ std::string Sessions::issue(const User& user, std::int64_t now_ns) {
   std::string token(text, kTokenChars);
   sodium_memzero(text, sizeof text);
 
-  Entry e{digest(token), Session{user.name, user.role, now_ns, now_ns}};
+  Entry e{digest(token), Session{user.name, user.role, user.stamp, now_ns, now_ns}};
   std::lock_guard lock(mutex_);
   for (std::size_t i = entries_.size(); i-- > 0;) {
     const Session& s = entries_[i].session;
@@ -130,28 +130,41 @@ std::string address_key(const std::string& address) {
 
 std::string user_key(const std::string& user) { return "u " + user.substr(0, kKeyMaxBytes); }
 
+// The address's failures for one name: where the name's delay is served from.
+std::string pair_key(const std::string& address, const std::string& user) {
+  return "p " + address_key(address).substr(2) + " " + user.substr(0, kKeyMaxBytes);
+}
+
 }  // namespace
 
-LoginLimiter::LoginLimiter(std::size_t max_keys) : max_keys_(std::max<std::size_t>(max_keys, 2)) {}
+std::int64_t login_delay_ns(std::int64_t failures) {
+  if (failures < kLoginFreeFailures) return 0;
+  std::int64_t d = kLoginFirstDelayNs;
+  for (std::int64_t i = kLoginFreeFailures; i < failures && d < kLoginMaxDelayNs; ++i) d *= 2;
+  return std::min(d, kLoginMaxDelayNs);
+}
 
-std::int64_t LoginLimiter::refused_for(const std::string& key, std::int64_t now_ns) {
+LoginLimiter::LoginLimiter(std::size_t max_keys) : max_keys_(std::max<std::size_t>(max_keys, 3)) {}
+
+const LoginLimiter::Failures* LoginLimiter::look(const std::string& key, std::int64_t now_ns) {
   const auto it = failures_.find(key);
-  if (it == failures_.end()) return 0;
-  Failures& f = it->second;
-  int expired = 0;
-  while (expired < f.n && now_ns - f.at[static_cast<std::size_t>(expired)] >= kLoginWindowNs) ++expired;
-  if (expired == f.n) {  // nothing within the window: the key has no more to say
-    recency_.erase(f.recency);
-    failures_.erase(it);
-    return 0;
+  if (it == failures_.end()) return nullptr;
+  if (now_ns - it->second.last_ns >= kLoginForgetNs) {  // quiet long enough: a fresh start
+    forget(key);
+    return nullptr;
   }
-  std::copy(f.at.begin() + expired, f.at.begin() + f.n, f.at.begin());
-  f.n -= expired;
-  if (f.n < kLoginFailuresAllowed) return 0;
-  return f.at[0] + kLoginWindowNs - now_ns;
+  return &it->second;
+}
+
+void LoginLimiter::forget(const std::string& key) {
+  if (const auto it = failures_.find(key); it != failures_.end()) {
+    recency_.erase(it->second.recency);
+    failures_.erase(it);
+  }
 }
 
 void LoginLimiter::record(const std::string& key, std::int64_t now_ns) {
+  (void)look(key, now_ns);  // an old record starts afresh
   auto it = failures_.find(key);
   if (it == failures_.end()) {
     if (failures_.size() >= max_keys_) {  // the key whose latest failure is oldest goes
@@ -164,36 +177,40 @@ void LoginLimiter::record(const std::string& key, std::int64_t now_ns) {
   } else {
     recency_.splice(recency_.begin(), recency_, it->second.recency);
   }
-  Failures& f = it->second;
-  if (f.n == kLoginFailuresAllowed) {  // only the newest few can decide a refusal
-    std::copy(f.at.begin() + 1, f.at.end(), f.at.begin());
-    --f.n;
-  }
-  f.at[static_cast<std::size_t>(f.n++)] = now_ns;
+  ++it->second.count;
+  it->second.last_ns = std::max(it->second.last_ns, now_ns);
 }
 
 std::optional<std::int64_t> LoginLimiter::refused_for_ns(const std::string& address, const std::string& user,
                                                           std::int64_t now_ns) {
   std::lock_guard lock(mutex_);
-  const std::int64_t wait = std::max(refused_for(address_key(address), now_ns), refused_for(user_key(user), now_ns));
-  if (wait <= 0) return std::nullopt;
-  return wait;
+  std::int64_t until = now_ns;
+  // The address: its own failures, whatever names they were for.
+  if (const Failures* a = look(address_key(address), now_ns)) until = std::max(until, a->last_ns + login_delay_ns(a->count));
+  // The name: the delay all addresses' failures for it give, served from
+  // this address's own last failure for it. An address that never failed
+  // for the name is not held back: the right password from another station
+  // gets in whatever is tried elsewhere.
+  if (const Failures* pair = look(pair_key(address, user), now_ns)) {
+    const Failures* name = look(user_key(user), now_ns);
+    const std::int64_t count = std::max(pair->count, name ? name->count : 0);
+    until = std::max(until, pair->last_ns + login_delay_ns(count));
+  }
+  if (until <= now_ns) return std::nullopt;
+  return until - now_ns;
 }
 
 void LoginLimiter::failed(const std::string& address, const std::string& user, std::int64_t now_ns) {
   std::lock_guard lock(mutex_);
   record(address_key(address), now_ns);
   record(user_key(user), now_ns);
+  record(pair_key(address, user), now_ns);
 }
 
 void LoginLimiter::succeeded(const std::string& address, const std::string& user) {
   std::lock_guard lock(mutex_);
-  for (const std::string& key : {address_key(address), user_key(user)}) {
-    if (const auto it = failures_.find(key); it != failures_.end()) {
-      recency_.erase(it->second.recency);
-      failures_.erase(it);
-    }
-  }
+  forget(address_key(address));
+  forget(pair_key(address, user));
 }
 
 std::size_t LoginLimiter::tracked() const {

@@ -6,11 +6,17 @@
 //     is 32 random bytes, base64url; only a keyed hash of it is kept, so the
 //     table (or a core dump of it) gives nobody a token to send. A session
 //     ends after kSessionIdleNs without a request, kSessionLifetimeNs after
-//     the login, at logout, or when its user is removed or changes role.
-//   - LoginLimiter: after kLoginFailuresAllowed failures within
-//     kLoginWindowNs from one address or for one user name, further
-//     attempts are refused (429, Retry-After) until the oldest of those
-//     failures is kLoginWindowNs old.
+//     the login, at logout, or when its user's credential stamp (users.hpp)
+//     is no longer the one of the login: a password or role change, a
+//     removal (also when the name is added again).
+//   - LoginLimiter: failures slow down, never lock out (docs/http-api.md,
+//     "Failed logins"). After kLoginFreeFailures failures an address waits
+//     a delay that doubles with each further failure, up to kLoginMaxDelayNs,
+//     before it may try again (429, Retry-After). Failures for a user name
+//     from all addresses together set the delay for that name, but each
+//     address serves it from its own last failure for the name: an address
+//     that has not failed for the name is not held back by it, so an
+//     attacker elsewhere cannot keep the right password out.
 //   - HashGate: at most kConcurrentHashes password hashes at once. Each
 //     Argon2id hash takes 64 MiB (users.cpp): unbounded parallel logins
 //     would exhaust the PLC's memory; a login beyond the gate is answered
@@ -47,6 +53,7 @@ inline constexpr std::size_t kTokenChars = 43;     // its base64url text, withou
 struct Session {
   std::string user;
   Role role = Role::Viewer;
+  std::int64_t stamp = 0;      // the user's credential stamp at the login
   std::int64_t issued_ns = 0;  // the login
   std::int64_t last_ns = 0;    // the last request that showed the token
 };
@@ -91,9 +98,17 @@ class Sessions {
   std::vector<Entry> entries_;  // at most max_sessions_, in no order
 };
 
-inline constexpr int kLoginFailuresAllowed = 5;
-inline constexpr std::int64_t kLoginWindowNs = 60LL * 1'000'000'000;
-inline constexpr std::size_t kLoginTrackedKeys = 4096;  // addresses and names together
+// Failures a key (an address, a name) has before any delay.
+inline constexpr int kLoginFreeFailures = 3;
+inline constexpr std::int64_t kLoginFirstDelayNs = 1LL * 1'000'000'000;  // after the free ones; doubles
+inline constexpr std::int64_t kLoginMaxDelayNs = 60LL * 1'000'000'000;   // the longest wait
+// A key without a failure for this long is forgotten: its count starts afresh.
+inline constexpr std::int64_t kLoginForgetNs = 15LL * 60 * 1'000'000'000;
+inline constexpr std::size_t kLoginTrackedKeys = 4096;  // addresses, names and pairs together
+
+// The wait after `failures` failures of one key: 0 for the first
+// kLoginFreeFailures, then kLoginFirstDelayNs doubling, at most kLoginMaxDelayNs.
+std::int64_t login_delay_ns(std::int64_t failures);
 
 class LoginLimiter {
  public:
@@ -103,20 +118,24 @@ class LoginLimiter {
   // until it may (the answer's Retry-After, rounded up to seconds).
   std::optional<std::int64_t> refused_for_ns(const std::string& address, const std::string& user, std::int64_t now_ns);
   void failed(const std::string& address, const std::string& user, std::int64_t now_ns);
-  // A login that succeeded: the address's and the name's failures are forgotten.
+  // A login that succeeded: the address's failures, and those of the
+  // address for this name, are forgotten (the name's own count stays: an
+  // attacker's count is not reset by the engineer's login).
   void succeeded(const std::string& address, const std::string& user);
-  // Addresses and names with failures on record (at most max_keys).
+  // Keys (addresses, names, address-and-name pairs) with failures on record
+  // (at most max_keys).
   std::size_t tracked() const;
 
  private:
   struct Failures {
-    std::array<std::int64_t, kLoginFailuresAllowed> at{};  // the newest failures, oldest first
-    int n = 0;
+    std::int64_t count = 0;    // since the key was last forgotten
+    std::int64_t last_ns = 0;  // the latest failure
     std::list<std::string>::iterator recency;  // its place in recency_
   };
-  // The remaining refusal for `key`, 0 when none; under mutex_.
-  std::int64_t refused_for(const std::string& key, std::int64_t now_ns);
+  // The key's record, nullptr when none (or forgotten now); under mutex_.
+  const Failures* look(const std::string& key, std::int64_t now_ns);
   void record(const std::string& key, std::int64_t now_ns);  // under mutex_
+  void forget(const std::string& key);                        // under mutex_
 
   const std::size_t max_keys_;
   mutable std::mutex mutex_;

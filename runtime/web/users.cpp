@@ -23,8 +23,8 @@ namespace {
 // 0.1 s of one core. The PLC shares its cores and memory with real-time
 // tasks: MODERATE (256 MiB, ~0.7 s) or SENSITIVE (1 GiB, seconds) per login
 // would take them from the tasks and make each login attempt a lever for a
-// denial of service. Online guessing is bounded by the login limiter (5
-// failures a minute per address and per name), and 64 MiB per guess with a
+// denial of service. Online guessing is bounded by the login limiter (a
+// delay growing to a minute per address and per name), and 64 MiB per guess with a
 // salt per hash still makes guessing from a stolen database file costly.
 constexpr unsigned long long kOpsLimit = crypto_pwhash_OPSLIMIT_INTERACTIVE;
 constexpr std::size_t kMemLimit = crypto_pwhash_MEMLIMIT_INTERACTIVE;
@@ -71,7 +71,7 @@ std::string hash_problem(const SQLite::Column& c, const std::string& hash) {
   return "";
 }
 
-// From `SELECT name, role, hash, created_ns`.
+// From `SELECT name, role, hash, created_ns, stamp`.
 Row read_row(SQLite::Statement& q) {
   Row r;
   r.user.name = q.getColumn(0).getString();
@@ -87,10 +87,18 @@ Row read_row(SQLite::Statement& q) {
     r.hash_problem = "the password hash of user '" + r.user.name + "' in the database " + why +
                      " (damaged); give a new password with `syncplc user passwd " + r.user.name + "`";
   r.user.created_ns = q.getColumn(3).getInt64();
+  r.user.stamp = q.getColumn(4).getInt64();
   return r;
 }
 
-constexpr const char* kSelectRow = "SELECT name, role, hash, created_ns FROM users";
+constexpr const char* kSelectRow = "SELECT name, role, hash, created_ns, stamp FROM users";
+
+// A stamp no earlier one of this row is likely to have had (2^-64 per change).
+std::int64_t new_stamp() {
+  std::int64_t s = 0;
+  randombytes_buf(&s, sizeof s);
+  return s;
+}
 
 }  // namespace
 
@@ -135,7 +143,11 @@ const store::SchemaPart& UserStore::schema() {
        " hash TEXT NOT NULL,"           // crypto_pwhash_str: $argon2id$v=19$m=..,t=..,p=..$salt$hash
        " created_ns INTEGER NOT NULL,"  // wall time, ns since 1970 (UTC)
        " changed_ns INTEGER NOT NULL"   // the last change of role or password
-       ")"}};
+       ")",
+       // The credential stamp (users.hpp, User::stamp); rows from before it
+       // get one each, so the sessions of a restarted server start from them.
+       "ALTER TABLE users ADD COLUMN stamp INTEGER NOT NULL DEFAULT 0;"
+       " UPDATE users SET stamp = random()"}};
   return part;
 }
 
@@ -204,12 +216,14 @@ bool UserStore::add(const std::string& name, const std::string& password, Role r
   try {
     std::lock_guard lock(mutex_);
     const std::int64_t now = store::wall_now_ns();
-    SQLite::Statement ins(*db_, "INSERT INTO users (name, role, hash, created_ns, changed_ns) VALUES (?, ?, ?, ?, ?)");
+    SQLite::Statement ins(*db_,
+                          "INSERT INTO users (name, role, hash, created_ns, changed_ns, stamp) VALUES (?, ?, ?, ?, ?, ?)");
     ins.bind(1, name);
     ins.bind(2, std::string(role_name(role)));
     ins.bind(3, hash);
     ins.bind(4, now);
     ins.bind(5, now);
+    ins.bind(6, new_stamp());
     ins.exec();
   } catch (const SQLite::Exception& e) {
     if (e.getExtendedErrorCode() == SQLITE_CONSTRAINT_PRIMARYKEY) return fail(error, taken);
@@ -242,10 +256,11 @@ bool UserStore::set_password(const std::string& name, const std::string& passwor
   if (hash.empty()) return fail(error, "cannot hash the password: Argon2id needs 64 MiB of memory and did not get it");
   try {
     std::lock_guard lock(mutex_);
-    SQLite::Statement up(*db_, "UPDATE users SET hash = ?, changed_ns = ? WHERE name = ?");
+    SQLite::Statement up(*db_, "UPDATE users SET hash = ?, changed_ns = ?, stamp = ? WHERE name = ?");
     up.bind(1, hash);
     up.bind(2, store::wall_now_ns());
-    up.bind(3, name);
+    up.bind(3, new_stamp());
+    up.bind(4, name);
     if (up.exec() == 0) return fail(error, none);
   } catch (const std::exception& e) {
     return fail(error, "cannot write the password of '" + name + "' to " + path_ + ": " + e.what());
@@ -256,10 +271,11 @@ bool UserStore::set_password(const std::string& name, const std::string& passwor
 bool UserStore::set_role(const std::string& name, Role role, std::string* error) {
   try {
     std::lock_guard lock(mutex_);
-    SQLite::Statement up(*db_, "UPDATE users SET role = ?, changed_ns = ? WHERE name = ?");
+    SQLite::Statement up(*db_, "UPDATE users SET role = ?, changed_ns = ?, stamp = ? WHERE name = ?");
     up.bind(1, std::string(role_name(role)));
     up.bind(2, store::wall_now_ns());
-    up.bind(3, name);
+    up.bind(3, new_stamp());
+    up.bind(4, name);
     if (up.exec() == 0) return fail(error, "there is no user '" + name + "'");
   } catch (const std::exception& e) {
     return fail(error, "cannot write the role of '" + name + "' to " + path_ + ": " + e.what());

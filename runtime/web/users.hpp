@@ -45,6 +45,11 @@ struct User {
   std::string name;
   Role role = Role::Viewer;
   std::int64_t created_ns = 0;  // wall time, ns since 1970 (UTC)
+  // The credential stamp: random, new at add, at every password or role
+  // change. A session holds the stamp of its login and ends when the row's
+  // differs (or the row is gone): a removed user added again with the same
+  // name gets a new stamp, so no token of the old one is theirs.
+  std::int64_t stamp = 0;
 };
 
 // "" when `name` may name a user (1 to 64 of A-Z a-z 0-9 _ . @ -), else why not.
@@ -64,7 +69,8 @@ class UserStore {
 
   // Each false with `error` saying why: a name or password that is not
   // valid, a name that exists (add) or does not (the others), a database
-  // that refuses the write.
+  // that refuses the write. add, set_password and set_role give the user a
+  // new stamp: every session of theirs ends at its next request.
   bool add(const std::string& name, const std::string& password, Role role, std::string* error);
   bool remove(const std::string& name, std::string* error);
   bool set_password(const std::string& name, const std::string& password, std::string* error);

@@ -164,6 +164,34 @@ TEST(ProjectUpload, FileOutsideTheDirectoryIsRefusedWithItsInclude) {
       << err;
 }
 
+TEST(ProjectUpload, AnIncludeThatIsASymlinkToAFileOutsideIsRefused) {
+  // The issue's case: `syncplc load` followed such a link and sent the file
+  // it points to, which the PLC then loaded and stored.
+  const fs::path d = project_dir("upload_symlink");
+  put(d / "p/main.yaml", "project: {name: p}\ninclude: [secret.yaml]\n");
+  put(d / "outside/secret.yaml", "tags: [{name: a, type: BOOL, description: not for the PLC}]\n");
+  fs::create_symlink(d / "outside/secret.yaml", d / "p/secret.yaml");
+  std::string err;
+  EXPECT_FALSE(syncplc::cli::collect_project((d / "p/main.yaml").string(), &err));
+  EXPECT_NE(err.find("main.yaml:2:11: include 'secret.yaml' resolves to " + fs::canonical(d / "outside/secret.yaml").string() +
+                     ", outside the project's directory"),
+            std::string::npos)
+      << err;
+  // A directory that is a link out: the same.
+  put(d / "q/main.yaml", "include: [parts/io.yaml]\n");
+  put(d / "outside/parts/io.yaml", "tags: []\n");
+  fs::create_directory_symlink(d / "outside/parts", d / "q/parts");
+  EXPECT_FALSE(syncplc::cli::collect_project((d / "q/main.yaml").string(), &err));
+  EXPECT_NE(err.find("outside the project's directory"), std::string::npos) << err;
+  // A link that stays inside is a file of the project like any other.
+  put(d / "r/main.yaml", "include: [alias.yaml]\n");
+  put(d / "r/real/tags.yaml", "tags: []\n");
+  fs::create_symlink("real/tags.yaml", d / "r/alias.yaml");
+  auto up = syncplc::cli::collect_project((d / "r/main.yaml").string(), &err);
+  ASSERT_TRUE(up) << err;
+  EXPECT_EQ(up->files.at("alias.yaml"), "tags: []\n");
+}
+
 TEST(ProjectUpload, AbsoluteIncludeInsideTheDirectoryIsNamedRelative) {
   const fs::path d = project_dir("upload_absolute");
   put(d / "main.yaml", "include: [" + (d / "sub/a.yaml").string() + "]\n");
@@ -314,7 +342,7 @@ TEST_F(OnlineCli, WrongPasswordIsRefused) {
 TEST_F(OnlineCli, ForceAsOperatorIsForbidden) {
   auto r = as("operator", std::string("force ") + OnlinePlc::kTag + " 1");
   EXPECT_EQ(r.rc, kRefused);
-  EXPECT_NE(r.err.find("syncplc: force: refused (403, role too low): "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("syncplc: force: forbidden (403): this needs the engineer role"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("engineer"), std::string::npos) << r.err;
 }
 
@@ -434,9 +462,10 @@ TEST_F(OnlineCli, RollbackAcceptedAndRefused) {
   auto r = as("engineer", "rollback 1");
   ASSERT_EQ(r.rc, kOk) << r.err;
   EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(^version \d+ running)"))) << r.out;
+  // A version that is not there is not found (404), not the PLC's state (409).
   r = as("engineer", "rollback 999");
   EXPECT_EQ(r.rc, kRefused);
-  EXPECT_NE(r.err.find("refused by the PLC's state (409)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("not found (404): rollback refused: there is no version 999 "), std::string::npos) << r.err;
 }
 
 TEST_F(OnlineCli, EventsThroughTheApi) {

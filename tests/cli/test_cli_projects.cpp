@@ -201,16 +201,18 @@ TEST(CliProjects, ReloadVersionRollsARunningInstanceBackByOnlineChange) {
   EXPECT_NE(r.out.find("rejected: rollback refused: version 3 was rejected"), std::string::npos) << r.out;
   r = run_cli("reload --pid-file " + pid + " --version 99");
   EXPECT_EQ(r.rc, 1);
-  EXPECT_NE(r.out.find("holds no version 99"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("there is no version 99"), std::string::npos) << r.out;
   EXPECT_EQ(waitpid(plc.pid, nullptr, WNOHANG), 0);  // still running
   EXPECT_EQ(plc.stop(), 0) << slurp(plc.err);
   EXPECT_EQ(sqlite3(db, "SELECT number, origin, accepted, source FROM project_versions WHERE origin = 'rollback'"),
             "4|rollback|1|version 1\n");
   // The rollback's content is version 1's, stored once.
   EXPECT_EQ(sqlite3(db, "SELECT count(DISTINCT hash) FROM project_versions WHERE number IN (1, 4)"), "1\n");
-  // The files it ran from: private to the user.
-  const auto dir = std::filesystem::path(std::getenv("XDG_STATE_HOME")) / "syncplc" / "projects";
-  ASSERT_TRUE(std::filesystem::exists(dir));
+  // The files it ran from: beside the database given with --db (as its
+  // uploads are), not under $XDG_STATE_HOME, and private to the user.
+  const auto dir = std::filesystem::path(db).parent_path() / "projects";
+  ASSERT_TRUE(std::filesystem::exists(dir)) << dir;
+  EXPECT_EQ(std::filesystem::status(dir).permissions() & std::filesystem::perms::all, std::filesystem::perms::owner_all);
   for (const auto& e : std::filesystem::directory_iterator(dir))
     EXPECT_EQ(e.status().permissions() & std::filesystem::perms::all, std::filesystem::perms::owner_all) << e.path();
 }

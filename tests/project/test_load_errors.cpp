@@ -91,6 +91,36 @@ blocks:
   EXPECT_THAT(e, has_error("p.yaml:7:34", "unknown key 'colour' in a block instance"));
 }
 
+// --- engineering limits (min, max) ----------------------------------------------------
+
+TEST(LoadErrors, EngineeringLimitsAreValuesOfANumericTagInItsUnitAndHoldItsOwnValues) {
+  auto e = errors(R"(
+tasks: [{name: main, period: 1ms}]
+tags:
+  - {name: a, type: LREAL, min: 10, max: 5}
+  - {name: b, type: BOOL, max: 1}
+  - {name: c, type: INT, min: lots}
+  - {name: d, type: LREAL, unit: m/s, max: 100, init: 101}
+  - {name: e, type: INT, min: 0, safe: -1}
+)");
+  EXPECT_THAT(e, SizeIs(5));
+  EXPECT_THAT(e, has_error("p.yaml:3:33", "min 10 is above max 5 of a"));
+  EXPECT_THAT(e, has_error("p.yaml:4:32", "min and max are for numeric tags; b is BOOL"));
+  EXPECT_THAT(e, has_error("p.yaml:5:31", "min: 'lots' is not an integer"));
+  EXPECT_THAT(e, has_error("p.yaml:6:55", "init: 101 m/s is above d's max 100 m/s (its engineering limit)"));
+  EXPECT_THAT(e, has_error("p.yaml:7:40", "safe value: -1 is below e's min 0 (its engineering limit)"));
+  auto r = load(R"(
+tasks: [{name: main, period: 1ms}]
+tags:
+  - {name: speed, type: LREAL, unit: m/s, min: "-3600 m/h", max: 2, init: 1}
+)");
+  ASSERT_TRUE(r.ok()) << ::testing::PrintToString(errors(r));
+  const Tag* t = r.program->find_tag("speed");
+  ASSERT_TRUE(t && t->min && t->max);
+  EXPECT_DOUBLE_EQ(*t->min, -1.0) << "in the tag's unit";
+  EXPECT_DOUBLE_EQ(*t->max, 2.0);
+}
+
 // --- duplicate names ------------------------------------------------------------------
 
 TEST(LoadErrors, DuplicateTask) {

@@ -276,7 +276,7 @@ tags:
                           "p.yaml:9:87: unknown key 'size' in a tag's modbus (table, address)",
                           "p.yaml:10:45: modbus of h: expected a map {table, address}",
                           "p.yaml:11:45: unknown key 'mudbus' in a tag (name, type, address, modbus, retain, persistent, trend, hmi, unit, "
-                          "description, init, safe, task)"));
+                          "description, init, safe, min, max, task)"));
 }
 
 TEST(ModbusPlaces, TwoExplicitPlacesMayNotOverlap) {

@@ -60,3 +60,23 @@ TEST(JsonValues, WrittenValuesBecomeTheParsersText) {
 
 }  // namespace
 }  // namespace syncplc::web
+
+namespace syncplc::web {
+namespace {
+
+TEST(JsonValues, ABodyThatIsNotJsonOrHoldsANumberBeyondADoubleIsAnErrorNeverAnException) {
+  // The issue's case: {"value": 1e999} escaped the parser's error handling as a 500.
+  std::string why;
+  EXPECT_FALSE(parse_json_body(R"({"value": 1e999})", &why));
+  EXPECT_EQ(why, "a number in the body is too large for a 64-bit float ('1e999')");
+  EXPECT_FALSE(parse_json_body(R"({"value": -1e400})", &why));
+  EXPECT_NE(why.find("too large"), std::string::npos) << why;
+  EXPECT_FALSE(parse_json_body("{not json", &why));
+  EXPECT_EQ(why, "the body is not valid JSON (at byte 3)");
+  auto ok = parse_json_body(R"({"value": 1e308})", &why);
+  ASSERT_TRUE(ok);
+  EXPECT_EQ((*ok)["value"].get<double>(), 1e308);
+}
+
+}  // namespace
+}  // namespace syncplc::web

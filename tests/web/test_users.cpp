@@ -134,6 +134,50 @@ TEST(Users, RemoveSetPasswordAndSetRoleChangeWhatVerifyAndListSee) {
   EXPECT_EQ(users->count(), 1u);
 }
 
+TEST(Users, EveryChangeOfCredentialsGivesANewStampAndANameAddedAgainAnotherOne) {
+  // What a session is bound to (sessions.hpp): the tokens survived
+  // a password change, and a name removed and added again inherited them.
+  auto users = open_users(fresh_dir("users-stamp") + "/plc.db");
+  ASSERT_TRUE(users);
+  std::string err;
+  ASSERT_TRUE(users->add("alice", kPassword, Role::Operator, &err)) << err;
+  ASSERT_TRUE(users->add("bob", kPassword, Role::Operator, &err)) << err;
+  const std::int64_t first = users->find("alice")->stamp;
+  EXPECT_NE(first, users->find("bob")->stamp) << "random: two users, two stamps";
+  EXPECT_EQ(users->verify("alice", kPassword)->stamp, first) << "the login sees the row's stamp";
+
+  ASSERT_TRUE(users->set_password("alice", "a new password", &err)) << err;
+  const std::int64_t after_passwd = users->find("alice")->stamp;
+  EXPECT_NE(after_passwd, first);
+  ASSERT_TRUE(users->set_role("alice", Role::Operator, &err)) << err;  // the same role: still a change of the row
+  const std::int64_t after_role = users->find("alice")->stamp;
+  EXPECT_NE(after_role, after_passwd);
+  ASSERT_TRUE(users->remove("alice", &err)) << err;
+  ASSERT_TRUE(users->add("alice", "a new password", Role::Operator, &err)) << err;
+  EXPECT_NE(users->find("alice")->stamp, after_role) << "the same name, password and role: another user";
+  const std::int64_t bob = users->find("bob")->stamp;
+  EXPECT_EQ(users->find("bob")->stamp, bob) << "reading changes nothing";
+}
+
+TEST(Users, ATableOfVersionOneGetsAStampForEveryRow) {
+  const std::string path = fresh_dir("users-v1") + "/plc.db";
+  {
+    // The table as syncplc made it before the stamp (version 1).
+    SQLite::Database raw(path, SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE);
+    raw.exec("CREATE TABLE schema (part TEXT PRIMARY KEY, version INTEGER NOT NULL)");
+    raw.exec("INSERT INTO schema VALUES ('users', 1)");
+    raw.exec("CREATE TABLE users (name TEXT PRIMARY KEY, role TEXT NOT NULL, hash TEXT NOT NULL,"
+             " created_ns INTEGER NOT NULL, changed_ns INTEGER NOT NULL)");
+    raw.exec(std::string("INSERT INTO users VALUES ('old', 'engineer', '") + hash_password(kPassword) + "', 1, 1)");
+  }
+  auto users = open_users(path);
+  ASSERT_TRUE(users);
+  auto old = users->verify("old", kPassword);
+  ASSERT_TRUE(old) << "the user from before still logs in";
+  EXPECT_EQ(old->role, Role::Engineer);
+  EXPECT_EQ(sqlite_shell(path, "SELECT version FROM schema WHERE part = 'users'"), "2");
+}
+
 TEST(Users, UsersSurviveTheConnectionAndAreSharedWithAnotherOne) {
   const std::string path = fresh_dir("users-reopen") + "/plc.db";
   std::string err;
@@ -168,7 +212,7 @@ TEST(Users, TheTableHoldsSaltedArgon2idHashesAndNoPasswordAsTheSqliteShellShows)
   EXPECT_THAT(b, StartsWith("$argon2id$"));
   EXPECT_NE(a, b) << "the same password hashes differently (a salt each)";
   EXPECT_EQ(sqlite_shell(path, "SELECT count(*) FROM users WHERE created_ns = changed_ns AND created_ns > 0"), "2");
-  EXPECT_EQ(sqlite_shell(path, "SELECT version FROM schema WHERE part = 'users'"), "1");
+  EXPECT_EQ(sqlite_shell(path, "SELECT version FROM schema WHERE part = 'users'"), "2");
 
   // Nor anywhere in the file and its journal.
   users.reset();
@@ -272,7 +316,7 @@ TEST(Users, ADamagedRowGivesNoUserAndALogLineNeverACrash) {
   const std::string real = hash_password(kPassword);
   {
     SQLite::Database raw(path, SQLite::OPEN_READWRITE);
-    SQLite::Statement ins(raw, "INSERT INTO users VALUES (?, ?, ?, 1, 1)");
+    SQLite::Statement ins(raw, "INSERT INTO users VALUES (?, ?, ?, 1, 1, 1)");
     auto row = [&](const char* name, const char* role, const std::string& hash) {
       ins.reset();
       ins.bind(1, name);
@@ -286,8 +330,8 @@ TEST(Users, ADamagedRowGivesNoUserAndALogLineNeverACrash) {
     row("long", "viewer", real + std::string(300, 'A'));
     row("nul", "viewer", std::string("$argon2id$\0v=19", 15));
     row("badrole", "admin", real);
-    raw.exec("INSERT INTO users VALUES ('blob', 'viewer', x'00ff00ff', 1, 1)");
-    raw.exec("INSERT INTO users VALUES ('introle', 7, 'x', 1, 1)");
+    raw.exec("INSERT INTO users VALUES ('blob', 'viewer', x'00ff00ff', 1, 1, 1)");
+    raw.exec("INSERT INTO users VALUES ('introle', 7, 'x', 1, 1, 1)");
   }
   for (const char* name : {"garbage", "empty", "cut", "long", "nul", "badrole", "blob", "introle"}) {
     logged.clear();
@@ -354,7 +398,7 @@ TEST(Users, ATableFromANewerSyncplcIsRefused) {
   }
   std::string err;
   EXPECT_FALSE(UserStore::open(path, &err));
-  EXPECT_THAT(err, HasSubstr("the database's users tables are version 9, newer than this syncplc knows (1)"));
+  EXPECT_THAT(err, HasSubstr("the database's users tables are version 9, newer than this syncplc knows (2)"));
 }
 
 TEST(Users, ThreadsVerifyAndChangeAtOnce) {
