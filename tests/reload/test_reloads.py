@@ -62,10 +62,10 @@ def make_project(tmp):
         shutil.copy(os.path.join(SRC, f), os.path.join(tmp, f))
     table = os.path.join(tmp, "table.yaml")
     text = open(table).read()
-    text = text.replace('{name: pos, type: "ARRAY[1..4] OF LREAL", unit: rad,',
+    text = text.replace('{name: pos, type: "ARRAY[1..4] OF LREAL", unit: rad, hmi: read,',
                         '{name: pos, type: "ARRAY[1..4] OF LREAL", unit: rad, hmi: read, '
                         'modbus: {table: input_register, address: 100},')
-    text = text.replace('{name: err, type: "ARRAY[1..4] OF LREAL", unit: rad,',
+    text = text.replace('{name: err, type: "ARRAY[1..4] OF LREAL", unit: rad, hmi: read,',
                         '{name: err, type: "ARRAY[1..4] OF LREAL", unit: rad, hmi: read, '
                         'modbus: {table: input_register, address: 200},')
     if "address: 200" not in text or "address: 100" not in text:

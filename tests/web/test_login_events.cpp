@@ -4,7 +4,7 @@
 #include "runtime/web/login_events.hpp"
 
 namespace syncplc::web {
-namespace {
+namespace login_events_test {
 
 constexpr std::int64_t kS = 1'000'000'000;
 constexpr std::int64_t kT0 = 1'000 * kS;
@@ -35,5 +35,5 @@ TEST(LoginEvents, AFailedLoginNamesOnlyAUser) {
             "login as an unknown user name refused: wrong user name or password");
 }
 
-}  // namespace
+}  // namespace login_events_test
 }  // namespace syncplc::web
