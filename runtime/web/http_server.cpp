@@ -178,6 +178,7 @@ class Connection final : public ConnectionBase, public std::enable_shared_from_t
       return;
     }
     parser_->body_limit(body_limit);
+    head_fields_ = field_count(parser_->get().base());
     if (!parser_->is_done() && beast::iequals(parser_->get()[bhttp::field::expect], "100-continue")) {
       auto go_on = std::make_shared<bhttp::response<bhttp::empty_body>>(bhttp::status::continue_, version_);
       lowest().expires_after(millis(limits().write_timeout_ms));
@@ -209,7 +210,7 @@ class Connection final : public ConnectionBase, public std::enable_shared_from_t
     lowest().expires_never();
     auto req = std::make_shared<Request>();
     auto& msg = parser_->get();
-    if (Refusal r = to_request(msg.base(), std::move(msg.body()), req.get())) {
+    if (Refusal r = to_request(msg.base(), std::move(msg.body()), head_fields_, req.get())) {
       refuse(r);
       return;
     }
@@ -392,6 +393,7 @@ class Connection final : public ConnectionBase, public std::enable_shared_from_t
   beast::flat_buffer buffer_;
   std::optional<bhttp::request_parser<bhttp::string_body>> parser_;
   std::size_t served_ = 0;
+  std::size_t head_fields_ = 0;
   unsigned version_ = 11;
   bool keep_alive_ = false;
   bool head_only_ = false;

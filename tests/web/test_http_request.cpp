@@ -44,6 +44,13 @@ TEST(HttpRequest, ChunkedBodyIsTaken) {
   EXPECT_EQ(r.body, "{}");
 }
 
+TEST(HttpRequest, TrailerFieldsAreRefused) {
+  // After the head's checks: a trailer must not add a Host or an Authorization.
+  EXPECT_EQ(parse("POST /x HTTP/1.1\r\nHost: h\r\nTransfer-Encoding: chunked\r\n\r\n2\r\n{}\r\n0\r\n"
+                  "Authorization: Bearer x\r\n\r\n").status,
+            400);
+}
+
 TEST(HttpRequest, OneValidContentLengthOrA400) {
   EXPECT_EQ(parse("POST /x HTTP/1.1\r\nHost: h\r\nContent-Length: 2\r\nContent-Length: 2\r\n\r\n{}").status, 400);
   EXPECT_EQ(parse("POST /x HTTP/1.1\r\nHost: h\r\nContent-Length: 2\r\nContent-Length: 7\r\n\r\n{}").status, 400);

@@ -6,6 +6,7 @@
 #include <boost/beast/http/string_body.hpp>
 
 #include <charconv>
+#include <iterator>
 
 namespace syncplc::web::http {
 namespace bhttp = boost::beast::http;
@@ -101,7 +102,10 @@ Refusal check_head(const RequestHead& head, const Limits& limits, std::size_t* b
   return {};
 }
 
-Refusal to_request(const RequestHead& head, std::string body, Request* out) {
+std::size_t field_count(const RequestHead& head) { return static_cast<std::size_t>(std::distance(head.begin(), head.end())); }
+
+Refusal to_request(const RequestHead& head, std::string body, std::size_t head_fields, Request* out) {
+  if (field_count(head) > head_fields) return {400, "a chunked body's trailer fields are not taken"};
   const std::string_view target(head.target().data(), head.target().size());
   const std::size_t q = target.find('?');
   out->method = std::string(head.method_string());
@@ -144,6 +148,7 @@ Refusal parse_request(std::string_view bytes, const Limits& limits, Request* out
   }
   std::size_t body_limit = 0;
   if (Refusal r = check_head(parser.get().base(), limits, &body_limit)) return r;
+  const std::size_t head_fields = field_count(parser.get().base());
   parser.body_limit(body_limit);
   ec = {};
   feed([&] { return parser.is_done(); });
@@ -151,7 +156,7 @@ Refusal parse_request(std::string_view bytes, const Limits& limits, Request* out
   if (!parser.is_done()) return {0, "incomplete"};
   if (consumed) *consumed = used;
   const RequestHead& head = parser.get().base();
-  return to_request(head, std::move(parser.get().body()), out);
+  return to_request(head, std::move(parser.get().body()), head_fields, out);
 }
 
 }  // namespace syncplc::web::http

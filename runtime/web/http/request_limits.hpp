@@ -50,9 +50,14 @@ Refusal refusal_for(const boost::beast::error_code& ec, std::string_view buffere
 // `body_limit` is set to the most this request's body may be.
 Refusal check_head(const RequestHead& head, const Limits& limits, std::size_t* body_limit);
 
+// The head's fields: counted when the head is read, so that fields a
+// chunked body's trailer adds afterwards are told apart.
+std::size_t field_count(const RequestHead& head);
+
 // The head (checked) and the body into a Request (path decoded, query
-// parsed); a refusal for a bad percent escape.
-Refusal to_request(const RequestHead& head, std::string body, Request* out);
+// parsed); a refusal for a bad percent escape, or for trailer fields (more
+// than `head_fields`): they would bypass the head's checks and limits.
+Refusal to_request(const RequestHead& head, std::string body, std::size_t head_fields, Request* out);
 
 // The whole path a request takes on its way in, over bytes in memory: the
 // parser with the limits, check_head, the body, to_request. Used by the
