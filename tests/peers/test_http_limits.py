@@ -159,7 +159,8 @@ def attack(plc, what, head, pieces, want):
         raise AssertionError("%s: expected %d with an error, got %d %r" % (what, want, status, body[:300]))
     if peak > BOUND:
         raise AssertionError("%s: the PLC's resident memory grew by %d MiB" % (what, peak // MiB))
-    print("%s: %d after %d MiB sent (%s)" % (what, status, sent // MiB, body.strip()[:100]))
+    print("%s: %d after %d MiB sent, resident memory %+.1f MiB (%s)"
+          % (what, status, sent // MiB, peak / MiB, body.strip()[:100]))
 
 
 def repeat(piece, total):
