@@ -11,11 +11,12 @@ cd "$(dirname "$0")/.."
 seconds=${1:-60}
 dir=${2:-build-fuzz}
 shift $(( $# < 2 ? $# : 2 ))
-SYNCPLC_TARGETS="fuzz_modbus_request fuzz_modbus_reply" bash scripts/build.sh "$dir" -DCMAKE_CXX_COMPILER=clang++ \
+SYNCPLC_TARGETS="fuzz_modbus_request fuzz_modbus_reply fuzz_http_request" bash scripts/build.sh "$dir" -DCMAKE_CXX_COMPILER=clang++ \
   -DSYNCPLC_FUZZ=ON -DSYNCPLC_SANITIZE=address,undefined -DSYNCPLC_TESTS=OFF -DSYNCPLC_BENCH=OFF "$@"
 mkdir -p "$dir/fuzz-artifacts"
-# The server's request path and the client driver's reply path side by side:
-# a fuzzer is one process, so on two cores each still has one to itself.
+# The Modbus server's request path, the client driver's reply path and the
+# HTTP server's request path side by side: a fuzzer is one process, three
+# share two cores (each gets two thirds of one in the same wall time).
 fuzz() {
   local target=$1 corpus status=0
   corpus=$(mktemp -d)
@@ -27,7 +28,7 @@ fuzz() {
   rm -rf "$corpus"
   return "$status"
 }
-targets=(modbus_request modbus_reply)
+targets=(modbus_request modbus_reply http_request)
 pids=()
 for target in "${targets[@]}"; do
   fuzz "$target" &

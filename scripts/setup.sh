@@ -8,7 +8,8 @@ PACKAGES=(
   build-essential cmake ninja-build pkg-config git
   libyaml-dev libcli11-dev libfmt-dev libspdlog-dev nlohmann-json3-dev
   libeigen3-dev libmodbus-dev libsqlite3-dev libsqlitecpp-dev sqlite3 libsodium-dev
-  libcpp-httplib-dev libssl-dev  # the HTTP API (runtime/web); OpenSSL for its TLS
+  libboost1.81-dev libssl-dev  # the HTTP server (runtime/web: Boost.Beast); OpenSSL for its TLS
+  libcpp-httplib-dev  # the CLI's HTTP client (runtime/cli/api_client)
   libgtest-dev libgmock-dev libbenchmark-dev
   python3-pymodbus python3-serial-asyncio mbpoll  # Modbus peer tests; pymodbus's client needs serial-asyncio
   rt-tests

@@ -76,6 +76,10 @@ int main(int argc, char** argv) {
   run->add_option("--http-anonymous-read", http_anonymous, "reads without a login: on or off (default: on for a loopback "
                                                            "address, off otherwise)")
       ->check(CLI::IsMember({"on", "off"}));
+  run->add_option("--http-max-connections", http.max_connections,
+                  "HTTP connections open at once (default 256; more are refused with 503, and never more than "
+                  "half the file descriptors beyond 128, so Modbus and the drivers keep theirs)")
+      ->check(CLI::Range(1, 100000));
   run->add_option("--hmi-dir", http.hmi_dir, "serve the HMI from this directory (default: the build's hmi_web/dist)");
 
   auto* reload = app.add_subcommand("reload", "online change: the running `syncplc run` of PROJECT loads its file again "

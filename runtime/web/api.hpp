@@ -3,7 +3,6 @@
 // Each api_*.cpp adds one group of routes (docs/http-api.md).
 #pragma once
 
-#include <httplib.h>
 #include <nlohmann/json.hpp>
 
 #include <atomic>
@@ -13,10 +12,12 @@
 #include <optional>
 #include <string>
 
+#include "runtime/web/http/message.hpp"
 #include "runtime/web/login_events.hpp"
 #include "runtime/web/plc_host.hpp"
 #include "runtime/web/read_access.hpp"
 #include "runtime/web/roles.hpp"
+#include "runtime/web/http/router.hpp"
 #include "runtime/web/server.hpp"
 #include "runtime/web/sessions.hpp"
 #include "runtime/web/users.hpp"
@@ -49,34 +50,34 @@ struct ApiContext {
   std::atomic<std::size_t> streams{0};
 
   // The caller's session from `Authorization: Bearer TOKEN`; nullopt without one.
-  std::optional<Session> session(const httplib::Request& req);
+  std::optional<Session> session(const http::Request& req);
   // The same for a token, checked against the users table (a removed user
   // or a changed role ends the session).
   std::optional<Session> session_of(const std::string& token);
   // A read: allowed anonymously when the settings say so, else with any
   // session. Answers 401 itself and returns false otherwise.
-  bool may_read(const httplib::Request& req, httplib::Response& res);
+  bool may_read(const http::Request& req, http::Response& res);
   // A change: the session when its role allows `need`; 401 or 403 answered otherwise.
-  std::optional<Session> need(const httplib::Request& req, httplib::Response& res, Role need);
+  std::optional<Session> need(const http::Request& req, http::Response& res, Role need);
   // The body as a JSON object (400, 413, 415 answered otherwise).
-  std::optional<nlohmann::json> json_body(const httplib::Request& req, httplib::Response& res,
+  std::optional<nlohmann::json> json_body(const http::Request& req, http::Response& res,
                                           std::size_t max_bytes = 0);
   // The users' table, opened on first use; null with `error` when the PLC
   // keeps no database (--db :memory:) or it cannot be opened.
   UserStore* user_store(std::string* error);
   // "ip:port" of the client.
-  static std::string client(const httplib::Request& req);
+  static std::string client(const http::Request& req);
   // Sleeps up to ns; false when the server stops meanwhile.
   bool wait_ns(std::int64_t ns);
 };
 
-void send_json(httplib::Response& res, int status, const nlohmann::json& body);
-void send_error(httplib::Response& res, int status, const std::string& message, const std::string& where = "");
+void send_json(http::Response& res, int status, const nlohmann::json& body);
+void send_error(http::Response& res, int status, const std::string& message, const std::string& where = "");
 
-void add_session_routes(httplib::Server& s, ApiContext& c);
-void add_read_routes(httplib::Server& s, ApiContext& c);
-void add_change_routes(httplib::Server& s, ApiContext& c);
-void add_project_routes(httplib::Server& s, ApiContext& c);
-void add_stream_routes(httplib::Server& s, ApiContext& c);
+void add_session_routes(http::Router& s, ApiContext& c);
+void add_read_routes(http::Router& s, ApiContext& c);
+void add_change_routes(http::Router& s, ApiContext& c);
+void add_project_routes(http::Router& s, ApiContext& c);
+void add_stream_routes(http::Router& s, ApiContext& c);
 
 }  // namespace syncplc::web

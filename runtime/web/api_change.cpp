@@ -19,7 +19,7 @@ struct WriteTarget {
   bool whole = true;
 };
 
-std::optional<WriteTarget> write_target(const Program& p, const std::string& name, httplib::Response& res) {
+std::optional<WriteTarget> write_target(const Program& p, const std::string& name, http::Response& res) {
   WriteTarget w;
   std::string base = name;
   std::int64_t index = 0;
@@ -62,7 +62,7 @@ std::optional<WriteTarget> write_target(const Program& p, const std::string& nam
 
 // The cells a written JSON value gives: one element, or every element of
 // an array from a JSON array of its length. 400 answered otherwise.
-std::optional<std::vector<Cell>> written_cells(const Tag& t, bool whole, const nlohmann::json& v, httplib::Response& res) {
+std::optional<std::vector<Cell>> written_cells(const Tag& t, bool whole, const nlohmann::json& v, http::Response& res) {
   const bool array = t.is_array || t.length > 1;
   std::vector<nlohmann::json> items;
   if (whole && array) {
@@ -113,8 +113,8 @@ int force_status(const Program& p, const std::string& ref, const ForceResult& r)
 
 }  // namespace
 
-void add_change_routes(httplib::Server& s, ApiContext& c) {
-  s.Put(R"(/api/v1/tags/([^/]+))", [&c](const httplib::Request& req, httplib::Response& res) {
+void add_change_routes(http::Router& s, ApiContext& c) {
+  s.Put(R"(/api/v1/tags/([^/]+))", [&c](const http::Request& req, http::Response& res) {
     auto who = c.need(req, res, Role::Operator);
     if (!who) return;
     auto body = c.json_body(req, res);
@@ -169,7 +169,7 @@ void add_change_routes(httplib::Server& s, ApiContext& c) {
     if (!event.empty()) c.host.record_event("hmi-write", task, event + " (by " + who->user + ")", ApiContext::client(req));
   });
 
-  s.Post("/api/v1/forces", [&c](const httplib::Request& req, httplib::Response& res) {
+  s.Post("/api/v1/forces", [&c](const http::Request& req, http::Response& res) {
     auto who = c.need(req, res, Role::Engineer);
     if (!who) return;
     auto body = c.json_body(req, res);
@@ -199,7 +199,7 @@ void add_change_routes(httplib::Server& s, ApiContext& c) {
     send_json(res, 200, force_json(r));
   });
 
-  s.Delete(R"(/api/v1/forces/(.+))", [&c](const httplib::Request& req, httplib::Response& res) {
+  s.Delete(R"(/api/v1/forces/(.+))", [&c](const http::Request& req, http::Response& res) {
     auto who = c.need(req, res, Role::Engineer);
     if (!who) return;
     const std::string ref = req.matches[1];
@@ -217,7 +217,7 @@ void add_change_routes(httplib::Server& s, ApiContext& c) {
     send_json(res, 200, force_json(r));
   });
 
-  s.Delete("/api/v1/forces", [&c](const httplib::Request& req, httplib::Response& res) {
+  s.Delete("/api/v1/forces", [&c](const http::Request& req, http::Response& res) {
     auto who = c.need(req, res, Role::Engineer);
     if (!who) return;
     std::vector<ForceResult> released;

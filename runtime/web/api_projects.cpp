@@ -33,7 +33,7 @@ nlohmann::json stored_version(ApiContext& c, std::int64_t since_ns) {
   return nullptr;
 }
 
-void answer_change(ApiContext& c, const ChangeOutcome& o, httplib::Response& res, const std::string& dir,
+void answer_change(ApiContext& c, const ChangeOutcome& o, http::Response& res, const std::string& dir,
                    std::int64_t since_ns) {
   nlohmann::json errors = nlohmann::json::array();
   if (!o.accepted)
@@ -52,10 +52,10 @@ void answer_change(ApiContext& c, const ChangeOutcome& o, httplib::Response& res
 
 }  // namespace
 
-void add_project_routes(httplib::Server& s, ApiContext& c) {
+void add_project_routes(http::Router& s, ApiContext& c) {
   // One handler for check and load: both check first.
   auto upload = [&c](bool load) {
-    return [&c, load](const httplib::Request& req, httplib::Response& res) {
+    return [&c, load](const http::Request& req, http::Response& res) {
       auto who = c.need(req, res, Role::Engineer);
       if (!who) return;
       auto body = c.json_body(req, res, c.config.max_upload);
@@ -103,7 +103,7 @@ void add_project_routes(httplib::Server& s, ApiContext& c) {
   s.Post("/api/v1/projects/check", upload(false));
   s.Post("/api/v1/projects/load", upload(true));
 
-  s.Post("/api/v1/projects/reload", [&c](const httplib::Request& req, httplib::Response& res) {
+  s.Post("/api/v1/projects/reload", [&c](const http::Request& req, http::Response& res) {
     auto who = c.need(req, res, Role::Engineer);
     if (!who) return;
     ChangeRequest r;
@@ -114,7 +114,7 @@ void add_project_routes(httplib::Server& s, ApiContext& c) {
     answer_change(c, c.host.change(r), res, "", since);
   });
 
-  s.Post("/api/v1/projects/rollback", [&c](const httplib::Request& req, httplib::Response& res) {
+  s.Post("/api/v1/projects/rollback", [&c](const http::Request& req, http::Response& res) {
     auto who = c.need(req, res, Role::Engineer);
     if (!who) return;
     auto body = c.json_body(req, res);

@@ -30,7 +30,7 @@ std::vector<std::string> split_refs(const std::string& text) {
 }
 
 // An integer query parameter; `fallback` when absent; 400 answered when malformed.
-std::optional<std::int64_t> int_param(const httplib::Request& req, httplib::Response& res, const char* name,
+std::optional<std::int64_t> int_param(const http::Request& req, http::Response& res, const char* name,
                                       std::int64_t fallback) {
   if (!req.has_param(name)) return fallback;
   const std::string v = req.get_param_value(name);
@@ -44,7 +44,7 @@ std::optional<std::int64_t> int_param(const httplib::Request& req, httplib::Resp
 }
 
 // The PLC's database, read-only, for one request; 503 answered when there is none.
-std::unique_ptr<store::Database> read_database(ApiContext& c, httplib::Response& res) {
+std::unique_ptr<store::Database> read_database(ApiContext& c, http::Response& res) {
   const std::string path = c.host.database_path();
   if (path.empty() || path == store::kMemoryDatabase) {
     send_error(res, 404, "this PLC keeps no database (--db :memory:): no events, trends or project versions");
@@ -65,8 +65,8 @@ nlohmann::json hidden_dirs(const std::vector<std::string>& lines) {
 
 }  // namespace
 
-void add_read_routes(httplib::Server& s, ApiContext& c) {
-  s.Get("/api/v1/status", [&c](const httplib::Request& req, httplib::Response& res) {
+void add_read_routes(http::Router& s, ApiContext& c) {
+  s.Get("/api/v1/status", [&c](const http::Request& req, http::Response& res) {
     if (!c.may_read(req, res)) return;
     nlohmann::json runtime = c.host.runtime_status();
     const nlohmann::json states = runtime.value("task_states", nlohmann::json::object());
@@ -90,7 +90,7 @@ void add_read_routes(httplib::Server& s, ApiContext& c) {
     send_json(res, 200, j);
   });
 
-  s.Get("/api/v1/tags", [&c](const httplib::Request& req, httplib::Response& res) {
+  s.Get("/api/v1/tags", [&c](const http::Request& req, http::Response& res) {
     if (!c.may_read(req, res)) return;
     const std::string filter = req.get_param_value("filter");
     const bool all = sees_everything(c.session(req));
@@ -104,7 +104,7 @@ void add_read_routes(httplib::Server& s, ApiContext& c) {
     send_json(res, 200, {{"tags", tags}});
   });
 
-  s.Get(R"(/api/v1/tags/([^/]+))", [&c](const httplib::Request& req, httplib::Response& res) {
+  s.Get(R"(/api/v1/tags/([^/]+))", [&c](const http::Request& req, http::Response& res) {
     if (!c.may_read(req, res)) return;
     const std::string name = req.matches[1];
     const bool all = sees_everything(c.session(req));
@@ -116,7 +116,7 @@ void add_read_routes(httplib::Server& s, ApiContext& c) {
     });
   });
 
-  s.Get("/api/v1/values", [&c](const httplib::Request& req, httplib::Response& res) {
+  s.Get("/api/v1/values", [&c](const http::Request& req, http::Response& res) {
     if (!c.may_read(req, res)) return;
     const auto refs = split_refs(req.get_param_value("refs"));
     if (refs.empty()) {
@@ -159,7 +159,7 @@ void add_read_routes(httplib::Server& s, ApiContext& c) {
     if (ok) send_json(res, 200, {{"t_ns", store::wall_now_ns()}, {"values", values}, {"forced", forced}});
   });
 
-  s.Get("/api/v1/blocks", [&c](const httplib::Request& req, httplib::Response& res) {
+  s.Get("/api/v1/blocks", [&c](const http::Request& req, http::Response& res) {
     if (!c.may_read(req, res)) return;
     nlohmann::json blocks = nlohmann::json::array();
     const bool all = sees_everything(c.session(req));
@@ -174,7 +174,7 @@ void add_read_routes(httplib::Server& s, ApiContext& c) {
     send_json(res, 200, {{"blocks", blocks}});
   });
 
-  s.Get(R"(/api/v1/blocks/([^/]+))", [&c](const httplib::Request& req, httplib::Response& res) {
+  s.Get(R"(/api/v1/blocks/([^/]+))", [&c](const http::Request& req, http::Response& res) {
     if (!c.may_read(req, res)) return;
     const std::string name = req.matches[1];
     const bool all = sees_everything(c.session(req));
@@ -190,7 +190,7 @@ void add_read_routes(httplib::Server& s, ApiContext& c) {
     });
   });
 
-  s.Get("/api/v1/forces", [&c](const httplib::Request& req, httplib::Response& res) {
+  s.Get("/api/v1/forces", [&c](const http::Request& req, http::Response& res) {
     if (!c.may_read(req, res)) return;
     nlohmann::json list = nlohmann::json::array();
     const bool all = sees_everything(c.session(req));
@@ -204,7 +204,7 @@ void add_read_routes(httplib::Server& s, ApiContext& c) {
     send_json(res, 200, {{"forces", list}});
   });
 
-  s.Get("/api/v1/events", [&c](const httplib::Request& req, httplib::Response& res) {
+  s.Get("/api/v1/events", [&c](const http::Request& req, http::Response& res) {
     if (!c.may_read(req, res)) return;
     auto since = int_param(req, res, "since", 0);
     if (!since) return;
@@ -241,7 +241,7 @@ void add_read_routes(httplib::Server& s, ApiContext& c) {
     send_json(res, 200, {{"events", events}});
   });
 
-  s.Get("/api/v1/trends", [&c](const httplib::Request& req, httplib::Response& res) {
+  s.Get("/api/v1/trends", [&c](const http::Request& req, http::Response& res) {
     if (!c.may_read(req, res)) return;
     const std::string tag = req.get_param_value("tag");
     if (tag.empty()) {
@@ -312,7 +312,7 @@ void add_read_routes(httplib::Server& s, ApiContext& c) {
     else send_json(res, 200, {{"tag", tag}, {"series", out}});
   });
 
-  s.Get("/api/v1/projects", [&c](const httplib::Request& req, httplib::Response& res) {
+  s.Get("/api/v1/projects", [&c](const http::Request& req, http::Response& res) {
     if (!c.may_read(req, res)) return;
     auto db = read_database(c, res);
     if (!db) return;

@@ -5,8 +5,8 @@
 
 namespace syncplc::web {
 
-void add_session_routes(httplib::Server& s, ApiContext& c) {
-  s.Post("/api/v1/login", [&c](const httplib::Request& req, httplib::Response& res) {
+void add_session_routes(http::Router& s, ApiContext& c) {
+  s.Post("/api/v1/login", [&c](const http::Request& req, http::Response& res) {
     auto body = c.json_body(req, res);
     if (!body) return;
     const auto user = body->find("user"), password = body->find("password");
@@ -67,13 +67,13 @@ void add_session_routes(httplib::Server& s, ApiContext& c) {
                          {"expires_in_s", c.sessions.lifetime_ns() / 1'000'000'000}});
   });
 
-  s.Post("/api/v1/logout", [&c](const httplib::Request& req, httplib::Response& res) {
+  s.Post("/api/v1/logout", [&c](const http::Request& req, http::Response& res) {
     const std::string h = req.get_header_value("Authorization");
     if (h.rfind("Bearer ", 0) == 0) c.sessions.revoke(h.substr(7));
     send_json(res, 200, nlohmann::json::object());
   });
 
-  s.Get("/api/v1/me", [&c](const httplib::Request& req, httplib::Response& res) {
+  s.Get("/api/v1/me", [&c](const http::Request& req, http::Response& res) {
     auto who = c.session(req);
     if (!who) {
       send_error(res, 401, "not logged in");

@@ -69,8 +69,8 @@ std::string tick(ApiContext& c, StreamState& st, bool* end) {
 
 }  // namespace
 
-void add_stream_routes(httplib::Server& s, ApiContext& c) {
-  s.Get("/api/v1/stream", [&c](const httplib::Request& req, httplib::Response& res) {
+void add_stream_routes(http::Router& s, ApiContext& c) {
+  s.Get("/api/v1/stream", [&c](const http::Request& req, http::Response& res) {
     if (!c.may_read(req, res)) return;
     auto st = std::make_shared<StreamState>();
     const std::string refs = req.get_param_value("refs");
@@ -110,7 +110,7 @@ void add_stream_routes(httplib::Server& s, ApiContext& c) {
     res.set_header("Cache-Control", "no-store");
     res.set_chunked_content_provider(
         "text/event-stream",
-        [&c, st](std::size_t, httplib::DataSink& sink) {
+        [&c, st](std::size_t, http::DataSink& sink) {
           const std::int64_t now = steady_now_ns();
           if (st->next_ns == 0) st->next_ns = now;  // the first event at once
           if (now < st->next_ns && !c.wait_ns(st->next_ns - now)) {

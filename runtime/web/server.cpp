@@ -1,17 +1,14 @@
 #include "runtime/web/server.hpp"
 
-#include <httplib.h>
-#include <sys/socket.h>
-#include <sys/stat.h>
 #include <time.h>
-
-#include <functional>
-#include <thread>
 
 #include "runtime/store/database.hpp"
 #include "runtime/web/api.hpp"
+#include "runtime/web/descriptor_budget.hpp"
+#include "runtime/web/http/router.hpp"
+#include "runtime/web/http_server.hpp"
 #include "runtime/web/json_values.hpp"
-#include "runtime/web/worker_pool.hpp"
+#include "runtime/web/static_files.hpp"
 
 namespace syncplc::web {
 
@@ -21,7 +18,7 @@ std::int64_t steady_now_ns() {
   return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
 }
 
-void send_json(httplib::Response& res, int status, const nlohmann::json& body) {
+void send_json(http::Response& res, int status, const nlohmann::json& body) {
   res.status = status;
   res.set_header("Cache-Control", "no-store");
   // Replacement characters for bytes that are not UTF-8 (a tag description
@@ -29,18 +26,18 @@ void send_json(httplib::Response& res, int status, const nlohmann::json& body) {
   res.set_content(body.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace), "application/json");
 }
 
-void send_error(httplib::Response& res, int status, const std::string& message, const std::string& where) {
+void send_error(http::Response& res, int status, const std::string& message, const std::string& where) {
   nlohmann::json j{{"error", message}};
   if (!where.empty()) j["where"] = where;
   send_json(res, status, j);
 }
 
-std::string ApiContext::client(const httplib::Request& req) {
+std::string ApiContext::client(const http::Request& req) {
   return req.remote_addr.find(':') != std::string::npos ? "[" + req.remote_addr + "]:" + std::to_string(req.remote_port)
                                                         : req.remote_addr + ":" + std::to_string(req.remote_port);
 }
 
-std::optional<Session> ApiContext::session(const httplib::Request& req) {
+std::optional<Session> ApiContext::session(const http::Request& req) {
   const std::string h = req.get_header_value("Authorization");
   static constexpr std::string_view kBearer = "Bearer ";
   if (h.size() <= kBearer.size() || h.compare(0, kBearer.size(), kBearer) != 0) return std::nullopt;
@@ -76,13 +73,13 @@ std::optional<Session> ApiContext::session_of(const std::string& token) {
   return s;
 }
 
-bool ApiContext::may_read(const httplib::Request& req, httplib::Response& res) {
+bool ApiContext::may_read(const http::Request& req, http::Response& res) {
   if (anonymous_reads(config) || session(req)) return true;
   send_error(res, 401, "log in first: this PLC does not allow reads without a login");
   return false;
 }
 
-std::optional<Session> ApiContext::need(const httplib::Request& req, httplib::Response& res, Role role) {
+std::optional<Session> ApiContext::need(const http::Request& req, http::Response& res, Role role) {
   auto s = session(req);
   if (!s) {
     send_error(res, 401, "log in first: this changes the PLC");
@@ -96,7 +93,7 @@ std::optional<Session> ApiContext::need(const httplib::Request& req, httplib::Re
   return s;
 }
 
-std::optional<nlohmann::json> ApiContext::json_body(const httplib::Request& req, httplib::Response& res,
+std::optional<nlohmann::json> ApiContext::json_body(const http::Request& req, http::Response& res,
                                                     std::size_t max_bytes) {
   if (req.body.size() > (max_bytes ? max_bytes : config.max_body)) {
     send_error(res, 413, "the request body is " + std::to_string(req.body.size()) + " bytes; at most " +
@@ -154,16 +151,12 @@ bool host_allowed(const WebConfig& c, const std::string& host) {
   return name == "localhost" || name == "[::1]" || is_loopback(name);
 }
 
-// cpp-httplib 0.11 listens with a backlog of 5 (compiled into Debian's
-// library): HMI pages that all reconnect at once (after a restart) would
-// have their SYNs dropped and wait seconds for TCP's retries. listen()
-// again on the bound socket widens the queue (docs/benchmarks.md §12).
-constexpr int kListenBacklog = 128;
-template <class S>
-struct WideBacklog : S {
-  using S::S;
-  void widen() { ::listen(this->svr_sock_, kListenBacklog); }
-};
+// On every answer, a refusal's too.
+void security_headers(http::Response& res) {
+  res.set_header("X-Content-Type-Options", "nosniff");
+  res.set_header("Referrer-Policy", "no-referrer");
+  res.set_header("X-Frame-Options", "DENY");
+}
 
 }  // namespace
 
@@ -172,10 +165,58 @@ struct Server::Impl {
   WebConfig config;
   ServerCounters counters;
   ApiContext context;
-  std::unique_ptr<httplib::Server> http;
-  std::thread listener;
+  http::Router router;
+  StaticFiles files;
+  std::string no_hmi;  // why "/" has no HMI, when it has none
+  std::unique_ptr<http::HttpServer> beast;
+  std::size_t connection_limit = 0;
   int port = 0;
+
+  void handle(http::Request& req, http::Response& res);
+  void route(http::Request& req, http::Response& res);
 };
+
+void Server::Impl::handle(http::Request& req, http::Response& res) {
+  counters.requests.fetch_add(1, std::memory_order_relaxed);
+  try {
+    route(req, res);
+  } catch (const std::exception& e) {
+    res = http::Response();
+    send_error(res, 500, std::string("internal error: ") + e.what());
+  }
+  security_headers(res);
+  if (res.status >= 400) counters.refused.fetch_add(1, std::memory_order_relaxed);
+}
+
+void Server::Impl::route(http::Request& req, http::Response& res) {
+  if (!host_allowed(config, req.get_header_value("Host"))) {
+    send_error(res, 403, "this PLC answers only to the names of this machine (Host '" + req.get_header_value("Host") + "')");
+    return;
+  }
+  // A request another site's page sends: never acted on.
+  const std::string origin = req.get_header_value("Origin");
+  if (!origin.empty() && req.method != "GET" && req.method != "HEAD") {
+    const std::string host = req.get_header_value("Host");
+    if (origin != "http://" + host && origin != "https://" + host) {
+      send_error(res, 403, "a request from another site (Origin " + origin + ") is refused");
+      return;
+    }
+  }
+  if (router.dispatch(req, res) == http::Router::Outcome::Handled) return;
+  const bool read = req.method == "GET" || req.method == "HEAD";
+  if (req.path.rfind("/api/", 0) == 0) {
+    send_error(res, 404, "no resource " + req.method + " " + req.path);
+  } else if (read && files.serve(req.path, res)) {
+    // The HMI, under the strictest content security policy it is built for.
+    res.set_header("Content-Security-Policy", kContentSecurityPolicy);
+    res.set_header("Cache-Control", "no-cache");
+  } else if (read && req.path == "/" && !no_hmi.empty()) {
+    res.status = 404;
+    res.set_content(no_hmi + "\n", "text/plain");
+  } else {
+    send_error(res, 404, "not found: " + req.path);
+  }
+}
 
 Server::Server(WebConfig config, PlcHost& host) : impl_(std::make_unique<Impl>(std::move(config), host)) {}
 
@@ -184,135 +225,75 @@ Server::~Server() { stop(); }
 bool Server::start(std::string* error) {
   const WebConfig& c = impl_->config;
   if (!check_config(c, error)) return false;
-  std::function<void()> widen_backlog;
-  if (c.tls()) {
-    auto tls = std::make_unique<WideBacklog<httplib::SSLServer>>(c.tls_cert.c_str(), c.tls_key.c_str());
-    if (!tls->is_valid()) {
-      *error = "HTTPS: cannot load the certificate " + c.tls_cert + " with the key " + c.tls_key;
-      return false;
-    }
-    widen_backlog = [p = tls.get()] { p->widen(); };
-    impl_->http = std::move(tls);
-  } else {
-    auto plain = std::make_unique<WideBacklog<httplib::Server>>();
-    widen_backlog = [p = plain.get()] { p->widen(); };
-    impl_->http = std::move(plain);
-  }
-  httplib::Server& s = *impl_->http;
-  ApiContext& ctx = impl_->context;
-  // One worker per live stream and a few for everything else: a stream
-  // holds its worker, and a full pool only queues further connections.
-  const std::size_t workers = c.max_streams + 8;
-  s.new_task_queue = [workers] { return new WorkerPool(workers); };
-  s.set_read_timeout(5, 0);   // a client whose request stalls for 5 s is cut
-  s.set_write_timeout(5, 0);  // one that does not read its answer too
-  s.set_keep_alive_timeout(2);  // an idle connection gives its worker back soon
-  s.set_keep_alive_max_count(100);
-  s.set_payload_max_length(c.max_upload + 64 * 1024);
-  s.set_tcp_nodelay(true);
-  s.set_default_headers({{"X-Content-Type-Options", "nosniff"},
-                         {"Referrer-Policy", "no-referrer"},
-                         {"X-Frame-Options", "DENY"}});
-  s.set_pre_routing_handler([&ctx](const httplib::Request& req, httplib::Response& res) {
-    ctx.counters.requests.fetch_add(1, std::memory_order_relaxed);
-    if (!host_allowed(ctx.config, req.get_header_value("Host"))) {
-      send_error(res, 403, "this PLC answers only to the names of this machine (Host '" +
-                               req.get_header_value("Host") + "')");
-      return httplib::Server::HandlerResponse::Handled;
-    }
-    // A request another site's page sends: never acted on.
-    const std::string origin = req.get_header_value("Origin");
-    if (!origin.empty() && req.method != "GET" && req.method != "HEAD") {
-      const std::string host = req.get_header_value("Host");
-      if (origin != "http://" + host && origin != "https://" + host) {
-        send_error(res, 403, "a request from another site (Origin " + origin + ") is refused");
-        return httplib::Server::HandlerResponse::Handled;
-      }
-    }
-    return httplib::Server::HandlerResponse::Unhandled;
-  });
-  s.set_post_routing_handler([&ctx](const httplib::Request&, httplib::Response& res) {
-    if (res.status >= 400) ctx.counters.refused.fetch_add(1, std::memory_order_relaxed);
-  });
-  s.set_error_handler([](const httplib::Request& req, httplib::Response& res) {
-    if (!res.body.empty()) return;  // a handler's own answer
-    if (res.status == 404 && req.path.rfind("/api/", 0) == 0) send_error(res, 404, "no resource " + req.method + " " + req.path);
-    else if (res.status == 413) send_error(res, 413, "the request is larger than this PLC accepts");
-    else if (res.status == 400) send_error(res, 400, "malformed HTTP request");
-    else if (res.status == 404) send_error(res, 404, "not found: " + req.path);
-  });
-  s.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr ep) {
-    std::string what = "internal error";
-    try {
-      std::rethrow_exception(ep);
-    } catch (const std::exception& e) {
-      what += std::string(": ") + e.what();
-    } catch (...) {
-    }
-    send_error(res, 500, what);
-  });
+  Impl& impl = *impl_;
+  ApiContext& ctx = impl.context;
+  add_session_routes(impl.router, ctx);
+  add_read_routes(impl.router, ctx);
+  add_change_routes(impl.router, ctx);
+  add_project_routes(impl.router, ctx);
+  add_stream_routes(impl.router, ctx);
 
-  add_session_routes(s, ctx);
-  add_read_routes(s, ctx);
-  add_change_routes(s, ctx);
-  add_project_routes(s, ctx);
-  add_stream_routes(s, ctx);
-
-  // The HMI: hmi_web/dist, under the strictest content security policy it is built for.
   const std::string dist = c.hmi_dir.empty() ? SYNCPLC_HMI_DIST : c.hmi_dir;
-  struct stat st;
-  if (stat((dist + "/index.html").c_str(), &st) == 0) {
-    s.set_mount_point("/", dist, {{"Content-Security-Policy", kContentSecurityPolicy}, {"Cache-Control", "no-cache"}});
-    s.set_file_extension_and_mimetype_mapping("mjs", "text/javascript");
-    s.set_file_extension_and_mimetype_mapping("map", "application/json");
-  } else {
-    const std::string why = "The HMI is not built here (no " + dist + "/index.html): run scripts/build_hmi.sh. The API is at /api/v1.";
-    s.Get("/", [why](const httplib::Request&, httplib::Response& res) {
-      res.status = 404;
-      res.set_content(why + "\n", "text/plain");
-    });
-  }
+  if (!impl.files.open(dist))
+    impl.no_hmi = "The HMI is not built here (no " + dist + "/index.html): run scripts/build_hmi.sh. The API is at /api/v1.";
 
-  if (c.port == 0) {
-    impl_->port = s.bind_to_any_port(c.bind);
-    if (impl_->port <= 0) {
-      *error = "the HTTP server cannot listen on " + c.bind + " (any port)";
-      return false;
-    }
-  } else {
-    if (!s.bind_to_port(c.bind, c.port)) {
-      *error = "the HTTP server cannot listen on " + c.bind + ":" + std::to_string(c.port) +
-               " (in use? --http ADDR:PORT chooses another, --http off turns it off)";
-      return false;
-    }
-    impl_->port = c.port;
+  http::ServerOptions o;
+  o.bind = c.bind;
+  o.port = c.port;
+  o.tls_cert = c.tls_cert;
+  o.tls_key = c.tls_key;
+  o.limits.max_body = c.max_body;
+  o.limits.max_upload_body = c.max_upload + 64 * 1024;  // the JSON around the files
+  // Every descriptor this process may have, and of them only a share for
+  // HTTP connections: the Modbus server and the drivers keep the rest.
+  impl.connection_limit = http_connection_budget(c.max_connections, raise_descriptor_limit());
+  o.max_connections = impl.connection_limit;
+  // One worker per live stream and a few for everything else: a stream
+  // holds its worker; other requests wait for one, their connections
+  // counted against the limit.
+  o.workers = c.max_streams + 8;
+  impl.beast = std::make_unique<http::HttpServer>(
+      o, [&impl](http::Request& req, http::Response& res) { impl.handle(req, res); },
+      [&impl](const http::Refusal& r, http::Response& res) {
+        impl.counters.requests.fetch_add(1, std::memory_order_relaxed);
+        impl.counters.refused.fetch_add(1, std::memory_order_relaxed);
+        send_error(res, r.status, r.message);
+        security_headers(res);
+      });
+  std::string why;
+  if (!impl.beast->start(&why)) {
+    if (why.rfind("HTTPS:", 0) == 0) *error = why;
+    else if (c.port == 0) *error = "the HTTP server cannot listen on " + c.bind + " (any port): " + why;
+    else
+      *error = "the HTTP server cannot listen on " + c.bind + ":" + std::to_string(c.port) + " (" + why +
+               "; in use? --http ADDR:PORT chooses another, --http off turns it off)";
+    impl.beast.reset();
+    return false;
   }
-  widen_backlog();
-  impl_->listener = std::thread([&s] { s.listen_after_bind(); });
-  // stop() ends only a server that runs: wait until it does.
-  while (!s.is_running()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  impl.port = impl.beast->port();
   return true;
 }
 
 void Server::stop() {
-  if (!impl_->http) return;
+  if (!impl_->beast) return;
   {
     std::lock_guard lock(impl_->context.stop_mutex);
     impl_->context.stopping.store(true);
   }
   impl_->context.stop_cv.notify_all();
-  impl_->http->stop();
-  if (impl_->listener.joinable()) impl_->listener.join();
-  impl_->http.reset();
+  impl_->beast->stop();
+  impl_->beast.reset();
 }
 
 std::string Server::url() const {
   const std::string& b = impl_->config.bind;
   const std::string host = b.find(':') != std::string::npos ? "[" + b + "]" : b;
-  return std::string(impl_->config.tls() ? "https://" : "http://") + host + ":" + std::to_string(impl_->port) + "/";
+  return std::string(impl_->config.tls() ? "https://" : "http://") + host + ":" + std::to_string(port()) + "/";
 }
 
 int Server::port() const { return impl_->port; }
+
+std::size_t Server::connection_limit() const { return impl_->connection_limit; }
 
 const ServerCounters& Server::counters() const { return impl_->counters; }
 

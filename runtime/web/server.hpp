@@ -1,6 +1,6 @@
 // The HTTP server of `syncplc run` (docs/http-api.md): the API under
-// /api/v1 and the HMI's files (hmi_web/dist), on cpp-httplib's own worker
-// threads. It never touches a task: it reads the published snapshots and
+// /api/v1 and the HMI's files (hmi_web/dist), on Boost.Beast
+// (runtime/web/http_server) with the limits of runtime/web/request_limits. It never touches a task: it reads the published snapshots and
 // pin monitors, and writes, forces and loads through the PlcHost, which
 // uses the tasks' queues and the online change as Modbus and
 // `syncplc reload` do.
@@ -40,6 +40,9 @@ class Server {
   // "http://127.0.0.1:8080/"
   std::string url() const;
   int port() const;
+  // The HTTP connections it holds at most (WebConfig::max_connections
+  // within its share of the file descriptors).
+  std::size_t connection_limit() const;
   const ServerCounters& counters() const;
 
  private:

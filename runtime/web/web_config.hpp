@@ -19,6 +19,10 @@ struct WebConfig {
   std::optional<bool> anonymous_read;  // default: on for a loopback address, off otherwise
   std::string hmi_dir;       // "" : the build's hmi_web/dist
   std::size_t max_streams = 64;          // live streams at once; more get 503
+  // HTTP connections open at once (--http-max-connections); more are
+  // answered 503 and closed. Never more than the HTTP server's share of the
+  // file descriptors (runtime/web/descriptor_budget.hpp).
+  std::size_t max_connections = 256;
   std::size_t max_body = 1 << 20;        // JSON requests
   std::size_t max_upload = 4 << 20;      // a project upload (all its files)
   std::size_t max_upload_files = 64;

@@ -1,10 +1,10 @@
-// The HTTP server's workers: cpp-httplib's thread pool, but with small
-// stacks. `run` locks all its memory (mlockall, for the tasks' sake), and
-// with it every thread's stack: 72 workers at the default 8 MiB would pin
-// 576 MiB that an idle HTTP server never touches.
+// The HTTP server's threads, with small stacks. `run` locks all its memory
+// (mlockall, for the tasks' sake), and with it every thread's stack: 72
+// workers at the default 8 MiB would pin 576 MiB that an idle HTTP server
+// never touches. The same pool runs the network threads (Boost.Asio's
+// io_context) and the handlers' workers.
 #pragma once
 
-#include <httplib.h>
 #include <pthread.h>
 
 #include <condition_variable>
@@ -16,16 +16,19 @@
 
 namespace syncplc::web {
 
-// 1 MiB: the deepest a request goes is std::regex matching its path
-// (cpp-httplib's routes; a path is at most 8 KiB) and nlohmann's dump.
+// 1 MiB: the deepest a request goes is std::regex matching its path (the
+// routes; a target is at most 8 KiB) and nlohmann's dump.
 inline constexpr std::size_t kWorkerStackBytes = 1 << 20;
 
-class WorkerPool final : public httplib::TaskQueue {
+class WorkerPool final {
  public:
   explicit WorkerPool(std::size_t workers);
-  ~WorkerPool() override;
-  void enqueue(std::function<void()> fn) override;
-  void shutdown() override;
+  ~WorkerPool();
+  WorkerPool(const WorkerPool&) = delete;
+  WorkerPool& operator=(const WorkerPool&) = delete;
+  void enqueue(std::function<void()> fn);
+  // Runs what is queued, then joins the threads.
+  void shutdown();
 
  private:
   static void* run(void* self);

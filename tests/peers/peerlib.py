@@ -126,12 +126,12 @@ class Tally:
 class Server:
     """`syncplc run PROJECT --no-status --modbus-port 0`, stopped with SIGTERM."""
 
-    def __init__(self, binary, project_file, extra=()):
+    def __init__(self, binary, project_file, extra=(), preexec_fn=None):
         self.binary = binary
         self.project_file = project_file
         self.stderr_lines = []
         args = [binary, "run", project_file, "--no-status", "--modbus-port", "0", "-d", RUN_LIMIT, *extra]
-        self.proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        self.proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, preexec_fn=preexec_fn)
         _running.append(self.proc)
         self.port = None
         self.unit = None
