@@ -1,5 +1,8 @@
 #include "runtime/web/worker_pool.hpp"
 
+#include <sys/resource.h>
+#include <unistd.h>
+
 #include <stdexcept>
 #include <string>
 
@@ -21,6 +24,11 @@ WorkerPool::~WorkerPool() { shutdown(); }
 
 void* WorkerPool::run(void* self) {
   auto& pool = *static_cast<WorkerPool*>(self);
+  // The HTTP server's threads yield the CPU to the Modbus server, the
+  // drivers and the store (nice 0): a flood of requests slows the HTTP
+  // answers, not them. (The tasks run SCHED_FIFO above all of these.)
+  // Raising one's own nice value needs no privilege; a refusal changes nothing.
+  (void)setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), kWorkerNice);
   for (;;) {
     std::function<void()> job;
     {

@@ -19,6 +19,8 @@ namespace syncplc::web {
 // 1 MiB: the deepest a request goes is std::regex matching its path (the
 // routes; a target is at most 8 KiB) and nlohmann's dump.
 inline constexpr std::size_t kWorkerStackBytes = 1 << 20;
+// The nice value of every worker (the HTTP server's threads): below nice 0.
+inline constexpr int kWorkerNice = 10;
 
 class WorkerPool final {
  public:
