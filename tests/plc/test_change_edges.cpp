@@ -17,11 +17,16 @@
 #include "runtime/core/program_change.hpp"
 #include "runtime/core/virtual_clock.hpp"
 #include "runtime/plc/plc.hpp"
+#include "tests/plc/plc_test_util.hpp"
 #include "tests/realtime/quiet_options.hpp"
 #include "tests/support/project_fixture.hpp"
 
 namespace syncplc {
 namespace {
+
+using plc::testing::eventually;
+using plc::testing::options;
+using plc::testing::write_project;
 
 constexpr std::int64_t ms = 1'000'000;
 
@@ -156,23 +161,6 @@ connections:
 
 // --- the PLC instance ----------------------------------------------------------
 
-std::string write_project(const std::string& name, const std::string& text) {
-  const auto dir = std::filesystem::temp_directory_path() / ("syncplc-review-" + std::to_string(getpid()));
-  std::filesystem::create_directories(dir);
-  const auto path = dir / name;
-  std::ofstream(path, std::ios::trunc) << text;
-  return path.string();
-}
-
-template <class F>
-bool eventually(F f, std::chrono::milliseconds limit = std::chrono::milliseconds(20000)) {
-  const auto until = std::chrono::steady_clock::now() + limit;
-  while (!f()) {
-    if (std::chrono::steady_clock::now() > until) return false;
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  }
-  return true;
-}
 
 // A driver that records what happens to each instance: "open#1", "stop#1", "close#1".
 struct ProbeLog {
@@ -228,15 +216,6 @@ const DriverRegistry& probe_drivers() {
   return r;
 }
 
-plc::PlcOptions options(const std::string& project) {
-  plc::PlcOptions o;
-  o.project = project;
-  o.db = ":memory:";
-  o.load.blocks = &testing::test_blocks();
-  o.runner = quiet_options();
-  o.http.enabled = false;
-  return o;
-}
 
 // SIGTERM while a committed change waits for a slow task's switch (the
 // window 733e356 made reachable): a driver the change keeps (same settings)
@@ -329,7 +308,9 @@ connections: [h.OUT -> y]
   p->stop("test");
   testing::hang_armed().store(false);
   testing::hang_release().store(false);
-  if (in_time) EXPECT_EQ(second.status, 409) << second.summary;
+  if (in_time) {
+    EXPECT_EQ(second.status, 409) << second.summary;
+  }
 }
 
 }  // namespace
@@ -337,6 +318,10 @@ connections: [h.OUT -> y]
 
 namespace syncplc {
 namespace {
+
+using plc::testing::eventually;
+using plc::testing::options;
+using plc::testing::write_project;
 
 // Transaction::commit sets T = switch_instant(now) BEFORE commit_begin,
 // and ReadersChange::commit_begin then waits for readers_mutex_ (held by an

@@ -17,39 +17,16 @@
 #include "runtime/core/monotonic_clock.hpp"
 #include "runtime/plc/plc.hpp"
 #include "runtime/plc/store_link.hpp"
+#include "tests/plc/plc_test_util.hpp"
 #include "tests/realtime/quiet_options.hpp"
 #include "tests/support/test_blocks.hpp"
 
 namespace syncplc::plc {
 namespace {
 
-std::string write_project(const std::string& name, const std::string& text) {
-  const auto dir = std::filesystem::temp_directory_path() / ("syncplc-plc-" + std::to_string(getpid()));
-  std::filesystem::create_directories(dir);
-  const auto path = dir / name;
-  std::ofstream(path, std::ios::trunc) << text;
-  return path.string();
-}
-
-PlcOptions options(const std::string& project) {
-  PlcOptions o;
-  o.project = project;
-  o.db = ":memory:";
-  o.load.blocks = &testing::test_blocks();
-  o.runner = quiet_options();
-  o.http.enabled = false;
-  return o;
-}
-
-template <class F>
-bool eventually(F f, std::chrono::milliseconds limit = std::chrono::milliseconds(20000)) {
-  const auto until = std::chrono::steady_clock::now() + limit;
-  while (!f()) {
-    if (std::chrono::steady_clock::now() > until) return false;
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  }
-  return true;
-}
+using testing::eventually;
+using testing::options;
+using testing::write_project;
 
 const char* kCounter = R"(
 tasks: [{name: main, period: 2ms}]
