@@ -82,6 +82,13 @@ class IoDriver {
   // Tests and simulations: set an input channel from outside the scan (taken
   // at the next latch). Returns false when the driver does not support it.
   virtual bool force_input(int /*channel*/, const Cell* /*values*/) { return false; }
+  // Readers of live values (the HTTP API's quality, not the scan): whether
+  // the values the newest latch_inputs put into input channel `channel` came
+  // from a good exchange with the device. A driver with a link to lose
+  // (modbus_client: the channel's read group, ok as its `ok` status channel
+  // says) answers for it; a status channel reports and is always ok. The
+  // default: a driver without a link (memory, simulations) is always ok.
+  virtual bool input_ok(int /*channel*/) const noexcept { return true; }
   // Tests and status display: the value last written to an output channel.
   virtual bool read_output(int /*channel*/, Cell* /*values*/) const { return false; }
   // One line for `syncplc check` (bus time, model, ...); "" for nothing. Not on the scan path.

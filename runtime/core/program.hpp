@@ -147,6 +147,14 @@ struct InstanceInfo {
 // How long a read keeps a task's pins monitored after it (Program::read_value).
 inline constexpr std::int64_t kMonitorLeaseNs = 2'000'000'000;
 
+// The scan a live value comes from (Program::read_value): the owning task's
+// scan count (0: the value as loaded, before any scan) and that scan's
+// planned release in logical time.
+struct ValueStamp {
+  std::uint64_t scan = 0;
+  std::int64_t release_ns = 0;
+};
+
 class Program {
  public:
   std::string name;
@@ -219,11 +227,12 @@ class Program {
   // `r` (a tag, element or pin, as resolve() gives it; r.length cells):
   // tags from the owner's publication, pins from its task's pin monitor
   // (pin_monitor.hpp), whose lease every read extends by lease_ns. Returns
-  // the owning task's scan count the values come from, or nullopt while a
-  // pin's monitoring is only starting (no copy since a lapsed lease: ask
-  // again after one period of the task) or for a task that stopped
-  // unmonitored. Thread-safe; never waits for a scan.
-  std::optional<std::uint64_t> read_value(const CellRef& r, Cell* out, std::int64_t lease_ns = kMonitorLeaseNs);
+  // the scan of the owning task the values come from (its count and planned
+  // release, the logical time a reader tells the value's age by), or
+  // nullopt while a pin's monitoring is only starting (no copy since a
+  // lapsed lease: ask again after one period of the task) or for a task that
+  // stopped unmonitored. Thread-safe; never waits for a scan.
+  std::optional<ValueStamp> read_value(const CellRef& r, Cell* out, std::int64_t lease_ns = kMonitorLeaseNs);
   // Every block instance with its pins, by task then execution order (GET /blocks).
   std::vector<InstanceInfo> block_instances() const;
 

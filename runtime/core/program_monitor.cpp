@@ -7,7 +7,7 @@
 
 namespace syncplc {
 
-std::optional<std::uint64_t> Program::read_value(const CellRef& r, Cell* out, std::int64_t lease_ns) {
+std::optional<ValueStamp> Program::read_value(const CellRef& r, Cell* out, std::int64_t lease_ns) {
   if (r.task >= tasks.size()) return std::nullopt;
   Task& t = *tasks[r.task];
   if (r.length > t.image_cells() || r.cell > t.image_cells() - r.length) return std::nullopt;
@@ -16,7 +16,7 @@ std::optional<std::uint64_t> Program::read_value(const CellRef& r, Cell* out, st
     SnapshotStamp s;
     const Cell* src = t.channels[0]->latest(&s);
     std::copy_n(src + r.cell, r.length, out);
-    return s.scan;
+    return ValueStamp{s.scan, s.release_ns};
   }
   PinMonitor& m = t.pin_monitor();
   if (r.cell < m.first()) return std::nullopt;  // a copy of another task's tag: read the tag itself
@@ -25,11 +25,12 @@ std::optional<std::uint64_t> Program::read_value(const CellRef& r, Cell* out, st
   const std::uint64_t scans = t.stats.scans.load(std::memory_order_relaxed);
   const auto period = std::max<std::int64_t>(1, t.config().period_ns);
   m.extend(scans + static_cast<std::uint64_t>(std::max<std::int64_t>(0, lease_ns) / period) + 2);
-  const std::uint64_t taken = m.read(r.cell, r.length, out);
+  std::int64_t release_ns = 0;
+  const std::uint64_t taken = m.read(r.cell, r.length, out, &release_ns);
   // Copied at the newest scan (or the one before, read between its
   // publication and its accounting): live. Older: a lapsed lease's leftovers.
   if (taken + 1 < scans) return std::nullopt;
-  return taken;
+  return ValueStamp{taken, release_ns};
 }
 
 std::vector<InstanceInfo> Program::block_instances() const {

@@ -213,7 +213,7 @@ void Task::publish() noexcept {
   // LET: this scan's outputs are visible from its next grid point on.
   const SnapshotStamp stamp{scan_count_, now_, now_ + cfg_.period_ns};
   for (auto& ch : channels) ch->publish(image_.data(), stamp);
-  monitor_.publish(image_.data(), scan_count_);  // pins, only while someone monitors (pin_monitor.hpp)
+  monitor_.publish(image_.data(), scan_count_, now_);  // pins, only while someone monitors (pin_monitor.hpp)
   if (TaskHandover* h = handover_.load(std::memory_order_acquire)) h->mirror(image_.data(), stamp);
   published_.fetch_add(1, std::memory_order_release);
 }

@@ -20,6 +20,7 @@
 #include "runtime/web/http/router.hpp"
 #include "runtime/web/server.hpp"
 #include "runtime/web/sessions.hpp"
+#include "runtime/web/subscriptions.hpp"
 #include "runtime/web/users.hpp"
 #include "runtime/web/web_config.hpp"
 
@@ -38,6 +39,7 @@ struct ApiContext {
   LoginEvents login_events;
   HashGate hashes;
   HiddenCellsCache hidden_cells;  // what only engineers see (read_access.hpp)
+  Subscriptions subscriptions;    // live values (subscriptions.hpp)
   // The users' table, opened at the first login (its own connection to the
   // PLC's database; thread-safe). The mutex guards only the opening.
   std::mutex users_mutex;

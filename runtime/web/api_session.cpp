@@ -69,7 +69,10 @@ void add_session_routes(http::Router& s, ApiContext& c) {
 
   s.Post("/api/v1/logout", [&c](const http::Request& req, http::Response& res) {
     const std::string h = req.get_header_value("Authorization");
-    if (h.rfind("Bearer ", 0) == 0) c.sessions.revoke(h.substr(7));
+    if (h.rfind("Bearer ", 0) == 0) {
+      c.sessions.revoke(h.substr(7));
+      c.subscriptions.remove_owner(h.substr(7));  // its live values end with it
+    }
     send_json(res, 200, nlohmann::json::object());
   });
 

@@ -7,6 +7,8 @@ python3-pymodbus:  /usr/bin/python3 tests/peers/test_X.py build/syncplc
 """
 
 import atexit
+import http.client
+import json
 import os
 import re
 import select
@@ -190,6 +192,46 @@ class Server:
             if bad in stderr:
                 raise AssertionError("sanitizer report on stderr:\n" + stderr)
         return Counters(out)
+
+
+class HttpApi:
+    """The HTTP API of a `syncplc run --http`, from Python's own http.client:
+    call() returns (status, JSON or None, response); expect() checks the
+    status. `source`: the client's address (127.0.0.x: a machine of its own
+    as the login limiter sees it); `token`: the session's bearer token."""
+
+    def __init__(self, port, source="127.0.0.1", token=None):
+        self.port = port
+        self.source = source
+        self.token = token
+
+    def call(self, method, path, body=None, headers=None, raw=None, content_type="application/json", absolute=False,
+             token=None):
+        # An online change waits up to three periods of the slowest task.
+        c = http.client.HTTPConnection("127.0.0.1", self.port, timeout=120 if path.startswith("/projects") else 30,
+                                       source_address=(self.source, 0))
+        h = dict(headers or {})
+        tok = self.token if token is None else token
+        if tok:
+            h["Authorization"] = "Bearer " + tok
+        data = raw if raw is not None else (json.dumps(body).encode() if body is not None else None)
+        if data is not None:
+            h.setdefault("Content-Type", content_type)
+        c.request(method, path if absolute else "/api/v1" + path, body=data, headers=h)
+        r = c.getresponse()
+        text = r.read().decode("utf-8", "replace")
+        c.close()
+        try:
+            j = json.loads(text) if text else None
+        except ValueError:
+            j = None
+        return r.status, j, r
+
+    def expect(self, status, method, path, body=None, what="", **kw):
+        got, j, _ = self.call(method, path, body, **kw)
+        if got != status:
+            raise AssertionError("%s %s %s: expected HTTP %d, got %d %r" % (what, method, path, status, got, j))
+        return j
 
 
 def check_counters(c, t, requests_at_least=False, label=""):

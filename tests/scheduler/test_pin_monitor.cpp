@@ -57,12 +57,13 @@ TEST(PinMonitor, PinsAreCopiedOnlyWhileSomeoneReadsThem) {
   Cell v;
   auto at = p->read_value(pin, &v, 5'000'000);  // a 5 ms lease
   ASSERT_TRUE(at) << "before any scan the pins are the loaded ones";
-  EXPECT_EQ(*at, 0u);
+  EXPECT_EQ(at->scan, 0u);
   EXPECT_EQ(v.get<double>(), 0.0);
   clock.run_until(3'000'000);  // scans at 0, 1 and 2 ms
   at = p->read_value(pin, &v, 5'000'000);
   ASSERT_TRUE(at);
-  EXPECT_EQ(*at, 3u);
+  EXPECT_EQ(at->scan, 3u);
+  EXPECT_EQ(at->release_ns, 2'000'000) << "the third scan was released at 2 ms (logical time)";
   EXPECT_EQ(v.get<double>(), 3.0);
   // Nobody reads for 50 ms: the lease lapses, the task stops copying.
   clock.run_until(53'000'000);
@@ -71,7 +72,7 @@ TEST(PinMonitor, PinsAreCopiedOnlyWhileSomeoneReadsThem) {
   clock.run_until(54'000'000);  // this read renewed the lease: the next scan copies
   at = p->read_value(pin, &v);
   ASSERT_TRUE(at);
-  EXPECT_EQ(*at, 54u);
+  EXPECT_EQ(at->scan, 54u);
   EXPECT_EQ(v.get<double>(), 54.0);
 }
 
@@ -84,7 +85,7 @@ TEST(PinMonitor, ArrayPinsAndTagsReadFromTheirScan) {
   clock.run_until(25'000'000);
   auto at = p->read_value(*p->resolve("g.OUT"), out);
   ASSERT_TRUE(at);
-  EXPECT_EQ(*at, 3u);
+  EXPECT_EQ(at->scan, 3u);
   EXPECT_EQ(out[0].get<double>(), 2.0);
   EXPECT_EQ(out[1].get<double>(), 4.0);
   Cell one;
@@ -94,7 +95,8 @@ TEST(PinMonitor, ArrayPinsAndTagsReadFromTheirScan) {
   Cell total;
   at = p->read_value(*p->resolve("total"), &total);
   ASSERT_TRUE(at);
-  EXPECT_EQ(*at, 25u);
+  EXPECT_EQ(at->scan, 25u);
+  EXPECT_EQ(at->release_ns, 24'000'000) << "a tag's stamp: its publication's scan and release";
   EXPECT_EQ(total.get<double>(), 25.0);
 }
 

@@ -103,7 +103,8 @@ TEST(HttpRequest, MalformedRequestsAre400) {
   EXPECT_EQ(parse("GET /%zz HTTP/1.1\r\nHost: h\r\n\r\n").status, 400);
   EXPECT_EQ(parse("GET /a%00b HTTP/1.1\r\nHost: h\r\n\r\n").status, 400);
   EXPECT_EQ(parse("GET http://h/ HTTP/1.1\r\nHost: h\r\n\r\n").status, 400);
-  EXPECT_EQ(parse("PATCH / HTTP/1.1\r\nHost: h\r\n\r\n").status, 405);
+  EXPECT_EQ(parse("TRACE / HTTP/1.1\r\nHost: h\r\n\r\n").status, 405);
+  EXPECT_EQ(parse("PATCH /api/v1/subscriptions/x HTTP/1.1\r\nHost: h\r\n\r\n{}").status, 411);  // PATCH carries a body
   EXPECT_EQ(parse("POST /api/v1/login HTTP/1.1\r\nHost: h\r\n\r\n{}").status, 411);  // a body without a length
   EXPECT_EQ(parse("GET / HTTP/2.0\r\nHost: h\r\n\r\n").status, 400);  // Beast takes HTTP/1.0 and 1.1 only
   EXPECT_EQ(parse("GET / HTTP/1.2\r\nHost: h\r\n\r\n").status, 400);

@@ -49,11 +49,22 @@ ModbusClientDriver::ModbusClientDriver(ModbusClientConfig cfg) : cfg_(std::move(
   for (const auto& g : cfg_.groups)
     if (g.reads()) device_reads_[g.device] = true;
   device_epoch_.assign(cfg_.devices.size(), 0);
+  channel_group_.assign(channels_.size(), -1);
+  for (std::size_t i = 0; i < cfg_.groups.size(); ++i)
+    if (cfg_.groups[i].reads()) channel_group_[static_cast<std::size_t>(gch_[i].values)] = static_cast<int>(i);
+  group_ok_ = std::make_unique<std::atomic<bool>[]>(cfg_.groups.size());  // value-initialised: not ok before the first reply
   reset_exchange();
+}
+
+bool ModbusClientDriver::input_ok(int channel) const noexcept {
+  if (channel < 0 || static_cast<std::size_t>(channel) >= channel_group_.size()) return true;
+  const int g = channel_group_[static_cast<std::size_t>(channel)];
+  return g < 0 || group_ok_[static_cast<std::size_t>(g)].load(std::memory_order_relaxed);
 }
 
 void ModbusClientDriver::reset_exchange() {
   handover_.clear();
+  for (std::size_t i = 0; group_ok_ && i < cfg_.groups.size(); ++i) group_ok_[i].store(false, std::memory_order_relaxed);
   values_.clear();
   out_.clear();
   out_seq_.clear();
@@ -160,6 +171,7 @@ void ModbusClientDriver::latch_inputs(const ScanContext& ctx) noexcept {
       if (Cell* p = bound_[static_cast<std::size_t>(ch)]) p->set(value);
     };
     set(c.ok, st.ok);
+    group_ok_[i].store(st.ok, std::memory_order_relaxed);  // input_ok: the quality readers show
     set(c.age, st.age_ms);
     set(c.cycles, st.cycles);
     set(c.error, st.error);

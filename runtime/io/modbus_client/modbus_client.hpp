@@ -23,6 +23,7 @@
 // to the hand-over buffers (group_handover.hpp) and reads atomics.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -62,6 +63,8 @@ class ModbusClientDriver final : public IoDriver {
   void will_take_over(IoDriver& previous) override;
   void take_over(IoDriver& previous) noexcept override;
   bool read_output(int channel, Cell* values) const override;
+  // A read group's values channel: its group's ok at the newest latch.
+  bool input_ok(int channel) const noexcept override;
   std::string summary() const override;
   std::vector<std::pair<std::string, double>> counters() const override;
 
@@ -113,6 +116,8 @@ class ModbusClientDriver final : public IoDriver {
   std::vector<bool> inherit_;  // per device: its connection comes from the driver this one replaces (will_take_over)
   std::vector<bool> device_reads_;             // per device: it has a reading group (the write gate applies)
   std::vector<std::uint64_t> device_epoch_;    // per device: the connection every reading group latched good values of, 0: none
+  std::vector<int> channel_group_;             // per channel: the read group whose values it carries, -1: none
+  std::unique_ptr<std::atomic<bool>[]> group_ok_;  // per group: ok at the newest latch (input_ok, other threads)
   Clock clock_;
   bool network_ = true;
   bool open_ = false;

@@ -89,10 +89,11 @@ Refusal check_head(const RequestHead& head, const Limits& limits, std::size_t* b
   if (!content_encoding.empty() && !same_name(content_encoding, "identity"))
     return {415, "Content-Encoding '" + content_encoding.substr(0, 40) + "' is not taken: send the body uncompressed"};
   const std::string_view method(head.method_string().data(), head.method_string().size());
-  if (method != "GET" && method != "HEAD" && method != "POST" && method != "PUT" && method != "DELETE")
-    return {405, "this PLC answers GET, HEAD, POST, PUT and DELETE"};
+  if (method != "GET" && method != "HEAD" && method != "POST" && method != "PUT" && method != "PATCH" &&
+      method != "DELETE")
+    return {405, "this PLC answers GET, HEAD, POST, PUT, PATCH and DELETE"};
   // A body without a stated length would run to the connection's end.
-  if ((method == "POST" || method == "PUT") && lengths == 0 && encodings == 0)
+  if ((method == "POST" || method == "PUT" || method == "PATCH") && lengths == 0 && encodings == 0)
     return {411, "a " + std::string(method) + " needs Content-Length (0 for no body) or a chunked body"};
   const std::size_t most = is_upload(target) ? limits.max_upload_body : limits.max_body;
   if (n > most)

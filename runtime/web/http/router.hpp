@@ -18,6 +18,7 @@ class Router {
   void Get(const std::string& pattern, Handler h) { add("GET", pattern, std::move(h)); }
   void Post(const std::string& pattern, Handler h) { add("POST", pattern, std::move(h)); }
   void Put(const std::string& pattern, Handler h) { add("PUT", pattern, std::move(h)); }
+  void Patch(const std::string& pattern, Handler h) { add("PATCH", pattern, std::move(h)); }
   void Delete(const std::string& pattern, Handler h) { add("DELETE", pattern, std::move(h)); }
   void add(std::string method, const std::string& pattern, Handler h);
 
