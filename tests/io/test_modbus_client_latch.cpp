@@ -101,6 +101,28 @@ TEST(ModbusClientLatch, GoodRepliesAreTakenWithTheirAge) {
   EXPECT_EQ(r.tag("age").get<double>(), 0.0);
 }
 
+// What a reader of live values is told of the values channel (IoDriver::
+// input_ok, the HTTP API's driver_not_ok): the group's ok at the newest
+// latch; a status channel and an output channel are always ok.
+TEST(ModbusClientLatch, InputOkFollowsTheReadGroupsOk) {
+  Rig r(project("hold"));
+  const int values = r.d->channel_index("g");
+  ASSERT_GE(values, 0);
+  r.run_to(0);
+  EXPECT_FALSE(r.d->input_ok(values)) << "no reply yet";
+  EXPECT_TRUE(r.d->input_ok(r.d->channel_index("g_ok"))) << "a status channel reports, it is not read";
+  EXPECT_TRUE(r.d->input_ok(r.d->channel_index("w")));
+  r.good(1, 2, 5 * ms);
+  r.run_to(10 * ms);
+  EXPECT_TRUE(r.d->input_ok(values));
+  r.d->inject(0, code(ClientError::Timeout), 12 * ms, nullptr);
+  EXPECT_TRUE(r.d->input_ok(values)) << "until a scan latches the failure";
+  r.run_to(20 * ms);
+  EXPECT_FALSE(r.d->input_ok(values));
+  EXPECT_TRUE(r.d->input_ok(-1));
+  EXPECT_TRUE(r.d->input_ok(10'000));
+}
+
 TEST(ModbusClientLatch, ATimeoutIsStaleAtOnceAndHoldKeepsTheValuesFlagged) {
   Rig r(project("hold"));
   r.good(1, 2, 0);
