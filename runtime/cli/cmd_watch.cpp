@@ -1,4 +1,6 @@
-// syncplc watch: live values from GET /stream (Server-Sent Events). On a
+// syncplc watch: live values from GET /stream (Server-Sent Events), each
+// with its quality when it is not good (stale, task stopped, driver not ok,
+// forced) and an unknown ref's reason in place of its value. On a
 // terminal the refs' lines are drawn over the last ones, under a line with
 // the values' time; otherwise one plain line per update, for a pipe or a
 // log. The stream runs on a thread of its own so that Ctrl-C (or SIGTERM),
@@ -46,6 +48,22 @@ std::string time_text(const json& t_ns) {
   return fmt::format("{}.{:03}", hms, ms % 1000);
 }
 
+// A value's quality as the stream sends it ({"q", "age_ns"}): "" when good,
+// else what an operator must know: "stale 1.52 s", "task stopped",
+// "driver not ok", "forced".
+std::string quality_text(const json& q) {
+  if (!q.is_object() || !q.contains("q") || !q["q"].is_string()) return {};
+  const std::string word = q["q"].get<std::string>();
+  if (word == "good") return {};
+  if (word == "stale") {
+    const double age = q.value("age_ns", 0.0) / 1e9;
+    return age > 0 ? fmt::format("stale {:.3g} s", age) : "stale, no scan yet";
+  }
+  if (word == "task_stopped") return "task stopped";
+  if (word == "driver_not_ok") return "driver not ok";
+  return word;
+}
+
 std::size_t terminal_width() {
   winsize w{};
   if (ioctl(STDOUT_FILENO, TIOCGWINSZ, &w) == 0 && w.ws_col > 0) return w.ws_col;
@@ -66,10 +84,16 @@ class WatchOutput {
   void show(const json& update) {
     const json values = update.value("values", json::object());
     const json forced = update.value("forced", json::object());
+    const json quality = update.value("quality", json::object());
+    const json errors = update.value("errors", json::object());
     auto ref_text = [&](const std::string& ref) {
+      // An unknown ref (renamed by an online change): why, in place of a value.
+      if (errors.contains(ref) && errors[ref].is_string()) return "? (" + errors[ref].get<std::string>() + ")";
       std::string s = format_value(values.value(ref, json()));
       if (!units_.at(ref).empty()) s += " " + units_.at(ref);
-      if (any_forced(forced.value(ref, json()))) s += " (forced)";
+      const std::string q = quality_text(quality.value(ref, json()));
+      if (!q.empty()) s += " (" + q + ")";
+      else if (any_forced(forced.value(ref, json()))) s += " (forced)";
       return s;
     };
     if (!terminal_) {

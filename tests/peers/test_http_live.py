@@ -13,6 +13,7 @@ alone, and deleting it ends its stream.
 import http.client
 import json
 import os
+import re
 import socket
 import subprocess
 import time
@@ -194,6 +195,15 @@ def main():
     assert kind == "error" and "deleted" in d["error"], (kind, d)
     st.close()
     api.expect(404, "PATCH", "/subscriptions/" + sid, {"add": ["counter"]}, what="a deleted subscription")
+
+    # --- syncplc watch shows the same quality
+    env = dict(os.environ, SYNCPLC_URL="http://127.0.0.1:%d" % port)
+    p = subprocess.run([BINARY, "watch", "bad_w", "remote", "counter", "--count", "2", "--rate", "20"], env=env,
+                       capture_output=True, text=True, timeout=60)
+    assert p.returncode == 0, (p.returncode, p.stdout, p.stderr)
+    lines = [l for l in p.stdout.splitlines() if "bad_w = 2 (task stopped)" in l and "remote = 0 (driver not ok)" in l]
+    assert len(lines) == 2, p.stdout
+    assert all(re.search(r"counter = [0-9.e+]+$", l) for l in lines), p.stdout
 
     srv.stop()
     print("test_http_live: OK")
