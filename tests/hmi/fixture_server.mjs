@@ -97,6 +97,7 @@ export async function startFixture({ port = 0, users = {}, distDir = DIST } = {}
   const t0 = Date.now();
   const st = {
     written: {}, forces: {}, tokens: new Map(), streams: new Set(), refuseStreamsUntil: 0,
+    subscriptions: new Map(), patches: [], quality: {}, // quality: ref → a quality the test sets ('stale', 'driver_not_ok' …)
     events: [], versions: [
       { version: 1, time_ns: (t0 - 3600e3) * 1e6, origin: 'run', outcome: 'accepted', project: 'bottle_line 1.0.0', hash: '298e4d1f0a', files: 2, errors: [] },
       { version: 2, time_ns: (t0 - 1800e3) * 1e6, origin: 'reload', outcome: 'rejected', project: '', hash: 'ccb459ba11', files: 2, errors: ["bottle_line.yaml:16:13: period: '10xs' is not a duration"] },
@@ -123,6 +124,45 @@ export async function startFixture({ port = 0, users = {}, distDir = DIST } = {}
   };
   const body = (req) => new Promise((ok) => { let d = ''; req.on('data', (c) => { d += c; }); req.on('end', () => { try { ok(JSON.parse(d || 'null')); } catch { ok(undefined); } }); });
   const now = () => (Date.now() - t0) / 1000;
+  const TASK_PERIODS = { servo: 1e6, planner: 1e7, slow: 1e8 };
+  const taskOf = (ref) => {
+    const base = ref.replace(/\[.*$/, '');
+    const tag = TAGS.find((t) => t.name === base);
+    if (tag) return tag.task;
+    const b = BLOCKS.find((x) => base.startsWith(`${x.name}.`));
+    return b ? b.task : null;
+  };
+  const describeAll = (refs) => {
+    const out = {};
+    const v = programValues(now(), st);
+    for (const r of refs) {
+      const task = taskOf(r);
+      out[r] = readRef(r, v, st.forces) && task ? { task, period_ns: TASK_PERIODS[task], type: 'LREAL', length: 1 } : { error: `no tag or pin '${r}'` };
+    }
+    return out;
+  };
+  // A live stream of refs() (read at every tick: a subscription changes), each value with its quality.
+  const openSse = (req, res, refs, rate) => {
+    res.writeHead(200, { 'Content-Type': 'text/event-stream', 'Cache-Control': 'no-store', Connection: 'keep-alive' });
+    const tick = () => {
+      const v = programValues(now(), st);
+      const nowNs = Math.round((Date.now() - t0) * 1e6);
+      const out = { t_ns: Date.now() * 1e6, now_ns: nowNs, values: {}, forced: {}, quality: {} };
+      for (const r of refs()) {
+        const x = readRef(r, v, st.forces);
+        if (!x) { out.errors = { ...(out.errors || {}), [r]: `no tag or pin '${r}'` }; continue; }
+        out.values[r] = x.value; out.forced[r] = x.forced;
+        const q = st.quality[r] || (x.forced ? 'forced' : 'good');
+        out.quality[r] = { q, scan_ns: nowNs - 500000, age_ns: q === 'stale' ? 5e9 : 500000 };
+      }
+      res.write(`event: values\ndata: ${JSON.stringify(out)}\n\n`);
+    };
+    tick();
+    const timer = setInterval(tick, 1000 / rate);
+    const s = { res, timer };
+    st.streams.add(s);
+    req.on('close', () => { clearInterval(timer); st.streams.delete(s); });
+  };
 
   function status() {
     const t = now();
@@ -195,22 +235,42 @@ export async function startFixture({ port = 0, users = {}, distDir = DIST } = {}
       send(res, 200, out);
       return;
     }
+    // --- subscriptions (docs/http-api.md, "Live values"), as the PLC keeps them
+    if (req.method === 'POST' && path === '/subscriptions') {
+      const b = await body(req);
+      if (!b || (b.refs !== undefined && !Array.isArray(b.refs))) { send(res, 400, { error: "'refs' must be an array of references" }); return; }
+      const id = randomBytes(16).toString('hex');
+      const refs = [...new Set(b.refs || [])];
+      st.subscriptions.set(id, { refs, rate: b.rate || 10 });
+      send(res, 201, { id, rate: b.rate || 10, stream: `/api/v1/subscriptions/${id}/stream`, refs: describeAll(refs) });
+      return;
+    }
+    const sm = /^\/subscriptions\/([0-9a-f]+)(\/stream)?$/.exec(path);
+    if (sm) {
+      const sub = st.subscriptions.get(sm[1]);
+      if (!sub) { send(res, 404, { error: `no subscription ${sm[1]} of this session` }); return; }
+      if (req.method === 'PATCH' && !sm[2]) {
+        const b = await body(req);
+        const add = (b && b.add) || []; const drop = new Set((b && b.drop) || []);
+        const dropped = sub.refs.filter((r) => drop.has(r));
+        const added = add.filter((r) => !sub.refs.includes(r) && !drop.has(r));
+        sub.refs = [...sub.refs.filter((r) => !drop.has(r)), ...added];
+        st.patches.push({ add: added, drop: dropped });
+        send(res, 200, { id: sm[1], refs: describeAll(added), dropped });
+        return;
+      }
+      if (req.method === 'DELETE' && !sm[2]) { st.subscriptions.delete(sm[1]); res.writeHead(204); res.end(); return; }
+      if (req.method === 'GET' && sm[2]) {
+        if (Date.now() < st.refuseStreamsUntil) { send(res, 503, { error: 'the PLC is restarting' }); return; }
+        openSse(req, res, () => sub.refs, sub.rate);
+        return;
+      }
+    }
     if (req.method === 'GET' && path === '/stream') {
       if (Date.now() < st.refuseStreamsUntil) { send(res, 503, { error: 'the PLC is restarting' }); return; }
       const refs = (url.searchParams.get('refs') || '').split(',').filter(Boolean);
       const rate = Math.min(50, Math.max(1, Number(url.searchParams.get('rate') || 10)));
-      res.writeHead(200, { 'Content-Type': 'text/event-stream', 'Cache-Control': 'no-store', Connection: 'keep-alive' });
-      const tick = () => {
-        const v = programValues(now(), st);
-        const out = { t_ns: Date.now() * 1e6, values: {}, forced: {} };
-        for (const r of refs) { const x = readRef(r, v, st.forces); if (x) { out.values[r] = x.value; out.forced[r] = x.forced; } }
-        res.write(`event: values\ndata: ${JSON.stringify(out)}\n\n`);
-      };
-      tick();
-      const timer = setInterval(tick, 1000 / rate);
-      const s = { res, timer };
-      st.streams.add(s);
-      req.on('close', () => { clearInterval(timer); st.streams.delete(s); });
+      openSse(req, res, () => refs, rate);
       return;
     }
     if (req.method === 'GET' && path === '/events') {

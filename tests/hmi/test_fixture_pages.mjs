@@ -211,6 +211,33 @@ test('connection: a lost stream is shown and the page reconnects by itself; a hi
   await page.close();
 });
 
+test('live values: one subscription changed as views come and go; a value that is not live is greyed and says why', async () => {
+  const earlier = new Set(fixture.state.subscriptions.keys()); // other tests' pages
+  const page = await open('tags');
+  await page.locator('.conn', { hasText: 'Live' }).waitFor();
+  const mine = () => [...fixture.state.subscriptions].find(([id]) => !earlier.has(id))?.[1];
+  await until(() => mine() && mine().refs.includes('speed') && mine().refs.includes('pos'), 5000, 'a subscription with the page\'s refs');
+  const patches = fixture.state.patches.length;
+  const streams = fixture.state.streams.size;
+  // The filter hides rows: their refs are dropped from the subscription, the stream stays.
+  await page.getByLabel('Filter').fill('speed');
+  await until(() => fixture.state.patches.length > patches && !mine().refs.includes('pos'), 5000, 'a PATCH dropping the hidden rows');
+  assert.ok(fixture.state.patches.slice(patches).some((p) => p.drop.includes('pos')));
+  assert.equal(fixture.state.streams.size, streams, 'no stream reopened for a change of refs');
+  const cell = page.locator('tr[data-tag=speed] .value');
+  // The PLC says the driver behind it failed: greyed, with the reason.
+  fixture.state.quality.speed = 'driver_not_ok';
+  await page.locator('tr[data-tag=speed] .value.stale .badge-stale', { hasText: 'driver not ok' }).waitFor();
+  assert.equal(await cell.getAttribute('data-quality'), 'driver_not_ok');
+  fixture.state.quality.speed = 'task_stopped';
+  await page.locator('tr[data-tag=speed] .badge-stale', { hasText: 'task stopped' }).waitFor();
+  delete fixture.state.quality.speed;
+  await until(async () => (await page.locator('tr[data-tag=speed] .value.stale').count()) === 0, 5000, 'live again');
+  assert.equal(await cell.getAttribute('data-quality'), 'good');
+  assert.deepEqual(page.jsErrors, []);
+  await page.close();
+});
+
 test('axes: suggested from the program, plots live, the transient with its predicted end', async () => {
   const page = await open('axes');
   await page.locator('text=Suggested from the program').waitFor();
@@ -341,6 +368,8 @@ test('project: a bad upload shows its error at its line; a good one loads with t
 test('phone: the navigation folds into a menu, tables become cards, no page is wider than the screen', async () => {
   const page = await open('overview', PHONE);
   const nav = page.locator('nav.nav');
+  // isVisible does not wait: first the page as styled (the menu button shows only then).
+  await page.getByRole('button', { name: 'Menu' }).waitFor();
   assert.equal(await nav.isVisible(), false);
   await page.getByRole('button', { name: 'Menu' }).click();
   assert.equal(await nav.isVisible(), true);

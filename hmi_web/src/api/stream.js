@@ -1,12 +1,15 @@
-// The live value stream: GET /api/v1/stream?refs=...&rate=... read with
-// fetch (so the session's Authorization header goes along), parsed as
-// Server-Sent Events, reconnected with back-off, stopped while the page is
-// hidden (a phone in a pocket costs the PLC nothing).
+// A live value stream: a subscription's GET /api/v1/subscriptions/ID/stream
+// read with fetch (so the session's Authorization header goes along),
+// parsed as Server-Sent Events, reconnected with back-off, stopped while the
+// page is hidden (a phone in a pocket costs the PLC nothing).
 import { apiUrl, authHeaders, statusWords } from './http.js';
 import { NO_ANSWER_MS } from './link.js';
 import { SseParser, backoffMs } from './sse.js';
 
-// onValues({tNs, values, forced}); onState({state: 'connecting'|'live'|'lost'|'paused'|'idle', error, retryInMs})
+// onValues({tNs, nowNs, values, forced, quality, errors}); onState({state:
+// 'connecting'|'live'|'lost'|'paused'|'idle', error, retryInMs}); onGone():
+// the PLC no longer knows the subscription (404: it restarted, or the
+// subscription expired): the stream stops, the caller makes a new one.
 // The server sends an event every 1/rate s whatever the values do: a stream
 // silent for longer than this is taken as lost (a PLC stopped by SIGSTOP or a
 // cable pulled leaves the TCP connection open and just quiet), closed and
@@ -15,7 +18,7 @@ export function silenceLimitMs(rate) {
   return Math.max(NO_ANSWER_MS, Math.ceil(3000 / rate));
 }
 
-export function openStream({ refs, rate = 10, onValues, onState }) {
+export function openStream({ path, rate = 10, onValues, onState, onGone }) {
   let stopped = false;
   let controller = null;
   let attempt = 0;
@@ -29,7 +32,6 @@ export function openStream({ refs, rate = 10, onValues, onState }) {
     clearTimeout(timer);
     if (stopped) return;
     if (typeof document !== 'undefined' && document.hidden) { state('paused'); return; }
-    if (!refs.length) { state('idle'); return; }
     if (controller) controller.abort(); // never two streams at once
     controller = new AbortController();
     const mine = controller;
@@ -44,10 +46,16 @@ export function openStream({ refs, rate = 10, onValues, onState }) {
     let error = null;
     let streamError = null;
     try {
-      const res = await fetch(apiUrl('/stream', { refs, rate }), {
+      const res = await fetch(apiUrl(path), {
         headers: { Accept: 'text/event-stream', ...authHeaders() },
         credentials: 'omit', cache: 'no-store', signal: controller.signal,
       });
+      if (res.status === 404 && onGone) {
+        stopped = true;
+        clearTimeout(silence);
+        onGone();
+        return;
+      }
       if (!res.ok || !res.body) {
         let msg = statusWords(res.status);
         try { const j = await res.json(); if (j && j.error) msg = j.error; } catch { /* not JSON */ }
@@ -70,7 +78,8 @@ export function openStream({ refs, rate = 10, onValues, onState }) {
           try { d = JSON.parse(ev.data); } catch { continue; }
           attempt = 0;
           state('live');
-          onValues({ tNs: d.t_ns, values: d.values || {}, forced: d.forced || {} });
+          onValues({ tNs: d.t_ns, nowNs: d.now_ns, values: d.values || {}, forced: d.forced || {},
+            quality: d.quality || {}, errors: d.errors || {} });
         }
       }
       error = streamError || 'The PLC closed the live stream.';

@@ -4,12 +4,17 @@ import { elementType, formatScalar, formatValue } from '../lib/format.js';
 
 // A value with its unit; forced values get a badge and the forced colour.
 // For an array, `forced` may be one flag per element: only those are coloured.
-export function Value({ value, type, unit, forced }) {
+// quality: the live hub's qualityOf(ref) (null: none known yet); a stale
+// value is greyed and says why (stale, task stopped, driver not ok).
+export function Value({ value, type, unit, forced, quality }) {
   const perElement = Array.isArray(forced) && Array.isArray(value) && forced.length === value.length;
   const f = Array.isArray(forced) ? forced.some(Boolean) : !!forced;
   const el = elementType(type);
+  const stale = !!(quality && quality.stale);
+  const cls = `value${f ? ' forced' : ''}${stale ? ' stale' : ''}`;
   return (
-    <span class={f ? 'value forced' : 'value'} data-forced={f ? 'true' : 'false'}>
+    <span class={cls} data-forced={f ? 'true' : 'false'} data-quality={quality ? quality.q : ''}
+      title={stale ? `Not live: ${quality.text} (${(quality.ageMs / 1000).toFixed(1)} s old)` : undefined}>
       {perElement ? (
         <span class="num">{value.map((v, i) => (
           <>{i ? ', ' : ''}<span class={forced[i] ? 'forced-element' : 'element'}>{formatScalar(v, el)}</span></>
@@ -17,6 +22,7 @@ export function Value({ value, type, unit, forced }) {
       ) : <span class={f ? 'num forced-element' : 'num'}>{formatValue(value, type)}</span>}
       {unit ? <span class="unit"> {unit}</span> : null}
       {f ? <span class="badge badge-forced" title="Forced: held at this value whatever the program writes, until unforced">F</span> : null}
+      {stale ? <span class="badge badge-stale">{quality.text}</span> : null}
     </span>
   );
 }

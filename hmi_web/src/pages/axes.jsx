@@ -4,7 +4,7 @@
 // program's suggestion), remembered in this browser.
 import { useCallback, useEffect, useMemo, useRef, useState } from 'preact/hooks';
 import { getBlocks, getStatus, getTags } from '../api/endpoints.js';
-import { hasValue, isForced, valueOf } from '../live/hub.js';
+import { hasValue, isForced, qualityOf, refError, valueOf } from '../live/hub.js';
 import { useLive, useLiveCallback } from '../live/hooks.js';
 import { configRefs, loadConfig, predictedEndS, saveConfig, suggestAxes, syncErrors, validConfig } from '../lib/axes_config.js';
 import { elementType } from '../lib/format.js';
@@ -166,20 +166,27 @@ function LivePlots({ config, periodNs }) {
 
   const missing = seen.current > 20 ? refs.filter((r) => !hasValue(r)) : [];
   const forced = refs.filter(isForced);
+  // Values that are not the machine's state now: the plots go on drawing
+  // them, greyed, and this says which and why.
+  const notLive = refs.map((r) => [r, qualityOf(r)]).filter(([, q]) => q && q.stale);
   return (
     <>
+      {notLive.length ? (
+        <p class="stale-note" role="status" data-stale={notLive.length}><span class="badge badge-stale">not live</span>{' '}
+          {notLive.map(([r, q]) => `${r} (${q.text})`).join(', ')}</p>
+      ) : null}
       {forced.length ? (
         <p class="forced-note" role="status"><span class="badge badge-forced">F</span> Forced, so not what the program computes: {forced.join(', ')}</p>
       ) : null}
-      {missing.length ? <p class="error-note">No value from the PLC for {missing.join(', ')}: check these names under “Choose axes…”.</p> : null}
+      {missing.length ? <p class="error-note">No value from the PLC for {missing.map((r) => (refError(r) ? `${r} (${refError(r)})` : r)).join(', ')}: check these names under “Choose axes…”.</p> : null}
       {axes.length ? (
-        <section class="card">
+        <section class={notLive.length ? 'card stale' : 'card'}>
           <h2>Positions</h2>
           <Plot options={posOpts} plotRef={posPlot} height={220} label="axis positions" />
         </section>
       ) : null}
       {withErr.length ? (
-        <section class="card">
+        <section class={notLive.length ? 'card stale' : 'card'}>
           <h2>Tracking errors e<sub>i</sub> (solid) and synchronization errors ε<sub>i</sub> (dashed)</h2>
           <Plot options={errOpts} plotRef={errPlot} height={220} label="tracking and synchronization errors" />
         </section>

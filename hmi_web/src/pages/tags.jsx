@@ -3,14 +3,14 @@
 import { useEffect, useState } from 'preact/hooks';
 import { getBlocks, getTags, unforce } from '../api/endpoints.js';
 import { can, hint } from '../auth/session.js';
-import { hasValue, isForced, valueOf } from '../live/hub.js';
+import { hasValue, isForced, qualityOf, refError, valueOf } from '../live/hub.js';
 import { useLive } from '../live/hooks.js';
 import { formatValue } from '../lib/format.js';
 import { ACCESS_WORDS, tagMatches } from '../lib/tag_filter.js';
 import { ErrorNote, Value } from '../components/common.jsx';
 import { ChangeDialog } from '../components/change_dialog.jsx';
 
-const MAX_LIVE = 200; // refs streamed at once from this page
+const MAX_LIVE = 1000; // refs streamed at once from this page (one subscription takes up to 4096)
 
 const anyForced = (f) => (Array.isArray(f) ? f.some(Boolean) : !!f);
 
@@ -63,7 +63,7 @@ function BlockRow({ block, open, onToggle, session, onChange, onUnforce }) {
             <td data-label="Pin" class="pin-name">{p.direction === 'out' ? '→ ' : '← '}{ref}</td>
             <td data-label="Type">{p.type}</td>
             <td data-label="Direction">{p.direction === 'out' ? 'output' : 'input'}</td>
-            <td data-label="Value" class="value-cell"><Value value={item.current} type={p.type} unit={p.unit} forced={liveForced(ref, p.forced)} /></td>
+            <td data-label="Value" class="value-cell"><Value value={item.current} type={p.type} unit={p.unit} forced={liveForced(ref, p.forced)} quality={qualityOf(ref)} /></td>
             <td data-label="" colSpan={2}>
               <div class="row-actions">
                 <button type="button" class="btn small" disabled={!can('force', session)} title={can('force', session) ? '' : hint('force')}
@@ -148,7 +148,8 @@ export function TagsPage({ session }) {
                     <td data-label="Type"><span>{t.type}{t.retain ? <span class="pill">retain</span> : null}</span></td>
                     <td data-label="Task">{t.task}</td>
                     <td data-label="Value" class="value-cell"><Value value={current} type={t.type} unit={t.unit}
-                      forced={Array.isArray(t.forced) && liveForced(t.name, t.forced) ? t.forced : liveForced(t.name, t.forced)} /></td>
+                      forced={Array.isArray(t.forced) && liveForced(t.name, t.forced) ? t.forced : liveForced(t.name, t.forced)}
+                      quality={qualityOf(t.name)} />{refError(t.name) ? <div class="sub">{refError(t.name)}</div> : null}</td>
                     <td data-label="Access">{ACCESS_WORDS[t.access] || t.access}</td>
                     <td data-label="">
                       <RowActions session={session} item={{ ...t, current }} writable={t.writable}
