@@ -69,7 +69,10 @@ def main():
     assert changes[1]["ok"] and changes[1]["ref"] == "pos[2]", changes
     assert changes[2]["ok"] and changes[2]["ref"] == "pos[2]", changes
     assert changes[3] == {}, changes
+    patched = answers(outputs[2][:outputs[2].index("event:")])[0]
+    assert patched["dropped"] == ["pos"] and patched["refs"]["pos[2]"]["task"] == "main", patched
     assert "event: values" in outputs[2] and '"speed":2.5' in outputs[2], outputs[2]
+    assert '"pos[2]":' in outputs[2] and '"q":"good"' in outputs[2], outputs[2]
     events = answers(outputs[3])[0]["events"]
     assert events and all(e["kind"] == "hmi-write" for e in events), events
     assert "speed := 2.5 m/s (by alice)" in events[-1]["message"] and events[-1]["client"].startswith("127.0.0.1:"), events
