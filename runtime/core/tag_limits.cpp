@@ -6,8 +6,14 @@
 
 namespace syncplc {
 
+bool within_limits(const Tag& t, Cell v) noexcept {
+  if (!t.min && !t.max) return true;
+  const double x = cell_as_double(t.type, v);
+  return !std::isnan(x) && !(t.min && x < *t.min) && !(t.max && x > *t.max);
+}
+
 std::string outside_limits(const Tag& t, Cell v) {
-  if (!t.min && !t.max) return "";
+  if (within_limits(t, v)) return "";
   const double x = cell_as_double(t.type, v);
   const std::string unit = t.unit.empty() ? "" : " " + t.unit;
   auto text = [](double d) {

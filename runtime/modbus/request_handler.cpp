@@ -1,6 +1,7 @@
 #include "runtime/modbus/request_handler.hpp"
 
 #include "runtime/core/monotonic_clock.hpp"
+#include "runtime/core/tag_limits.hpp"
 
 #include <modbus/modbus.h>
 #include <sys/socket.h>
@@ -205,6 +206,8 @@ bool RequestHandler::stage_registers(const std::vector<const ModbusPoint*>& poin
     for (std::uint32_t k = 0; k < pt->width; ++k) regs[k] = get_u16(w + 2 * k);
     Cell c;
     if (!registers_to_cell(pt->type, regs, config_.word_order, c)) return false;
+    // A tag's engineering limits hold for every writer from outside (HTTP, HMI, Modbus).
+    if (!within_limits(program_->tags[pt->tag], c)) return false;
     staged_.push_back(QueuedWrite{pt->cell, c});
     staged_task_.push_back(pt->owner);
   }

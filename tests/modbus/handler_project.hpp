@@ -4,7 +4,8 @@
 // written tags to read-only ones; a tag the program writes every scan
 // (forced: read-only to clients, since a readwrite tag a block writes is a load
 // error); trim (main) beside big (slow) in holding registers
-// 4100..4107, so one write can span both tasks. Only IEC blocks, so the fuzzer (which has
+// 4100..4107, so one write can span both tasks; sp has engineering
+// limits (-1000..1000). Only IEC blocks, so the fuzzer (which has
 // no test blocks) loads it too.
 #pragma once
 
@@ -20,7 +21,7 @@ tags:
   - {name: fault, type: BOOL, address: "%QX2.0", hmi: read, init: TRUE}
   - {name: button, type: BOOL, address: "%IX0.0", hmi: read, init: TRUE}
   - {name: level, type: INT, address: "%IW7", hmi: read, init: -2}
-  - {name: sp, type: INT, address: "%QW2", hmi: readwrite, init: 7}
+  - {name: sp, type: INT, address: "%QW2", hmi: readwrite, init: 7, min: -1000, max: 1000}
   - {name: sp_echo, type: INT, address: "%QW3", hmi: read}
   - {name: small, type: SINT, hmi: readwrite, modbus: {table: holding_register, address: 100}}
   - {name: octet, type: BYTE, hmi: readwrite, modbus: {table: holding_register, address: 101}}

@@ -171,6 +171,8 @@ TEST_F(Handler, AnswersEveryExceptionInTheProtocolsOrder) {
       {"SINT 128", frame(pdu(0x06, 100, 128)), 0x03},
       {"SINT -129", frame(pdu(0x06, 100, 0xFF7F)), 0x03},
       {"BYTE 256", frame(testing::write_registers(100, {0, 256})), 0x03},
+      {"INT above its tag's max", frame(pdu(0x06, 2, 1001)), 0x03},
+      {"INT below its tag's min, in a multiple write", frame(testing::write_registers(2, {0xFC17})), 0x03},  // -1001
       {"unit 7", frame(pdu(0x03, 2, 1), 7), 0x0B},
   };
   std::uint64_t by_code[12] = {};
