@@ -8,6 +8,7 @@
 #include <iostream>
 
 #include "runtime/core/monotonic_clock.hpp"
+#include "runtime/core/task_cpus.hpp"
 #include "runtime/plc/change_runner.hpp"
 #include "runtime/plc/driver_change.hpp"
 #include "runtime/plc/events.hpp"
@@ -189,6 +190,33 @@ void Plc::start() {
     started_ = true;
   }
   control_ = std::thread([this] { control_loop(); });
+  keep_threads_off_tasks(*program_);
+}
+
+// The threads that are not real-time (HTTP, store, supervisor, control) keep
+// off the CPUs the program pins its tasks to (runtime/core/task_cpus.hpp),
+// as the Modbus server does on its own: at the start and after every online
+// change, which may pin or unpin a task. The modbus_client drivers' device
+// threads stay where they are (any CPU): the scan wakes them every cycle
+// (cycle_signal.hpp), and a wake across CPUs costs the scan an
+// inter-processor interrupt; their one burst a cycle is small beside an
+// HTTP flood. At the start, or on the control thread.
+void Plc::keep_threads_off_tasks(const Program& p) {
+  const TaskCpuChoice choice = cpus_off_tasks(process_cpus(), pinned_cpus(p));
+  if (!choice.off && !threads_off_tasks_) return;  // nothing pinned, nothing to undo
+  threads_off_tasks_ = choice.off;
+  std::string why;
+  auto keep = [&](const char* what, const std::string& failed) {
+    if (!failed.empty() && why.empty()) why = std::string(what) + ": " + failed;
+  };
+  if (web_server_) keep("the HTTP server's threads", web_server_->keep_to(choice.cpus));
+  if (store_->on()) keep("the store thread", store_->thread()->keep_to(choice.cpus));
+  keep("the supervisor thread", supervisor_thread_->keep_to(choice.cpus));
+  keep("the control thread", keep_thread_to(control_.native_handle(), choice.cpus));
+  if (!why.empty()) *options_.log << "syncplc: warning: cannot keep " << why << "\n";
+  else if (choice.off)
+    *options_.log << "syncplc: the HTTP, store, supervisor and control threads keep to CPU " << cpu_list(choice.cpus)
+                  << " (off the pinned tasks' CPUs)\n";
 }
 
 void Plc::request_change(ChangeRequest request, std::function<void(const ChangeResult&)> done) {
@@ -319,6 +347,7 @@ bool Plc::start_next_change() {
     active_.reset();
     return false;
   }
+  keep_threads_off_tasks(*current_);  // the new program's pins (current_ since the commit)
   // The file the running program came from is the instance's project file
   // from now on: GET /status names it, and `reload` or SIGHUP reloads it
   // (an upload's copy beside the database, a rolled-back version's files),

@@ -297,4 +297,6 @@ std::size_t Server::connection_limit() const { return impl_->connection_limit; }
 
 const ServerCounters& Server::counters() const { return impl_->counters; }
 
+std::string Server::keep_to(const cpu_set_t& cpus) { return impl_->beast ? impl_->beast->keep_to(cpus) : std::string(); }
+
 }  // namespace syncplc::web
