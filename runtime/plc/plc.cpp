@@ -205,6 +205,8 @@ void Plc::keep_threads_off_tasks(const Program& p) {
   const TaskCpuChoice choice = cpus_off_tasks(process_cpus(), pinned_cpus(p));
   if (!choice.off && !threads_off_tasks_) return;  // nothing pinned, nothing to undo
   threads_off_tasks_ = choice.off;
+  cpu_set_t off = process_cpus();  // the pinned CPUs they leave, for the log
+  CPU_XOR(&off, &off, &choice.cpus);
   std::string why;
   auto keep = [&](const char* what, const std::string& failed) {
     if (!failed.empty() && why.empty()) why = std::string(what) + ": " + failed;
@@ -215,8 +217,11 @@ void Plc::keep_threads_off_tasks(const Program& p) {
   keep("the control thread", keep_thread_to(control_.native_handle(), choice.cpus));
   if (!why.empty()) *options_.log << "syncplc: warning: cannot keep " << why << "\n";
   else if (choice.off)
-    *options_.log << "syncplc: the HTTP, store, supervisor and control threads keep to CPU " << cpu_list(choice.cpus)
-                  << " (off the pinned tasks' CPUs)\n";
+    *options_.log << "syncplc: the HTTP, store, supervisor and control threads keep off CPU " << cpu_list(off)
+                  << " (pinned tasks)\n";
+  else
+    *options_.log << "syncplc: the HTTP, store, supervisor and control threads are back on CPU " << cpu_list(choice.cpus)
+                  << "\n";
 }
 
 void Plc::request_change(ChangeRequest request, std::function<void(const ChangeResult&)> done) {
