@@ -29,7 +29,18 @@ Prints one line per window and the aims: p99 within 10 % of the quiet
 window's, every Modbus client served within 5 ms, resident memory bounded
 (the largest within 64 MB of the quiet window's).
 
-    /usr/bin/python3 bench/http_hostile.py build/syncplc [SECONDS [IDLE]]
+With --pin, both windows run with the network kept off the task's core: a
+copy of the demo (written to a temporary directory) pins the servo task to
+CPU 1 (`cpu: 1`), so the PLC keeps its HTTP, Modbus, store, supervisor and
+control threads off CPU 1 (runtime/core/task_cpus.hpp); and this script,
+its Modbus clients and the attackers' process run on CPU 0. On a plant
+network the attackers are other machines, and the kernel's work for their
+packets runs where the network card's interrupts are steered
+(/proc/irq/*/smp_affinity); on loopback the sender's CPU does that work, so
+the clients on CPU 0 stand for "network interrupts on the other core".
+Without --pin: the demo as it is, every thread on any CPU.
+
+    /usr/bin/python3 bench/http_hostile.py build/syncplc [SECONDS [IDLE]] [--pin]
 """
 
 import json
@@ -37,22 +48,47 @@ import multiprocessing
 import os
 import re
 import resource
+import shutil
 import socket
 import struct
 import subprocess
 import sys
+import tempfile
 import threading
 import time
 import urllib.request
 
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
 PROJECT = os.path.join(ROOT, "projects", "four_axis_table", "sync.yaml")
+TASK_CPU = 1     # --pin: the servo task's CPU
+CLIENT_CPU = 0   # --pin: this script's and the attackers' CPU
 
 
-def start_plc(binary):
-    args = [binary, "run", PROJECT, "--no-status", "--modbus-port", "0", "--http", "127.0.0.1:0",
+def pinned_project(tmp):
+    """The demo copied to `tmp` with the servo task pinned to TASK_CPU."""
+    src = os.path.dirname(PROJECT)
+    dst = os.path.join(tmp, "four_axis_table")
+    shutil.copytree(src, dst)
+    table = os.path.join(dst, "table.yaml")
+    with open(table) as f:
+        text = f.read()
+    task = "  - name: servo\n    period: 1ms\n"
+    if task not in text:
+        raise SystemExit("%s: no servo task to pin (expected %r)" % (table, task))
+    with open(table, "w") as f:
+        f.write(text.replace(task, task + "    cpu: %d\n" % TASK_CPU, 1))
+    return os.path.join(dst, os.path.basename(PROJECT))
+
+
+def start_plc(binary, project, pin):
+    args = [binary, "run", project, "--no-status", "--modbus-port", "0", "--http", "127.0.0.1:0",
             "--db", ":memory:", "-d", "600s"]
     proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    if pin:
+        # From here on this thread and every thread and process it starts
+        # (the samplers, the attackers) run on CLIENT_CPU; the PLC keeps the
+        # CPUs it was started with.
+        os.sched_setaffinity(0, {CLIENT_CPU})
     http = modbus = None
     lines = []
     deadline = time.monotonic() + 60
@@ -70,6 +106,10 @@ def start_plc(binary):
     if http is None or modbus is None:
         proc.kill()
         raise SystemExit("syncplc run did not report its ports:\n" + "".join(lines))
+    if pin:
+        for line in lines:
+            if "keep" in line and "CPU" in line:
+                print(line.strip().replace("syncplc: ", "plc: "), flush=True)
     threading.Thread(target=lambda: [None for _ in proc.stderr], daemon=True).start()
     return proc, http, modbus
 
@@ -303,12 +343,23 @@ def window(name, proc, http, modbus, seconds, idle):
 
 
 def main():
-    binary = sys.argv[1]
-    seconds = int(sys.argv[2]) if len(sys.argv) > 2 else 10
-    idle = int(sys.argv[3]) if len(sys.argv) > 3 else 1000
+    args = [a for a in sys.argv[1:] if a != "--pin"]
+    pin = len(args) < len(sys.argv) - 1
+    binary = args[0]
+    seconds = int(args[1]) if len(args) > 1 else 10
+    idle = int(args[2]) if len(args) > 2 else 1000
     soft, hard = resource.getrlimit(resource.RLIMIT_NOFILE)
     resource.setrlimit(resource.RLIMIT_NOFILE, (hard, hard))
-    proc, http, modbus = start_plc(binary)
+    tmp = tempfile.mkdtemp(prefix="http_hostile-")
+    if pin:
+        if not {TASK_CPU, CLIENT_CPU} <= os.sched_getaffinity(0):
+            raise SystemExit("--pin needs CPUs %d and %d" % (CLIENT_CPU, TASK_CPU))
+        project = pinned_project(tmp)
+        print("pinned: servo task on CPU %d; this script, its Modbus clients and the attackers on CPU %d"
+              % (TASK_CPU, CLIENT_CPU), flush=True)
+    else:
+        project = PROJECT
+    proc, http, modbus = start_plc(binary, project, pin)
     try:
         time.sleep(1.0)
         quiet = window("quiet", proc, http, modbus, seconds, idle)
@@ -320,6 +371,7 @@ def main():
             proc.wait(timeout=30)
         except subprocess.TimeoutExpired:
             proc.kill()
+        shutil.rmtree(tmp, ignore_errors=True)
     ok_jitter = hostile["p99_us"] <= 1.10 * quiet["p99_us"]
     ok_modbus = hostile["modbus_over_5ms"] == 0
     ok_rss = hostile["rss_max_mb"] <= quiet["rss_max_mb"] + 64
