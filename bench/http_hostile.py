@@ -15,7 +15,8 @@ one script, one after the other, windows of SECONDS each:
            (endless header lines, again when cut); each flood stops after
            600 MiB and 200 MiB in all, the sizes the issue reproduced with.
 
-Measured in each window:
+Measured in each window (and the kernel's network receive work per CPU,
+NET_RX soft interrupts from /proc/softirqs, to see where it ran):
   - the servo task's start jitter p99 over the window, from two
     `GET /status?histograms=full` snapshots taken just before and just after
     it (the difference of the task's own buckets, each within 1/32 of its
@@ -40,7 +41,11 @@ packets runs where the network card's interrupts are steered
 the clients on CPU 0 stand for "network interrupts on the other core".
 Without --pin: the demo as it is, every thread on any CPU.
 
-    /usr/bin/python3 bench/http_hostile.py build/syncplc [SECONDS [IDLE]] [--pin]
+With --rounds N: N quiet and N hostile windows, alternating, and the aims
+judged on each kind's windows taken together (a drift of the machine's own
+noise over the run falls on both alike).
+
+    /usr/bin/python3 bench/http_hostile.py build/syncplc [SECONDS [IDLE]] [--pin] [--rounds N]
 """
 
 import json
@@ -143,6 +148,16 @@ def rss_kb(pid):
             if line.startswith("VmRSS:"):
                 return int(line.split()[1])
     return 0
+
+
+def net_rx_per_cpu():
+    """The kernel's network receive work so far, per CPU: its NET_RX soft
+    interrupts (/proc/softirqs), where loopback packets are taken in."""
+    with open("/proc/softirqs") as f:
+        for line in f:
+            if line.split(":")[0].strip() == "NET_RX":
+                return [int(x) for x in line.split(":")[1].split()]
+    return []
 
 
 class Sampler(threading.Thread):
@@ -305,6 +320,7 @@ def attack_process(http, idle, stop, result):
 
 def window(name, proc, http, modbus, seconds, idle):
     before = servo_jitter_buckets(http)
+    rx_before = net_rx_per_cpu()
     sampler = Sampler(proc.pid, modbus)
     attack = None
     if name == "hostile":
@@ -323,17 +339,19 @@ def window(name, proc, http, modbus, seconds, idle):
         attack = True
     time.sleep(1.0)  # the server lets the attackers' connections go
     after = servo_jitter_buckets(http)
+    rx = [b - a for a, b in zip(rx_before, net_rx_per_cpu())]
     p99, scans = p99_between(before, after)
+    buckets = {u: after[u] - before.get(u, 0) for u in after}
     lat = sorted(sampler.latencies_ms)
     r = {
         "p99_us": p99 / 1e3, "scans": scans, "modbus_clients": len(lat) + sampler.unserved,
         "modbus_unserved": sampler.unserved, "modbus_max_ms": lat[-1] if lat else float("nan"),
         "modbus_over_5ms": sum(1 for x in lat if x > 5.0) + sampler.unserved,
-        "rss_max_mb": sampler.rss_max_kb / 1024.0,
+        "rss_max_mb": sampler.rss_max_kb / 1024.0, "buckets": buckets,
     }
-    extra = ""
+    extra = "; NET_RX soft interrupts per CPU %s" % ", ".join(str(n) for n in rx)
     if attack:
-        extra = "; attackers: %d connections refused or cut, %.0f MB of floods sent, %.1f MB of stream events read" % (
+        extra += "; attackers: %d connections refused or cut, %.0f MB of floods sent, %.1f MB of stream events read" % (
             refused, flood_bytes / 1e6, stream_bytes / 1e6)
     print("%-8s %d s: servo start jitter p99 %.1f us over %d scans; %d new Modbus clients, %d not served, "
           "slowest %.2f ms, %d over 5 ms; PLC resident memory at most %.1f MB%s"
@@ -342,9 +360,39 @@ def window(name, proc, http, modbus, seconds, idle):
     return r
 
 
+def pooled(name, seconds, results):
+    """The windows of one kind taken together: p99 over all their scans,
+    the worst of the rest (memory: quiet's is the first window's, before
+    any attack)."""
+    buckets = {}
+    for r in results:
+        for u, n in r["buckets"].items():
+            buckets[u] = buckets.get(u, 0) + n
+    p99, scans = p99_between({}, buckets)
+    r = {
+        "p99_us": p99 / 1e3, "scans": scans, "modbus_over_5ms": sum(x["modbus_over_5ms"] for x in results),
+        "modbus_max_ms": max(x["modbus_max_ms"] for x in results), "rss_max_mb": max(x["rss_max_mb"] for x in results),
+    }
+    if name == "quiet":
+        r["rss_max_mb"] = results[0]["rss_max_mb"]  # before any attack: the memory's baseline
+    print("%-8s %d x %d s: servo start jitter p99 %.1f us over %d scans; slowest new Modbus client %.2f ms, %d over "
+          "5 ms; PLC resident memory at most %.1f MB" % (name, len(results), seconds, r["p99_us"], scans,
+                                                         r["modbus_max_ms"], r["modbus_over_5ms"], r["rss_max_mb"]),
+          flush=True)
+    return r
+
+
 def main():
-    args = [a for a in sys.argv[1:] if a != "--pin"]
-    pin = len(args) < len(sys.argv) - 1
+    args, rounds, pin = [], 1, False
+    argv = sys.argv[1:]
+    while argv:
+        a = argv.pop(0)
+        if a == "--pin":
+            pin = True
+        elif a == "--rounds":
+            rounds = int(argv.pop(0))
+        else:
+            args.append(a)
     binary = args[0]
     seconds = int(args[1]) if len(args) > 1 else 10
     idle = int(args[2]) if len(args) > 2 else 1000
@@ -362,8 +410,14 @@ def main():
     proc, http, modbus = start_plc(binary, project, pin)
     try:
         time.sleep(1.0)
-        quiet = window("quiet", proc, http, modbus, seconds, idle)
-        hostile = window("hostile", proc, http, modbus, seconds, idle)
+        quiets, hostiles = [], []
+        for _ in range(rounds):
+            quiets.append(window("quiet", proc, http, modbus, seconds, idle))
+            hostiles.append(window("hostile", proc, http, modbus, seconds, idle))
+        if rounds == 1:
+            quiet, hostile = quiets[0], hostiles[0]
+        else:
+            quiet, hostile = pooled("quiet", seconds, quiets), pooled("hostile", seconds, hostiles)
         alive = proc.poll() is None
     finally:
         proc.terminate()
