@@ -138,9 +138,10 @@ std::unique_ptr<Plc> Plc::open(PlcOptions o, std::vector<std::string>& notices, 
     const ModbusConfig cfg = server_config(r.modbus.server, opt.modbus_port);
     return start_failed(opt.status_invalid, "the Modbus server could not listen on " + cfg.bind + ":" + std::to_string(cfg.port));
   }
-  // The HTTP API and the HMI. A port given explicitly (or with TLS) that
-  // cannot be bound stops here; the default one only warns (the machine
-  // keeps its control program when another service holds 8080).
+  // The HTTP API and the HMI. A port given explicitly (or with TLS, or
+  // --http-cpus) that cannot be bound stops here; the default one only
+  // warns (the machine keeps its control program when another service
+  // holds 8080).
   const StoreLink& st = *plc->store_;
   const std::string db_dir = st.on() && st.path() != store::kMemoryDatabase
                                  ? std::filesystem::path(st.path()).parent_path().string()
@@ -152,7 +153,7 @@ std::unique_ptr<Plc> Plc::open(PlcOptions o, std::vector<std::string>& notices, 
     std::string why;
     if (!plc->web_server_->start(&why)) {
       plc->web_server_.reset();
-      if (opt.http.explicit_address || opt.http.tls()) {
+      if (opt.http.explicit_address || opt.http.tls() || !opt.http.cpus.empty()) {
         if (plc->modbus_) plc->modbus_->stop();
         program.close_drivers();
         return start_failed(opt.status_invalid, why);
@@ -211,17 +212,16 @@ void Plc::keep_threads_off_tasks(const Program& p) {
   auto keep = [&](const char* what, const std::string& failed) {
     if (!failed.empty() && why.empty()) why = std::string(what) + ": " + failed;
   };
-  if (web_server_) keep("the HTTP server's threads", web_server_->keep_to(choice.cpus));
+  // --http-cpus: the HTTP server's threads stay where the setting put them.
+  const bool http = web_server_ && options_.http.cpus.empty();
+  if (http) keep("the HTTP server's threads", web_server_->keep_to(choice.cpus));
   if (store_->on()) keep("the store thread", store_->thread()->keep_to(choice.cpus));
   keep("the supervisor thread", supervisor_thread_->keep_to(choice.cpus));
   keep("the control thread", keep_thread_to(control_.native_handle(), choice.cpus));
+  const char* who = http ? "the HTTP, store, supervisor and control threads" : "the store, supervisor and control threads";
   if (!why.empty()) *options_.log << "syncplc: warning: cannot keep " << why << "\n";
-  else if (choice.off)
-    *options_.log << "syncplc: the HTTP, store, supervisor and control threads keep off CPU " << cpu_list(off)
-                  << " (pinned tasks)\n";
-  else
-    *options_.log << "syncplc: the HTTP, store, supervisor and control threads are back on CPU " << cpu_list(choice.cpus)
-                  << "\n";
+  else if (choice.off) *options_.log << "syncplc: " << who << " keep off CPU " << cpu_list(off) << " (pinned tasks)\n";
+  else *options_.log << "syncplc: " << who << " are back on CPU " << cpu_list(choice.cpus) << "\n";
 }
 
 void Plc::request_change(ChangeRequest request, std::function<void(const ChangeResult&)> done) {

@@ -52,14 +52,16 @@ std::map<std::string, std::string> thread_cpus() {
   return out;
 }
 
-// Every one of them on `cpus`, and the HTTP server's threads, the store, the supervisor and the control thread all there.
-::testing::AssertionResult all_on(const std::string& cpus) {
+// Every one of them on `cpus` (the HTTP server's on `http_cpus` when given),
+// and the HTTP server's threads, the store, the supervisor and the control thread all there.
+::testing::AssertionResult all_on(const std::string& cpus, const std::string& http_cpus = "") {
   const auto threads = thread_cpus();
   std::string wrong;
   std::map<std::string, int> seen;
   for (const auto& [thread, list] : threads) {
     ++seen[thread.substr(0, thread.find('/'))];
-    if (list != cpus) wrong += " " + thread + " on " + list;
+    const bool http = thread.rfind("http-", 0) == 0;
+    if (list != (http && !http_cpus.empty() ? http_cpus : cpus)) wrong += " " + thread + " on " + list;
   }
   for (const char* name : {"http-net", "http-work", "store", "supervisor", "plc-control"})
     if (!seen.count(name)) wrong += std::string(" no ") + name + " thread";
@@ -102,6 +104,50 @@ TEST(PlcThreadCpus, ThreadsThatAreNotRealTimeKeepOffAPinnedTasksCpuAndFollowOnli
   ASSERT_TRUE(r2.accepted) << r2.summary;
   EXPECT_TRUE(all_on(off_task)) << "after an online change that pins task main again";
   plc->stop("end of test");
+}
+
+// --http-cpus: the HTTP server's threads where the setting says, even on a
+// pinned task's CPU, through online changes; the others follow the rule.
+TEST(PlcThreadCpus, HttpCpusKeepTheHttpServersThreadsWhereTheSettingSays) {
+  const cpu_set_t process = process_cpus();
+  if (!CPU_ISSET(0, &process) || !CPU_ISSET(1, &process)) GTEST_SKIP() << "needs CPUs 0 and 1";
+  cpu_set_t others = process;
+  CPU_CLR(1, &others);
+  const std::string everything = cpu_list(process), off_task = cpu_list(others);
+  const std::string pinned = write_project("pinned_cpu.yaml", kPinned);
+  const std::string free = write_project("free_cpu.yaml", kFree);
+  PlcOptions o = options(pinned);
+  o.db = (std::filesystem::path(pinned).parent_path() / "http_cpus.db").string();
+  std::filesystem::remove(o.db);
+  o.http.enabled = true;
+  o.http.port = 0;
+  o.http.cpus = {1};
+  std::vector<std::string> notices;
+  PlcFailure failure;
+  auto plc = Plc::open(o, notices, &failure);
+  ASSERT_TRUE(plc) << failure.why;
+  plc->start();
+  ASSERT_TRUE(eventually([] { return thread_cpus().size() > 4; }));
+  EXPECT_TRUE(all_on(off_task, "1"));
+  ChangeRequest unpin;
+  unpin.path = free;
+  const ChangeResult r = plc->change(unpin);
+  ASSERT_TRUE(r.accepted) << r.summary;
+  EXPECT_TRUE(all_on(everything, "1"));
+  plc->stop("end of test");
+}
+
+TEST(PlcThreadCpus, HttpCpusTheProcessMayNotUseStopTheStart) {
+  const std::string pinned = write_project("pinned_cpu.yaml", kPinned);
+  PlcOptions o = options(pinned);
+  o.http.enabled = true;
+  o.http.port = 0;
+  o.http.cpus = {1023};
+  std::vector<std::string> notices;
+  PlcFailure failure;
+  auto plc = Plc::open(o, notices, &failure);
+  ASSERT_FALSE(plc);
+  EXPECT_EQ(failure.why, "--http-cpus: CPU 1023 is not one this process may use (" + cpu_list(process_cpus()) + ")");
 }
 
 }  // namespace
