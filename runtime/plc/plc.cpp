@@ -191,7 +191,6 @@ void Plc::start() {
     started_ = true;
   }
   control_ = std::thread([this] { control_loop(); });
-  keep_threads_off_tasks(*program_);
 }
 
 // The threads that are not real-time (HTTP, store, supervisor, control) keep
@@ -201,7 +200,7 @@ void Plc::start() {
 // threads stay where they are (any CPU): the scan wakes them every cycle
 // (cycle_signal.hpp), and a wake across CPUs costs the scan an
 // inter-processor interrupt; their one burst a cycle is small beside an
-// HTTP flood. At the start, or on the control thread.
+// HTTP flood. On the control thread only.
 void Plc::keep_threads_off_tasks(const Program& p) {
   const TaskCpuChoice choice = cpus_off_tasks(process_cpus(), pinned_cpus(p));
   if (!choice.off && !threads_off_tasks_) return;  // nothing pinned, nothing to undo
@@ -217,7 +216,7 @@ void Plc::keep_threads_off_tasks(const Program& p) {
   if (http) keep("the HTTP server's threads", web_server_->keep_to(choice.cpus));
   if (store_->on()) keep("the store thread", store_->thread()->keep_to(choice.cpus));
   keep("the supervisor thread", supervisor_thread_->keep_to(choice.cpus));
-  keep("the control thread", keep_thread_to(control_.native_handle(), choice.cpus));
+  keep("the control thread", keep_thread_to(pthread_self(), choice.cpus));
   const char* who = http ? "the HTTP, store, supervisor and control threads" : "the store, supervisor and control threads";
   if (!why.empty()) *options_.log << "syncplc: warning: cannot keep " << why << "\n";
   else if (choice.off) *options_.log << "syncplc: " << who << " keep off CPU " << cpu_list(off) << " (pinned tasks)\n";
@@ -270,6 +269,8 @@ void Plc::emit(const std::string& line) {
 // --- the control thread ----------------------------------------------------------------
 
 void Plc::control_loop() {
+  // Before the name: whoever sees "plc-control" sees the threads where they belong.
+  keep_threads_off_tasks(*current_);
   pthread_setname_np(pthread_self(), "plc-control");
   std::int64_t next_status = 0;
   std::unique_lock lock(control_mutex_);

@@ -216,7 +216,7 @@ class Plc {
   std::function<void(const std::string&)> event_line_;
   std::int64_t started_ns_ = 0;
   bool started_ = false;
-  bool threads_off_tasks_ = false;  // keep_threads_off_tasks moved them
+  bool threads_off_tasks_ = false;  // keep_threads_off_tasks moved them (control thread)
   bool stopped_ = false;
 
   friend class WebHost;
