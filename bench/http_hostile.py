@@ -111,12 +111,25 @@ def start_plc(binary, project, pin):
     if http is None or modbus is None:
         proc.kill()
         raise SystemExit("syncplc run did not report its ports:\n" + "".join(lines))
-    if pin:
-        for line in lines:
-            if "keep" in line and "CPU" in line:
-                print(line.strip().replace("syncplc: ", "plc: "), flush=True)
     threading.Thread(target=lambda: [None for _ in proc.stderr], daemon=True).start()
     return proc, http, modbus
+
+
+def thread_cpus(pid):
+    """The PLC's threads by CPU set, from /proc: "0: http-net x2, ...; 1: servo"."""
+    by_cpus = {}
+    for tid in os.listdir("/proc/%d/task" % pid):
+        try:
+            with open("/proc/%d/task/%s/comm" % (pid, tid)) as f:
+                name = f.read().strip()
+            with open("/proc/%d/task/%s/status" % (pid, tid)) as f:
+                cpus = next(l.split()[1] for l in f if l.startswith("Cpus_allowed_list:"))
+        except (OSError, StopIteration):
+            continue
+        by_cpus.setdefault(cpus, {}).setdefault(name, 0)
+        by_cpus[cpus][name] += 1
+    return "; ".join("CPU %s: %s" % (cpus, ", ".join(n + (" x%d" % k if k > 1 else "") for n, k in sorted(names.items())))
+                     for cpus, names in sorted(by_cpus.items()))
 
 
 def servo_jitter_buckets(http):
@@ -410,6 +423,7 @@ def main():
     proc, http, modbus = start_plc(binary, project, pin)
     try:
         time.sleep(1.0)
+        print("PLC threads: " + thread_cpus(proc.pid), flush=True)
         quiets, hostiles = [], []
         for _ in range(rounds):
             quiets.append(window("quiet", proc, http, modbus, seconds, idle))
