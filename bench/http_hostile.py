@@ -15,7 +15,8 @@ one script, one after the other, windows of SECONDS each:
            (endless header lines, again when cut); each flood stops after
            600 MiB and 200 MiB in all, the sizes the issue reproduced with.
 
-Measured in each window:
+Measured in each window (and the kernel's network receive work per CPU,
+NET_RX soft interrupts from /proc/softirqs, to see where it ran):
   - the servo task's start jitter p99 over the window, from two
     `GET /status?histograms=full` snapshots taken just before and just after
     it (the difference of the task's own buckets, each within 1/32 of its
@@ -29,7 +30,22 @@ Prints one line per window and the aims: p99 within 10 % of the quiet
 window's, every Modbus client served within 5 ms, resident memory bounded
 (the largest within 64 MB of the quiet window's).
 
-    /usr/bin/python3 bench/http_hostile.py build/syncplc [SECONDS [IDLE]]
+With --pin, both windows run with the network kept off the task's core: a
+copy of the demo (written to a temporary directory) pins the servo task to
+CPU 1 (`cpu: 1`), so the PLC keeps its HTTP, Modbus, store, supervisor and
+control threads off CPU 1 (runtime/core/task_cpus.hpp); and this script,
+its Modbus clients and the attackers' process run on CPU 0. On a plant
+network the attackers are other machines, and the kernel's work for their
+packets runs where the network card's interrupts are steered
+(/proc/irq/*/smp_affinity); on loopback the sender's CPU does that work, so
+the clients on CPU 0 stand for "network interrupts on the other core".
+Without --pin: the demo as it is, every thread on any CPU.
+
+With --rounds N: N quiet and N hostile windows, alternating, and the aims
+judged on each kind's windows taken together (a drift of the machine's own
+noise over the run falls on both alike).
+
+    /usr/bin/python3 bench/http_hostile.py build/syncplc [SECONDS [IDLE]] [--pin] [--rounds N]
 """
 
 import json
@@ -37,22 +53,47 @@ import multiprocessing
 import os
 import re
 import resource
+import shutil
 import socket
 import struct
 import subprocess
 import sys
+import tempfile
 import threading
 import time
 import urllib.request
 
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
 PROJECT = os.path.join(ROOT, "projects", "four_axis_table", "sync.yaml")
+TASK_CPU = 1     # --pin: the servo task's CPU
+CLIENT_CPU = 0   # --pin: this script's and the attackers' CPU
 
 
-def start_plc(binary):
-    args = [binary, "run", PROJECT, "--no-status", "--modbus-port", "0", "--http", "127.0.0.1:0",
+def pinned_project(tmp):
+    """The demo copied to `tmp` with the servo task pinned to TASK_CPU."""
+    src = os.path.dirname(PROJECT)
+    dst = os.path.join(tmp, "four_axis_table")
+    shutil.copytree(src, dst)
+    table = os.path.join(dst, "table.yaml")
+    with open(table) as f:
+        text = f.read()
+    task = "  - name: servo\n    period: 1ms\n"
+    if task not in text:
+        raise SystemExit("%s: no servo task to pin (expected %r)" % (table, task))
+    with open(table, "w") as f:
+        f.write(text.replace(task, task + "    cpu: %d\n" % TASK_CPU, 1))
+    return os.path.join(dst, os.path.basename(PROJECT))
+
+
+def start_plc(binary, project, pin):
+    args = [binary, "run", project, "--no-status", "--modbus-port", "0", "--http", "127.0.0.1:0",
             "--db", ":memory:", "-d", "600s"]
     proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    if pin:
+        # From here on this thread and every thread and process it starts
+        # (the samplers, the attackers) run on CLIENT_CPU; the PLC keeps the
+        # CPUs it was started with.
+        os.sched_setaffinity(0, {CLIENT_CPU})
     http = modbus = None
     lines = []
     deadline = time.monotonic() + 60
@@ -72,6 +113,23 @@ def start_plc(binary):
         raise SystemExit("syncplc run did not report its ports:\n" + "".join(lines))
     threading.Thread(target=lambda: [None for _ in proc.stderr], daemon=True).start()
     return proc, http, modbus
+
+
+def thread_cpus(pid):
+    """The PLC's threads by CPU set, from /proc: "0: http-net x2, ...; 1: servo"."""
+    by_cpus = {}
+    for tid in os.listdir("/proc/%d/task" % pid):
+        try:
+            with open("/proc/%d/task/%s/comm" % (pid, tid)) as f:
+                name = f.read().strip()
+            with open("/proc/%d/task/%s/status" % (pid, tid)) as f:
+                cpus = next(l.split()[1] for l in f if l.startswith("Cpus_allowed_list:"))
+        except (OSError, StopIteration):
+            continue
+        by_cpus.setdefault(cpus, {}).setdefault(name, 0)
+        by_cpus[cpus][name] += 1
+    return "; ".join("CPU %s: %s" % (cpus, ", ".join(n + (" x%d" % k if k > 1 else "") for n, k in sorted(names.items())))
+                     for cpus, names in sorted(by_cpus.items()))
 
 
 def servo_jitter_buckets(http):
@@ -103,6 +161,16 @@ def rss_kb(pid):
             if line.startswith("VmRSS:"):
                 return int(line.split()[1])
     return 0
+
+
+def net_rx_per_cpu():
+    """The kernel's network receive work so far, per CPU: its NET_RX soft
+    interrupts (/proc/softirqs), where loopback packets are taken in."""
+    with open("/proc/softirqs") as f:
+        for line in f:
+            if line.split(":")[0].strip() == "NET_RX":
+                return [int(x) for x in line.split(":")[1].split()]
+    return []
 
 
 class Sampler(threading.Thread):
@@ -265,6 +333,7 @@ def attack_process(http, idle, stop, result):
 
 def window(name, proc, http, modbus, seconds, idle):
     before = servo_jitter_buckets(http)
+    rx_before = net_rx_per_cpu()
     sampler = Sampler(proc.pid, modbus)
     attack = None
     if name == "hostile":
@@ -283,17 +352,19 @@ def window(name, proc, http, modbus, seconds, idle):
         attack = True
     time.sleep(1.0)  # the server lets the attackers' connections go
     after = servo_jitter_buckets(http)
+    rx = [b - a for a, b in zip(rx_before, net_rx_per_cpu())]
     p99, scans = p99_between(before, after)
+    buckets = {u: after[u] - before.get(u, 0) for u in after}
     lat = sorted(sampler.latencies_ms)
     r = {
         "p99_us": p99 / 1e3, "scans": scans, "modbus_clients": len(lat) + sampler.unserved,
         "modbus_unserved": sampler.unserved, "modbus_max_ms": lat[-1] if lat else float("nan"),
         "modbus_over_5ms": sum(1 for x in lat if x > 5.0) + sampler.unserved,
-        "rss_max_mb": sampler.rss_max_kb / 1024.0,
+        "rss_max_mb": sampler.rss_max_kb / 1024.0, "buckets": buckets,
     }
-    extra = ""
+    extra = "; NET_RX soft interrupts per CPU %s" % ", ".join(str(n) for n in rx)
     if attack:
-        extra = "; attackers: %d connections refused or cut, %.0f MB of floods sent, %.1f MB of stream events read" % (
+        extra += "; attackers: %d connections refused or cut, %.0f MB of floods sent, %.1f MB of stream events read" % (
             refused, flood_bytes / 1e6, stream_bytes / 1e6)
     print("%-8s %d s: servo start jitter p99 %.1f us over %d scans; %d new Modbus clients, %d not served, "
           "slowest %.2f ms, %d over 5 ms; PLC resident memory at most %.1f MB%s"
@@ -302,17 +373,65 @@ def window(name, proc, http, modbus, seconds, idle):
     return r
 
 
+def pooled(name, seconds, results):
+    """The windows of one kind taken together: p99 over all their scans,
+    the worst of the rest (memory: quiet's is the first window's, before
+    any attack)."""
+    buckets = {}
+    for r in results:
+        for u, n in r["buckets"].items():
+            buckets[u] = buckets.get(u, 0) + n
+    p99, scans = p99_between({}, buckets)
+    r = {
+        "p99_us": p99 / 1e3, "scans": scans, "modbus_over_5ms": sum(x["modbus_over_5ms"] for x in results),
+        "modbus_max_ms": max(x["modbus_max_ms"] for x in results), "rss_max_mb": max(x["rss_max_mb"] for x in results),
+    }
+    if name == "quiet":
+        r["rss_max_mb"] = results[0]["rss_max_mb"]  # before any attack: the memory's baseline
+    print("%-8s %d x %d s: servo start jitter p99 %.1f us over %d scans; slowest new Modbus client %.2f ms, %d over "
+          "5 ms; PLC resident memory at most %.1f MB" % (name, len(results), seconds, r["p99_us"], scans,
+                                                         r["modbus_max_ms"], r["modbus_over_5ms"], r["rss_max_mb"]),
+          flush=True)
+    return r
+
+
 def main():
-    binary = sys.argv[1]
-    seconds = int(sys.argv[2]) if len(sys.argv) > 2 else 10
-    idle = int(sys.argv[3]) if len(sys.argv) > 3 else 1000
+    args, rounds, pin = [], 1, False
+    argv = sys.argv[1:]
+    while argv:
+        a = argv.pop(0)
+        if a == "--pin":
+            pin = True
+        elif a == "--rounds":
+            rounds = int(argv.pop(0))
+        else:
+            args.append(a)
+    binary = args[0]
+    seconds = int(args[1]) if len(args) > 1 else 10
+    idle = int(args[2]) if len(args) > 2 else 1000
     soft, hard = resource.getrlimit(resource.RLIMIT_NOFILE)
     resource.setrlimit(resource.RLIMIT_NOFILE, (hard, hard))
-    proc, http, modbus = start_plc(binary)
+    tmp = tempfile.mkdtemp(prefix="http_hostile-")
+    if pin:
+        if not {TASK_CPU, CLIENT_CPU} <= os.sched_getaffinity(0):
+            raise SystemExit("--pin needs CPUs %d and %d" % (CLIENT_CPU, TASK_CPU))
+        project = pinned_project(tmp)
+        print("pinned: servo task on CPU %d; this script, its Modbus clients and the attackers on CPU %d"
+              % (TASK_CPU, CLIENT_CPU), flush=True)
+    else:
+        project = PROJECT
+    proc, http, modbus = start_plc(binary, project, pin)
     try:
         time.sleep(1.0)
-        quiet = window("quiet", proc, http, modbus, seconds, idle)
-        hostile = window("hostile", proc, http, modbus, seconds, idle)
+        print("PLC threads: " + thread_cpus(proc.pid), flush=True)
+        quiets, hostiles = [], []
+        for _ in range(rounds):
+            quiets.append(window("quiet", proc, http, modbus, seconds, idle))
+            hostiles.append(window("hostile", proc, http, modbus, seconds, idle))
+        if rounds == 1:
+            quiet, hostile = quiets[0], hostiles[0]
+        else:
+            quiet, hostile = pooled("quiet", seconds, quiets), pooled("hostile", seconds, hostiles)
         alive = proc.poll() is None
     finally:
         proc.terminate()
@@ -320,6 +439,7 @@ def main():
             proc.wait(timeout=30)
         except subprocess.TimeoutExpired:
             proc.kill()
+        shutil.rmtree(tmp, ignore_errors=True)
     ok_jitter = hostile["p99_us"] <= 1.10 * quiet["p99_us"]
     ok_modbus = hostile["modbus_over_5ms"] == 0
     ok_rss = hostile["rss_max_mb"] <= quiet["rss_max_mb"] + 64

@@ -80,6 +80,10 @@ int main(int argc, char** argv) {
                   "HTTP connections open at once (default 256; more are refused with 503, and never more than "
                   "half the file descriptors beyond 128, so Modbus and the drivers keep theirs)")
       ->check(CLI::Range(1, 100000));
+  run->add_option("--http-cpus", http.cpus,
+                  "the CPUs of the HTTP server's threads, e.g. 0 or 0,2 (default: every CPU no task is pinned to)")
+      ->delimiter(',')
+      ->check(CLI::Range(0, 1023));
   run->add_option("--hmi-dir", http.hmi_dir, "serve the HMI from this directory (default: the build's hmi_web/dist)");
 
   auto* reload = app.add_subcommand("reload", "online change: the running `syncplc run` of PROJECT loads its file again "

@@ -19,6 +19,7 @@
 #include <cstring>
 
 #include "runtime/core/monotonic_clock.hpp"
+#include "runtime/core/task_cpus.hpp"
 
 namespace syncplc::modbus {
 namespace {
@@ -131,27 +132,15 @@ bool Server::start(std::string* error) {
 }
 
 // Without `cpus`, the server thread keeps off the CPUs the project pins its
-// real-time tasks to (task `cpu:`), as long as another CPU is left: its
-// system calls and TCP processing would otherwise run where a task must
-// wake on time (docs/benchmarks.md section 5). Nothing pinned: any CPU.
+// real-time tasks to (task `cpu:`), as long as another CPU is left
+// (runtime/core/task_cpus.hpp, the rule every thread that is not real-time
+// follows). Nothing pinned: any CPU the process may use.
 void Server::keep_off_task_cpus() {
-  cpu_set_t set;
-  CPU_ZERO(&set);
-  if (sched_getaffinity(getpid(), sizeof set, &set) != 0) return;  // the process's, not this thread's
-  bool changed = false;
-  for (const auto& task : program_->tasks) {
-    const int cpu = task->config().cpu;
-    if (cpu >= 0 && cpu < CPU_SETSIZE && CPU_ISSET(cpu, &set)) {
-      CPU_CLR(cpu, &set);
-      changed = true;
-    }
-  }
-  if (CPU_COUNT(&set) == 0) return;
-  if (!changed && !off_task_cpus_) return;
-  off_task_cpus_ = changed;
-  if (const int rc = pthread_setaffinity_np(thread_.native_handle(), sizeof set, &set); rc != 0)
-    warning_ += (warning_.empty() ? "" : "; ") + std::string("cannot keep the server thread off the tasks' CPUs: ") +
-                std::strerror(rc);
+  const TaskCpuChoice choice = cpus_off_tasks(process_cpus(), pinned_cpus(*program_));
+  if (!choice.off && !off_task_cpus_) return;  // nothing pinned, nothing to undo
+  off_task_cpus_ = choice.off;
+  if (const std::string why = keep_thread_to(thread_.native_handle(), choice.cpus); !why.empty())
+    warning_ += (warning_.empty() ? "" : "; ") + std::string("cannot keep the server thread off the tasks' CPUs: ") + why;
 }
 
 void Server::stop() {

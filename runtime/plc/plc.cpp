@@ -8,6 +8,7 @@
 #include <iostream>
 
 #include "runtime/core/monotonic_clock.hpp"
+#include "runtime/core/task_cpus.hpp"
 #include "runtime/plc/change_runner.hpp"
 #include "runtime/plc/driver_change.hpp"
 #include "runtime/plc/events.hpp"
@@ -137,9 +138,10 @@ std::unique_ptr<Plc> Plc::open(PlcOptions o, std::vector<std::string>& notices, 
     const ModbusConfig cfg = server_config(r.modbus.server, opt.modbus_port);
     return start_failed(opt.status_invalid, "the Modbus server could not listen on " + cfg.bind + ":" + std::to_string(cfg.port));
   }
-  // The HTTP API and the HMI. A port given explicitly (or with TLS) that
-  // cannot be bound stops here; the default one only warns (the machine
-  // keeps its control program when another service holds 8080).
+  // The HTTP API and the HMI. A port given explicitly (or with TLS, or
+  // --http-cpus) that cannot be bound stops here; the default one only
+  // warns (the machine keeps its control program when another service
+  // holds 8080).
   const StoreLink& st = *plc->store_;
   const std::string db_dir = st.on() && st.path() != store::kMemoryDatabase
                                  ? std::filesystem::path(st.path()).parent_path().string()
@@ -151,7 +153,7 @@ std::unique_ptr<Plc> Plc::open(PlcOptions o, std::vector<std::string>& notices, 
     std::string why;
     if (!plc->web_server_->start(&why)) {
       plc->web_server_.reset();
-      if (opt.http.explicit_address || opt.http.tls()) {
+      if (opt.http.explicit_address || opt.http.tls() || !opt.http.cpus.empty()) {
         if (plc->modbus_) plc->modbus_->stop();
         program.close_drivers();
         return start_failed(opt.status_invalid, why);
@@ -189,6 +191,36 @@ void Plc::start() {
     started_ = true;
   }
   control_ = std::thread([this] { control_loop(); });
+}
+
+// The threads that are not real-time (HTTP, store, supervisor, control) keep
+// off the CPUs the program pins its tasks to (runtime/core/task_cpus.hpp),
+// as the Modbus server does on its own: at the start and after every online
+// change, which may pin or unpin a task. The modbus_client drivers' device
+// threads stay where they are (any CPU): the scan wakes them every cycle
+// (cycle_signal.hpp), and a wake across CPUs costs the scan an
+// inter-processor interrupt; their one burst a cycle is small beside an
+// HTTP flood. On the control thread only.
+void Plc::keep_threads_off_tasks(const Program& p) {
+  const TaskCpuChoice choice = cpus_off_tasks(process_cpus(), pinned_cpus(p));
+  if (!choice.off && !threads_off_tasks_) return;  // nothing pinned, nothing to undo
+  threads_off_tasks_ = choice.off;
+  cpu_set_t off = process_cpus();  // the pinned CPUs they leave, for the log
+  CPU_XOR(&off, &off, &choice.cpus);
+  std::string why;
+  auto keep = [&](const char* what, const std::string& failed) {
+    if (!failed.empty() && why.empty()) why = std::string(what) + ": " + failed;
+  };
+  // --http-cpus: the HTTP server's threads stay where the setting put them.
+  const bool http = web_server_ && options_.http.cpus.empty();
+  if (http) keep("the HTTP server's threads", web_server_->keep_to(choice.cpus));
+  if (store_->on()) keep("the store thread", store_->thread()->keep_to(choice.cpus));
+  keep("the supervisor thread", supervisor_thread_->keep_to(choice.cpus));
+  keep("the control thread", keep_thread_to(pthread_self(), choice.cpus));
+  const char* who = http ? "the HTTP, store, supervisor and control threads" : "the store, supervisor and control threads";
+  if (!why.empty()) *options_.log << "syncplc: warning: cannot keep " << why << "\n";
+  else if (choice.off) *options_.log << "syncplc: " << who << " keep off CPU " << cpu_list(off) << " (pinned tasks)\n";
+  else *options_.log << "syncplc: " << who << " are back on CPU " << cpu_list(choice.cpus) << "\n";
 }
 
 void Plc::request_change(ChangeRequest request, std::function<void(const ChangeResult&)> done) {
@@ -237,6 +269,8 @@ void Plc::emit(const std::string& line) {
 // --- the control thread ----------------------------------------------------------------
 
 void Plc::control_loop() {
+  // Before the name: whoever sees "plc-control" sees the threads where they belong.
+  keep_threads_off_tasks(*current_);
   pthread_setname_np(pthread_self(), "plc-control");
   std::int64_t next_status = 0;
   std::unique_lock lock(control_mutex_);
@@ -319,6 +353,7 @@ bool Plc::start_next_change() {
     active_.reset();
     return false;
   }
+  keep_threads_off_tasks(*current_);  // the new program's pins (current_ since the commit)
   // The file the running program came from is the instance's project file
   // from now on: GET /status names it, and `reload` or SIGHUP reloads it
   // (an upload's copy beside the database, a rolled-back version's files),

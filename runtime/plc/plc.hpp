@@ -164,6 +164,7 @@ class Plc {
   void finish_request(std::function<void(const ChangeResult&)>& done, const ChangeResult& r);
   bool start_next_change();
   void poll_change();
+  void keep_threads_off_tasks(const Program& p);
 
   // Declared in the order they depend on each other: destroyed in reverse,
   // whatever uses the program (the runner, the servers, a change under way)
@@ -215,6 +216,7 @@ class Plc {
   std::function<void(const std::string&)> event_line_;
   std::int64_t started_ns_ = 0;
   bool started_ = false;
+  bool threads_off_tasks_ = false;  // keep_threads_off_tasks moved them (control thread)
   bool stopped_ = false;
 
   friend class WebHost;

@@ -4,6 +4,8 @@
 
 #include <chrono>
 
+#include "runtime/core/task_cpus.hpp"
+
 namespace syncplc::plc {
 
 SupervisorThread::SupervisorThread(Supervisor& s) : supervisor_(s), thread_([this] { loop(); }) {}
@@ -18,6 +20,8 @@ void SupervisorThread::stop() {
   cv_.notify_all();
   if (thread_.joinable()) thread_.join();
 }
+
+std::string SupervisorThread::keep_to(const cpu_set_t& cpus) { return keep_thread_to(thread_.native_handle(), cpus); }
 
 void SupervisorThread::loop() {
   pthread_setname_np(pthread_self(), "supervisor");

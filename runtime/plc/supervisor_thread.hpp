@@ -6,9 +6,12 @@
 // old ones when it completes.
 #pragma once
 
+#include <sched.h>
+
 #include <atomic>
 #include <condition_variable>
 #include <mutex>
+#include <string>
 #include <thread>
 
 #include "runtime/core/supervisor.hpp"
@@ -22,6 +25,8 @@ class SupervisorThread {
   explicit SupervisorThread(Supervisor& s);
   ~SupervisorThread();  // stops the thread
   void stop();
+  // Moves the thread to `cpus` (runtime/core/task_cpus.hpp); "" or why not. Before stop().
+  std::string keep_to(const cpu_set_t& cpus);
 
  private:
   void loop();

@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "runtime/core/monotonic_clock.hpp"
+#include "runtime/core/task_cpus.hpp"
 
 namespace syncplc::store {
 namespace {
@@ -43,6 +44,12 @@ void StoreThread::start() {
   running_ = true;
   thread_ = std::thread([this] { loop(); });
   pthread_setname_np(thread_.native_handle(), "store");
+}
+
+std::string StoreThread::keep_to(const cpu_set_t& cpus) {
+  std::lock_guard lk(state_mutex_);
+  if (!running_) return {};
+  return keep_thread_to(thread_.native_handle(), cpus);
 }
 
 void StoreThread::stop() {

@@ -9,6 +9,8 @@
 // never touched by a failed transaction (SQLite rolls it back whole).
 #pragma once
 
+#include <sched.h>
+
 #include <condition_variable>
 #include <cstdint>
 #include <memory>
@@ -76,6 +78,8 @@ class StoreThread {
   // A job has new work (a queued record): ask the jobs when they are due now.
   void wake();
   StoreHealth health() const;
+  // Moves the thread, while it runs, to `cpus` (runtime/core/task_cpus.hpp); "" or why not.
+  std::string keep_to(const cpu_set_t& cpus);
 
   // Runs `f` while no job runs (e.g. to point jobs at the program an online
   // change installed, before the old one goes). Not for the real-time threads.

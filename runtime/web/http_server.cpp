@@ -480,8 +480,8 @@ bool HttpServer::start(std::string* error) {
   s.port = s.acceptor->local_endpoint(ec).port();
   s.accept_pause.emplace(s.acceptor->get_executor());
   s.work.emplace(s.ioc.get_executor());
-  s.workers = std::make_unique<WorkerPool>(o.workers);
-  s.network = std::make_unique<WorkerPool>(o.network_threads);
+  s.workers = std::make_unique<WorkerPool>(o.workers, "http-work");
+  s.network = std::make_unique<WorkerPool>(o.network_threads, "http-net");
   for (std::size_t i = 0; i < o.network_threads; ++i)
     s.network->enqueue([&s] {
       for (;;) {
@@ -524,6 +524,14 @@ void HttpServer::stop() {
   // while the io_context its sockets belong to still exists.
   s.workers.reset();
   s.network.reset();
+}
+
+std::string HttpServer::keep_to(const cpu_set_t& cpus) {
+  Impl& s = *impl_;
+  if (!s.network) return {};
+  std::string why = s.network->keep_to(cpus);
+  if (why.empty()) why = s.workers->keep_to(cpus);
+  return why;
 }
 
 int HttpServer::port() const { return impl_->port; }

@@ -5,6 +5,8 @@
 // beyond the limit are refused at once; idle and slow ones are cut.
 #pragma once
 
+#include <sched.h>
+
 #include <atomic>
 #include <cstddef>
 #include <functional>
@@ -44,6 +46,9 @@ class HttpServer {
   // Closes the listener and every connection, runs what workers hold to its
   // end and joins the threads.
   void stop();
+  // Moves every thread (network and workers) to `cpus`; "" or why not.
+  // From one thread at a time, while started.
+  std::string keep_to(const cpu_set_t& cpus);
   int port() const;
   std::size_t connections() const;
   std::size_t refused_connections() const;

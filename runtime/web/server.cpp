@@ -2,6 +2,7 @@
 
 #include <time.h>
 
+#include "runtime/core/task_cpus.hpp"
 #include "runtime/store/database.hpp"
 #include "runtime/web/api.hpp"
 #include "runtime/web/descriptor_budget.hpp"
@@ -271,6 +272,17 @@ bool Server::start(std::string* error) {
     return false;
   }
   impl.port = impl.beast->port();
+  if (!c.cpus.empty()) {
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    for (int cpu : c.cpus) CPU_SET(cpu, &set);  // within the process's CPUs (check_config)
+    if (const std::string failed = impl.beast->keep_to(set); !failed.empty()) {
+      *error = "cannot keep the HTTP server's threads to CPU " + cpu_list(set) + ": " + failed;
+      impl.beast->stop();
+      impl.beast.reset();
+      return false;
+    }
+  }
   return true;
 }
 
@@ -296,5 +308,7 @@ int Server::port() const { return impl_->port; }
 std::size_t Server::connection_limit() const { return impl_->connection_limit; }
 
 const ServerCounters& Server::counters() const { return impl_->counters; }
+
+std::string Server::keep_to(const cpu_set_t& cpus) { return impl_->beast ? impl_->beast->keep_to(cpus) : std::string(); }
 
 }  // namespace syncplc::web

@@ -6,6 +6,8 @@
 // `syncplc reload` do.
 #pragma once
 
+#include <sched.h>
+
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -44,6 +46,9 @@ class Server {
   // within its share of the file descriptors).
   std::size_t connection_limit() const;
   const ServerCounters& counters() const;
+  // Moves every thread of the server to `cpus` (runtime/core/task_cpus.hpp);
+  // "" or why not. From one thread at a time, while started.
+  std::string keep_to(const cpu_set_t& cpus);
 
  private:
   struct Impl;

@@ -5,6 +5,8 @@
 
 #include <charconv>
 
+#include "runtime/core/task_cpus.hpp"
+
 namespace syncplc::web {
 
 bool parse_http_address(const std::string& text, WebConfig& c, std::string* error) {
@@ -66,6 +68,12 @@ bool check_config(const WebConfig& c, std::string* error) {
              "--http-insecure allows plain HTTP (passwords and tokens then cross the network readable)";
     return false;
   }
+  const cpu_set_t process = process_cpus();
+  for (int cpu : c.cpus)
+    if (cpu < 0 || cpu >= CPU_SETSIZE || !CPU_ISSET(cpu, &process)) {
+      *error = "--http-cpus: CPU " + std::to_string(cpu) + " is not one this process may use (" + cpu_list(process) + ")";
+      return false;
+    }
   return true;
 }
 

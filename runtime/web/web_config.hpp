@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace syncplc::web {
 
@@ -26,6 +27,9 @@ struct WebConfig {
   std::size_t max_body = 1 << 20;        // JSON requests
   std::size_t max_upload = 4 << 20;      // a project upload (all its files)
   std::size_t max_upload_files = 64;
+  // --http-cpus: the CPUs of the server's threads. Empty: every CPU the
+  // process may use but those tasks are pinned to (runtime/core/task_cpus.hpp).
+  std::vector<int> cpus;
 
   bool tls() const { return !tls_cert.empty(); }
 };

@@ -3,18 +3,20 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <cstring>
 #include <stdexcept>
 #include <string>
 
 namespace syncplc::web {
 
-WorkerPool::WorkerPool(std::size_t workers) {
+WorkerPool::WorkerPool(std::size_t workers, const char* name) {
   pthread_attr_t attr;
   pthread_attr_init(&attr);
   pthread_attr_setstacksize(&attr, kWorkerStackBytes);
   for (std::size_t i = 0; i < workers; ++i) {
     pthread_t t;
     if (pthread_create(&t, &attr, &WorkerPool::run, this) != 0) break;  // fewer workers, still serving
+    pthread_setname_np(t, name);
     threads_.push_back(t);
   }
   pthread_attr_destroy(&attr);
@@ -51,14 +53,22 @@ void WorkerPool::enqueue(std::function<void()> fn) {
 }
 
 void WorkerPool::shutdown() {
+  std::vector<pthread_t> threads;
   {
     std::lock_guard lock(mutex_);
     if (stopping_ && threads_.empty()) return;
     stopping_ = true;
+    threads.swap(threads_);  // keep_to() no longer reaches them
   }
   wake_.notify_all();
-  for (pthread_t t : threads_) pthread_join(t, nullptr);
-  threads_.clear();
+  for (pthread_t t : threads) pthread_join(t, nullptr);
+}
+
+std::string WorkerPool::keep_to(const cpu_set_t& cpus) {
+  std::lock_guard lock(mutex_);
+  for (pthread_t t : threads_)
+    if (const int rc = pthread_setaffinity_np(t, sizeof cpus, &cpus); rc != 0) return std::strerror(rc);
+  return {};
 }
 
 }  // namespace syncplc::web

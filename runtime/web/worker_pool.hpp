@@ -6,12 +6,14 @@
 #pragma once
 
 #include <pthread.h>
+#include <sched.h>
 
 #include <condition_variable>
 #include <cstddef>
 #include <deque>
 #include <functional>
 #include <mutex>
+#include <string>
 #include <vector>
 
 namespace syncplc::web {
@@ -24,13 +26,16 @@ inline constexpr int kWorkerNice = 10;
 
 class WorkerPool final {
  public:
-  explicit WorkerPool(std::size_t workers);
+  // `name`: each thread's, as top -H and /proc/<pid>/task/*/comm show it (at most 15 characters).
+  WorkerPool(std::size_t workers, const char* name);
   ~WorkerPool();
   WorkerPool(const WorkerPool&) = delete;
   WorkerPool& operator=(const WorkerPool&) = delete;
   void enqueue(std::function<void()> fn);
   // Runs what is queued, then joins the threads.
   void shutdown();
+  // Moves every thread to `cpus` (runtime/core/task_cpus.hpp); "" or why not.
+  std::string keep_to(const cpu_set_t& cpus);
 
  private:
   static void* run(void* self);
@@ -38,7 +43,7 @@ class WorkerPool final {
   std::condition_variable wake_;
   std::deque<std::function<void()>> jobs_;
   bool stopping_ = false;
-  std::vector<pthread_t> threads_;
+  std::vector<pthread_t> threads_;  // under mutex_
 };
 
 }  // namespace syncplc::web
