@@ -54,3 +54,16 @@ export async function launch() {
     },
   };
 }
+
+// Polls fn (every 50 ms) until it returns something truthy, which it returns;
+// throws after ms naming `what`. Timing is the page's, not the test's: a
+// loaded machine makes a test slower, never wrong (ms only ends a hang).
+export async function until(fn, ms = 10000, what = 'condition') {
+  const end = Date.now() + ms;
+  for (;;) {
+    const v = await fn();
+    if (v) return v;
+    if (Date.now() > end) throw new Error(`timed out after ${ms} ms waiting for ${what}`);
+    await new Promise((r) => setTimeout(r, 50));
+  }
+}

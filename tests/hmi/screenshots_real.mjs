@@ -5,20 +5,10 @@
 // the demo projects/four_axis_table/sync.yaml (four SYNC_CONTROLLER axes).
 import { mkdir, readFile } from 'node:fs/promises';
 import { join } from 'node:path';
-import { launch, DESKTOP, ROOT } from './browser.mjs';
+import { launch, until, DESKTOP, ROOT } from './browser.mjs';
 import { startPlc } from './real_plc.mjs';
 
 const CELL = join(ROOT, 'tests', 'hmi', 'projects', 'hmi_cell');
-
-async function until(fn, ms, what) {
-  const end = Date.now() + ms;
-  for (;;) {
-    const v = await fn();
-    if (v) return v;
-    if (Date.now() > end) throw new Error(`timed out waiting for ${what}`);
-    await new Promise((r) => setTimeout(r, 100));
-  }
-}
 
 async function login(page, plc, user) {
   await page.getByRole('button', { name: 'Log in' }).first().click();

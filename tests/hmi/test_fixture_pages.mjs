@@ -3,7 +3,7 @@
 // operator and an engineer do on each page, at desktop and phone size.
 // The tests against a real `syncplc run` follow when runtime/web is merged.
 //   node --test tests/hmi/test_fixture_pages.mjs      (ctest -L hmi)
-import { requireBrowser, launch, PHONE, DESKTOP } from './browser.mjs';
+import { requireBrowser, launch, until, PHONE, DESKTOP } from './browser.mjs';
 
 requireBrowser();
 
@@ -53,16 +53,6 @@ async function login(page, user) {
   await page.locator('dialog[open] button[type=submit]').click();
   await page.locator('.who .user-name', { hasText: user }).waitFor();
 }
-
-const until = async (fn, ms = 10000, what = 'condition') => {
-  const end = Date.now() + ms;
-  for (;;) {
-    const v = await fn();
-    if (v) return v;
-    if (Date.now() > end) throw new Error(`timed out waiting for ${what}`);
-    await new Promise((r) => setTimeout(r, 100));
-  }
-};
 
 test('overview: a card per task with statistics and a jitter histogram; a stopped task is shown as such', async () => {
   const page = await open('overview');

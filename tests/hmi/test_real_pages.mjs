@@ -7,7 +7,7 @@ import { existsSync } from 'node:fs';
 import { readFile } from 'node:fs/promises';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
-import { requireBrowser, launch, DESKTOP, ROOT } from './browser.mjs';
+import { requireBrowser, launch, DESKTOP, ROOT, until } from './browser.mjs';
 
 const here = dirname(fileURLToPath(import.meta.url));
 const PYTHON = '/usr/bin/python3'; // Debian's: the one that has python3-pymodbus
@@ -81,22 +81,11 @@ async function login(page, user) {
   await page.locator('.who .user-name', { hasText: user }).waitFor({ timeout: HANG_GUARD_MS });
 }
 
-// Polls fn until it returns something true (the machine is shared: generous, never a fixed sleep).
 // Every wait is for a condition (a value, a count of scans, an element); its
 // time limit only ends a hang, so a loaded machine makes the test slower,
 // not wrong.
 const HANG_GUARD_MS = 120000;
 
-async function until(fn, ms, what) {
-  const end = Date.now() + ms;
-  let last;
-  for (;;) {
-    last = await fn();
-    if (last) return last;
-    if (Date.now() > end) throw new Error(`timed out after ${ms} ms waiting for ${what}`);
-    await new Promise((r) => setTimeout(r, 100));
-  }
-}
 const pause = (ms) => new Promise((r) => setTimeout(r, ms));
 
 // [[values at ADDRESS1], ...] read with pymodbus 3.0 from the PLC's Modbus server.

@@ -8,7 +8,7 @@
 import { existsSync } from 'node:fs';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
-import { requireBrowser, launch, DESKTOP, ROOT } from './browser.mjs';
+import { requireBrowser, launch, DESKTOP, ROOT, until } from './browser.mjs';
 
 const here = dirname(fileURLToPath(import.meta.url));
 const binary = process.argv[2];
@@ -40,16 +40,6 @@ after(async () => {
     assert.equal(end.code, 0, `syncplc run exited with ${JSON.stringify(end)}\nstderr:\n${end.stderr}`);
   }
 });
-
-async function until(fn, ms, what) {
-  const end = Date.now() + ms;
-  for (;;) {
-    const v = await fn();
-    if (v) return v;
-    if (Date.now() > end) throw new Error(`timed out after ${ms} ms waiting for ${what}`);
-    await new Promise((r) => setTimeout(r, 50));
-  }
-}
 
 const opacity = (page, selector) => page.locator(selector).first().evaluate((e) => Number(getComputedStyle(e).opacity));
 

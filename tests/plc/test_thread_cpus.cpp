@@ -9,7 +9,9 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <string>
+#include <vector>
 
 #include "runtime/core/task_cpus.hpp"
 #include "runtime/plc/plc.hpp"
@@ -76,71 +78,74 @@ bool control_thread_named() {
   return ::testing::AssertionFailure() << "expected every thread on CPU " << cpus << ":" << wrong;
 }
 
-TEST(PlcThreadCpus, ThreadsThatAreNotRealTimeKeepOffAPinnedTasksCpuAndFollowOnlineChanges) {
+// A PLC running kPinned with its HTTP server and a store (`db` beside the
+// project), the HTTP threads on `http_cpus` when given; the CPU lists the
+// tests expect: every CPU of the process, and all but CPU 1.
+struct PinnedRun {
+  std::string everything, off_task, pinned, free;
+  std::unique_ptr<Plc> plc;
+  std::string why;
+
+  PinnedRun(const std::string& db, std::vector<int> http_cpus = {}) {
+    const cpu_set_t process = process_cpus();
+    cpu_set_t others = process;
+    CPU_CLR(1, &others);
+    everything = cpu_list(process);
+    off_task = cpu_list(others);
+    pinned = write_project("pinned_cpu.yaml", kPinned);
+    free = write_project("free_cpu.yaml", kFree);
+    PlcOptions o = options(pinned);
+    o.db = (std::filesystem::path(pinned).parent_path() / db).string();  // a store thread
+    std::filesystem::remove(o.db);
+    o.http.enabled = true;
+    o.http.port = 0;
+    o.http.cpus = std::move(http_cpus);
+    std::vector<std::string> notices;
+    PlcFailure failure;
+    plc = Plc::open(o, notices, &failure);
+    why = failure.why;
+    if (plc) plc->start();
+  }
+  ~PinnedRun() {
+    if (plc) plc->stop("end of test");
+  }
+  ChangeResult change_to(const std::string& path) {
+    ChangeRequest c;
+    c.path = path;
+    return plc->change(c);
+  }
+};
+
+bool has_cpus_0_and_1() {
   const cpu_set_t process = process_cpus();
-  if (!CPU_ISSET(0, &process) || !CPU_ISSET(1, &process)) GTEST_SKIP() << "needs CPUs 0 and 1";
-  cpu_set_t others = process;
-  CPU_CLR(1, &others);
-  const std::string everything = cpu_list(process), off_task = cpu_list(others);
+  return CPU_ISSET(0, &process) && CPU_ISSET(1, &process);
+}
 
-  const std::string pinned = write_project("pinned_cpu.yaml", kPinned);
-  const std::string free = write_project("free_cpu.yaml", kFree);
-  PlcOptions o = options(pinned);
-  o.db = (std::filesystem::path(pinned).parent_path() / "thread_cpus.db").string();  // a store thread
-  std::filesystem::remove(o.db);
-  o.http.enabled = true;
-  o.http.port = 0;
-  std::vector<std::string> notices;
-  PlcFailure failure;
-  auto plc = Plc::open(o, notices, &failure);
-  ASSERT_TRUE(plc) << failure.why;
-  plc->start();
+TEST(PlcThreadCpus, ThreadsThatAreNotRealTimeKeepOffAPinnedTasksCpuAndFollowOnlineChanges) {
+  if (!has_cpus_0_and_1()) GTEST_SKIP() << "needs CPUs 0 and 1";
+  PinnedRun run("thread_cpus.db");
+  ASSERT_TRUE(run.plc) << run.why;
   ASSERT_TRUE(eventually(control_thread_named));
-  EXPECT_TRUE(all_on(off_task)) << "task main is pinned to CPU 1";
-
-  ChangeRequest unpin;
-  unpin.path = free;
-  const ChangeResult r1 = plc->change(unpin);
+  EXPECT_TRUE(all_on(run.off_task)) << "task main is pinned to CPU 1";
+  const ChangeResult r1 = run.change_to(run.free);
   ASSERT_TRUE(r1.accepted) << r1.summary;
-  EXPECT_TRUE(all_on(everything)) << "after an online change that unpins task main";
-
-  ChangeRequest pin;
-  pin.path = pinned;
-  const ChangeResult r2 = plc->change(pin);
+  EXPECT_TRUE(all_on(run.everything)) << "after an online change that unpins task main";
+  const ChangeResult r2 = run.change_to(run.pinned);
   ASSERT_TRUE(r2.accepted) << r2.summary;
-  EXPECT_TRUE(all_on(off_task)) << "after an online change that pins task main again";
-  plc->stop("end of test");
+  EXPECT_TRUE(all_on(run.off_task)) << "after an online change that pins task main again";
 }
 
 // --http-cpus: the HTTP server's threads where the setting says, even on a
 // pinned task's CPU, through online changes; the others follow the rule.
 TEST(PlcThreadCpus, HttpCpusKeepTheHttpServersThreadsWhereTheSettingSays) {
-  const cpu_set_t process = process_cpus();
-  if (!CPU_ISSET(0, &process) || !CPU_ISSET(1, &process)) GTEST_SKIP() << "needs CPUs 0 and 1";
-  cpu_set_t others = process;
-  CPU_CLR(1, &others);
-  const std::string everything = cpu_list(process), off_task = cpu_list(others);
-  const std::string pinned = write_project("pinned_cpu.yaml", kPinned);
-  const std::string free = write_project("free_cpu.yaml", kFree);
-  PlcOptions o = options(pinned);
-  o.db = (std::filesystem::path(pinned).parent_path() / "http_cpus.db").string();
-  std::filesystem::remove(o.db);
-  o.http.enabled = true;
-  o.http.port = 0;
-  o.http.cpus = {1};
-  std::vector<std::string> notices;
-  PlcFailure failure;
-  auto plc = Plc::open(o, notices, &failure);
-  ASSERT_TRUE(plc) << failure.why;
-  plc->start();
+  if (!has_cpus_0_and_1()) GTEST_SKIP() << "needs CPUs 0 and 1";
+  PinnedRun run("http_cpus.db", {1});
+  ASSERT_TRUE(run.plc) << run.why;
   ASSERT_TRUE(eventually(control_thread_named));
-  EXPECT_TRUE(all_on(off_task, "1"));
-  ChangeRequest unpin;
-  unpin.path = free;
-  const ChangeResult r = plc->change(unpin);
+  EXPECT_TRUE(all_on(run.off_task, "1"));
+  const ChangeResult r = run.change_to(run.free);
   ASSERT_TRUE(r.accepted) << r.summary;
-  EXPECT_TRUE(all_on(everything, "1"));
-  plc->stop("end of test");
+  EXPECT_TRUE(all_on(run.everything, "1"));
 }
 
 TEST(PlcThreadCpus, HttpCpusTheProcessMayNotUseStopTheStart) {
