@@ -162,6 +162,27 @@ TEST(StLexer, CommentsNestAndTheLastOneBeforeATokenIsKept) {
   EXPECT_EQ(l.tokens[2].comment_before, "line");
 }
 
+TEST(StLexer, LongDateAndTimePrefixesAndQuotesInStrings) {
+  EXPECT_EQ(single("LD#2024-01-31").type_prefix, "LDATE");
+  EXPECT_EQ(single("LDATE#2024-01-31").kind, TokenKind::Date);
+  EXPECT_EQ(single("LTOD#01:02:03").type_prefix, "LTOD");
+  EXPECT_EQ(single("LTIME_OF_DAY#01:02:03.123456789").kind, TokenKind::TimeOfDay);
+  EXPECT_EQ(single("LDT#2024-01-31-01:02:03").type_prefix, "LDT");
+  EXPECT_EQ(single("LDATE_AND_TIME#2024-01-31-01:02:03").kind, TokenKind::DateAndTime);
+  EXPECT_EQ(single("'a$\"b'").str_value, "a\"b");
+  EXPECT_EQ(single("\"it's\"").str_value, "it's");
+  EXPECT_EQ(single("WSTRING#\"w\"").type_prefix, "WSTRING");
+}
+
+TEST(StLexer, EachCommentKindNestsOnlyWithinItself) {
+  // '/*' inside '(* *)' is text: the comment ends at the first '*)'.
+  Lexed l = lex_text("(* a /* b *) x /* c (* d */ y");
+  ASSERT_TRUE(l.diags.list().empty()) << errors(l)[0];
+  ASSERT_EQ(l.tokens.size(), 3u);
+  EXPECT_EQ(l.tokens[0].text, "x");
+  EXPECT_EQ(l.tokens[1].text, "y");
+}
+
 TEST(StLexer, PragmasAreTokens) {
   Lexed l = lex_text("{attribute 'hide'} x");
   ASSERT_EQ(l.tokens.size(), 3u);

@@ -206,6 +206,17 @@ TEST(StParser, EveryDeclarationKind) {
             ")\n");
 }
 
+TEST(StParser, RepeatedDefaultsAndSemicolonsAfterPous) {
+  ParseResult r = parse_ok("PROGRAM p\nVAR a : ARRAY[1..4] OF INT := [1, 3()]; END_VAR\nEND_PROGRAM;\n"
+                           "FUNCTION_BLOCK f\nEND_FUNCTION_BLOCK;\n");
+  ASSERT_EQ(r.unit.pous.size(), 2u);
+  EXPECT_EQ(dump(r.unit.pous[0].sections.at(0).decls.at(0).type), "(array [1..4] INT)");
+  const Initializer& init = r.unit.pous[0].sections[0].decls[0].init;
+  ASSERT_EQ(init.elements.size(), 2u);
+  EXPECT_EQ(dump(init.elements[1].repeat), "3");
+  EXPECT_EQ(init.elements[1].value.kind, InitKind::None);
+}
+
 TEST(StParser, ExpressionNodesKeepTheirLocations) {
   ParseResult r = parse_ok("PROGRAM p\n  x := a +\n    f(b);\nEND_PROGRAM\n");
   const Statement& s = r.unit.pous.at(0).body.at(0);
@@ -304,6 +315,26 @@ TEST(StParser, NestingBeyondTheLimitIsOneClearError) {
   for (int i = 0; i < 100000; ++i) unary += "NOT ";
   e = errors_of(unary + "a;\nEND_PROGRAM\n");
   ASSERT_EQ(e.size(), 1u);
+  // Every other recursive construct: postfix chains, calls, initial values, types, CASE.
+  auto repeated = [](const std::string& head, const std::string& unit, int n, const std::string& tail) {
+    std::string out = head;
+    for (int i = 0; i < n; ++i) out += unit;
+    return out + tail;
+  };
+  for (const std::string& src : {
+           repeated("PROGRAM p\nx := a", "[1]", 100000, ";\nEND_PROGRAM\n"),
+           repeated("PROGRAM p\nx := a", ".b", 100000, ";\nEND_PROGRAM\n"),
+           repeated("PROGRAM p\nx := ", "f(", 100000, ";\nEND_PROGRAM\n"),
+           repeated("PROGRAM p\nVAR x : INT := ", "[", 100000, ";\nEND_VAR END_PROGRAM\n"),
+           repeated("PROGRAM p\nVAR x : INT := ", "(a := ", 100000, ";\nEND_VAR END_PROGRAM\n"),
+           repeated("TYPE t : ", "ARRAY[1..2] OF ", 100000, "INT; END_TYPE\n"),
+           repeated("TYPE t : ", "STRUCT a : ", 100000, "INT; END_TYPE\n"),
+           repeated("PROGRAM p\n", "CASE x OF 1: ", 5000, "\nEND_PROGRAM\n"),
+       }) {
+    e = errors_of(src);
+    ASSERT_EQ(e.size(), 1u) << src.substr(0, 40);
+    EXPECT_NE(e[0].find("nesting deeper than 256 levels"), std::string::npos) << e[0];
+  }
   // Within the limit: 200 levels parse.
   EXPECT_TRUE(parse("PROGRAM p\nx := " + std::string(200, '(') + "1" + std::string(200, ')') + ";\nEND_PROGRAM\n",
                     SourceFile("ok.st")).ok());
