@@ -91,6 +91,10 @@ class Lexer {
       skip_space_and_comments();
       Token t;
       t.loc = here();
+      // Directly before: the group began on a line of its own (not after the
+      // previous token) and ends on the line before this token or on its line.
+      t.comment_directly_before = !pending_comment_.empty() && pending_start_line_ > last_token_line_ &&
+                                  pending_end_line_ >= t.loc.line - 1;
       t.comment_before = std::move(pending_comment_);
       pending_comment_.clear();
       if (i_ >= src_.size()) {
@@ -102,6 +106,7 @@ class Lexer {
       token_start_ = start;
       scan(t);
       t.text = std::string(src_.substr(start, i_ - start));
+      last_token_line_ = line_;
       out.push_back(std::move(t));
     }
   }
@@ -129,8 +134,9 @@ class Lexer {
         advance();
       } else if (c == '/' && peek(1) == '/') {
         const std::size_t body = i_ + 2;
+        const int start_line = line_;
         while (i_ < src_.size() && src_[i_] != '\n') advance();
-        add_comment(src_.substr(body, i_ - body));
+        add_comment(src_.substr(body, i_ - body), start_line);
       } else if ((c == '(' && peek(1) == '*') || (c == '/' && peek(1) == '*')) {
         block_comment(c == '(' ? '(' : '/', c == '(' ? ')' : '/');
       } else {
@@ -156,7 +162,7 @@ class Lexer {
         advance();
         advance();
         if (--depth == 0) {
-          add_comment(src_.substr(body, i_ - 2 - body));
+          add_comment(src_.substr(body, i_ - 2 - body), loc.line);
           return;
         }
       } else {
@@ -166,12 +172,24 @@ class Lexer {
     error(loc, open == '(' ? "comment '(*' is not closed by '*)'" : "comment '/*' is not closed by '*/'");
   }
 
-  void add_comment(std::string_view text) {
+  // Comments on adjacent lines form one group, the comment before the next
+  // token; a blank line, or a new line after a comment trailing the previous
+  // token, starts a new group.
+  void add_comment(std::string_view text, int start_line) {
     const auto b = text.find_first_not_of(" \t\r\n*");
     if (b == std::string_view::npos) return;
     const auto e = text.find_last_not_of(" \t\r\n*");
-    if (!pending_comment_.empty()) pending_comment_ += '\n';
+    const bool trailing_group = pending_start_line_ == last_token_line_ && last_token_line_ > 0;
+    if (!pending_comment_.empty() &&
+        (start_line > pending_end_line_ + 1 || (trailing_group && start_line > last_token_line_)))
+      pending_comment_.clear();
+    if (pending_comment_.empty()) {
+      pending_start_line_ = start_line;
+    } else {
+      pending_comment_ += '\n';
+    }
     pending_comment_ += text.substr(b, e - b + 1);
+    pending_end_line_ = line_;
   }
 
   void scan(Token& t) {
@@ -648,6 +666,9 @@ class Lexer {
   int line_ = 1;
   std::size_t line_start_ = 0;
   std::string pending_comment_;
+  int pending_start_line_ = 0;  // first and last line of the pending comment group
+  int pending_end_line_ = 0;
+  int last_token_line_ = 0;  // the line the previous token ended on (0: none yet)
 };
 
 }  // namespace

@@ -60,14 +60,21 @@ class Parser {
     unit_.file = file;
     // Pragmas are skipped here, with a note; a comment before one stays with the next token.
     std::string carried;
+    bool carried_directly_before = false;
     for (auto& t : tokens) {
       if (t.kind == K::Pragma) {
         diags_.note(t.loc, fmt::format("pragma '{}' ignored",
                                        t.text.size() > 60 ? t.text.substr(0, 60) + "…" : t.text));
-        if (!t.comment_before.empty()) carried = std::move(t.comment_before);
+        if (!t.comment_before.empty()) {
+          carried = std::move(t.comment_before);
+          carried_directly_before = t.comment_directly_before;
+        }
         continue;
       }
-      if (t.comment_before.empty() && !carried.empty()) t.comment_before = std::move(carried);
+      if (t.comment_before.empty() && !carried.empty()) {
+        t.comment_before = std::move(carried);
+        t.comment_directly_before = carried_directly_before;
+      }
       carried.clear();
       tokens_.push_back(std::move(t));
     }
@@ -185,7 +192,7 @@ class Parser {
     const std::size_t start = pos_;
     Pou p;
     p.loc = cur().loc;
-    p.doc = cur().comment_before;
+    if (cur().comment_directly_before) p.doc = cur().comment_before;
     const K kw = advance().kind;
     p.kind = kw == K::KwFunction ? PouKind::Function : kw == K::KwFunctionBlock ? PouKind::FunctionBlock
                                                                                  : PouKind::Program;

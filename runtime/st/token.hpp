@@ -49,8 +49,13 @@ struct Token {
   double real_value = 0;
   std::int64_t duration_ns = 0;
   std::string str_value;
-  // The comment right before this token (POU documentation), without its delimiters.
+  // The comments before this token on adjacent lines, without their
+  // delimiters, joined by newlines (a POU's documentation).
   std::string comment_before;
+  // Whether they stand directly before it: on lines of their own, ending on
+  // the line before it (not a trailing comment of the previous token's line,
+  // not separated by a blank line).
+  bool comment_directly_before = false;
 };
 
 // How a kind reads in messages: "';'", "END_IF", "identifier".

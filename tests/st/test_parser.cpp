@@ -238,6 +238,20 @@ TEST(StParser, PouDocumentationIsTheCommentBeforeItOrElseItsFirstInside) {
   EXPECT_EQ(r.unit.pous[0].doc, "Moves boxes from the infeed to the outfeed.");
   EXPECT_EQ(r.unit.pous[1].doc, "raises a box");
   EXPECT_EQ(r.unit.pous[2].doc, "");
+  // A file's header separated by a blank line, and a comment trailing the
+  // previous POU's last line, are not documentation.
+  ParseResult h = parse_ok(
+      "(* Copyright 2026, licence: MIT *)\n\n"
+      "// Counts boxes.\n// Resets on R.\n"
+      "FUNCTION_BLOCK Counter\nEND_FUNCTION_BLOCK // end of Counter\n"
+      "FUNCTION_BLOCK Plain\nEND_FUNCTION_BLOCK\n"
+      "(* Licence *)\n\nFUNCTION_BLOCK Later\nEND_FUNCTION_BLOCK\n"
+      "(* Before a pragma *)\n{attribute 'x'}\nFUNCTION_BLOCK Pragma\nEND_FUNCTION_BLOCK\n");
+  ASSERT_EQ(h.unit.pous.size(), 4u);
+  EXPECT_EQ(h.unit.pous[0].doc, "Counts boxes.\nResets on R.");
+  EXPECT_EQ(h.unit.pous[1].doc, "");
+  EXPECT_EQ(h.unit.pous[2].doc, "");
+  EXPECT_EQ(h.unit.pous[3].doc, "Before a pragma");
 }
 
 TEST(StParser, PragmasAreSkippedWithANote) {
