@@ -83,7 +83,10 @@ void append_utf8(std::string& out, unsigned cp) {
 class Lexer {
  public:
   Lexer(std::string_view src, const SourceFile& file, StDiagnostics& diags)
-      : src_(src), file_(file), diags_(diags) {}
+      : src_(src), file_(file), diags_(diags) {
+    // A UTF-8 byte order mark, as Windows editors and some PLC tools' exports write it.
+    if (src_.substr(0, 3) == "\xEF\xBB\xBF") i_ = line_start_ = 3;
+  }
 
   std::vector<Token> run() {
     std::vector<Token> out;

@@ -268,6 +268,15 @@ TEST(StLexer, IntegerTooLargeAndUnclosedThings) {
   EXPECT_EQ(errors(p), (std::vector<std::string>{"t.st:1:1: pragma '{' is not closed by '}'"}));
 }
 
+TEST(StLexer, ByteOrderMarkAndCrLfLineEnds) {
+  Lexed l = lex_text("\xEF\xBB\xBFx :=\r\n 'a';\r\n");
+  ASSERT_TRUE(l.diags.list().empty()) << errors(l)[0];
+  ASSERT_EQ(l.tokens.size(), 5u);
+  EXPECT_EQ(l.tokens[0].loc.text(), "t.st:1:1");
+  EXPECT_EQ(l.tokens[2].loc.text(), "t.st:2:2");
+  EXPECT_EQ(l.tokens[2].str_value, "a");
+}
+
 TEST(StLexer, NonAsciiBytesAreOneError) {
   Lexed l = lex_text("x \xC3\xA9 y");
   EXPECT_EQ(errors(l), (std::vector<std::string>{"t.st:1:3: unexpected character byte 0xC3"}));
