@@ -59,6 +59,7 @@ class Parser {
   Parser(std::vector<Token> tokens, const SourceFile& file, StDiagnostics& diags) : diags_(diags) {
     unit_.file = file;
     // Pragmas are skipped here, with a note; a comment before one stays with the next token.
+    tokens_.reserve(tokens.size());
     std::string carried;
     bool carried_directly_before = false;
     for (auto& t : tokens) {
