@@ -1,5 +1,6 @@
 #include "runtime/st/lexer.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cctype>
 #include <charconv>
@@ -90,7 +91,9 @@ class Lexer {
 
   std::vector<Token> run() {
     std::vector<Token> out;
-    out.reserve(src_.size() / 6 + 1);  // about one token per 4 to 8 bytes of ST: no regrowth copies
+    // About one token per 4 to 8 bytes of ST: no regrowth copies for a usual
+    // file; beyond 64k tokens the vector grows as usual.
+    out.reserve(std::min<std::size_t>(src_.size() / 6 + 1, std::size_t{1} << 16));
     for (;;) {
       skip_space_and_comments();
       Token t;
