@@ -204,7 +204,18 @@ class Parser {
       if (expect(K::Colon, "':' and the function's return type")) p.return_type.push_back(type_spec());
     }
     panic_ = false;
-    while (is_section_start(cur().kind)) p.sections.push_back(var_section());
+    for (;;) {
+      if (is_section_start(cur().kind)) {
+        p.sections.push_back(var_section());
+      } else if (const K misspelt = misspelt_section(); misspelt != K::End) {
+        // Reported with its suggestion, then read as the section it most likely is.
+        expected("a VAR section or a statement");
+        panic_ = false;
+        p.sections.push_back(var_section(misspelt));
+      } else {
+        break;
+      }
+    }
     p.body = statement_list();
     if (!accept(end)) {
       expected(describe(end));
@@ -248,10 +259,27 @@ class Parser {
     accept(K::Semicolon);
   }
 
-  VarSection var_section() {
+  // A name close to a section keyword followed by what starts a section's
+  // content (VAR_INPT x : …, VAR_OUTPT RETAIN): which section it means, or End.
+  // No statement starts with two names, so this never takes a statement.
+  K misspelt_section() const {
+    if (!at(K::Identifier)) return K::End;
+    const K next = peek(1).kind;
+    if (next != K::Identifier && next != K::KwConstant && next != K::KwRetain && next != K::KwNonRetain &&
+        next != K::KwPersistent)
+      return K::End;
+    static const std::vector<std::string_view> sections = {"VAR", "VAR_INPUT", "VAR_OUTPUT", "VAR_IN_OUT",
+                                                           "VAR_TEMP", "VAR_EXTERNAL", "VAR_GLOBAL"};
+    const std::string near = closest_name(upper(cur().text), sections);
+    return near.empty() ? K::End : keyword_kind(near);
+  }
+
+  // From a VAR… keyword (or, with `as`, from a misspelt one) to END_VAR.
+  VarSection var_section(K as = K::End) {
     VarSection s;
     s.loc = cur().loc;
-    switch (advance().kind) {
+    const K kw = advance().kind;
+    switch (as != K::End ? as : kw) {
       case K::KwVarInput: s.kind = VarSectionKind::Input; break;
       case K::KwVarOutput: s.kind = VarSectionKind::Output; break;
       case K::KwVarInOut: s.kind = VarSectionKind::InOut; break;
@@ -469,8 +497,16 @@ class Parser {
 
   std::vector<Statement> statement_list(bool in_case = false) {
     std::vector<Statement> list;
+    bool after_error = false;
     for (;;) {
       const K k = cur().kind;
+      // The END_VAR of a misspelt section (VAR_INPT x : INT; END_VAR), already
+      // reported: skipped rather than taken as the end of the body.
+      if (after_error && k == K::KwEndVar) {
+        advance();
+        accept(K::Semicolon);
+        continue;
+      }
       if (k == K::End || is_end_keyword(k) || k == K::KwElsif || k == K::KwElse || k == K::KwUntil ||
           is_pou_start(k) || (in_case && at_case_label()))
         break;
@@ -481,6 +517,7 @@ class Parser {
       }
       const std::size_t before = pos_;
       Statement s = statement();
+      after_error = panic_;
       if (panic_) {
         recover();
       } else {

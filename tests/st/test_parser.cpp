@@ -293,10 +293,21 @@ TEST(StParser, MisspeltKeywordsGetASuggestion) {
   EXPECT_EQ(errors_of("FUNCTION_BLOK fb\nEND_FUNCTION_BLOCK\n"),
             (std::vector<std::string>{"e.st:1:1: expected FUNCTION, FUNCTION_BLOCK, PROGRAM, TYPE or VAR_GLOBAL, "
                                       "found name 'FUNCTION_BLOK' (did you mean FUNCTION_BLOCK?)"}));
-  EXPECT_EQ(errors_of("PROGRAM p\nVAR_INPT x : INT; END_VAR\nEND_PROGRAM\n"),
-            (std::vector<std::string>{"e.st:2:10: expected ':=' or a call after 'VAR_INPT', found name 'x' "
-                                      "(did you mean VAR_INPUT?)",
-                                      "e.st:2:19: expected END_PROGRAM, found END_VAR"}));
+  // A misspelt section is reported once and read as the section it most likely is.
+  ParseResult r = parse("PROGRAM p\nVAR_INPT x : INT; END_VAR\nVAR_OUTPT RETAIN\n  y : INT;\n  z : INT;\n"
+                        "END_VAR\nx := 1;\nEND_PROGRAM\n", SourceFile("e.st"));
+  EXPECT_EQ(messages(r), (std::vector<std::string>{
+                             "e.st:2:1: expected a VAR section or a statement, found name 'VAR_INPT' "
+                             "(did you mean VAR_INPUT?)",
+                             "e.st:3:1: expected a VAR section or a statement, found name 'VAR_OUTPT' "
+                             "(did you mean VAR_OUTPUT?)"}));
+  ASSERT_EQ(r.unit.pous.size(), 1u);
+  ASSERT_EQ(r.unit.pous[0].sections.size(), 2u);
+  EXPECT_EQ(r.unit.pous[0].sections[0].kind, VarSectionKind::Input);
+  EXPECT_EQ(r.unit.pous[0].sections[1].kind, VarSectionKind::Output);
+  EXPECT_TRUE(r.unit.pous[0].sections[1].retain);
+  EXPECT_EQ(r.unit.pous[0].sections[1].decls.size(), 2u);
+  EXPECT_EQ(r.unit.pous[0].body.size(), 1u);
 }
 
 TEST(StParser, MissingEndsAndUnsupportedConstructs) {
