@@ -7,6 +7,7 @@
 
 #include "fblocks/library.hpp"
 #include "runtime/cli/commands.hpp"
+#include "runtime/core/closest_name.hpp"
 
 namespace syncplc::cli {
 namespace {
@@ -37,40 +38,12 @@ std::string summary(const std::string& doc) {
   return para;
 }
 
-std::string upper(std::string_view s) {
-  std::string u(s);
-  for (auto& c : u) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  return u;
-}
-
-// Levenshtein distance, case-insensitive.
-std::size_t distance(std::string_view a, std::string_view b) {
-  const std::string x = upper(a), y = upper(b);
-  std::vector<std::size_t> d(y.size() + 1);
-  for (std::size_t j = 0; j <= y.size(); ++j) d[j] = j;
-  for (std::size_t i = 1; i <= x.size(); ++i) {
-    std::size_t diag = d[0];
-    d[0] = i;
-    for (std::size_t j = 1; j <= y.size(); ++j) {
-      const std::size_t up = d[j];
-      d[j] = std::min({d[j] + 1, d[j - 1] + 1, diag + (x[i - 1] == y[j - 1] ? 0 : 1)});
-      diag = up;
-    }
-  }
-  return d[y.size()];
-}
-
 // The registered name closest to `name` (case-insensitive; at most a third of
 // its letters wrong), or "" when none is close.
 std::string closest_block_name(const BlockRegistry& reg, std::string_view name) {
-  std::string best;
-  std::size_t best_d = name.size() / 3 + 1;
-  for (const auto* t : reg.all())
-    if (const std::size_t d = distance(name, t->name); d < best_d) {
-      best = t->name;
-      best_d = d;
-    }
-  return best;
+  std::vector<std::string_view> names;
+  for (const auto* t : reg.all()) names.push_back(t->name);
+  return closest_name(name, names);
 }
 
 // Tunable parameters say so, and name their tuning input.

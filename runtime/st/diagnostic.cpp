@@ -1,5 +1,7 @@
 #include "runtime/st/diagnostic.hpp"
 
+#include "runtime/core/closest_name.hpp"
+
 #include <algorithm>
 #include <cctype>
 
@@ -21,39 +23,8 @@ std::vector<StDiagnostic> StDiagnostics::sorted() const {
   return out;
 }
 
-namespace {
-
-// Levenshtein distance, case-insensitive.
-std::size_t edit_distance(std::string_view x, std::string_view y) {
-  std::vector<std::size_t> d(y.size() + 1);
-  for (std::size_t j = 0; j <= y.size(); ++j) d[j] = j;
-  for (std::size_t i = 1; i <= x.size(); ++i) {
-    std::size_t diag = d[0];
-    d[0] = i;
-    for (std::size_t j = 1; j <= y.size(); ++j) {
-      const std::size_t up = d[j];
-      const bool same = std::toupper(static_cast<unsigned char>(x[i - 1])) ==
-                        std::toupper(static_cast<unsigned char>(y[j - 1]));
-      d[j] = std::min({d[j] + 1, d[j - 1] + 1, diag + (same ? 0 : 1)});
-      diag = up;
-    }
-  }
-  return d[y.size()];
-}
-
-}  // namespace
-
 std::string closest_name(std::string_view name, const std::vector<std::string_view>& candidates) {
-  // Names longer than any candidate cannot be close; bounds the work on hostile input.
-  if (name.size() > 64) return "";
-  std::string best;
-  std::size_t best_d = name.size() / 3 + 1;
-  for (std::string_view c : candidates)
-    if (const std::size_t d = edit_distance(name, c); d < best_d && d > 0) {
-      best = std::string(c);
-      best_d = d;
-    }
-  return best;
+  return syncplc::closest_name(name, candidates);
 }
 
 }  // namespace syncplc::st
