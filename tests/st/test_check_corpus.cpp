@@ -67,5 +67,21 @@ TEST(StCheckCorpus, TypeErrorsGiveTheirErrors) {
   }
 }
 
+// The checker also runs over what the parser recovered from broken sources
+// (absent parts are ExprKind::None): no crash, every error inside the file.
+TEST(StCheckCorpus, RecoveredTreesOfInvalidProgramsCheckSafely) {
+  for (const auto& f : sources("invalid")) {
+    SCOPED_TRACE(f.filename().string());
+    const std::string text = read(f);
+    ParseResult r = parse(text, SourceFile(f.filename().string()));
+    const CheckedProgram p = check({&r.unit}, testing::builtin_blocks());
+    const int lines = static_cast<int>(std::count(text.begin(), text.end(), '\n')) + 1;
+    for (const auto& d : p.diagnostics.list()) {
+      EXPECT_GE(d.loc.line, 1) << d.text();
+      EXPECT_LE(d.loc.line, lines) << d.text();
+    }
+  }
+}
+
 }  // namespace
 }  // namespace syncplc::st
