@@ -215,5 +215,45 @@ TEST(StCheckRules, TypesAndPousOfSeveralFilesSeeEachOther) {
   EXPECT_TRUE(c->errors().empty()) << c->errors()[0];
 }
 
+TEST(StCheckRules, TypeDeclarations) {
+  auto c = check_source(R"(TYPE
+  Distance : LREAL;
+  Small : INT (-5..5);
+  Loop : Loop2;
+  Loop2 : Loop;
+  Bad : REAL (0..1);
+  Empty : ARRAY[3..1] OF INT;
+  Lvl : USINT (Low := 1, High := 300);
+  Col : (A, B, A);
+END_TYPE
+FUNCTION F : INT
+VAR t : TON; END_VAR
+VAR_EXTERNAL g : INT; END_VAR
+F := 1;
+END_FUNCTION
+PROGRAM P
+VAR d : Distance; r : LREAL; s : Small; day : DATE; clock : TOD; stamp : DT; name : WSTRING[8]; END_VAR
+r := d;
+d := r * 2.0;
+s := 6;
+s := s + 1;
+day := D#2024-02-29;
+stamp := DT#2024-02-29-10:00:00 + T#1h;
+clock := TOD#12:00:00 - T#30m;
+name := "caf$00E9";
+END_PROGRAM)");
+  EXPECT_EQ(c->errors(), (std::vector<std::string>{
+                             "5:11: type 'Loop' is defined in terms of itself",
+                             "6:9: a subrange's base type must be an integer type, found 'REAL'",
+                             "7:17: array bounds 3..1: the lower bound is above the upper",
+                             "8:26: value 300 of 'High' does not fit USINT",
+                             "9:16: duplicate enumeration value 'A' (first at t0.st:9:10)",
+                             "12:9: a FUNCTION keeps no state, so it cannot hold an instance of TON",
+                             "13:1: a FUNCTION cannot use VAR_EXTERNAL (IEC 61131-3 gives functions no access to globals)",
+                             "20:6: assignment to 's': value 6 is outside Small (-5..5)",
+                         }))
+      << ::testing::PrintToString(c->errors());
+}
+
 }  // namespace
 }  // namespace syncplc::st
