@@ -2,34 +2,16 @@
 // valid) check together without an error; each file of type_errors/ gives
 // exactly the lines of its .errors file (SYNCPLC_ST_UPDATE=1 rewrites them).
 #include <algorithm>
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include "tests/st/checker_fixture.hpp"
+#include "tests/st/corpus_files.hpp"
 
 namespace syncplc::st {
 namespace {
 
-namespace fs = std::filesystem;
-
-const fs::path kCorpus = fs::path(SYNCPLC_SOURCE_DIR) / "tests/st/corpus";
-
-std::string read(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-std::vector<fs::path> sources(const std::string& dir) {
-  std::vector<fs::path> out;
-  for (const auto& e : fs::directory_iterator(kCorpus / dir))
-    if (e.path().extension() == ".st") out.push_back(e.path());
-  std::sort(out.begin(), out.end());
-  return out;
-}
+using corpus::check_against;
+using corpus::read;
+using corpus::sources;
 
 TEST(StCheckCorpus, ValidProgramsCheckTogetherWithoutErrors) {
   std::vector<std::unique_ptr<ParseResult>> parsed;
@@ -56,14 +38,7 @@ TEST(StCheckCorpus, TypeErrorsGiveTheirErrors) {
     EXPECT_FALSE(p.ok());
     std::string lines;
     for (const auto& d : p.diagnostics.sorted()) lines += d.text() + "\n";
-    fs::path expected = f;
-    expected.replace_extension(".errors");
-    if (std::getenv("SYNCPLC_ST_UPDATE") != nullptr) {
-      std::ofstream(expected, std::ios::binary) << lines;
-      continue;
-    }
-    ASSERT_TRUE(fs::exists(expected)) << expected << " missing (SYNCPLC_ST_UPDATE=1 writes it)";
-    EXPECT_EQ(lines, read(expected));
+    check_against(f, ".errors", lines);
   }
 }
 

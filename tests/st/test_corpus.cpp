@@ -5,50 +5,16 @@
 // an intended change with SYNCPLC_ST_UPDATE=1 and review the diff.
 #include <gtest/gtest.h>
 
-#include <algorithm>
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
-
 #include "runtime/st/ast_dump.hpp"
 #include "runtime/st/parser.hpp"
+#include "tests/st/corpus_files.hpp"
 
 namespace syncplc::st {
 namespace {
 
-namespace fs = std::filesystem;
-
-const fs::path kCorpus = fs::path(SYNCPLC_SOURCE_DIR) / "tests/st/corpus";
-
-std::string read(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-std::vector<fs::path> sources(const std::string& dir) {
-  std::vector<fs::path> out;
-  for (const auto& e : fs::directory_iterator(kCorpus / dir))
-    if (e.path().extension() == ".st") out.push_back(e.path());
-  std::sort(out.begin(), out.end());
-  return out;
-}
-
-bool update() { return std::getenv("SYNCPLC_ST_UPDATE") != nullptr; }
-
-// Compares with the sibling file `ext`, or writes it when updating.
-void check_against(const fs::path& source, const std::string& ext, const std::string& actual) {
-  fs::path expected = source;
-  expected.replace_extension(ext);
-  if (update()) {
-    std::ofstream(expected, std::ios::binary) << actual;
-    return;
-  }
-  ASSERT_TRUE(fs::exists(expected)) << expected << " missing (SYNCPLC_ST_UPDATE=1 writes it)";
-  EXPECT_EQ(actual, read(expected)) << source;
-}
+using corpus::check_against;
+using corpus::read;
+using corpus::sources;
 
 TEST(StCorpus, ValidProgramsParseAndDumpAsExpected) {
   const auto files = sources("valid");
