@@ -666,11 +666,13 @@ Val Checker::binary(const Expr& e, const Type* want) {
       return record(e, {err()});
     }
     settle_default(b, y);
-    Val r{x.lit == Val::Lit::None ? elem(*sx) : elem(Elem::LREAL)};
-    if (x.lit != Val::Lit::None) r.lit = Val::Lit::Real;  // an untyped base is a real literal
-    if (x.c && y.c) r.c = fold(op, ConstValue{true, 0, x.c->as_double()}, *y.c);
-    if (r.c && r.lit == Val::Lit::None && r.type->is(Elem::REAL)) r.c->r = static_cast<float>(r.c->r);
-    return record(e, r);
+    // An untyped base is a real literal.
+    const bool untyped = x.lit != Val::Lit::None;
+    const Type* t = untyped ? elem(Elem::LREAL) : elem(*sx);
+    if (!x.c || !y.c) return record(e, Val(t, untyped ? Val::Lit::Real : Val::Lit::None));
+    double p = std::pow(x.c->as_double(), y.c->as_double());
+    if (t->is(Elem::REAL)) p = static_cast<float>(p);
+    return record(e, Val(t, untyped ? Val::Lit::Real : Val::Lit::None, ConstValue{true, 0, p}));
   }
 
   const Type* t = unify(e, a, x, b, y);
