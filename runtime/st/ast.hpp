@@ -49,6 +49,28 @@ enum class UnaryOp { Negate, Plus, Not };
 enum class BinaryOp { Power, Multiply, Divide, Mod, Add, Subtract, Less, Greater, LessEqual, GreaterEqual,
                       Equal, NotEqual, And, Xor, Or };
 
+// The operator as ST writes it ("**", "MOD", "<>"): for dumps and messages.
+inline const char* binary_op_text(BinaryOp op) {
+  switch (op) {
+    case BinaryOp::Power: return "**";
+    case BinaryOp::Multiply: return "*";
+    case BinaryOp::Divide: return "/";
+    case BinaryOp::Mod: return "MOD";
+    case BinaryOp::Add: return "+";
+    case BinaryOp::Subtract: return "-";
+    case BinaryOp::Less: return "<";
+    case BinaryOp::Greater: return ">";
+    case BinaryOp::LessEqual: return "<=";
+    case BinaryOp::GreaterEqual: return ">=";
+    case BinaryOp::Equal: return "=";
+    case BinaryOp::NotEqual: return "<>";
+    case BinaryOp::And: return "AND";
+    case BinaryOp::Xor: return "XOR";
+    case BinaryOp::Or: return "OR";
+  }
+  return "?";
+}
+
 struct Argument;
 
 struct Expr {

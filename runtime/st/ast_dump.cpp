@@ -54,27 +54,6 @@ std::string literal(const Literal& l) {
   return "?";
 }
 
-const char* binary_symbol(BinaryOp op) {
-  switch (op) {
-    case BinaryOp::Power: return "**";
-    case BinaryOp::Multiply: return "*";
-    case BinaryOp::Divide: return "/";
-    case BinaryOp::Mod: return "MOD";
-    case BinaryOp::Add: return "+";
-    case BinaryOp::Subtract: return "-";
-    case BinaryOp::Less: return "<";
-    case BinaryOp::Greater: return ">";
-    case BinaryOp::LessEqual: return "<=";
-    case BinaryOp::GreaterEqual: return ">=";
-    case BinaryOp::Equal: return "=";
-    case BinaryOp::NotEqual: return "<>";
-    case BinaryOp::And: return "AND";
-    case BinaryOp::Xor: return "XOR";
-    case BinaryOp::Or: return "OR";
-  }
-  return "?";
-}
-
 void expr(std::string& out, const Expr& e);
 
 void argument(std::string& out, const Argument& a) {
@@ -133,7 +112,7 @@ void expr(std::string& out, const Expr& e) {
       return;
     case ExprKind::Binary:
       out += "(";
-      out += binary_symbol(e.binary_op);
+      out += binary_op_text(e.binary_op);
       for (const auto& o : e.operands) {
         out += ' ';
         expr(out, o);

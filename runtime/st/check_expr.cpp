@@ -27,27 +27,6 @@ std::string int_text(Wide v) {
 
 std::string const_text(const ConstValue& c) { return c.is_real ? fmt::format("{}", c.r) : int_text(c.i); }
 
-const char* op_text(BinaryOp op) {
-  switch (op) {
-    case BinaryOp::Power: return "**";
-    case BinaryOp::Multiply: return "*";
-    case BinaryOp::Divide: return "/";
-    case BinaryOp::Mod: return "MOD";
-    case BinaryOp::Add: return "+";
-    case BinaryOp::Subtract: return "-";
-    case BinaryOp::Less: return "<";
-    case BinaryOp::Greater: return ">";
-    case BinaryOp::LessEqual: return "<=";
-    case BinaryOp::GreaterEqual: return ">=";
-    case BinaryOp::Equal: return "=";
-    case BinaryOp::NotEqual: return "<>";
-    case BinaryOp::And: return "AND";
-    case BinaryOp::Xor: return "XOR";
-    case BinaryOp::Or: return "OR";
-  }
-  return "";
-}
-
 // "Percent (0..100)"; an anonymous subrange's name already shows its range.
 std::string range_text(const Type* t) {
   if (t->name.find('(') != std::string::npos) return t->name;
@@ -569,7 +548,7 @@ std::optional<ConstValue> fold(BinaryOp op, const ConstValue& a, const ConstValu
 // that fits it, else their common type after implicit widening. Reports and
 // returns the error type when there is none.
 const Type* Checker::unify(const Expr& e, const Expr& a, Val& x, const Expr& b, Val& y) {
-  const std::string where = fmt::format("operand of '{}'", op_text(e.binary_op));
+  const std::string where = fmt::format("operand of '{}'", binary_op_text(e.binary_op));
   if (x.lit != Val::Lit::None && y.lit != Val::Lit::None)
     return elem(x.lit == Val::Lit::Real || y.lit == Val::Lit::Real ? Elem::LREAL : x.type->elem);
   // A literal beside a subrange takes its base type (the range binds writes, not operands).
@@ -587,7 +566,7 @@ const Type* Checker::unify(const Expr& e, const Expr& a, Val& x, const Expr& b, 
   if (const Type* t = common(x.type, y.type)) return t;
   std::string hint = conversion_hint(y.type, x.type);
   error(e.loc, fmt::format("operands of '{}' have types {} and {}, with no implicit conversion between them{}",
-                           op_text(e.binary_op), x.type->name, y.type->name,
+                           binary_op_text(e.binary_op), x.type->name, y.type->name,
                            hint.empty() ? "" : " (use " + hint + "(...) or the reverse)"));
   return err();
 }
@@ -648,7 +627,7 @@ Val Checker::binary(const Expr& e, const Type* want) {
     if (!t) {
       error(e.loc, fmt::format("'{}' is not defined for {} and {} (durations: TIME + or - TIME, TIME * or / a "
                                "number; DT, TOD + or - TIME; DT - DT, TOD - TOD, DATE - DATE)",
-                               op_text(op), name_of(x), name_of(y)));
+                               binary_op_text(op), name_of(x), name_of(y)));
       return record(e, {err()});
     }
     return folded(t);
@@ -687,7 +666,7 @@ Val Checker::binary(const Expr& e, const Type* want) {
     const bool ok = s || t->kind == Type::Kind::String || (t->kind == Type::Kind::Enum && !ordered) ||
                     t->kind == Type::Kind::Enum;
     if (!ok) {
-      error(e.loc, fmt::format("'{}' cannot compare values of type {}", op_text(op), t->name));
+      error(e.loc, fmt::format("'{}' cannot compare values of type {}", binary_op_text(op), t->name));
       return record(e, {err()});
     }
     return folded(elem(Elem::BOOL));
@@ -695,7 +674,7 @@ Val Checker::binary(const Expr& e, const Type* want) {
   switch (op) {
     case BinaryOp::Add: case BinaryOp::Subtract: case BinaryOp::Multiply: case BinaryOp::Divide:
       if (!lit && !(s && is_num(*s))) {
-        error(e.loc, fmt::format("'{}' needs numbers (ANY_NUM), found {}", op_text(op), t->name));
+        error(e.loc, fmt::format("'{}' needs numbers (ANY_NUM), found {}", binary_op_text(op), t->name));
         return record(e, {err()});
       }
       break;
@@ -707,7 +686,7 @@ Val Checker::binary(const Expr& e, const Type* want) {
       break;
     case BinaryOp::And: case BinaryOp::Or: case BinaryOp::Xor:
       if (lit || !(s && is_bits(*s))) {
-        error(e.loc, fmt::format("{} needs BOOL or a bit string (ANY_BIT), found {}", op_text(op),
+        error(e.loc, fmt::format("{} needs BOOL or a bit string (ANY_BIT), found {}", binary_op_text(op),
                                  lit ? "untyped literals" : t->name));
         return record(e, {err()});
       }
