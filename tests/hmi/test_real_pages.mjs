@@ -249,7 +249,11 @@ test('4. a bad upload: its error at its line in the source view; the running pro
   }
   assert.equal(await page.locator('#change-report').count(), 0);
   // Untouched: the same version runs, on and on, with the same values.
+  // Counted, not timed: the program's own scan counter must pass a hundred more scans
+  // (under ASan the published values can trail the task's scan count).
   await until(async () => (await task()).scans > was.task.scans + 100, HANG_GUARD_MS, 'a hundred more scans');
+  await until(async () => (await values('scan_count')).values.scan_count > was.values.scan_count + 100,
+    HANG_GUARD_MS, 'the program counts on');
   const now = await plcState();
   assert.equal(now.status.runtime.program_version, was.status.runtime.program_version);
   assert.deepEqual(now.running, was.running);
