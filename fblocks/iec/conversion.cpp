@@ -3,147 +3,29 @@
 // generated from the type list (IEC 61131-3 ed. 2, 2.5.1.5.1, Table 22; the
 // typed *_TRUNC_** names are those of ed. 3).
 //
-// The rules (the standard leaves out-of-range results implementation-defined;
-// syncplc saturates and raises a fault, so a wrapped value never reaches an
-// actuator unnoticed):
-//   - REAL/LREAL to an integer: round to nearest, ties to even (IEC 60559, as
-//     Table 22 note b prescribes: 2.5 -> 2, -1.5 -> -2); *_TRUNC_* rounds
-//     toward zero (note c).
-//   - to an integer (SINT..ULINT) or REAL: a value outside the target's range
-//     gives the nearest representable value (the minimum or maximum) and a
-//     block-fault event "conversion out of range" with the value.
-//   - to a bit string (BYTE..LWORD): the low bits of the value's two's-
-//     complement pattern (INT_TO_WORD(-1) = 16#FFFF, DWORD_TO_BYTE(16#1234)
-//     = 16#34), no fault; from a real, the rounded value must fit
-//     0 .. 2^N - 1 (else saturated, fault).
-//   - a bit string to a signed integer of the same width is a reinterpretation
-//     of the bits (WORD_TO_INT(16#FFFF) = -1), no fault; otherwise bit strings
-//     count as unsigned numbers.
-//   - BOOL: FALSE -> 0, TRUE -> 1; to BOOL: TRUE when the value is not 0.
-//   - TIME: counted in milliseconds against numbers and bit strings (as
-//     CODESYS TIME_TO_DINT); TIME_TO_LREAL(T#1.5ms) = 1.5; to an integer a
-//     fraction of a millisecond rounds like a real. BOOL_TO_TIME(TRUE) = T#1ms.
-#include <cfenv>
-#include <cmath>
-#include <limits>
-
+// The conversion rules and their one implementation are in
+// runtime/core/iec_convert.hpp (the ST VM uses the same); here a saturated
+// result raises a block-fault event "conversion out of range" with the value.
 #include "fblocks/iec/common.hpp"
+#include "runtime/core/iec_convert.hpp"
 
 namespace syncplc::iec {
 namespace {
 
-constexpr double kNsPerMs = 1e6;
-
-// A source value: an exact integer or a real.
-struct Value {
-  bool real = false;
-  __int128 i = 0;
-  double r = 0;
-};
-
-template <IecType S>
-Value read(Cell c) noexcept {
-  using V = native_t<S>;
-  const V v = c.get<V>();
-  Value x;
-  if constexpr (S == IecType::REAL || S == IecType::LREAL) {
-    x.real = true;
-    x.r = static_cast<double>(v);
-  } else if constexpr (S == IecType::TIME) {
-    if (v % 1'000'000 == 0) x.i = v / 1'000'000;
-    else x.real = true, x.r = static_cast<double>(v) / kNsPerMs;
-  } else {
-    x.i = static_cast<__int128>(v);  // BOOL 0/1, integers, bit strings (unsigned)
-  }
-  return x;
-}
-
-enum class Rounding { Nearest, Trunc };
-
-// The integer a real becomes: nearest (ties to even) or toward zero. The
-// inputs are finite (finite_guard.hpp); |r| < 2^127 is checked by the caller.
-inline double to_integral(double r, Rounding m) noexcept {
-  return m == Rounding::Trunc ? std::trunc(r) : std::nearbyint(r);  // default mode: to nearest, ties to even
-}
-
-// Clamps v to [lo, hi]; *out_of_range when it had to.
-inline __int128 clamp128(__int128 v, __int128 lo, __int128 hi, bool* out_of_range) noexcept {
-  if (v < lo) { *out_of_range = true; return lo; }
-  if (v > hi) { *out_of_range = true; return hi; }
-  return v;
-}
-
-// A real as an integer in [lo, hi] (saturated).
-inline __int128 real_to_int(double r, Rounding m, __int128 lo, __int128 hi, bool* out_of_range) noexcept {
-  const double q = to_integral(r, m);
-  if (q < static_cast<double>(lo)) { *out_of_range = true; return lo; }
-  if (q > static_cast<double>(hi)) { *out_of_range = true; return hi; }
-  // |q| <= 2^64 here, exact in __int128; double(hi) may round up (2^64 - 1 -> 2^64).
-  return clamp128(static_cast<__int128>(q), lo, hi, out_of_range);
-}
-
-template <IecType S, IecType D>
-Cell convert(Cell in, Rounding m, bool* out_of_range) noexcept {
-  using DV = native_t<D>;
-  const Value x = read<S>(in);
-  Cell out;
-  if constexpr (D == IecType::BOOL) {
-    out.set<bool>(x.real ? x.r != 0 : x.i != 0);
-  } else if constexpr (D == IecType::REAL || D == IecType::LREAL) {
-    double r = x.real ? x.r : static_cast<double>(x.i);
-    if constexpr (D == IecType::REAL) {
-      constexpr double kMax = std::numeric_limits<float>::max();
-      if (r > kMax || r < -kMax) {
-        *out_of_range = true;
-        r = r > 0 ? kMax : -kMax;
-      }
-    }
-    out.set<DV>(static_cast<DV>(r));
-  } else if constexpr (D == IecType::TIME) {
-    constexpr auto lo = static_cast<__int128>(std::numeric_limits<std::int64_t>::min());
-    constexpr auto hi = static_cast<__int128>(std::numeric_limits<std::int64_t>::max());
-    __int128 ns;
-    if (x.real) {
-      const double q = std::nearbyint(x.r * kNsPerMs);
-      ns = q < -9.2e18 ? lo : q > 9.2e18 ? hi : static_cast<__int128>(q);
-      if (q < -9.2e18 || q > 9.2e18) *out_of_range = true;
-    } else {
-      ns = clamp128(x.i * 1'000'000, lo, hi, out_of_range);
-    }
-    out.set<std::int64_t>(static_cast<std::int64_t>(ns));
-  } else if constexpr (type_in_class(D, TypeClass::ANY_BIT)) {
-    // The low bits of the two's-complement pattern.
-    using U = DV;
-    constexpr __int128 umax = static_cast<__int128>(std::numeric_limits<U>::max());
-    const __int128 v = x.real ? real_to_int(x.r, m, 0, umax, out_of_range) : x.i;
-    out.set<U>(static_cast<U>(static_cast<unsigned __int128>(v)));
-  } else {  // a signed or unsigned integer
-    constexpr auto lo = static_cast<__int128>(std::numeric_limits<DV>::min());
-    constexpr auto hi = static_cast<__int128>(std::numeric_limits<DV>::max());
-    if constexpr (type_in_class(S, TypeClass::ANY_BIT) && S != IecType::BOOL && sizeof(native_t<S>) == sizeof(DV)) {
-      out.set<DV>(static_cast<DV>(in.get<native_t<S>>()));  // same width: the bits, reinterpreted
-    } else if (x.real) {
-      out.set<DV>(static_cast<DV>(real_to_int(x.r, m, lo, hi, out_of_range)));
-    } else {
-      out.set<DV>(static_cast<DV>(clamp128(x.i, lo, hi, out_of_range)));
-    }
-  }
-  return out;
-}
-
-template <IecType S, IecType D>
+// The conversion math is runtime/core/iec_convert.* (shared with the ST VM).
 class Conversion final : public Block {
  public:
-  explicit Conversion(Rounding m) : m_(m) {}
+  Conversion(IecType s, ConvertFn f) : s_(s), f_(f) {}
   void execute(ScanContext& ctx) noexcept override {
     bool out_of_range = false;
     const Cell in = *pin_cell(0);
-    *pin_cell(1) = convert<S, D>(in, m_, &out_of_range);
-    if (out_of_range) ctx.fault("conversion out of range", cell_as_double(S, in));
+    *pin_cell(1) = f_(in, &out_of_range);
+    if (out_of_range) ctx.fault("conversion out of range", cell_as_double(s_, in));
   }
 
  private:
-  Rounding m_;
+  IecType s_;
+  ConvertFn f_;
 };
 
 constexpr IecType kAll[] = {IecType::BOOL,  IecType::SINT,  IecType::INT,   IecType::DINT,
@@ -201,14 +83,8 @@ void register_conversions(BlockRegistry& r) {
       for (bool trunc : {false, true}) {
         if (trunc && !(is_real(s) && is_integer(d))) continue;
         BlockTypeInfo t = info(s, d, trunc);
-        const Rounding m = trunc ? Rounding::Trunc : Rounding::Nearest;
-        t.create = [s, d, m](BlockSetup&) -> std::unique_ptr<Block> {
-          return dispatch_type(s, [&]<IecType S>() -> std::unique_ptr<Block> {
-            return dispatch_type(d, [&]<IecType D>() -> std::unique_ptr<Block> {
-              if constexpr (S == D) return nullptr;
-              else return std::make_unique<Conversion<S, D>>(m);
-            });
-          });
+        t.create = [s, d, trunc](BlockSetup&) -> std::unique_ptr<Block> {
+          return std::make_unique<Conversion>(s, conversion_fn(s, d, trunc));
         };
         r.add(std::move(t));
       }
