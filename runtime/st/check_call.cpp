@@ -266,6 +266,7 @@ Val Checker::std_call(const Expr& e, const StdFunction& f, const Type*) {
     }
   }
   if (!ok) return record(e, {err()});
+  out_.std_args[&e] = bound;
   Val result;
   if (!generic.empty() && all_literal) {
     // Literals only: a number whose type the context decides (MAX(1, 2)).
@@ -290,6 +291,7 @@ Val Checker::std_call(const Expr& e, const StdFunction& f, const Type*) {
     return record(e, {err()});
   }
   for (auto& [a, v] : generic) coerce(a->value, v, t, fmt::format("input of {}", f.name));
+  info(e).operand_type = t;
   switch (f.result) {
     case ResultRule::T: result.type = t ? t : err(); break;
     case ResultRule::Int: result.type = elem(Elem::INT); break;

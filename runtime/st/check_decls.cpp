@@ -137,7 +137,10 @@ const Type* Checker::named_type(const std::string& n, const SourceLoc& loc) {
     const TypeDecl& d = *it->second;
     const Type* t = resolve(d.type, d.name);
     resolving_.pop_back();
-    if (d.init.kind != InitKind::None) check_init(d.init, t);
+    if (d.init.kind != InitKind::None) {
+      check_init(d.init, t);
+      out_.type_inits[key] = &d.init;
+    }
     return out_.named_types[key] = t;
   }
   std::vector<std::string_view> names;
@@ -219,7 +222,7 @@ const Type* Checker::resolve(const TypeSpec& spec, const std::string& name_for_n
           if (const Field* f = t.field(m.names[i]))
             error(loc, fmt::format("duplicate field '{}' (first at {})", m.names[i], f->loc.text()));
           else
-            t.fields.push_back({m.names[i], ft, loc});
+            t.fields.push_back({m.names[i], ft, loc, &m.init, &m.type});
         }
       }
       return types_.add(std::move(t));
@@ -388,6 +391,7 @@ void Checker::declare_section(PouInfo* info, const VarSection& section, VarScope
       v->retain = section.retain || section.persistent;
       v->address = d.address;
       v->init = &d.init;
+      v->spec = &d.type;
       v->loc = loc;
       if (section.constant && d.init.kind == InitKind::Expr) {
         const ExprInfo* ei = out_.info(d.init.expr);

@@ -658,6 +658,7 @@ Val Checker::binary(const Expr& e, const Type* want) {
   if (t->is_error()) return record(e, {err()});
   const auto s = t->scalar();
   if (is_comparison(op)) {
+    info(e).operand_type = t;
     if (lit) {
       settle_default(a, x);
       settle_default(b, y);

@@ -50,6 +50,7 @@ struct Variable {
   bool retain = false;
   std::string address;  // AT %IX0.0
   const Initializer* init = nullptr;
+  const TypeSpec* spec = nullptr;  // its type as written (an alias's own initial value)
   std::optional<ConstValue> value;  // a CONSTANT's folded scalar value
   SourceLoc loc;
 };
@@ -69,6 +70,9 @@ struct ExprInfo {
   std::optional<Conversion> conversion;
   const PouInfo* function = nullptr;  // UserFunction
   std::optional<ConstValue> constant;  // folded: literals and constant expressions
+  // A comparison: the type both operands are compared in; a standard
+  // function call: its generic type T (nullptr when it has none).
+  const Type* operand_type = nullptr;
 };
 
 struct PouInfo {
@@ -98,7 +102,10 @@ struct CheckedProgram {
   std::vector<std::unique_ptr<Variable>> globals;  // top-level VAR_GLOBAL
   std::vector<ExternalRef> externals;
   std::unordered_map<const Argument*, const Pin*> args;  // FB and user function calls: each argument's parameter
+  // Standard function calls: each argument with its parameter, in the call's order.
+  std::unordered_map<const Expr*, std::vector<std::pair<const Argument*, const StdParam*>>> std_args;
   std::map<std::string, const Type*> named_types;  // by name_key: TYPE declarations
+  std::map<std::string, const Initializer*> type_inits;  // by name_key: a TYPE's own initial value
   StDiagnostics diagnostics;
 
   bool ok() const { return !diagnostics.has_errors(); }

@@ -63,10 +63,15 @@ struct ArrayDim {
   std::int64_t count() const { return high - low + 1; }
 };
 
+struct Initializer;
+struct TypeSpec;
+
 struct Field {
   std::string name;
   const Type* type = nullptr;
   SourceLoc loc;
+  const Initializer* init = nullptr;  // its initial value as declared (InitKind::None when none)
+  const TypeSpec* spec = nullptr;     // its type as written (an alias's own initial value)
 };
 
 struct EnumValue {

@@ -1,0 +1,116 @@
+// An instance's area and its embedded built-in blocks (instance.hpp).
+#include "runtime/st/vm/instance.hpp"
+
+#include <cstring>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "runtime/st/checker.hpp"
+
+namespace syncplc::st::vm {
+
+namespace {
+
+// What a built-in block's factory sees of an instance embedded in ST: every
+// input is given by the ST code (connected), parameters take their defaults.
+class EmbeddedSetup final : public BlockSetup {
+ public:
+  EmbeddedSetup(std::string name, const BlockTypeInfo& type, const InstanceSetup& s)
+      : name_(std::move(name)), type_(type), setup_(s) {}
+  const std::string& instance_name() const override { return name_; }
+  const BlockTypeInfo& type() const override { return type_; }
+  IecType datatype() const override { return type_.default_datatype.value_or(IecType::LREAL); }
+  Cell param_cell(int index) const override {
+    const ParamDecl& p = type_.params[static_cast<std::size_t>(index)];
+    std::string why;
+    if (const auto c = parse_value(p.type, p.default_value, &why)) return *c;
+    return Cell{};
+  }
+  bool connected(int pin) const override { return type_.pins[static_cast<std::size_t>(pin)].dir == syncplc::PinDir::In; }
+  std::uint32_t pin_length(int) const override { return 1; }
+  std::int64_t task_period_ns() const override { return setup_.task_period_ns; }
+  std::uint64_t seed() const override {
+    std::uint64_t h = setup_.seed ^ 0x9E3779B97F4A7C15ull;  // the instance's name mixed in (FNV-1a)
+    for (unsigned char ch : name_) h = (h ^ ch) * 0x100000001B3ull;
+    return h;
+  }
+  void error(const std::string& message) override { errors_.push_back(message); }
+  void unknown_param(std::string_view name) const override {
+    const_cast<EmbeddedSetup*>(this)->errors_.push_back(fmt::format("unknown parameter '{}'", name));
+  }
+  const std::vector<std::string>& errors() const { return errors_; }
+
+ private:
+  std::string name_;
+  const BlockTypeInfo& type_;
+  const InstanceSetup& setup_;
+  std::vector<std::string> errors_;
+};
+
+}  // namespace
+
+Instance::Instance(std::shared_ptr<const Module> module, std::uint32_t pou, const InstanceSetup& setup)
+    : module_(std::move(module)), pou_(pou) {
+  const CompiledPou& p = module_->pous[pou];
+  const std::uint32_t frame = p.frame_cells;
+  area_.assign(frame + module_->function_area + module_->scratch_cells, Cell{});
+  std::memcpy(area_.data(), p.image.data(), frame * sizeof(Cell));
+  create_blocks(pou, 0, setup, setup.name);
+  vm_.module = module_.get();
+  vm_.functions = area_.data() + frame;
+  vm_.scratch = area_.data() + frame + module_->function_area;
+}
+
+void Instance::create_blocks(std::uint32_t pou, std::uint32_t at, const InstanceSetup& setup,
+                             const std::string& path) {
+  const CompiledPou& p = module_->pous[pou];
+  for (const BlockSlot& s : module_->block_slots[pou]) {
+    std::string member;
+    for (const VarSlot& v : p.vars)
+      if (s.at >= v.at && s.at < v.at + v.cells) member = v.name;
+    const std::string name = path + "." + member;
+    for (const ParamDecl& d : s.type->params)
+      if (d.default_value.empty())
+        throw std::runtime_error(fmt::format("{} ({}): parameter '{}' has no default value, and ST cannot give one "
+                                             "(use the block in the project's blocks: instead)",
+                                             name, s.type->name, d.name));
+    EmbeddedSetup b(name, *s.type, setup);
+    std::unique_ptr<Block> block = s.type->create(b);
+    if (!b.errors().empty() || !block)
+      throw std::runtime_error(fmt::format("{} ({}): {}", name, s.type->name,
+                                           b.errors().empty() ? "not created" : b.errors().front()));
+    const std::size_t n = s.type->pins.size();
+    auto pins = std::make_unique<Cell*[]>(n);
+    Cell* cells = area_.data() + at + s.at;
+    for (std::size_t k = 0; k < n; ++k) pins[k] = cells + 1 + k;
+    block->bind_pins(pins.get());
+    cells[0].raw = reinterpret_cast<std::uintptr_t>(block.get());
+    blocks_.push_back(std::move(block));
+    pins_.push_back(std::move(pins));
+  }
+  for (const auto& [off, fb] : module_->nested[pou]) {
+    std::string member;
+    for (const VarSlot& v : p.vars)
+      if (off >= v.at && off < v.at + v.cells) member = v.name;
+    create_blocks(fb, at + off, setup, path + "." + member);
+  }
+}
+
+bool Instance::scan(ScanContext& ctx, std::int64_t loop_budget) noexcept {
+  vm_.ctx = &ctx;
+  vm_.budget = loop_budget;
+  vm_.stopped = nullptr;
+  return run(vm_, pou_, area_.data());
+}
+
+bool Instance::bind_external(std::string_view name, Cell* cell) noexcept {
+  for (const VarSlot& v : module_->pous[pou_].vars)
+    if (v.scope == static_cast<int>(VarScope::External) && same_name(v.name, name)) {
+      area_[v.at].raw = reinterpret_cast<std::uintptr_t>(cell);
+      return true;
+    }
+  return false;
+}
+
+}  // namespace syncplc::st::vm

@@ -1,0 +1,59 @@
+// One running instance of a compiled POU (a PROGRAM, or a FUNCTION_BLOCK
+// used as a block of the graph): its area of cells — the POU's frame, the
+// FUNCTIONs' static frames and the scratch cells of out-of-bounds indexes —
+// and the built-in blocks its frame embeds. Created at load; scan() runs it
+// once on the scan path.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "runtime/core/block.hpp"
+#include "runtime/st/vm/code.hpp"
+#include "runtime/st/vm/vm.hpp"
+
+namespace syncplc::st::vm {
+
+// What the built-in blocks embedded in an instance are created with.
+struct InstanceSetup {
+  std::string name;                 // the instance's name (built-in blocks: name.member)
+  std::int64_t task_period_ns = 0;
+  std::uint64_t seed = 0;
+};
+
+class Instance {
+ public:
+  // Throws std::runtime_error naming the built-in block that cannot be
+  // created (a parameter without a default value).
+  Instance(std::shared_ptr<const Module> module, std::uint32_t pou, const InstanceSetup& setup);
+  Instance(const Instance&) = delete;
+  Instance& operator=(const Instance&) = delete;
+
+  // One execution. False when the loop budget ran out (stopped() names the loop).
+  bool scan(ScanContext& ctx, std::int64_t loop_budget) noexcept;
+
+  Cell* frame() noexcept { return area_.data(); }
+  const Cell* frame() const noexcept { return area_.data(); }
+  std::uint32_t frame_cells() const noexcept { return module_->pous[pou_].frame_cells; }
+  const CompiledPou& pou() const noexcept { return module_->pous[pou_]; }
+  const Module& module() const noexcept { return *module_; }
+  const char* stopped() const noexcept { return vm_.stopped; }
+  std::uint64_t faults() const noexcept { return vm_.faults; }
+  const char* last_fault() const noexcept { return vm_.last_fault; }
+  // Binds VAR_EXTERNAL `name` of the instance's POU to a cell outside (a tag).
+  bool bind_external(std::string_view name, Cell* cell) noexcept;
+
+ private:
+  void create_blocks(std::uint32_t pou, std::uint32_t at, const InstanceSetup& setup, const std::string& path);
+
+  std::shared_ptr<const Module> module_;
+  std::uint32_t pou_ = 0;
+  std::vector<Cell> area_;
+  std::vector<std::unique_ptr<Block>> blocks_;
+  std::vector<std::unique_ptr<Cell*[]>> pins_;
+  Vm vm_;
+};
+
+}  // namespace syncplc::st::vm

@@ -1,0 +1,510 @@
+// The interpreter: one handler per instruction, direct-threaded (each
+// instruction holds its handler's address; every handler ends with its own
+// indirect jump, so the branch predictor learns each handler's successors).
+// GCC's labels as values; the file is built with -Wpedantic off for that.
+//
+// Integer arithmetic wraps in the operand's type (computed in the unsigned
+// type of its width: no signed overflow, no UB). Division and MOD by zero
+// give 0 and a fault; the most negative value divided by -1 wraps to itself.
+// Reals follow IEC 60559 (a REAL is computed in float, not in double).
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <type_traits>
+
+#include "runtime/core/finite_guard.hpp"
+#include "runtime/st/vm/strings_op.hpp"
+#include "runtime/st/vm/vm.hpp"
+
+#pragma GCC diagnostic ignored "-Wpedantic"
+
+namespace syncplc::st::vm {
+
+namespace {
+
+using I8 = std::int8_t;
+using I16 = std::int16_t;
+using I32 = std::int32_t;
+using I64 = std::int64_t;
+using U8 = std::uint8_t;
+using U16 = std::uint16_t;
+using U32 = std::uint32_t;
+using U64 = std::uint64_t;
+using F32 = float;
+using F64 = double;
+
+template <class T>
+inline T rd(const Cell& c) noexcept { return c.get<T>(); }
+template <class T>
+inline void wr(Cell& c, T v) noexcept { c.set<T>(v); }
+
+inline Cell* ptr(const Cell& c) noexcept { return reinterpret_cast<Cell*>(static_cast<std::uintptr_t>(c.raw)); }
+inline void set_ptr(Cell& c, const void* p) noexcept { c.raw = reinterpret_cast<std::uintptr_t>(p); }
+
+// Wrapping arithmetic in T's width: through the unsigned type (promoted
+// types are cast back, which is modulo 2^N since C++20).
+template <class T>
+using Wu = std::conditional_t<(sizeof(T) < 4), std::uint32_t, std::make_unsigned_t<T>>;
+
+template <class T>
+inline T add(T a, T b) noexcept {
+  if constexpr (std::is_floating_point_v<T>) return a + b;
+  else return static_cast<T>(static_cast<Wu<T>>(static_cast<Wu<T>>(a) + static_cast<Wu<T>>(b)));
+}
+template <class T>
+inline T sub(T a, T b) noexcept {
+  if constexpr (std::is_floating_point_v<T>) return a - b;
+  else return static_cast<T>(static_cast<Wu<T>>(static_cast<Wu<T>>(a) - static_cast<Wu<T>>(b)));
+}
+template <class T>
+inline T mul(T a, T b) noexcept {
+  if constexpr (std::is_floating_point_v<T>) return a * b;
+  else return static_cast<T>(static_cast<Wu<T>>(static_cast<Wu<T>>(a) * static_cast<Wu<T>>(b)));
+}
+template <class T>
+inline T neg(T a) noexcept {
+  if constexpr (std::is_floating_point_v<T>) return -a;
+  else return static_cast<T>(static_cast<Wu<T>>(Wu<T>{0} - static_cast<Wu<T>>(a)));
+}
+template <class T>
+inline T abs_of(T a) noexcept {
+  if constexpr (std::is_floating_point_v<T>) return std::fabs(a);
+  else if constexpr (std::is_signed_v<T>) return a < 0 ? neg(a) : a;
+  else return a;
+}
+// Division: false when by zero (the caller faults; the result is 0).
+template <class T>
+inline bool div(T a, T b, T* r) noexcept {
+  if constexpr (std::is_floating_point_v<T>) {
+    *r = a / b;
+    return true;
+  } else {
+    if (b == 0) { *r = 0; return false; }
+    if constexpr (std::is_signed_v<T>)
+      if (b == -1) { *r = neg(a); return true; }
+    *r = static_cast<T>(a / b);
+    return true;
+  }
+}
+// MOD: the sign of the dividend (IEC: A MOD B = A - (A / B) * B, truncating).
+template <class T>
+inline bool mod(T a, T b, T* r) noexcept {
+  if constexpr (std::is_floating_point_v<T>) {
+    *r = std::fmod(a, b);
+    return true;
+  } else {
+    if (b == 0) { *r = 0; return false; }
+    if constexpr (std::is_signed_v<T>)
+      if (b == -1) { *r = 0; return true; }
+    *r = static_cast<T>(a % b);
+    return true;
+  }
+}
+
+template <class T>
+inline T index_value(const Cell& c) noexcept { return rd<T>(c); }
+
+// An index cell's value as a signed 64-bit number, saturated (a ULINT index
+// above INT64_MAX is out of every array's bounds anyway).
+inline std::int64_t read_index(const Cell& c, Num n) noexcept {
+  switch (n) {
+    case Num::I8: return rd<I8>(c);
+    case Num::I16: return rd<I16>(c);
+    case Num::I32: return rd<I32>(c);
+    case Num::I64: return rd<I64>(c);
+    case Num::U8: return rd<U8>(c);
+    case Num::U16: return rd<U16>(c);
+    case Num::U32: return rd<U32>(c);
+    case Num::U64: {
+      const U64 v = rd<U64>(c);
+      return v > static_cast<U64>(std::numeric_limits<I64>::max()) ? std::numeric_limits<I64>::max()
+                                                                   : static_cast<I64>(v);
+    }
+    default: return 0;
+  }
+}
+
+// Element offset of a checked index, or -1 when out of bounds.
+inline std::int64_t element(const IndexCheck& k, const Cell& index) noexcept {
+  const std::int64_t v = read_index(index, k.index);
+  const std::uint64_t at = static_cast<std::uint64_t>(v) - static_cast<std::uint64_t>(k.low);
+  if (at >= k.count) return -1;
+  return static_cast<std::int64_t>(at * k.stride);
+}
+
+template <class T>
+inline void range_store(Vm& vm, Cell& dst, const Cell& src, const RangeCheck& r) noexcept {
+  const std::int64_t v = static_cast<std::int64_t>(rd<T>(src));
+  if (v < r.low) {
+    wr<T>(dst, static_cast<T>(r.low));
+    vm.fault(r.site, static_cast<double>(v));
+  } else if (v > r.high) {
+    wr<T>(dst, static_cast<T>(r.high));
+    vm.fault(r.site, static_cast<double>(v));
+  } else {
+    dst = src;
+  }
+}
+
+template <class U>
+inline U shl(U v, std::int64_t n) noexcept {
+  constexpr int w = sizeof(U) * 8;
+  return n < 0 || n >= w ? U{0} : static_cast<U>(static_cast<U64>(v) << n);
+}
+template <class U>
+inline U shr(U v, std::int64_t n) noexcept {
+  constexpr int w = sizeof(U) * 8;
+  return n < 0 || n >= w ? U{0} : static_cast<U>(static_cast<U64>(v) >> n);
+}
+template <class U>
+inline U rol(U v, std::int64_t n) noexcept {
+  constexpr int w = sizeof(U) * 8;
+  const int k = static_cast<int>(static_cast<U64>(n) & (w - 1));
+  if (k == 0) return v;
+  return static_cast<U>((static_cast<U64>(v) << k) | (static_cast<U64>(v) >> (w - k)));
+}
+template <class U>
+inline U ror(U v, std::int64_t n) noexcept {
+  constexpr int w = sizeof(U) * 8;
+  const int k = static_cast<int>(static_cast<U64>(n) & (w - 1));
+  if (k == 0) return v;
+  return static_cast<U>((static_cast<U64>(v) >> k) | (static_cast<U64>(v) << (w - k)));
+}
+
+// The one function with the labels: run() with frame == nullptr hands out the
+// label table instead of running (how finalize() learns the addresses).
+const void* const* exec(Vm& vm, const CompiledPou* pou, Cell* f, bool* ok) noexcept {
+  static const void* const labels[] = {
+#define X(op) &&L_##op,
+      SYNCPLC_ST_OPS(X)
+#undef X
+  };
+  if (!f) return labels;
+  const Module& m = *vm.module;
+  const Insn* const code = pou->code.data();
+  const Insn* ip = code;
+#define DISPATCH() goto *ip->handler
+#define NEXT() \
+  do {         \
+    ++ip;      \
+    DISPATCH(); \
+  } while (0)
+#define JUMP(target)        \
+  do {                      \
+    ip = code + (target);   \
+    DISPATCH();             \
+  } while (0)
+  DISPATCH();
+
+L_HALT:
+  *ok = true;
+  return nullptr;
+L_JMP:
+  JUMP(ip->d);
+L_JMPB:
+  if (--vm.budget < 0) {
+    vm.stopped = m.sites[ip->site].message;
+    *ok = false;
+    return nullptr;
+  }
+  JUMP(ip->d);
+L_JZ:
+  if (f[ip->a].raw == 0) JUMP(ip->d);
+  NEXT();
+L_JNZ:
+  if (f[ip->a].raw != 0) JUMP(ip->d);
+  NEXT();
+L_SWITCH: {
+  const JumpTable& t = m.tables[ip->b];
+  const std::uint64_t k = static_cast<std::uint64_t>(rd<I64>(f[ip->a])) - static_cast<std::uint64_t>(t.low);
+  JUMP(k < t.targets.size() ? t.targets[k] : t.otherwise);
+}
+L_MOV:
+  f[ip->a] = f[ip->b];
+  NEXT();
+L_MOVN:
+  std::memmove(f + ip->a, f + ip->b, ip->c * sizeof(Cell));
+  NEXT();
+L_ZERO:
+  std::memset(static_cast<void*>(f + ip->a), 0, ip->c * sizeof(Cell));
+  NEXT();
+L_INIT:
+  std::memcpy(f + ip->a, m.pous[ip->d].image.data() + ip->b, ip->c * sizeof(Cell));
+  NEXT();
+L_ADDR:
+  set_ptr(f[ip->a], f + ip->b);
+  NEXT();
+L_REF_ADD:
+  set_ptr(f[ip->a], ptr(f[ip->b]) + ip->c);
+  NEXT();
+L_REF_INDEX: {
+  const IndexCheck& k = m.indexes[ip->d];
+  const std::int64_t at = element(k, f[ip->c]);
+  if (at < 0) {
+    vm.fault(k.site, static_cast<double>(read_index(f[ip->c], k.index)));
+    std::memset(static_cast<void*>(vm.scratch), 0, k.stride * sizeof(Cell));
+    set_ptr(f[ip->a], vm.scratch);
+  } else {
+    set_ptr(f[ip->a], ptr(f[ip->b]) + at);
+  }
+  NEXT();
+}
+L_LDI:
+  std::memmove(f + ip->a, ptr(f[ip->b]), ip->c * sizeof(Cell));
+  NEXT();
+L_STI:
+  std::memmove(ptr(f[ip->a]), f + ip->b, ip->c * sizeof(Cell));
+  NEXT();
+L_LDI1:
+  f[ip->a] = ptr(f[ip->b])[ip->c];
+  NEXT();
+L_STI1:
+  ptr(f[ip->a])[ip->c] = f[ip->b];
+  NEXT();
+L_LDX: {
+  const IndexCheck& k = m.indexes[ip->d];
+  const std::int64_t at = element(k, f[ip->c]);
+  if (at < 0) {
+    vm.fault(k.site, static_cast<double>(read_index(f[ip->c], k.index)));
+    f[ip->a].raw = 0;
+  } else {
+    f[ip->a] = f[ip->b + at];
+  }
+  NEXT();
+}
+L_STX: {
+  const IndexCheck& k = m.indexes[ip->d];
+  const std::int64_t at = element(k, f[ip->c]);
+  if (at < 0) vm.fault(k.site, static_cast<double>(read_index(f[ip->c], k.index)));
+  else f[ip->a + at] = f[ip->b];
+  NEXT();
+}
+L_GETBIT:
+  wr<bool>(f[ip->a], ((f[ip->b].raw >> ip->c) & 1u) != 0);
+  NEXT();
+L_SETBIT:
+  if (f[ip->b].raw != 0) f[ip->a].raw |= std::uint64_t{1} << ip->c;
+  else f[ip->a].raw &= ~(std::uint64_t{1} << ip->c);
+  NEXT();
+L_CALL_FB:
+  if (!run(vm, ip->d, f + ip->a)) {
+    *ok = false;
+    return nullptr;
+  }
+  NEXT();
+L_CALL_FB_REF:
+  if (!run(vm, ip->d, ptr(f[ip->a]))) {
+    *ok = false;
+    return nullptr;
+  }
+  NEXT();
+L_CALL_FN: {
+  const FunctionCall& call = m.calls[ip->d];
+  const CompiledPou& callee = m.pous[call.pou];
+  Cell* cf = vm.functions + callee.fn_frame;
+  std::memcpy(cf, callee.image.data(), callee.frame_cells * sizeof(Cell));
+  for (const CellCopy& c : call.in) std::memcpy(cf + c.to, f + c.from, c.count * sizeof(Cell));
+  if (!run(vm, call.pou, cf)) {
+    *ok = false;
+    return nullptr;
+  }
+  for (const CellCopy& c : call.out) std::memcpy(f + c.to, cf + c.from, c.count * sizeof(Cell));
+  NEXT();
+}
+L_CALL_BLOCK: {
+  Block* b = reinterpret_cast<Block*>(static_cast<std::uintptr_t>(f[ip->a].raw));
+  execute_guarded(*b, *vm.ctx);
+  if (ip->c) end_of_scan_guarded(*b, *vm.ctx);  // a unit delay: its sample is taken at the call
+  NEXT();
+}
+L_CALL_BLOCK_REF: {
+  Block* b = reinterpret_cast<Block*>(static_cast<std::uintptr_t>(ptr(f[ip->a])->raw));
+  execute_guarded(*b, *vm.ctx);
+  if (ip->c) end_of_scan_guarded(*b, *vm.ctx);
+  NEXT();
+}
+L_CONV: {
+  bool out_of_range = false;
+  f[ip->a] = m.conversions[ip->d](f[ip->b], &out_of_range);
+  if (out_of_range) vm.fault(ip->site);
+  NEXT();
+}
+L_MATH1:
+  f[ip->a] = m.math1[ip->d](f[ip->b]);
+  NEXT();
+L_MATH2:
+  f[ip->a] = m.math2[ip->d](f[ip->b], f[ip->c]);
+  NEXT();
+L_STRFN:
+  string_op(vm, f, m.strings[ip->d]);
+  NEXT();
+L_RANGE: {
+  const RangeCheck& r = m.ranges[ip->d];
+  switch (r.num) {
+    case Num::I8: range_store<I8>(vm, f[ip->a], f[ip->b], r); break;
+    case Num::I16: range_store<I16>(vm, f[ip->a], f[ip->b], r); break;
+    case Num::I32: range_store<I32>(vm, f[ip->a], f[ip->b], r); break;
+    case Num::U8: range_store<U8>(vm, f[ip->a], f[ip->b], r); break;
+    case Num::U16: range_store<U16>(vm, f[ip->a], f[ip->b], r); break;
+    case Num::U32: range_store<U32>(vm, f[ip->a], f[ip->b], r); break;
+    case Num::U64: range_store<U64>(vm, f[ip->a], f[ip->b], r); break;
+    default: range_store<I64>(vm, f[ip->a], f[ip->b], r); break;
+  }
+  NEXT();
+}
+L_MUX: {
+  std::int64_t k = rd<I64>(f[ip->b]);
+  if (k < 0 || k >= static_cast<std::int64_t>(ip->d)) {
+    vm.fault(ip->site, static_cast<double>(k));
+    k = k < 0 ? 0 : static_cast<std::int64_t>(ip->d) - 1;  // the nearest input
+  }
+  std::memmove(f + ip->a, f + ip->b + 1 + k * ip->c, ip->c * sizeof(Cell));
+  NEXT();
+}
+L_FAULT:
+  vm.fault(ip->site);
+  NEXT();
+L_AND:
+  f[ip->a].raw = f[ip->b].raw & f[ip->c].raw;
+  NEXT();
+L_OR:
+  f[ip->a].raw = f[ip->b].raw | f[ip->c].raw;
+  NEXT();
+L_XOR:
+  f[ip->a].raw = f[ip->b].raw ^ f[ip->c].raw;
+  NEXT();
+L_NOT_BOOL:
+  f[ip->a].raw = f[ip->b].raw ^ 1u;
+  NEXT();
+L_NOT_U8:
+  f[ip->a].raw = f[ip->b].raw ^ 0xFFu;
+  NEXT();
+L_NOT_U16:
+  f[ip->a].raw = f[ip->b].raw ^ 0xFFFFu;
+  NEXT();
+L_NOT_U32:
+  f[ip->a].raw = f[ip->b].raw ^ 0xFFFFFFFFu;
+  NEXT();
+L_NOT_U64:
+  f[ip->a].raw = ~f[ip->b].raw;
+  NEXT();
+
+#define SHIFT(name, fn, U)                            \
+  L_##name:                                           \
+  wr<U>(f[ip->a], fn<U>(rd<U>(f[ip->b]), rd<I64>(f[ip->c]))); \
+  NEXT();
+  SHIFT(SHL_U8, shl, U8) SHIFT(SHL_U16, shl, U16) SHIFT(SHL_U32, shl, U32) SHIFT(SHL_U64, shl, U64)
+  SHIFT(SHR_U8, shr, U8) SHIFT(SHR_U16, shr, U16) SHIFT(SHR_U32, shr, U32) SHIFT(SHR_U64, shr, U64)
+  SHIFT(ROL_U8, rol, U8) SHIFT(ROL_U16, rol, U16) SHIFT(ROL_U32, rol, U32) SHIFT(ROL_U64, rol, U64)
+  SHIFT(ROR_U8, ror, U8) SHIFT(ROR_U16, ror, U16) SHIFT(ROR_U32, ror, U32) SHIFT(ROR_U64, ror, U64)
+#undef SHIFT
+
+#define BIN(op, T, expr)                    \
+  L_##op##_##T: {                           \
+    const T x = rd<T>(f[ip->b]);            \
+    const T y = rd<T>(f[ip->c]);            \
+    wr<T>(f[ip->a], expr);                  \
+    NEXT();                                 \
+  }
+#define ARITH(T)                                 \
+  BIN(ADD, T, add<T>(x, y))                      \
+  BIN(SUB, T, sub<T>(x, y))                      \
+  BIN(MUL, T, mul<T>(x, y))                      \
+  BIN(MIN, T, (y < x ? y : x))                   \
+  BIN(MAX, T, (x < y ? y : x))                   \
+  L_DIV_##T: {                                   \
+    T r;                                         \
+    if (!div<T>(rd<T>(f[ip->b]), rd<T>(f[ip->c]), &r)) vm.fault(ip->site); \
+    wr<T>(f[ip->a], r);                          \
+    NEXT();                                      \
+  }                                              \
+  L_MOD_##T: {                                   \
+    T r;                                         \
+    if (!mod<T>(rd<T>(f[ip->b]), rd<T>(f[ip->c]), &r)) vm.fault(ip->site); \
+    wr<T>(f[ip->a], r);                          \
+    NEXT();                                      \
+  }                                              \
+  L_NEG_##T:                                     \
+  wr<T>(f[ip->a], neg<T>(rd<T>(f[ip->b])));      \
+  NEXT();                                        \
+  L_ABS_##T:                                     \
+  wr<T>(f[ip->a], abs_of<T>(rd<T>(f[ip->b])));   \
+  NEXT();
+  SYNCPLC_ST_NUM_TYPES(ARITH)
+#undef ARITH
+
+#define CMP(T)                                                          \
+  L_EQ_##T: wr<bool>(f[ip->a], rd<T>(f[ip->b]) == rd<T>(f[ip->c])); NEXT(); \
+  L_NE_##T: wr<bool>(f[ip->a], rd<T>(f[ip->b]) != rd<T>(f[ip->c])); NEXT(); \
+  L_LT_##T: wr<bool>(f[ip->a], rd<T>(f[ip->b]) < rd<T>(f[ip->c])); NEXT();  \
+  L_LE_##T: wr<bool>(f[ip->a], rd<T>(f[ip->b]) <= rd<T>(f[ip->c])); NEXT(); \
+  L_GT_##T: wr<bool>(f[ip->a], rd<T>(f[ip->b]) > rd<T>(f[ip->c])); NEXT();  \
+  L_GE_##T: wr<bool>(f[ip->a], rd<T>(f[ip->b]) >= rd<T>(f[ip->c])); NEXT(); \
+  L_JNLT_##T: if (!(rd<T>(f[ip->a]) < rd<T>(f[ip->b]))) JUMP(ip->d); NEXT();  \
+  L_JNLE_##T: if (!(rd<T>(f[ip->a]) <= rd<T>(f[ip->b]))) JUMP(ip->d); NEXT(); \
+  L_JNGT_##T: if (!(rd<T>(f[ip->a]) > rd<T>(f[ip->b]))) JUMP(ip->d); NEXT();  \
+  L_JNGE_##T: if (!(rd<T>(f[ip->a]) >= rd<T>(f[ip->b]))) JUMP(ip->d); NEXT(); \
+  L_JNEQ_##T: if (!(rd<T>(f[ip->a]) == rd<T>(f[ip->b]))) JUMP(ip->d); NEXT(); \
+  L_JNNE_##T: if (!(rd<T>(f[ip->a]) != rd<T>(f[ip->b]))) JUMP(ip->d); NEXT(); \
+  L_WIDEN_TO_I16_##T: wr<I16>(f[ip->a], static_cast<I16>(rd<T>(f[ip->b]))); NEXT(); \
+  L_WIDEN_TO_I32_##T: wr<I32>(f[ip->a], static_cast<I32>(rd<T>(f[ip->b]))); NEXT(); \
+  L_WIDEN_TO_I64_##T: wr<I64>(f[ip->a], static_cast<I64>(rd<T>(f[ip->b]))); NEXT(); \
+  L_WIDEN_TO_F32_##T: wr<F32>(f[ip->a], static_cast<F32>(rd<T>(f[ip->b]))); NEXT(); \
+  L_WIDEN_TO_F64_##T: wr<F64>(f[ip->a], static_cast<F64>(rd<T>(f[ip->b]))); NEXT();
+  SYNCPLC_ST_NUM_TYPES(CMP)
+#undef CMP
+
+  // FOR: a control variable, b end, c step (all of the control variable's
+  // type, end and step evaluated once). Counted in 128 bits: the loop ends
+  // without the control variable wrapping past the end.
+#define FOR(T)                                                                        \
+  L_FOR_ENTER_##T: {                                                                  \
+    const T i = rd<T>(f[ip->a]), e = rd<T>(f[ip->b]), s = rd<T>(f[ip->c]);            \
+    if (!(s < T{0}) ? i > e : i < e) JUMP(ip->d);                                      \
+    NEXT();                                                                           \
+  }                                                                                   \
+  L_FOR_NEXT_##T: {                                                                   \
+    const __int128 i = rd<T>(f[ip->a]), e = rd<T>(f[ip->b]), s = rd<T>(f[ip->c]);     \
+    if (s > 0 ? e - i < s : s < 0 ? i - e < -s : false) NEXT();                        \
+    wr<T>(f[ip->a], static_cast<T>(i + s));                                           \
+    if (--vm.budget < 0) {                                                            \
+      vm.stopped = m.sites[ip->site].message;                                         \
+      *ok = false;                                                                    \
+      return nullptr;                                                                 \
+    }                                                                                 \
+    JUMP(ip->d);                                                                      \
+  }
+  SYNCPLC_ST_INT_TYPES(FOR)
+#undef FOR
+#undef BIN
+#undef DISPATCH
+#undef NEXT
+#undef JUMP
+}
+
+}  // namespace
+
+void Vm::fault(std::uint32_t site, double value) noexcept {
+  ++faults;
+  last_fault = module->sites[site].message;
+  if (ctx) ctx->fault(last_fault, value);
+}
+
+bool run(Vm& vm, std::uint32_t pou, Cell* frame) noexcept {
+  const CompiledPou& p = vm.module->pous[pou];
+  if (p.temp_cells)
+    std::memcpy(frame + p.temp_begin, p.image.data() + p.temp_begin, p.temp_cells * sizeof(Cell));
+  bool ok = true;
+  exec(vm, &p, frame, &ok);
+  return ok;
+}
+
+void finalize(Module& m) {
+  Vm none;
+  bool ok = true;
+  const void* const* labels = exec(none, nullptr, nullptr, &ok);
+  for (CompiledPou& p : m.pous)
+    for (Insn& i : p.code) i.handler = labels[static_cast<int>(i.op)];
+}
+
+}  // namespace syncplc::st::vm
