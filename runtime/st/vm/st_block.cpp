@@ -122,7 +122,7 @@ std::optional<BlockTypeInfo> st_block_type(std::shared_ptr<const StUnit> unit, s
       if ((!in && !out) || !pin_type(v.type, &type)) continue;  // others: reached as instance.var
       PinDecl d;
       d.name = v.name;
-      d.dir = in ? PinDir::In : PinDir::Out;
+      d.dir = in ? syncplc::PinDir::In : syncplc::PinDir::Out;
       d.type = type;
       d.doc = fmt::format("{} {} : {}", in ? "VAR_INPUT" : "VAR_OUTPUT", v.name, v.type->name);
       // An unconnected input starts from the variable's initial value.
@@ -140,7 +140,7 @@ std::optional<BlockTypeInfo> st_block_type(std::shared_ptr<const StUnit> unit, s
     }
     PinDecl r;
     r.name = e.name + kExternalReadSuffix;
-    r.dir = PinDir::In;
+    r.dir = syncplc::PinDir::In;
     r.type = type;
     r.doc = fmt::format("the tag {} as the scan starts (VAR_EXTERNAL)", e.name);
     const int read_pin = static_cast<int>(t.pins.size());
@@ -148,7 +148,7 @@ std::optional<BlockTypeInfo> st_block_type(std::shared_ptr<const StUnit> unit, s
     if (e.written) {
       PinDecl w;
       w.name = e.name;
-      w.dir = PinDir::Out;
+      w.dir = syncplc::PinDir::Out;
       w.type = type;
       w.doc = fmt::format("the tag {} as the POU left it (VAR_EXTERNAL)", e.name);
       written.push_back({read_pin, static_cast<int>(t.pins.size())});
