@@ -22,6 +22,9 @@ namespace syncplc {
 
 enum class PinDir : std::uint8_t { In, Out };
 
+// Longest array pin a block may declare through its length parameter.
+inline constexpr std::uint32_t kMaxPinLength = 4096;
+
 struct PinDecl {
   std::string name;
   PinDir dir = PinDir::In;
@@ -41,6 +44,8 @@ struct PinDecl {
   // The tuning input of this tunable parameter ("" = an ordinary pin). Added
   // by BlockRegistry::add, named <param>_in (see BlockGuard).
   std::string tunes;
+  // The longest this array pin may be (an ST instance's variables: more).
+  std::uint32_t max_length = kMaxPinLength;
 
   bool is_array() const { return !length_param.empty(); }
 };
@@ -51,9 +56,6 @@ struct PinDecl {
 inline constexpr const char* kEnoPin = "ENO";
 // Suffix of the tuning input BlockRegistry::add gives each tunable parameter.
 inline constexpr const char* kTuningSuffix = "_in";
-
-// Longest array pin a block may declare through its length parameter.
-inline constexpr std::uint32_t kMaxPinLength = 4096;
 
 struct ParamDecl {
   std::string name;
@@ -188,6 +190,17 @@ struct BlockTypeInfo {
   // instance's state (otherwise it re-creates the instance). Last, so that
   // types written as one brace list of the fields before it stay as they are.
   bool rewire = false;
+  // A type whose instances have variables beyond their pins (an ST POU's,
+  // runtime/st/vm/st_block.hpp), kept in the array output pin
+  // `variables_pin`: `variable` resolves a path below the instance
+  // ("count", "fb.q", "arr[3]", "s.x") to an element of that pin and its
+  // type, or nullopt with the reason. Users address it as instance.path.
+  struct Variable {
+    std::uint32_t element = 0;
+    IecType type = IecType::LREAL;
+  };
+  int variables_pin = -1;
+  std::function<std::optional<Variable>(std::string_view path, std::string* error)> variable;
 
   int pin_index(std::string_view pin) const;
   int param_index(std::string_view param) const;

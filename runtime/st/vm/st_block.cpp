@@ -2,6 +2,8 @@
 // Instance in the scan.
 #include "runtime/st/vm/st_block.hpp"
 
+#include "runtime/st/vm/var_path.hpp"
+
 #include <algorithm>
 #include <cstring>
 
@@ -25,14 +27,15 @@ struct PinCell {
 class StBlock final : public Block {
  public:
   StBlock(std::shared_ptr<const StUnit> unit, std::uint32_t pou, BlockSetup& setup, std::vector<PinCell> inputs,
-          std::vector<PinCell> outputs, std::vector<std::pair<int, int>> written, std::int64_t budget)
+          std::vector<PinCell> outputs, std::vector<std::pair<int, int>> written, std::int64_t budget, int frame_pin)
       : unit_(std::move(unit)),
         instance_(unit_->module, pou,
                   InstanceSetup{setup.instance_name(), setup.task_period_ns(), setup.seed()}),
         inputs_(std::move(inputs)),
         outputs_(std::move(outputs)),
         written_(std::move(written)),
-        budget_(budget) {
+        budget_(budget),
+        frame_pin_(frame_pin) {
     const BlockTypeInfo& t = setup.type();
     // Each VAR_EXTERNAL reference cell of the instance (nested ones too) to its read pin.
     for (const auto& [cell, name] : instance_.externals()) {
@@ -42,6 +45,11 @@ class StBlock final : public Block {
   }
 
   void execute(ScanContext& ctx) noexcept override {
+    // The frame lives in its pin: published, monitored and forced like pins.
+    // The first scan moves it there with its initial values; later (an
+    // online change moved the pin's cells) it takes what the cells hold.
+    instance_.relocate(pin_cell(frame_pin_), !placed_);
+    placed_ = true;
     Cell* frame = instance_.frame();
     // The references follow the pins (bound again when an online change moves the block).
     for (const PinCell& e : externals_) frame[e.cell].raw = reinterpret_cast<std::uintptr_t>(pin_cell(e.pin));
@@ -57,6 +65,8 @@ class StBlock final : public Block {
   std::vector<PinCell> inputs_, outputs_, externals_;
   std::vector<std::pair<int, int>> written_;  // read pin -> write pin of each written VAR_EXTERNAL
   std::int64_t budget_;
+  int frame_pin_;
+  bool placed_ = false;
 };
 
 bool pin_type(const Type* t, IecType* out) {
@@ -162,11 +172,53 @@ std::optional<BlockTypeInfo> st_block_type(std::shared_ptr<const StUnit> unit, s
                            t.reference, p.name, t.pins[i].name, kExternalReadSuffix);
         return std::nullopt;
       }
-  t.create = [unit, pou, inputs, outputs, written](BlockSetup& s) -> std::unique_ptr<Block> {
+  // The frame as an array output pin sized by a parameter the compiler sets.
+  if (p.frame_cells > kMaxFrameCells) {
+    *why = fmt::format("{}: {} needs {} cells for its variables; an instance may have at most {}", t.reference, p.name,
+                       p.frame_cells, kMaxFrameCells);
+    return std::nullopt;
+  }
+  const std::uint32_t frame_cells = std::max<std::uint32_t>(p.frame_cells, 1);
+  ParamDecl cells;
+  cells.name = kVariablesParam;
+  cells.type = IecType::UDINT;
+  cells.default_value = std::to_string(frame_cells);
+  cells.min = cells.max = static_cast<double>(frame_cells);
+  cells.doc = "cells of the instance's variables (set by the compiler)";
+  t.params.push_back(std::move(cells));
+  PinDecl frame;
+  frame.name = kVariablesPin;
+  frame.dir = syncplc::PinDir::Out;
+  frame.type = IecType::LWORD;
+  frame.length_param = kVariablesParam;
+  frame.max_length = kMaxFrameCells;
+  frame.doc = "the instance's variables, reached as instance.name (docs/st.md)";
+  const int frame_pin = static_cast<int>(t.pins.size());
+  t.pins.push_back(std::move(frame));
+  t.variables_pin = frame_pin;
+  t.variable = [unit, pou](std::string_view path, std::string* error) -> std::optional<BlockTypeInfo::Variable> {
+    const auto r = resolve_path(*unit->module, pou, path, error);
+    if (!r) return std::nullopt;
+    if (r->reference) {
+      *error = "a VAR_IN_OUT or VAR_EXTERNAL refers to another variable (name the tag itself)";
+      return std::nullopt;
+    }
+    if (r->bit >= 0) {
+      *error = "a bit of a variable cannot be addressed alone: address the whole variable";
+      return std::nullopt;
+    }
+    IecType type;
+    if (!pin_type(r->type, &type)) {
+      *error = fmt::format("it is a {}: address one of its elements or fields", r->type->name);
+      return std::nullopt;
+    }
+    return BlockTypeInfo::Variable{r->at, type};
+  };
+  t.create = [unit, pou, inputs, outputs, written, frame_pin](BlockSetup& s) -> std::unique_ptr<Block> {
     // The budget from the task's watchdog, else its period.
     const std::int64_t time_ns = s.task_watchdog_ns() > 0 ? s.task_watchdog_ns() : s.task_period_ns();
     const std::int64_t budget = std::max<std::int64_t>(1000, time_ns / kNsPerBackwardJump);
-    return std::make_unique<StBlock>(unit, pou, s, inputs, outputs, written, budget);
+    return std::make_unique<StBlock>(unit, pou, s, inputs, outputs, written, budget, frame_pin);
   };
   return t;
 }
