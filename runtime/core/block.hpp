@@ -158,10 +158,22 @@ class Block {
   void out(int pin, std::uint32_t i, T v) noexcept { pins_[pin][i].set<T>(v); }
   Cell* pin_cell(int pin) const noexcept { return pins_[pin]; }
 
-  // Bound by the loader (or a test harness) before the first scan.
-  void bind_pins(Cell* const* pins) noexcept { pins_ = pins; }
+  // Bound by the loader (or a test harness) before the first scan, and again
+  // when an online change moves a kept instance into the new program (on
+  // the task's thread, between two scans).
+  void bind_pins(Cell* const* pins) noexcept {
+    pins_ = pins;
+    pins_bound();
+  }
 
   BlockGuard& guard() noexcept { return guard_; }
+
+ protected:
+  // The pins were (re)bound: a block that keeps state in its pins' cells
+  // (an ST instance's frame) takes them here. No allocation.
+  virtual void pins_bound() noexcept {}
+
+ public:
   const BlockGuard& guard() const noexcept { return guard_; }
 
  private:
@@ -201,6 +213,15 @@ struct BlockTypeInfo {
   };
   int variables_pin = -1;
   std::function<std::optional<Variable>(std::string_view path, std::string* error)> variable;
+  // Its variables as leaves (elementary values, strings, arrays of them),
+  // for an online change that re-creates an instance to carry over those
+  // whose path and type are unchanged (program_change.cpp).
+  struct VariableLeaf {
+    std::string path;  // "count", "fb.q", "hist"
+    std::string type;  // as the compiler spells it: "DINT", "ARRAY[1..3] OF LREAL", "STRING[20]"
+    std::uint32_t element = 0, count = 1;  // cells of the variables pin
+  };
+  std::vector<VariableLeaf> variable_leaves;
 
   int pin_index(std::string_view pin) const;
   int param_index(std::string_view param) const;

@@ -45,11 +45,6 @@ class StBlock final : public Block {
   }
 
   void execute(ScanContext& ctx) noexcept override {
-    // The frame lives in its pin: published, monitored and forced like pins.
-    // The first scan moves it there with its initial values; later (an
-    // online change moved the pin's cells) it takes what the cells hold.
-    instance_.relocate(pin_cell(frame_pin_), !placed_);
-    placed_ = true;
     Cell* frame = instance_.frame();
     // The references follow the pins (bound again when an online change moves the block).
     for (const PinCell& e : externals_) frame[e.cell].raw = reinterpret_cast<std::uintptr_t>(pin_cell(e.pin));
@@ -63,11 +58,111 @@ class StBlock final : public Block {
   std::shared_ptr<const StUnit> unit_;  // the module, its checked program and sources live as long as the block
   Instance instance_;
   std::vector<PinCell> inputs_, outputs_, externals_;
+  // The frame lives in its pin: published, monitored and forced like pins.
+  // Bound at the load, it moves there with its initial values; bound again
+  // (an online change moved the pin's cells, and what they hold), it takes
+  // what is there.
+  void pins_bound() noexcept override {
+    instance_.relocate(pin_cell(frame_pin_), !placed_);
+    placed_ = true;
+  }
+
   std::vector<std::pair<int, int>> written_;  // read pin -> write pin of each written VAR_EXTERNAL
   std::int64_t budget_;
   int frame_pin_;
   bool placed_ = false;
 };
+
+// The variables of POU `pou` at `at` as leaves (BlockTypeInfo::VariableLeaf).
+void leaves(const Module& m, std::uint32_t pou, std::uint32_t at, const std::string& prefix,
+            std::vector<BlockTypeInfo::VariableLeaf>& out, int depth);
+
+void type_leaves(const Module& m, const Type* t, std::uint32_t at, const std::string& path,
+                 std::vector<BlockTypeInfo::VariableLeaf>& out, int depth) {
+  if (depth > 32) return;
+  switch (t->kind) {
+    case Type::Kind::Struct: {
+      std::uint32_t off = 0;
+      for (const Field& f : t->fields) {
+        type_leaves(m, f.type, at + off, path + "." + f.name, out, depth + 1);
+        off += frame_cells_of(m, f.type);
+      }
+      return;
+    }
+    case Type::Kind::Array: {
+      const Type* e = t->element;
+      if (e->kind != Type::Kind::Struct && e->kind != Type::Kind::FunctionBlock && e->kind != Type::Kind::Array) break;
+      const std::uint32_t n = frame_cells_of(m, e);
+      for (std::int64_t k = 0; k < t->element_count(); ++k)
+        type_leaves(m, e, at + static_cast<std::uint32_t>(k) * n, fmt::format("{}[#{}]", path, k), out, depth + 1);
+      return;
+    }
+    case Type::Kind::FunctionBlock:
+      if (t->fb->builtin) {  // its pins; the Block* cell before them belongs to the instance
+        for (std::size_t k = 0; k < t->fb->pins.size(); ++k)
+          out.push_back({path + "." + t->fb->pins[k].name, t->fb->pins[k].type->name,
+                         at + 1 + static_cast<std::uint32_t>(k), 1});
+      } else if (const int fp = m.find(t->fb->name); fp >= 0) {
+        leaves(m, static_cast<std::uint32_t>(fp), at, path + ".", out, depth + 1);
+      }
+      return;
+    default: break;
+  }
+  out.push_back({path, t->name, at, frame_cells_of(m, t)});
+}
+
+void leaves(const Module& m, std::uint32_t pou, std::uint32_t at, const std::string& prefix,
+            std::vector<BlockTypeInfo::VariableLeaf>& out, int depth) {
+  for (const VarSlot& v : m.pous[pou].vars) {
+    if (v.scope == static_cast<int>(VarScope::External) || v.scope == static_cast<int>(VarScope::InOut) ||
+        v.scope == static_cast<int>(VarScope::Temp))
+      continue;  // references, and what each call sets again
+    type_leaves(m, v.type, at + v.at, prefix + v.name, out, depth);
+  }
+}
+
+// A hash of what POU `pou` runs: its code, frame and image, and those of
+// the POUs it embeds or calls (FNV-1a 64). Equal for an unchanged POU in a
+// reloaded project: the online change keeps such an instance as it is.
+std::uint64_t code_identity(const Module& m, std::uint32_t pou) {
+  std::vector<std::uint32_t> todo{pou}, seen;
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  auto mix = [&](std::uint64_t v) {
+    for (int k = 0; k < 8; ++k) h = (h ^ ((v >> (8 * k)) & 0xFF)) * 0x100000001b3ull;
+  };
+  auto mix_text = [&](std::string_view t) {
+    for (unsigned char c : t) h = (h ^ c) * 0x100000001b3ull;
+    mix(t.size());
+  };
+  while (!todo.empty()) {
+    const std::uint32_t p = todo.back();
+    todo.pop_back();
+    if (std::find(seen.begin(), seen.end(), p) != seen.end()) continue;
+    seen.push_back(p);
+    const CompiledPou& c = m.pous[p];
+    mix_text(c.name);
+    mix(c.frame_cells);
+    for (const Cell& x : c.image) mix(x.raw);
+    for (const VarSlot& v : c.vars) {
+      mix_text(v.name);
+      mix_text(v.type->name);
+      mix(v.at);
+      mix(static_cast<std::uint64_t>(v.scope));
+    }
+    for (const Insn& i : c.code) {
+      mix(static_cast<std::uint64_t>(i.op));
+      mix(i.a);
+      mix(i.b);
+      mix(i.c);
+      mix(i.d);
+      mix_text(m.sites.empty() ? "" : m.sites[std::min<std::size_t>(i.site, m.sites.size() - 1)].message);
+      if (i.op == Op::CALL_FB || i.op == Op::CALL_FB_REF) todo.push_back(i.d);
+      if (i.op == Op::CALL_FN) todo.push_back(m.calls[i.d].pou);
+    }
+    for (const auto& [off, fb] : m.nested[p]) todo.push_back(fb);
+  }
+  return h;
+}
 
 bool pin_type(const Type* t, IecType* out) {
   const auto s = t->scalar();
@@ -196,6 +291,15 @@ std::optional<BlockTypeInfo> st_block_type(std::shared_ptr<const StUnit> unit, s
   const int frame_pin = static_cast<int>(t.pins.size());
   t.pins.push_back(std::move(frame));
   t.variables_pin = frame_pin;
+  leaves(*unit->module, pou, 0, "", t.variable_leaves, 0);
+  // What the instance runs, as a parameter: part of its signature's
+  // structure, so a changed body re-creates it (and carries its variables).
+  ParamDecl code;
+  code.name = kCodeParam;
+  code.type = IecType::LWORD;
+  code.default_value = fmt::format("16#{:016X}", code_identity(*unit->module, pou));
+  code.doc = "identity of the compiled code (set by the compiler)";
+  t.params.push_back(std::move(code));
   t.variable = [unit, pou](std::string_view path, std::string* error) -> std::optional<BlockTypeInfo::Variable> {
     const auto r = resolve_path(*unit->module, pou, path, error);
     if (!r) return std::nullopt;

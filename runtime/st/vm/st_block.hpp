@@ -47,6 +47,7 @@ inline constexpr const char* kExternalReadSuffix = "_in";
 // parameter that sizes it (set by the compiler; not to be given).
 inline constexpr const char* kVariablesPin = "(variables)";
 inline constexpr const char* kVariablesParam = "(variable cells)";
+inline constexpr const char* kCodeParam = "(code)";
 // The largest frame of an instance, in cells (8 MiB).
 inline constexpr std::uint32_t kMaxFrameCells = 1u << 20;
 
