@@ -216,7 +216,13 @@ std::optional<BlockTypeInfo> st_block_type(std::shared_ptr<const StUnit> unit, s
   BlockTypeInfo t;
   t.name = p.name;
   t.category = p.kind == PouKind::Program ? "Structured Text programs" : "Structured Text function blocks";
-  t.doc = info && info->pou ? info->pou->doc : "";
+  // The POU's comment as one paragraph (its line breaks and indents are the source's layout).
+  for (char c : info && info->pou ? info->pou->doc : std::string()) {
+    const bool space = c == ' ' || c == '\n' || c == '\t' || c == '\r';
+    if (space && (t.doc.empty() || t.doc.back() == ' ')) continue;
+    t.doc += space ? ' ' : c;
+  }
+  while (!t.doc.empty() && t.doc.back() == ' ') t.doc.pop_back();
   t.reference = info && info->pou ? info->pou->loc.text() : "";
   std::vector<PinCell> inputs, outputs;
   if (p.kind == PouKind::FunctionBlock) {
