@@ -30,7 +30,7 @@ struct Value {
 };
 
 template <IecType S>
-Value read_value(Cell c) noexcept {
+Value read_source(Cell c) noexcept {
   using V = native_t<S>;
   const V v = c.get<V>();
   Value x;
@@ -74,7 +74,7 @@ template <IecType S, IecType D, Rounding M>
 Cell convert(Cell in, bool* out_of_range) noexcept {
   using DV = native_t<D>;
   if constexpr (S == D) return in;  // the cell as it is, without reading it as a value
-  const Value x = read_value<S>(in);
+  const Value x = read_source<S>(in);
   Cell out;
   if constexpr (D == IecType::BOOL) {
     out.set<bool>(x.real ? x.r != 0 : x.i != 0);
