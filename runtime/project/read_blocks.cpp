@@ -3,6 +3,7 @@
 #include <utility>
 
 #include "runtime/core/reference.hpp"
+#include "runtime/project/read_st.hpp"
 #include "runtime/project/stages.hpp"
 
 namespace syncplc {
@@ -36,7 +37,10 @@ void read_blocks(ConfigNode& n, const BlockRegistry& blocks, Declarations& p, Di
         else p.names[v.scalar] = v.loc;
       } else if (k == "type") {
         in.type = blocks.find(v.scalar);
-        if (!in.type) { diags.error(v.loc, "unknown block type '" + v.scalar + "' (see `syncplc blocks`)"); ok = false; }
+        // A FUNCTION_BLOCK of a source with errors: those errors say what is wrong.
+        if (!in.type && !(p.st && p.st->declares(v.scalar)))
+          diags.error(v.loc, "unknown block type '" + v.scalar + "' (see `syncplc blocks`)");
+        if (!in.type) ok = false;
       } else if (k == "task") task = &v;
       else if (k == "params") params = &v;
       else if (k == "inputs") inputs = &v;

@@ -75,8 +75,11 @@ std::shared_ptr<StProject> read_st_sources(const ConfigNode* sources, const Bloc
     if (read) read->push_back({path.string(), body});
     unit->parsed.push_back(std::make_unique<st::ParseResult>(st::parse(body, SourceFile(path.string()))));
     report(unit->parsed.back()->diagnostics, diags);
+    for (const auto& pou : unit->parsed.back()->unit.pous)
+      if (pou.kind != st::PouKind::Function) out->declared.insert(pou.name);
     ok = ok && unit->parsed.back()->ok();
   }
+  out->failed = true;  // until the module is made
   if (!ok) return out;
   std::vector<const st::CompilationUnit*> units;
   for (const auto& p : unit->parsed) units.push_back(&p->unit);
@@ -92,6 +95,7 @@ std::shared_ptr<StProject> read_st_sources(const ConfigNode* sources, const Bloc
   report(gen, diags);
   if (!unit->module) return out;
   out->unit = unit;
+  out->failed = false;
   for (std::uint32_t k = 0; k < unit->module->pous.size(); ++k) {
     const st::vm::CompiledPou& p = unit->module->pous[k];
     if (p.kind == st::PouKind::Function) continue;
@@ -141,7 +145,9 @@ void read_programs(const ConfigNode& n, const StProject& st, Declarations& p, Di
         }
       } else if (k == "type") {
         in.type = st.blocks->find(v.scalar);
-        if (!in.type || in.type->category != "Structured Text programs") {
+        if (!in.type && st.declares(v.scalar)) {
+          ok = false;  // its source has errors, reported there
+        } else if (!in.type || in.type->category != "Structured Text programs") {
           std::vector<std::string_view> names;
           for (const auto* t : st.blocks->all())
             if (t->category == "Structured Text programs") names.push_back(t->name);
