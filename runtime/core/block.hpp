@@ -220,6 +220,8 @@ struct BlockTypeInfo {
     std::string path;  // "count", "fb.q", "hist"
     std::string type;  // as the compiler spells it: "DINT", "ARRAY[1..3] OF LREAL", "STRING[20]"
     std::uint32_t element = 0, count = 1;  // cells of the variables pin
+    bool retain = false;      // declared RETAIN (or inside a RETAIN instance): kept across a restart
+    bool persistent = false;  // declared PERSISTENT: also across loading a changed project
   };
   std::vector<VariableLeaf> variable_leaves;
 

@@ -56,6 +56,7 @@ void read_blocks(ConfigNode& n, const BlockRegistry& blocks, Declarations& p, Di
       } else if (k == "description") {}
       else diags.error(v.loc, "unknown key '" + k + "' in a block instance (name, type, task, datatype, params, inputs, retain, persistent, description)");
     }
+    mark_st_retain(in);
     if (in.persistent) in.retain = true;  // PERSISTENT implies RETAIN, as for tags
     if (in.name.empty()) { diags.error(b.loc, "block instance without a name"); ok = false; }
     if (!b.find("type")) { diags.error(b.loc, "block instance " + in.name + " has no type"); ok = false; }

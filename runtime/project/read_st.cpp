@@ -188,8 +188,20 @@ void read_programs(const ConfigNode& n, const StProject& st, Declarations& p, Di
     }
     in.source.assign(in.type->pins.size(), -1);
     in.pin_length.assign(in.type->pins.size(), 1);
+    mark_st_retain(in);
     p.instance_by_name.emplace(in.name, static_cast<int>(p.instances.size()));
     p.instances.push_back(std::move(in));
+  }
+}
+
+void mark_st_retain(InstanceDecl& in) {
+  if (!in.type) return;
+  for (const auto& leaf : in.type->variable_leaves) {
+    if (leaf.retain && !in.retain) {
+      in.retain = true;
+      in.retain_loc = in.loc;
+    }
+    if (leaf.persistent) in.persistent = true;
   }
 }
 

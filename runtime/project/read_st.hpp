@@ -45,6 +45,10 @@ std::shared_ptr<StProject> read_st_sources(const ConfigNode* sources, const Bloc
 // `programs:` [{name, type, task}]: PROGRAM instances, declared as block instances.
 void read_programs(const ConfigNode& n, const StProject& st, Declarations& p, Diagnostics& diags);
 
+// An instance of an ST type with RETAIN (PERSISTENT) variables is retained
+// (persistent) as `retain: true` (`persistent: true`) makes a block.
+void mark_st_retain(InstanceDecl& in);
+
 // Each ST instance's VAR_EXTERNALs: the tag of the same name (type checked)
 // wired to its read pin, and its write pin to the tag when the POU writes it.
 void wire_externals(const StProject& st, Declarations& p, Diagnostics& diags);

@@ -54,10 +54,35 @@ class StBlock final : public Block {
     for (const auto& [from, to] : written_) *pin_cell(to) = *pin_cell(from);
   }
 
+  void set_retained(std::vector<std::pair<std::uint32_t, std::uint32_t>> cells, std::uint32_t layout) {
+    retained_ = std::move(cells);
+    retain_layout_ = layout;
+    retain_cells_ = 0;
+    for (const auto& [at, n] : retained_) retain_cells_ += n;
+  }
+  // RETAIN variables (docs/store.md, "Retained block instances"): their cells, in declaration order.
+  std::uint32_t retain_cells() const noexcept override { return retain_cells_; }
+  std::uint32_t retain_layout() const noexcept override { return retain_layout_; }
+  void save_retain(Cell* out) const noexcept override {
+    const Cell* frame = instance_.frame();
+    for (const auto& [at, n] : retained_) {
+      std::memcpy(out, frame + at, n * sizeof(Cell));
+      out += n;
+    }
+  }
+  void load_retain(const Cell* in) noexcept override {
+    Cell* frame = instance_.frame();
+    for (const auto& [at, n] : retained_) {
+      std::memcpy(frame + at, in, n * sizeof(Cell));
+      in += n;
+    }
+  }
+
  private:
   std::shared_ptr<const StUnit> unit_;  // the module, its checked program and sources live as long as the block
   Instance instance_;
   std::vector<PinCell> inputs_, outputs_, externals_;
+
   // The frame lives in its pin: published, monitored and forced like pins.
   // Bound at the load, it moves there with its initial values; bound again
   // (an online change moved the pin's cells, and what they hold), it takes
@@ -71,20 +96,22 @@ class StBlock final : public Block {
   std::int64_t budget_;
   int frame_pin_;
   bool placed_ = false;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> retained_;  // (cell, count) of the RETAIN variables
+  std::uint32_t retain_cells_ = 0, retain_layout_ = 1;
 };
 
 // The variables of POU `pou` at `at` as leaves (BlockTypeInfo::VariableLeaf).
 void leaves(const Module& m, std::uint32_t pou, std::uint32_t at, const std::string& prefix,
-            std::vector<BlockTypeInfo::VariableLeaf>& out, int depth);
+            std::vector<BlockTypeInfo::VariableLeaf>& out, int depth, bool retain, bool persistent);
 
 void type_leaves(const Module& m, const Type* t, std::uint32_t at, const std::string& path,
-                 std::vector<BlockTypeInfo::VariableLeaf>& out, int depth) {
+                 std::vector<BlockTypeInfo::VariableLeaf>& out, int depth, bool retain, bool persistent) {
   if (depth > 32) return;
   switch (t->kind) {
     case Type::Kind::Struct: {
       std::uint32_t off = 0;
       for (const Field& f : t->fields) {
-        type_leaves(m, f.type, at + off, path + "." + f.name, out, depth + 1);
+        type_leaves(m, f.type, at + off, path + "." + f.name, out, depth + 1, retain, persistent);
         off += frame_cells_of(m, f.type);
       }
       return;
@@ -94,30 +121,32 @@ void type_leaves(const Module& m, const Type* t, std::uint32_t at, const std::st
       if (e->kind != Type::Kind::Struct && e->kind != Type::Kind::FunctionBlock && e->kind != Type::Kind::Array) break;
       const std::uint32_t n = frame_cells_of(m, e);
       for (std::int64_t k = 0; k < t->element_count(); ++k)
-        type_leaves(m, e, at + static_cast<std::uint32_t>(k) * n, fmt::format("{}[#{}]", path, k), out, depth + 1);
+        type_leaves(m, e, at + static_cast<std::uint32_t>(k) * n, fmt::format("{}[#{}]", path, k), out, depth + 1,
+                    retain, persistent);
       return;
     }
     case Type::Kind::FunctionBlock:
       if (t->fb->builtin) {  // its pins; the Block* cell before them belongs to the instance
         for (std::size_t k = 0; k < t->fb->pins.size(); ++k)
           out.push_back({path + "." + t->fb->pins[k].name, t->fb->pins[k].type->name,
-                         at + 1 + static_cast<std::uint32_t>(k), 1});
+                         at + 1 + static_cast<std::uint32_t>(k), 1, retain, persistent});
       } else if (const int fp = m.find(t->fb->name); fp >= 0) {
-        leaves(m, static_cast<std::uint32_t>(fp), at, path + ".", out, depth + 1);
+        leaves(m, static_cast<std::uint32_t>(fp), at, path + ".", out, depth + 1, retain, persistent);
       }
       return;
     default: break;
   }
-  out.push_back({path, t->name, at, frame_cells_of(m, t)});
+  out.push_back({path, t->name, at, frame_cells_of(m, t), retain, persistent});
 }
 
 void leaves(const Module& m, std::uint32_t pou, std::uint32_t at, const std::string& prefix,
-            std::vector<BlockTypeInfo::VariableLeaf>& out, int depth) {
+            std::vector<BlockTypeInfo::VariableLeaf>& out, int depth, bool retain, bool persistent) {
   for (const VarSlot& v : m.pous[pou].vars) {
     if (v.scope == static_cast<int>(VarScope::External) || v.scope == static_cast<int>(VarScope::InOut) ||
         v.scope == static_cast<int>(VarScope::Temp))
       continue;  // references, and what each call sets again
-    type_leaves(m, v.type, at + v.at, prefix + v.name, out, depth);
+    // A RETAIN instance of an FB retains all of it (IEC 61131-3 ed. 3, 6.5.6).
+    type_leaves(m, v.type, at + v.at, prefix + v.name, out, depth, retain || v.retain, persistent || v.persistent);
   }
 }
 
@@ -297,7 +326,15 @@ std::optional<BlockTypeInfo> st_block_type(std::shared_ptr<const StUnit> unit, s
   const int frame_pin = static_cast<int>(t.pins.size());
   t.pins.push_back(std::move(frame));
   t.variables_pin = frame_pin;
-  leaves(*unit->module, pou, 0, "", t.variable_leaves, 0);
+  leaves(*unit->module, pou, 0, "", t.variable_leaves, 0, false, false);
+  // RETAIN variables: the block's retained state, cell ranges of its frame.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> retained;
+  std::uint64_t layout = 0xcbf29ce484222325ull;
+  for (const auto& leaf : t.variable_leaves)
+    if (leaf.retain) {
+      retained.emplace_back(leaf.element, leaf.count);
+      for (unsigned char ch : leaf.path + ":" + leaf.type) layout = (layout ^ ch) * 0x100000001b3ull;
+    }
   // What the instance runs, as a parameter: part of its signature's
   // structure, so a changed body re-creates it (and carries its variables).
   ParamDecl code;
@@ -324,11 +361,14 @@ std::optional<BlockTypeInfo> st_block_type(std::shared_ptr<const StUnit> unit, s
     }
     return BlockTypeInfo::Variable{r->at, type};
   };
-  t.create = [unit, pou, inputs, outputs, written, frame_pin](BlockSetup& s) -> std::unique_ptr<Block> {
+  const auto retain_layout = static_cast<std::uint32_t>(layout ^ (layout >> 32));
+  t.create = [unit, pou, inputs, outputs, written, frame_pin, retained, retain_layout](BlockSetup& s) -> std::unique_ptr<Block> {
     // The budget from the task's watchdog, else its period.
     const std::int64_t time_ns = s.task_watchdog_ns() > 0 ? s.task_watchdog_ns() : s.task_period_ns();
     const std::int64_t budget = std::max<std::int64_t>(1000, time_ns / kNsPerBackwardJump);
-    return std::make_unique<StBlock>(unit, pou, s, inputs, outputs, written, budget, frame_pin);
+    auto b = std::make_unique<StBlock>(unit, pou, s, inputs, outputs, written, budget, frame_pin);
+    b->set_retained(retained, retain_layout);
+    return b;
   };
   return t;
 }
