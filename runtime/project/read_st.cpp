@@ -225,14 +225,23 @@ void wire_externals(const StProject& st, Declarations& p, Diagnostics& diags) {
       }
       const Tag& t = p.tags[static_cast<std::size_t>(tag)].tag;
       const bool array = t.length > 1 || t.is_array;
-      // The same elementary type (an enumeration or subrange: its base type).
-      const bool same = !array && (e.type->is_elem() || e.type->kind == st::Type::Kind::Subrange ||
-                                   e.type->kind == st::Type::Kind::Enum) &&
-                        st::elem_name(e.type->elem) == type_name(t.type);
+      // The same elementary type (an enumeration or subrange: its base type);
+      // an array tag: ARRAY[lower..upper] OF it with the tag's bounds.
+      auto same_elem = [&](const st::Type* x) {
+        return (x->is_elem() || x->kind == st::Type::Kind::Subrange || x->kind == st::Type::Kind::Enum) &&
+               st::elem_name(x->elem) == type_name(t.type);
+      };
+      const bool same = array ? e.type->kind == st::Type::Kind::Array && e.type->dims.size() == 1 &&
+                                    e.type->dims[0].low == t.array_lower &&
+                                    e.type->dims[0].count() == static_cast<std::int64_t>(t.length) &&
+                                    same_elem(e.type->element)
+                              : same_elem(e.type);
       if (!same) {
         diags.error(e.loc, fmt::format("VAR_EXTERNAL {} : {} of {} does not match tag {} : {}", e.name, e.type->name,
                                        in.type->name, e.name,
-                                       array ? fmt::format("ARRAY[{}] OF {}", t.length, type_name(t.type))
+                                       array ? fmt::format("ARRAY[{}..{}] OF {}", t.array_lower,
+                                                           t.array_lower + static_cast<std::int64_t>(t.length) - 1,
+                                                           type_name(t.type))
                                              : std::string(type_name(t.type))));
         continue;
       }

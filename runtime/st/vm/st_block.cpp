@@ -24,10 +24,16 @@ struct PinCell {
   std::uint32_t cell = 0;
 };
 
+// A written VAR_EXTERNAL: its read pin copied to its write pin after the scan.
+struct Written {
+  int from = 0, to = 0;
+  std::uint32_t count = 1;
+};
+
 class StBlock final : public Block {
  public:
   StBlock(std::shared_ptr<const StUnit> unit, std::uint32_t pou, BlockSetup& setup, std::vector<PinCell> inputs,
-          std::vector<PinCell> outputs, std::vector<std::pair<int, int>> written, std::int64_t budget, int frame_pin)
+          std::vector<PinCell> outputs, std::vector<Written> written, std::int64_t budget, int frame_pin)
       : unit_(std::move(unit)),
         instance_(unit_->module, pou,
                   InstanceSetup{setup.instance_name(), setup.task_period_ns(), setup.seed()}),
@@ -51,7 +57,7 @@ class StBlock final : public Block {
     for (const PinCell& in : inputs_) frame[in.cell] = *pin_cell(in.pin);
     if (!instance_.scan(ctx, budget_)) ctx.fault(instance_.stopped());
     for (const PinCell& out : outputs_) *pin_cell(out.pin) = frame[out.cell];
-    for (const auto& [from, to] : written_) *pin_cell(to) = *pin_cell(from);
+    for (const Written& w : written_) std::memcpy(pin_cell(w.to), pin_cell(w.from), w.count * sizeof(Cell));
   }
 
   void set_retained(std::vector<std::pair<std::uint32_t, std::uint32_t>> cells, std::uint32_t layout) {
@@ -92,7 +98,7 @@ class StBlock final : public Block {
     placed_ = true;
   }
 
-  std::vector<std::pair<int, int>> written_;  // read pin -> write pin of each written VAR_EXTERNAL
+  std::vector<Written> written_;  // read pin -> write pin of each written VAR_EXTERNAL
   std::int64_t budget_;
   int frame_pin_;
   bool placed_ = false;
@@ -271,17 +277,38 @@ std::optional<BlockTypeInfo> st_block_type(std::shared_ptr<const StUnit> unit, s
       t.pins.push_back(std::move(d));
     }
   }
-  std::vector<std::pair<int, int>> written;
+  std::vector<Written> written;
   for (const StExternal& e : st_externals(*unit, pou)) {
+    // An elementary tag, or an array tag as ARRAY[lo..hi] OF an elementary type.
+    const Type* element = e.type;
+    std::uint32_t count = 1;
+    if (e.type->kind == Type::Kind::Array && e.type->dims.size() == 1) {
+      element = e.type->element;
+      count = static_cast<std::uint32_t>(e.type->dims[0].count());
+    }
     IecType type;
-    if (!pin_type(e.type, &type)) {
-      *why = fmt::format("{}: VAR_EXTERNAL {} : {}: a tag is an elementary value", e.loc.text(), e.name, e.type->name);
+    if (!pin_type(element, &type) || count > kMaxPinLength) {
+      *why = fmt::format("{}: VAR_EXTERNAL {} : {}: a tag is an elementary value or a one-dimensional array of one "
+                         "(at most {} elements)",
+                         e.loc.text(), e.name, e.type->name, kMaxPinLength);
       return std::nullopt;
+    }
+    std::string length_param;
+    if (element != e.type) {
+      ParamDecl len;
+      len.name = "(length of " + e.name + ")";
+      len.type = IecType::UDINT;
+      len.default_value = std::to_string(count);
+      len.min = len.max = static_cast<double>(count);
+      len.doc = "elements of the array tag (set by the compiler)";
+      length_param = len.name;
+      t.params.push_back(std::move(len));
     }
     PinDecl r;
     r.name = e.name + kExternalReadSuffix;
     r.dir = syncplc::PinDir::In;
     r.type = type;
+    r.length_param = length_param;
     r.doc = fmt::format("the tag {} as the scan starts (VAR_EXTERNAL)", e.name);
     const int read_pin = static_cast<int>(t.pins.size());
     t.pins.push_back(std::move(r));
@@ -290,8 +317,9 @@ std::optional<BlockTypeInfo> st_block_type(std::shared_ptr<const StUnit> unit, s
       w.name = e.name;
       w.dir = syncplc::PinDir::Out;
       w.type = type;
+      w.length_param = length_param;
       w.doc = fmt::format("the tag {} as the POU left it (VAR_EXTERNAL)", e.name);
-      written.push_back({read_pin, static_cast<int>(t.pins.size())});
+      written.push_back({read_pin, static_cast<int>(t.pins.size()), count});
       t.pins.push_back(std::move(w));
     }
   }
