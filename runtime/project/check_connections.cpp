@@ -266,6 +266,17 @@ void check_connections(const Declarations& p, const Wiring& w, Diagnostics& diag
 
 void check_refs(const Declarations& p, Diagnostics& diags) {
   for (const auto& [ref, loc] : p.traces) {
+    // instance.path of an ST instance's variable (runtime/st/vm/st_block.hpp).
+    if (const auto dot = ref.find('.'); dot != std::string::npos) {
+      const int i = p.instance_index(ref.substr(0, dot));
+      const BlockTypeInfo* t = i >= 0 ? p.instances[static_cast<std::size_t>(i)].type : nullptr;
+      const std::string path = ref.substr(dot + 1);
+      if (t && t->variable && t->pin_index(path.substr(0, path.find_first_of(".["))) < 0) {
+        std::string why;
+        if (!t->variable(path, &why)) diags.error(loc, "trace: " + ref + ": " + why);
+        continue;
+      }
+    }
     Endpoint e;
     std::size_t before = diags.size();
     if (!resolve_endpoint(ref, loc, p, e, diags)) {

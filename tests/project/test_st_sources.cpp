@@ -67,6 +67,7 @@ connections:
   - scale.y -> scaled
   - ramp_out -> ramp.IN1
   - ramp.OUT -> level
+traces: [counting.t.ET, "scale.hist[2]"]
 )"));
   const std::string tests = temp_file("st_ok/t.yaml", yaml(R"(
 cases:
@@ -91,6 +92,8 @@ cases:
   // The program writes count and doubled: it owns them, as a block owns what it writes.
   EXPECT_EQ(l.program->find_tag("count")->writer, "block counting.count");
   EXPECT_EQ(l.program->find_tag("calls")->writer, "block scale.calls");
+  ASSERT_EQ(l.program->traces.size(), 2u);
+  EXPECT_EQ(l.program->traces[0].label, "counting.t.ET");
   // instance.var where tags and pins are named: the variables of an ST instance, nested too.
   std::string why;
   ASSERT_TRUE(l.program->resolve("counting.t.ET", &why)) << why;
