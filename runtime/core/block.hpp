@@ -226,6 +226,15 @@ struct BlockTypeInfo {
   std::vector<VariableLeaf> variable_leaves;
 
   int pin_index(std::string_view pin) const;
+  // Whether instance.member names one of the type's variables rather than a
+  // pin: a type with variables, and a member that is not an input pin (an
+  // output of an ST FB is its variable too, and setting the variable is what
+  // a test means; an input is copied in from its pin at every scan).
+  bool names_variable(std::string_view member) const {
+    if (!variable) return false;
+    const int p = pin_index(member.substr(0, member.find_first_of(".[")));
+    return p < 0 || pins[static_cast<std::size_t>(p)].dir == PinDir::Out;
+  }
   int param_index(std::string_view param) const;
   bool is_generic() const;
 };

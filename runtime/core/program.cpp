@@ -46,15 +46,18 @@ std::optional<CellRef> Program::resolve(const std::string& text, std::string* er
       const auto& bi = tasks[it->second.first]->blocks[it->second.second];
       const std::string rest = text.substr(dot + 1);
       const auto bracket = rest.find_first_of(".[");
-      if (bi.type->variable && bi.type->pin_index(rest.substr(0, bracket)) < 0) {
+      if (bi.type->names_variable(rest)) {
         const auto v = bi.type->variable(rest, &why);
-        if (!v) return fail(it->first + "." + rest + ": " + why);
-        CellRef r;
-        r.task = it->second.first;
-        r.cell = bi.pin_cell[static_cast<std::size_t>(bi.type->variables_pin)] + v->element;
-        r.type = v->type;
-        r.length = 1;
-        return r;
+        // Not a variable after all (ENO, a VAR_EXTERNAL's pin): the pin, below.
+        if (!v && bi.type->pin_index(rest.substr(0, bracket)) < 0) return fail(it->first + "." + rest + ": " + why);
+        if (v) {
+          CellRef r;
+          r.task = it->second.first;
+          r.cell = bi.pin_cell[static_cast<std::size_t>(bi.type->variables_pin)] + v->element;
+          r.type = v->type;
+          r.length = 1;
+          return r;
+        }
       }
     }
   }

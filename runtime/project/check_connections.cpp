@@ -271,10 +271,13 @@ void check_refs(const Declarations& p, Diagnostics& diags) {
       const int i = p.instance_index(ref.substr(0, dot));
       const BlockTypeInfo* t = i >= 0 ? p.instances[static_cast<std::size_t>(i)].type : nullptr;
       const std::string path = ref.substr(dot + 1);
-      if (t && t->variable && t->pin_index(path.substr(0, path.find_first_of(".["))) < 0) {
+      if (t && t->names_variable(path)) {
         std::string why;
-        if (!t->variable(path, &why)) diags.error(loc, "trace: " + ref + ": " + why);
-        continue;
+        const bool variable = t->variable(path, &why).has_value();
+        if (variable || t->pin_index(path.substr(0, path.find_first_of(".["))) < 0) {
+          if (!variable) diags.error(loc, "trace: " + ref + ": " + why);
+          continue;
+        }
       }
     }
     Endpoint e;

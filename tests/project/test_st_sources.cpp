@@ -82,8 +82,10 @@ cases:
         expect: {count: 5, calls: 106, counting.scans: 6, counting.t.Q: TRUE, counting.t.ET: 25ms,
                  "scale.hist[1]": 106.0, "scale.hist[3]": 104.0, scale.k: 3.0}
       - at: 60ms
-        set: {enable: FALSE}
-        expect: {counting.t.Q: FALSE}
+        set: {enable: FALSE, counting.scans: 100}
+        expect: {counting.t.Q: FALSE, counting.scans: 101}
+      - at: 70ms
+        expect: {counting.scans: 102}
 )"));
   const auto r = run_scan_tests(project, tests);
   EXPECT_TRUE(r.ok()) << report_text(r);
