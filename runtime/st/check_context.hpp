@@ -69,6 +69,15 @@ class Checker {
   ExprInfo& info(const Expr& e) { return out_.exprs[&e]; }
   std::string suggestion(std::string_view name);  // " (did you mean X?)" over the names in scope
 
+  // ---- recursion and self-containment (check_cycles.cpp) ----
+  // A call of a user FUNCTION or FB, recorded while the bodies are checked.
+  struct CallEdge {
+    const PouInfo* callee = nullptr;
+    SourceLoc loc;
+  };
+  void record_call(const PouInfo* callee, const SourceLoc& loc);
+  void check_cycles();
+
   // ---- statements (check_stmt.cpp) ----
   void body(const std::vector<Statement>& stmts);
   void statement(const Statement& s);
@@ -92,6 +101,8 @@ class Checker {
   std::map<std::string, const TypeDecl*> type_decls_;
   std::unordered_set<const Expr*> lits_;  // expressions still untyped literals (see Val)
   std::vector<const Type*> enums_;        // every enumeration type, for unqualified values  // by name_key, before resolution
+  std::map<const FbType*, const PouInfo*> fb_pous_;          // each user FB type's POU
+  std::map<const PouInfo*, std::vector<CallEdge>> calls_;   // by caller, in the order of the source
 };
 
 std::string type_text(const Type* t);

@@ -466,6 +466,7 @@ void Checker::run(const std::vector<const CompilationUnit*>& units) {
         fb.loc = p.loc;
         FbType* f = types_.add_fb(std::move(fb));
         info->fb = f;
+        fb_pous_[f] = info.get();
         Type t;
         t.kind = Type::Kind::FunctionBlock;
         t.name = p.name;
@@ -503,6 +504,7 @@ void Checker::run(const std::vector<const CompilationUnit*>& units) {
     body(info->pou->body);
   }
   pou_ = nullptr;
+  check_cycles();
 }
 
 CheckedProgram check(const std::vector<const CompilationUnit*>& units, const std::vector<BlockSignature>& blocks) {
