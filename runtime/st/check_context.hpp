@@ -32,6 +32,7 @@ class Checker {
 
   // ---- declarations (check_decls.cpp) ----
   const Type* resolve(const TypeSpec& spec, const std::string& name_for_new);
+  const Type* resolve_spec(const TypeSpec& spec, const std::string& name_for_new);
   const Type* named_type(const std::string& name, const SourceLoc& loc);
   std::optional<std::int64_t> const_int(const Expr& e, const Type* want, const char* what);
   void check_init(const Initializer& init, const Type* type);
@@ -98,6 +99,7 @@ class Checker {
   int loop_depth_ = 0;
   std::vector<const Variable*> for_vars_;  // control variables of the enclosing FORs
   std::vector<std::string> resolving_;     // TYPE names being resolved (cycle detection)
+  int type_depth_ = 0;                      // resolve() calls open (limited to kMaxNesting through named types)
   std::map<std::string, const TypeDecl*> type_decls_;
   std::unordered_set<const Expr*> lits_;  // expressions still untyped literals (see Val)
   std::vector<const Type*> enums_;        // every enumeration type, for unqualified values  // by name_key, before resolution

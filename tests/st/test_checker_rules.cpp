@@ -215,6 +215,26 @@ TEST(StCheckRules, TypesAndPousOfSeveralFilesSeeEachOther) {
   EXPECT_TRUE(c->errors().empty()) << c->errors()[0];
 }
 
+// Named types resolve one through another (recursively): a generated chain
+// of thousands of them exhausted the stack (a segmentation fault at 10,000
+// structures). Types are limited to kMaxNesting levels, as the parser's
+// nesting is (here two a link: the structure and its member's type): an
+// error at each type where a chain passes the limit.
+TEST(StCheckRules, ALongChainOfNamedTypesIsRefusedWithoutExhaustingTheStack) {
+  constexpr int kCount = 20000;
+  std::string source = "TYPE\n";
+  for (int i = 0; i < kCount; ++i)
+    source += "T" + std::to_string(100000 + i) + " : STRUCT a : T" + std::to_string(100000 + i + 1) +
+              "; END_STRUCT;\n";
+  source += "T" + std::to_string(100000 + kCount) + " : INT;\nEND_TYPE\n";
+  auto c = check_source(source);
+  ASSERT_FALSE(c->errors().empty());
+  EXPECT_EQ(c->errors()[0], "129:22: type 'T100128' is nested deeper than 256 levels");
+  EXPECT_LE(c->errors().size(), static_cast<std::size_t>(kCount / 128 + 1));
+  auto ok = check_source("TYPE\n" + source.substr(5, source.find("T100120 :") - 5) + "T100120 : INT;\nEND_TYPE\n");
+  EXPECT_TRUE(ok->errors().empty()) << ok->errors()[0];
+}
+
 TEST(StCheckRules, TypeDeclarations) {
   auto c = check_source(R"(TYPE
   Distance : LREAL;
