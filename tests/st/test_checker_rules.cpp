@@ -311,7 +311,7 @@ END_PROGRAM)");
   EXPECT_TRUE(c->errors().empty()) << ::testing::PrintToString(c->errors());
 }
 
-TEST(StCheckRules, RecursionIsRefusedOncePerCycle) {
+TEST(StCheckRules, RecursionIsOneErrorPerGroupOfPousCallingEachOther) {
   auto c = check_source(R"(FUNCTION A : INT
 VAR_INPUT x : INT; END_VAR
 A := B(x) + B(x + 1) + C(x);
@@ -331,15 +331,18 @@ END_FUNCTION_BLOCK
 FUNCTION_BLOCK Pong
 VAR_EXTERNAL ping : Ping; END_VAR
 ping();
-END_FUNCTION_BLOCK)");
-  // Every POU on a cycle is named in one error: A gets the shortest cycle
-  // through it (A -> C -> A, the calls of B in A come first in the source but
-  // make a longer one); B, not named there, gets its own; C's call of itself
-  // adds none (C is named). FB instances reached through VAR_EXTERNAL call too.
+END_FUNCTION_BLOCK
+FUNCTION D : INT
+D := A(1) + D();
+END_FUNCTION)");
+  // A, B and C call one another: one error, at A (the first), with the
+  // shortest cycle through it (A -> C -> A; the calls of B come first in the
+  // source but make a longer one). Ping and Pong, through VAR_EXTERNAL
+  // instances, another; D's call of itself a third.
   EXPECT_EQ(c->errors(), (std::vector<std::string>{
                              "3:24: FUNCTION A calls itself: A -> C -> A",
-                             "7:6: FUNCTION B calls itself: B -> C -> A -> B",
                              "15:1: FUNCTION_BLOCK Ping calls itself: Ping -> Pong -> Ping",
+                             "22:13: FUNCTION D calls itself: D -> D",
                          }));
 }
 
