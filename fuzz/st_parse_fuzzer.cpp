@@ -1,20 +1,47 @@
 // libFuzzer harness on the Structured Text front end (runtime/st): any bytes
-// as a source file through the lexer, the parser and the AST dump. Besides
-// ASan/UBSan (and the stack: the nesting limit must hold), it checks that
-// every diagnostic lies inside the file (line 1 … lines + 1, column >= 1),
-// that a source with errors says so, and that parsing is deterministic (the
-// same dump and the same diagnostics twice).
+// as a source file through the lexer, the parser, the AST dump and the type
+// checker (st::check, with a few built-in blocks as the loader gives them).
+// The checker runs on every tree, also one with syntax errors: the parser's
+// recovery leaves partial declarations and expressions, and the checker must
+// take those too. Besides ASan/UBSan (and the stack: the nesting limit must
+// hold for the checker's walk as for the parser's), it checks that every
+// diagnostic lies inside the file (line 1 … lines + 1, column >= 1), that a
+// source with errors says so, and that parsing and checking are
+// deterministic (the same dump and the same diagnostics twice).
 #include <cstdint>
 #include <cstdlib>
 #include <string_view>
+#include <vector>
 
 #include "runtime/st/ast_dump.hpp"
+#include "runtime/st/checker.hpp"
 #include "runtime/st/parser.hpp"
 
 namespace {
 
 void check(bool ok) {
   if (!ok) std::abort();
+}
+
+void check_inside(const syncplc::st::StDiagnostics& diagnostics, int lines) {
+  for (const auto& d : diagnostics.list()) {
+    check(d.loc.line >= 1 && d.loc.line <= lines + 1);
+    check(d.loc.col >= 1);
+    check(!d.message.empty());
+  }
+}
+
+// Built-in blocks with inputs, outputs and a TIME pin, as the BlockRegistry
+// gives them to the loader.
+const std::vector<syncplc::st::BlockSignature>& blocks() {
+  static const std::vector<syncplc::st::BlockSignature> b = {
+      {"TON", {{"IN", false, "BOOL"}, {"PT", false, "TIME"}, {"Q", true, "BOOL"}, {"ET", true, "TIME"}}, ""},
+      {"R_TRIG", {{"CLK", false, "BOOL"}, {"Q", true, "BOOL"}}, ""},
+      {"CTU",
+       {{"CU", false, "BOOL"}, {"R", false, "BOOL"}, {"PV", false, "INT"}, {"Q", true, "BOOL"}, {"CV", true, "INT"}},
+       ""},
+  };
+  return b;
 }
 
 }  // namespace
@@ -25,14 +52,17 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   int lines = 1;
   for (char c : text) lines += c == '\n';
   const st::ParseResult r = st::parse(text, SourceFile("fuzz.st"));
-  for (const auto& d : r.diagnostics.list()) {
-    check(d.loc.line >= 1 && d.loc.line <= lines + 1);
-    check(d.loc.col >= 1);
-    check(!d.message.empty());
-  }
+  check_inside(r.diagnostics, lines);
   const std::string dumped = st::dump(r.unit);
   const st::ParseResult again = st::parse(text, SourceFile("fuzz.st"));
   check(st::dump(again.unit) == dumped);
   check(again.diagnostics.list().size() == r.diagnostics.list().size());
+
+  const st::CheckedProgram checked = st::check({&r.unit}, blocks());
+  check_inside(checked.diagnostics, lines);
+  const st::CheckedProgram checked_again = st::check({&again.unit}, blocks());
+  check(checked_again.diagnostics.list().size() == checked.diagnostics.list().size());
+  for (std::size_t i = 0; i < checked.diagnostics.list().size(); ++i)
+    check(checked_again.diagnostics.list()[i].text() == checked.diagnostics.list()[i].text());
   return 0;
 }

@@ -11,24 +11,26 @@ cd "$(dirname "$0")/.."
 seconds=${1:-60}
 dir=${2:-build-fuzz}
 shift $(( $# < 2 ? $# : 2 ))
-SYNCPLC_TARGETS="fuzz_modbus_request fuzz_modbus_reply fuzz_http_request" bash scripts/build.sh "$dir" -DCMAKE_CXX_COMPILER=clang++ \
+SYNCPLC_TARGETS="fuzz_modbus_request fuzz_modbus_reply fuzz_http_request fuzz_st_parse" bash scripts/build.sh "$dir" -DCMAKE_CXX_COMPILER=clang++ \
   -DSYNCPLC_FUZZ=ON -DSYNCPLC_SANITIZE=address,undefined -DSYNCPLC_TESTS=OFF -DSYNCPLC_BENCH=OFF "$@"
 mkdir -p "$dir/fuzz-artifacts"
-# The Modbus server's request path, the client driver's reply path and the
-# HTTP server's request path side by side: a fuzzer is one process, three
-# share two cores (each gets two thirds of one in the same wall time).
+# The Modbus server's request path, the client driver's reply path, the
+# HTTP server's request path and the Structured Text front end (parser and
+# type checker) side by side: a fuzzer is one process, four share two cores
+# (each gets half of one) in the same wall time as one target alone.
 fuzz() {
-  local target=$1 corpus status=0
+  local target=$1 corpus status=0 dict=()
   corpus=$(mktemp -d)
   cp "fuzz/corpus/$target"/* "$corpus/"
+  if [ -f "fuzz/$target.dict" ]; then dict=(-dict="fuzz/$target.dict"); fi
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-    "$dir/fuzz/fuzz_$target" -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=10 \
+    "$dir/fuzz/fuzz_$target" "${dict[@]}" -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=10 \
     -artifact_prefix="$dir/fuzz-artifacts/fuzz_$target-" -print_final_stats=1 "$corpus" \
     >"$dir/fuzz-artifacts/fuzz_$target.log" 2>&1 || status=$?
   rm -rf "$corpus"
   return "$status"
 }
-targets=(modbus_request modbus_reply http_request)
+targets=(modbus_request modbus_reply http_request st_parse)
 pids=()
 for target in "${targets[@]}"; do
   fuzz "$target" &

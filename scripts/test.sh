@@ -8,9 +8,9 @@
 #      tests and the peer tests (label "peers": pymodbus, mbpoll and the
 #      simulated drives against the real `syncplc run`), "no_cxx" left out;
 #   4. the libFuzzer harnesses of the Modbus server's request path, the
-#      modbus_client driver's reply path and the HTTP server's request path,
-#      60 s each (side by side) under ASan + UBSan (scripts/fuzz.sh; built
-#      with clang).
+#      modbus_client driver's reply path, the HTTP server's request path and
+#      the Structured Text parser and checker, 60 s each (side by side) under
+#      ASan + UBSan (scripts/fuzz.sh; built with clang).
 # Any failure stops the script with a non-zero status.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -40,6 +40,6 @@ SYNCPLC_TARGETS="threaded_and_cli_tests" \
   bash scripts/build.sh build-tsan -DSYNCPLC_UNITY=ON -DSYNCPLC_SANITIZE=thread -DSYNCPLC_BENCH=OFF
 (cd build-tsan && TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
    ctest --output-on-failure -j "$jobs" -L 'threaded|cli|peers' -LE no_cxx)
-echo "== libFuzzer: the Modbus request and reply paths, the HTTP request path"
+echo "== libFuzzer: the Modbus request and reply paths, the HTTP request path, the ST front end"
 bash scripts/fuzz.sh 60 build-fuzz -DSYNCPLC_UNITY=ON
 echo "== all test runs passed"

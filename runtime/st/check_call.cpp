@@ -121,6 +121,7 @@ Val Checker::call(const Expr& e, bool as_statement, const Type* want) {
   ExprInfo* i = &info(e);
   auto fb_result = [&](const Type* t, const std::string& instance) -> Val {
     info(e).symbol = SymbolKind::FbCall;
+    if (auto it = fb_pous_.find(t->fb); it != fb_pous_.end()) record_call(it->second, e.loc);
     fb_call(e, t, instance);
     if (!as_statement) {
       error(e.loc, fmt::format("calling the instance '{}' is a statement, not a value: call it, then read its outputs "
@@ -143,8 +144,10 @@ Val Checker::call(const Expr& e, bool as_statement, const Type* want) {
     }
     return fb_result(callee.type, "instance");
   }
+  // Inside a FUNCTION its name is also its result variable; called, the name
+  // is the function (a recursive call, which check_cycles reports).
   if (pou_)
-    if (const Variable* v = pou_->find(e.name)) {
+    if (const Variable* v = pou_->find(e.name); v && v->scope != VarScope::Return) {
       i->variable = v;
       if (v->type->kind == Type::Kind::FunctionBlock) return fb_result(v->type, v->name);
       if (!v->type->is_error())
@@ -156,6 +159,7 @@ Val Checker::call(const Expr& e, bool as_statement, const Type* want) {
     const PouInfo& f = *it->second;
     info(e).symbol = SymbolKind::UserFunction;
     info(e).function = &f;
+    record_call(&f, e.loc);
     std::vector<const Pin*> params;
     for (const auto& p : f.params) params.push_back(&p);
     bind_args(e, e.name, params);

@@ -32,6 +32,7 @@ class Checker {
 
   // ---- declarations (check_decls.cpp) ----
   const Type* resolve(const TypeSpec& spec, const std::string& name_for_new);
+  const Type* resolve_spec(const TypeSpec& spec, const std::string& name_for_new);
   const Type* named_type(const std::string& name, const SourceLoc& loc);
   std::optional<std::int64_t> const_int(const Expr& e, const Type* want, const char* what);
   void check_init(const Initializer& init, const Type* type);
@@ -69,6 +70,15 @@ class Checker {
   ExprInfo& info(const Expr& e) { return out_.exprs[&e]; }
   std::string suggestion(std::string_view name);  // " (did you mean X?)" over the names in scope
 
+  // ---- recursion and self-containment (check_cycles.cpp) ----
+  // A call of a user FUNCTION or FB, recorded while the bodies are checked.
+  struct CallEdge {
+    const PouInfo* callee = nullptr;
+    SourceLoc loc;
+  };
+  void record_call(const PouInfo* callee, const SourceLoc& loc);
+  void check_cycles();
+
   // ---- statements (check_stmt.cpp) ----
   void body(const std::vector<Statement>& stmts);
   void statement(const Statement& s);
@@ -89,9 +99,12 @@ class Checker {
   int loop_depth_ = 0;
   std::vector<const Variable*> for_vars_;  // control variables of the enclosing FORs
   std::vector<std::string> resolving_;     // TYPE names being resolved (cycle detection)
+  int type_depth_ = 0;                      // resolve() calls open (limited to kMaxNesting through named types)
   std::map<std::string, const TypeDecl*> type_decls_;
   std::unordered_set<const Expr*> lits_;  // expressions still untyped literals (see Val)
   std::vector<const Type*> enums_;        // every enumeration type, for unqualified values  // by name_key, before resolution
+  std::map<const FbType*, const PouInfo*> fb_pous_;          // each user FB type's POU
+  std::map<const PouInfo*, std::vector<CallEdge>> calls_;   // by caller, in the order of the source
 };
 
 std::string type_text(const Type* t);

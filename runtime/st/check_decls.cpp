@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "runtime/st/check_context.hpp"
+#include "runtime/st/parser.hpp"
 
 namespace syncplc::st {
 
@@ -133,6 +134,14 @@ const Type* Checker::named_type(const std::string& n, const SourceLoc& loc) {
       error(loc, fmt::format("type '{}' is defined in terms of itself", n));
       return out_.named_types[key] = err();
     }
+    // Types resolve one through another, recursively: as the parser's
+    // nesting, their depth is limited (the named ones here, the anonymous
+    // ones of one declaration by the parser), so a generated chain cannot
+    // exhaust the stack, here nor in a later pass over the types.
+    if (type_depth_ >= kMaxNesting) {
+      error(loc, fmt::format("type '{}' is nested deeper than {} levels", n, kMaxNesting));
+      return out_.named_types[key] = err();
+    }
     resolving_.push_back(key);
     const TypeDecl& d = *it->second;
     const Type* t = resolve(d.type, d.name);
@@ -171,6 +180,13 @@ std::optional<std::int64_t> Checker::const_int(const Expr& e, const Type* want, 
 }
 
 const Type* Checker::resolve(const TypeSpec& spec, const std::string& name_for_new) {
+  ++type_depth_;
+  const Type* t = resolve_spec(spec, name_for_new);
+  --type_depth_;
+  return t;
+}
+
+const Type* Checker::resolve_spec(const TypeSpec& spec, const std::string& name_for_new) {
   switch (spec.kind) {
     case TypeKind::Named: return named_type(spec.name, spec.loc);
     case TypeKind::String: {
@@ -471,6 +487,7 @@ void Checker::run(const std::vector<const CompilationUnit*>& units) {
         fb.loc = p.loc;
         FbType* f = types_.add_fb(std::move(fb));
         info->fb = f;
+        fb_pous_[f] = info.get();
         Type t;
         t.kind = Type::Kind::FunctionBlock;
         t.name = p.name;
@@ -508,6 +525,7 @@ void Checker::run(const std::vector<const CompilationUnit*>& units) {
     body(info->pou->body);
   }
   pou_ = nullptr;
+  check_cycles();
 }
 
 CheckedProgram check(const std::vector<const CompilationUnit*>& units, const std::vector<BlockSignature>& blocks) {

@@ -55,11 +55,16 @@ std::int64_t tod_ns(const std::string& s) {
   return (static_cast<std::int64_t>(h) * 3600 + m * 60) * kNsPerSecond + std::llround(sec * 1e9);
 }
 
-std::int64_t date_ns(const std::string& s) {
+// "YYYY-MM-DD" in nanoseconds, in 128 bits: the lexer takes years 1 to
+// 9999, of which a DATE (64 bits) holds 1677-09-22 to 2262-04-11 only.
+Wide date_ns(const std::string& s) {
   int y = 1970, m = 1, d = 1;
   std::sscanf(s.c_str(), "%d-%d-%d", &y, &m, &d);
-  return days_from_civil(y, static_cast<unsigned>(m), static_cast<unsigned>(d)) * 86400 * kNsPerSecond;
+  return static_cast<Wide>(days_from_civil(y, static_cast<unsigned>(m), static_cast<unsigned>(d))) * 86400 *
+         kNsPerSecond;
 }
+
+bool fits_64(Wide v) { return v >= INT64_MIN && v <= INT64_MAX; }
 
 // The elementary types in the order a common type of two is looked for:
 // the smallest both widen to.
@@ -231,6 +236,11 @@ Val Checker::literal(const Expr& e, const Type*) {
     case LiteralKind::Date:
       v.type = elem(Elem::DATE);
       v.c = ConstValue{false, date_ns(l.text), 0};
+      if (!fits_64(v.c->i)) {
+        error(e.loc, fmt::format("{}#{} is outside the range of DATE (1677-09-22 to 2262-04-11)", l.type_prefix,
+                                 l.text));
+        return record(e, {err()});
+      }
       break;
     case LiteralKind::TimeOfDay:
       v.type = elem(Elem::TOD);
@@ -240,6 +250,12 @@ Val Checker::literal(const Expr& e, const Type*) {
       const auto dash = l.text.rfind('-');
       v.type = elem(Elem::DT);
       v.c = ConstValue{false, date_ns(l.text.substr(0, dash)) + tod_ns(l.text.substr(dash + 1)), 0};
+      if (!fits_64(v.c->i)) {
+        error(e.loc, fmt::format("{}#{} is outside the range of DT (1677-09-21-00:12:44 to "
+                                 "2262-04-11-23:47:16.854775807)",
+                                 l.type_prefix, l.text));
+        return record(e, {err()});
+      }
       break;
     }
     case LiteralKind::String:

@@ -215,6 +215,26 @@ TEST(StCheckRules, TypesAndPousOfSeveralFilesSeeEachOther) {
   EXPECT_TRUE(c->errors().empty()) << c->errors()[0];
 }
 
+// Named types resolve one through another (recursively): a generated chain
+// of thousands of them exhausted the stack (a segmentation fault at 10,000
+// structures). Types are limited to kMaxNesting levels, as the parser's
+// nesting is (here two a link: the structure and its member's type): an
+// error at each type where a chain passes the limit.
+TEST(StCheckRules, ALongChainOfNamedTypesIsRefusedWithoutExhaustingTheStack) {
+  constexpr int kCount = 20000;
+  std::string source = "TYPE\n";
+  for (int i = 0; i < kCount; ++i)
+    source += "T" + std::to_string(100000 + i) + " : STRUCT a : T" + std::to_string(100000 + i + 1) +
+              "; END_STRUCT;\n";
+  source += "T" + std::to_string(100000 + kCount) + " : INT;\nEND_TYPE\n";
+  auto c = check_source(source);
+  ASSERT_FALSE(c->errors().empty());
+  EXPECT_EQ(c->errors()[0], "129:22: type 'T100128' is nested deeper than 256 levels");
+  EXPECT_LE(c->errors().size(), static_cast<std::size_t>(kCount / 128 + 1));
+  auto ok = check_source("TYPE\n" + source.substr(5, source.find("T100120 :") - 5) + "T100120 : INT;\nEND_TYPE\n");
+  EXPECT_TRUE(ok->errors().empty()) << ok->errors()[0];
+}
+
 TEST(StCheckRules, TypeDeclarations) {
   auto c = check_source(R"(TYPE
   Distance : LREAL;
@@ -253,6 +273,120 @@ END_PROGRAM)");
                              "20:6: assignment to 's': value 6 is outside Small (-5..5)",
                          }))
       << ::testing::PrintToString(c->errors());
+}
+
+
+// IEC 61131-3 forbids recursion; the code generator gives every FUNCTION one
+// static frame and every FB instance a fixed layout, so none may pass.
+TEST(StCheckRules, CallsWithoutACycleAreAllowed) {
+  // A diamond (F calls G and H, G calls H), an FB calling a FUNCTION and an
+  // instance of another FB through VAR_IN_OUT, a FUNCTION's name as its result.
+  auto c = check_source(R"(FUNCTION H : INT
+VAR_INPUT x : INT; END_VAR
+H := x + 1;
+END_FUNCTION
+FUNCTION G : INT
+VAR_INPUT x : INT; END_VAR
+G := H(x) * 2;
+END_FUNCTION
+FUNCTION F : INT
+VAR_INPUT x : INT; END_VAR
+F := G(x) + H(x);
+F := F + 1;
+END_FUNCTION
+FUNCTION_BLOCK Leaf
+VAR_OUTPUT n : INT; END_VAR
+n := F(n);
+END_FUNCTION_BLOCK
+FUNCTION_BLOCK Node
+VAR_IN_OUT other : Leaf; END_VAR
+VAR leaves : ARRAY[1..3] OF Leaf; END_VAR
+leaves[1]();
+other();
+END_FUNCTION_BLOCK
+PROGRAM P
+VAR l : Leaf; n : Node; END_VAR
+n(other := l);
+END_PROGRAM)");
+  EXPECT_TRUE(c->errors().empty()) << ::testing::PrintToString(c->errors());
+}
+
+TEST(StCheckRules, RecursionIsOneErrorPerGroupOfPousCallingEachOther) {
+  auto c = check_source(R"(FUNCTION A : INT
+VAR_INPUT x : INT; END_VAR
+A := B(x) + B(x + 1) + C(x);
+END_FUNCTION
+FUNCTION B : INT
+VAR_INPUT x : INT; END_VAR
+B := C(x);
+END_FUNCTION
+FUNCTION C : INT
+VAR_INPUT x : INT; END_VAR
+C := A(x := x) + C(x);
+END_FUNCTION
+FUNCTION_BLOCK Ping
+VAR_EXTERNAL pong : Pong; END_VAR
+pong();
+END_FUNCTION_BLOCK
+FUNCTION_BLOCK Pong
+VAR_EXTERNAL ping : Ping; END_VAR
+ping();
+END_FUNCTION_BLOCK
+FUNCTION D : INT
+D := A(1) + D();
+END_FUNCTION)");
+  // A, B and C call one another: one error, at A (the first), with the
+  // shortest cycle through it (A -> C -> A; the calls of B come first in the
+  // source but make a longer one). Ping and Pong, through VAR_EXTERNAL
+  // instances, another; D's call of itself a third.
+  EXPECT_EQ(c->errors(), (std::vector<std::string>{
+                             "3:24: FUNCTION A calls itself: A -> C -> A",
+                             "15:1: FUNCTION_BLOCK Ping calls itself: Ping -> Pong -> Ping",
+                             "22:13: FUNCTION D calls itself: D -> D",
+                         }));
+}
+
+TEST(StCheckRules, AnFbHoldingAnInstanceOfItselfIsRefused) {
+  auto c = check_source(R"(TYPE Pair : STRUCT a, b : Inner; END_STRUCT; END_TYPE
+TYPE Nest : STRUCT p : ARRAY[0..1] OF Pair; END_STRUCT; END_TYPE
+FUNCTION_BLOCK Outer
+VAR_INPUT cfg : INT; END_VAR
+VAR_OUTPUT nest : Nest; END_VAR
+nest.p[0].a();
+END_FUNCTION_BLOCK
+FUNCTION_BLOCK Inner
+VAR_TEMP o : Outer; END_VAR
+o();
+END_FUNCTION_BLOCK
+FUNCTION_BLOCK Self
+VAR_INPUT copy : Self; END_VAR
+END_FUNCTION_BLOCK)");
+  // One error per cycle: Outer's and Inner's calls of the instances are the same mistake.
+  EXPECT_EQ(c->errors(), (std::vector<std::string>{
+                             "5:12: FUNCTION_BLOCK Outer holds an instance of itself, so its size would be infinite: "
+                             "Outer -> Inner -> Outer",
+                             "13:11: FUNCTION_BLOCK Self holds an instance of itself, so its size would be infinite: "
+                             "Self -> Self",
+                         }));
+}
+
+// A long chain of POUs (a generated program) is searched without recursion:
+// no stack overflow, one error.
+TEST(StCheckRules, ALongCycleIsFoundWithoutExhaustingTheStack) {
+  constexpr int kCount = 3000;
+  std::string functions, blocks;
+  for (int i = 0; i < kCount; ++i) {
+    const int next = (i + 1) % kCount;
+    functions += "FUNCTION F" + std::to_string(i) + " : INT\nF" + std::to_string(i) + " := F" +
+                 std::to_string(next) + "();\nEND_FUNCTION\n";
+    blocks += "FUNCTION_BLOCK B" + std::to_string(i) + "\nVAR b : B" + std::to_string(next) +
+              "; END_VAR\nEND_FUNCTION_BLOCK\n";
+  }
+  auto c = check_source(functions + blocks);
+  ASSERT_EQ(c->errors().size(), 2u) << ::testing::PrintToString(c->errors());
+  EXPECT_EQ(c->errors()[0].rfind("2:7: FUNCTION F0 calls itself: F0 -> F1 -> F2 -> ", 0), 0u) << c->errors()[0];
+  EXPECT_NE(c->errors()[0].find(" -> F2999 -> F0"), std::string::npos);
+  EXPECT_NE(c->errors()[1].find("FUNCTION_BLOCK B0 holds an instance of itself"), std::string::npos);
 }
 
 }  // namespace

@@ -66,6 +66,27 @@ TEST(StCheckTypes, TimeArithmetic) {
   EXPECT_EQ(bad->errors().size(), 4u);
 }
 
+// DATE and DT are nanoseconds since 1970-01-01 in 64 bits: a literal the
+// lexer takes (years 1 to 9999) may lie outside; it is an error, not a
+// wrapped value (the checker multiplied past INT64_MAX: fuzz_st_parse).
+TEST(StCheckTypes, DatesOutsideTheNanosecondRangeAreRefused) {
+  auto ok = check_program("d : DATE; t : DT;",
+                          "d := D#1677-09-22; d := D#2262-04-11; d := D#1970-01-01;"
+                          "t := DT#1677-09-21-00:12:44; t := DT#2262-04-11-23:47:16.854775807;");
+  EXPECT_TRUE(ok->errors().empty()) << ok->errors()[0];
+  auto bad = check_program("d : DATE; t : DT;",
+                           "d := D#4048-01-31;\nd := D#1677-09-21;\nt := DT#2262-04-11-23:47:17;\n"
+                           "t := DT#0001-01-01-00:00:00;");
+  EXPECT_EQ(bad->errors(), (std::vector<std::string>{
+                               "5:6: DATE#4048-01-31 is outside the range of DATE (1677-09-22 to 2262-04-11)",
+                               "6:6: DATE#1677-09-21 is outside the range of DATE (1677-09-22 to 2262-04-11)",
+                               "7:6: DT#2262-04-11-23:47:17 is outside the range of DT (1677-09-21-00:12:44 to "
+                               "2262-04-11-23:47:16.854775807)",
+                               "8:6: DT#0001-01-01-00:00:00 is outside the range of DT (1677-09-21-00:12:44 to "
+                               "2262-04-11-23:47:16.854775807)",
+                           }));
+}
+
 TEST(StCheckTypes, Comparisons) {
   auto c = check_program("a : INT; b : LREAL; x : BOOL; s : STRING;",
                          "x := a < b;\nx := a = s;\nx := (a < 1) < 2;");
