@@ -52,6 +52,16 @@ StringFn string_compare(BinaryOp op) {
 
 bool is_real_num(Num n) { return n == Num::F32 || n == Num::F64; }
 
+// The typed LDX/STX of an index cell of type n (integers only; the checker
+// allows no other index).
+Num index_num(Num n) { return is_real_num(n) ? Num::I64 : n; }
+
+// Durations and dates: a product of these may be a scaled one (TIME * 2).
+bool is_time_like(const Type* t) {
+  const auto e = t ? t->scalar() : std::nullopt;
+  return e && (is_duration(*e) || *e >= Elem::DATE);
+}
+
 }  // namespace
 
 // ---- places ----
@@ -227,7 +237,7 @@ Operand CodeGen::read(const Place& p, std::optional<std::uint32_t> into) {
     }
     case Place::Kind::Indexed: {
       const std::uint32_t dst = into ? *into : temp();
-      emit(Op::LDX, dst, p.at, p.index, p.check);
+      emit(op_of(Op::LDX_I8, index_num(out_->indexes[p.check].index)), dst, p.at, p.index, p.check);
       return {dst, p.type};
     }
   }
@@ -293,7 +303,9 @@ void CodeGen::write(const Place& p, Operand v, const SourceLoc& loc) {
         emit(Op::STI, r, v.at, n);
       }
       return;
-    case Place::Kind::Indexed: emit(Op::STX, p.at, v.at, p.index, p.check); return;
+    case Place::Kind::Indexed:
+      emit(op_of(Op::STX_I8, index_num(out_->indexes[p.check].index)), p.at, v.at, p.index, p.check);
+      return;
   }
 }
 
@@ -433,6 +445,28 @@ Operand CodeGen::binary(const Expr& e, std::optional<std::uint32_t> into) {
     const std::uint32_t dst = into ? *into : temp();
     emit(Op::MATH2, dst, a.at, b.at, math2(math2_fn("EXPT", *n == Num::F64)));
     return {dst, t};
+  }
+  if (op == BinaryOp::Add && !is_time_like(t)) {
+    // x * y + z and z + x * y in one instruction (the operands evaluated in
+    // the order written, the product rounded before the sum as MUL does).
+    auto product = [&](const Expr& x) {
+      const ExprInfo* xi = program_.info(x);
+      return x.kind == ExprKind::Binary && x.binary_op == BinaryOp::Multiply && xi && xi->type == t && !xi->constant;
+    };
+    const bool left = product(ea), right = !left && product(eb);
+    if (left || right) {
+      const Expr& pe = left ? ea : eb;
+      Operand z;
+      if (right) z = convert(expr(ea), t, ea.loc);
+      Operand x = expr(pe.operands[0]);
+      Operand y = expr(pe.operands[1]);
+      x = convert(x, t, pe.operands[0].loc);
+      y = convert(y, t, pe.operands[1].loc);
+      if (left) z = convert(expr(eb), t, eb.loc);
+      const std::uint32_t dst = into ? *into : temp();
+      emit(op_of(left ? Op::MULADD_I8 : Op::ADDMUL_I8, *n), dst, x.at, y.at, z.at);
+      return {dst, t};
+    }
   }
   Operand a = expr(ea);
   Operand b = expr(eb);

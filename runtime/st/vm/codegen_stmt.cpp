@@ -200,7 +200,11 @@ void CodeGen::for_statement(const Statement& s) {
   const std::uint32_t top = pc();
   loops_.emplace_back();
   body(s.body);
-  const std::uint32_t next = emit(op_of(Op::FOR_NEXT_I8, *n), v.at, end, step, top, site(s.loc, kLoopBudget));
+  // The step 1 (written or not) takes the instruction that needs no step.
+  const ExprInfo* bi = s.by.kind == ExprKind::None ? nullptr : program_.info(s.by);
+  const bool step_one = s.by.kind == ExprKind::None || (bi && bi->constant && !bi->constant->is_real && bi->constant->i == 1);
+  const std::uint32_t next = step_one ? emit(op_of(Op::FOR_INC_I8, *n), v.at, end, 0, top, site(s.loc, kLoopBudget))
+                                      : emit(op_of(Op::FOR_NEXT_I8, *n), v.at, end, step, top, site(s.loc, kLoopBudget));
   Loop loop = std::move(loops_.back());
   loops_.pop_back();
   patch(enter, pc());

@@ -1,0 +1,162 @@
+// The instructions added for speed (docs/benchmarks.md section 17) keep the
+// semantics of what they replace: FOR_INC (a FOR with the step 1), LDX/STX
+// typed by the index, MULADD/ADDMUL (a product and a sum, each rounded).
+// Each test also checks that the code generator used the new form, so it
+// tests that form.
+#include <cmath>
+#include <limits>
+
+#include "runtime/st/vm/listing.hpp"
+#include "runtime/st/vm/st_string.hpp"
+#include "tests/st/vm_fixture.hpp"
+
+namespace syncplc::st::testing {
+namespace vm_fused {
+
+using vm::Op;
+
+int count_op(const StRun& r, Op op, const std::string& pou = "Main") {
+  int n = 0;
+  for (const vm::Insn& i : r.module->pous[static_cast<std::size_t>(r.module->find(pou))].code) n += i.op == op;
+  return n;
+}
+
+TEST(StVmFused, ForWithStepOneRunsToTheTypesLastValueWithoutWrapping) {
+  auto r = run_program("b : SINT; u : USINT; q : ULINT; i : INT; nb, nu, nq, ne, n2 : DINT;",
+                       "FOR b := 125 TO 127 DO nb := nb + 1; END_FOR;"
+                       "FOR u := 253 TO 255 BY 1 DO nu := nu + 1; END_FOR;"
+                       "FOR q := 16#FFFFFFFFFFFFFFFD TO 16#FFFFFFFFFFFFFFFF DO nq := nq + 1; END_FOR;"
+                       "FOR i := 5 TO 4 DO ne := ne + 1; END_FOR;"
+                       "FOR i := 0 TO 10 BY 2 DO n2 := n2 + 1; END_FOR;");
+  ASSERT_TRUE(r->ok());
+  EXPECT_EQ(count_op(*r, Op::FOR_INC_I8), 1);
+  EXPECT_EQ(count_op(*r, Op::FOR_INC_U8), 1);  // BY 1 written
+  EXPECT_EQ(count_op(*r, Op::FOR_INC_U64), 1);
+  EXPECT_EQ(count_op(*r, Op::FOR_INC_I16), 1);
+  EXPECT_EQ(count_op(*r, Op::FOR_NEXT_I16), 1);  // BY 2
+  ASSERT_TRUE(r->scan());
+  EXPECT_EQ(r->get<std::int32_t>("nb"), 3);
+  EXPECT_EQ(r->get<std::int8_t>("b"), 127);
+  EXPECT_EQ(r->get<std::int32_t>("nu"), 3);
+  EXPECT_EQ(r->get<std::uint8_t>("u"), 255);
+  EXPECT_EQ(r->get<std::int32_t>("nq"), 3);
+  EXPECT_EQ(r->get<std::uint64_t>("q"), std::numeric_limits<std::uint64_t>::max());
+  EXPECT_EQ(r->get<std::int32_t>("ne"), 0);
+  EXPECT_EQ(r->get<std::int32_t>("n2"), 6);
+}
+
+TEST(StVmFused, ForWithStepOneCountsEveryBackwardJumpAgainstTheBudget) {
+  // 11 iterations, 10 backward jumps.
+  const std::string body = "n := 0;\nFOR i := 0 TO 10 DO\n  n := n + 1;\nEND_FOR;\nafter := TRUE;";
+  auto ok = run_program("i : INT; n : DINT; after : BOOL;", body);
+  ASSERT_TRUE(ok->ok());
+  ok->budget = 10;
+  EXPECT_TRUE(ok->scan());
+  EXPECT_EQ(ok->get<std::int32_t>("n"), 11);
+  auto stopped = run_program("i : INT; n : DINT; after : BOOL;", body);
+  stopped->budget = 9;
+  EXPECT_FALSE(stopped->scan());
+  EXPECT_STREQ(stopped->instance->stopped(), "loop stopped: the scan's loop budget is spent at t0.st:6:1");
+  EXPECT_EQ(stopped->get<std::int32_t>("n"), 10);
+  EXPECT_FALSE(stopped->get<bool>("after"));
+}
+
+TEST(StVmFused, TheBudgetCountsOnThroughCallsOfBlocksAndFunctions) {
+  // Main: 2 backward jumps of its own; three calls of Inner (9 each) and
+  // three of Count (4 each): 2 + 27 + 12 = 41 in all.
+  const std::string before =
+      "FUNCTION_BLOCK Inner\nVAR i : INT; n : DINT; END_VAR\nFOR i := 0 TO 9 DO n := n + 1; END_FOR;\n"
+      "END_FUNCTION_BLOCK\nFUNCTION Count : DINT\nVAR j : INT; END_VAR\nFOR j := 1 TO 5 DO Count := Count + j; "
+      "END_FOR;\nEND_FUNCTION";
+  for (const std::int64_t budget : {41, 40}) {
+    auto r = run_program("k : INT; b : Inner; s : DINT; after : BOOL;",
+                         "FOR k := 1 TO 3 DO b(); s := s + Count(); END_FOR; after := TRUE;", before);
+    ASSERT_TRUE(r->ok());
+    r->budget = budget;
+    EXPECT_EQ(r->scan(), budget == 41);
+    EXPECT_EQ(r->get<bool>("after"), budget == 41);
+    if (budget == 41) {
+      EXPECT_EQ(r->get<std::int32_t>("s"), 45);
+    }
+  }
+}
+
+TEST(StVmFused, IndexesOfEveryIntegerTypeAreCheckedAndFaultAtTheirSite) {
+  auto r = run_program("a : ARRAY[-2..2] OF INT := [1, 2, 3, 4, 5]; s : SINT; us : USINT; ud : UDINT; l : LINT;"
+                       "ul : ULINT; x1, x2, x3, x4, x5, x6 : INT := 77;",
+                       "s := -2; x1 := a[s]; s := 3; x2 := a[s];\n"
+                       "us := 255; x3 := a[us]; ud := 2; a[ud] := 50;\n"
+                       "l := -3; a[l] := 60; x4 := a[l];\n"
+                       "ul := 16#FFFFFFFFFFFFFFFF; x5 := a[ul]; a[ul] := 70; ul := 1; x6 := a[ul];");
+  ASSERT_TRUE(r->ok());
+  EXPECT_EQ(count_op(*r, Op::LDX_I8), 2);
+  EXPECT_EQ(count_op(*r, Op::LDX_U8), 1);
+  EXPECT_EQ(count_op(*r, Op::STX_U32), 1);
+  EXPECT_EQ(count_op(*r, Op::STX_I64), 1);
+  EXPECT_EQ(count_op(*r, Op::LDX_U64), 2);
+  EXPECT_EQ(count_op(*r, Op::STX_U64), 1);
+  r->scan();
+  EXPECT_EQ(r->get<std::int16_t>("x1"), 1);
+  EXPECT_EQ(r->get<std::int16_t>("x2"), 0);  // out of bounds: 0
+  EXPECT_EQ(r->get<std::int16_t>("x3"), 0);
+  EXPECT_EQ(r->get<std::int16_t>("a[2]"), 50);
+  EXPECT_EQ(r->get<std::int16_t>("x4"), 0);
+  EXPECT_EQ(r->get<std::int16_t>("x5"), 0);  // 2^64 - 1 is no -1
+  EXPECT_EQ(r->get<std::int16_t>("x6"), 4);
+  for (int k = -2; k <= 1; ++k) EXPECT_EQ(r->get<std::int16_t>("a[" + std::to_string(k) + "]"), k + 3);
+  const auto f = r->fault_texts();
+  ASSERT_EQ(f.size(), 6u);
+  EXPECT_EQ(f[0], "array index out of bounds (-2..2) at t0.st:5:38");
+  EXPECT_EQ(f[1], "array index out of bounds (-2..2) at t0.st:6:20");
+  EXPECT_EQ(f[2], "array index out of bounds (-2..2) at t0.st:7:12");  // the write, dropped
+  EXPECT_EQ(f[3], "array index out of bounds (-2..2) at t0.st:7:30");
+  EXPECT_EQ(f[4], "array index out of bounds (-2..2) at t0.st:8:36");
+  EXPECT_EQ(f[5], "array index out of bounds (-2..2) at t0.st:8:43");
+}
+
+TEST(StVmFused, MultiplyAddRoundsTheProductAsMulThenAddDo) {
+  auto r = run_program(
+      "a, b, c, x, y, v : LREAL; fa, fb, fc, fx : REAL; i, j : SINT; d, e : DINT;",
+      "a := 1.0 + 2.0 ** -30; b := 1.0 - 2.0 ** -30; c := -1.0;"
+      "x := a * b + c; y := c + a * b;"  // a * b is 1 - 2^-60, which rounds to 1: 0, where an FMA gives -2^-60
+      "fa := REAL#1.0 + REAL#2.0 ** REAL#-13; fb := REAL#1.0 - REAL#2.0 ** REAL#-13; fc := REAL#-1.0;"
+      "fx := fa * fb + fc;"  // rounded in REAL: 0 (in LREAL, 1 - 2^-26 is exact)
+      "i := SINT#100; j := i * SINT#2 + SINT#100;"  // 200 wraps to -56, then 44
+      "d := 65536; e := d * d + 5;"             // 2^32 wraps to 0
+      "v := 3.0; v := v * 2.0 + v;");           // the destination is an operand
+  ASSERT_TRUE(r->ok());
+  EXPECT_EQ(count_op(*r, Op::MULADD_F64), 2);
+  EXPECT_EQ(count_op(*r, Op::ADDMUL_F64), 1);
+  EXPECT_EQ(count_op(*r, Op::MULADD_F32), 1);
+  EXPECT_EQ(count_op(*r, Op::MULADD_I8), 1);
+  EXPECT_EQ(count_op(*r, Op::MULADD_I32), 1);
+  r->scan();
+  EXPECT_EQ(r->get<double>("x"), 0.0);
+  EXPECT_FALSE(std::signbit(r->get<double>("x")));
+  EXPECT_EQ(r->get<double>("y"), 0.0);
+  EXPECT_EQ(r->get<float>("fx"), 0.0f);
+  EXPECT_EQ(r->get<std::int8_t>("j"), 44);
+  EXPECT_EQ(r->get<std::int32_t>("e"), 5);
+  EXPECT_EQ(r->get<double>("v"), 9.0);
+}
+
+TEST(StVmFused, MultiplyAddEvaluatesItsOperandsInTheOrderWritten) {
+  const std::string tick =
+      "FUNCTION Tick : LREAL\nVAR_INPUT k : DINT; END_VAR\nVAR_IN_OUT log : DINT; END_VAR\n"
+      "log := log * 10 + k; Tick := DINT_TO_LREAL(k);\nEND_FUNCTION";
+  auto r = run_program("x, y : LREAL; l1, l2 : DINT;",
+                       "x := Tick(1, l1) * Tick(2, l1) + Tick(3, l1); y := Tick(1, l2) + Tick(2, l2) * Tick(3, l2);",
+                       tick);
+  ASSERT_TRUE(r->ok());
+  EXPECT_EQ(count_op(*r, Op::MULADD_F64), 1);
+  EXPECT_EQ(count_op(*r, Op::ADDMUL_F64), 1);
+  EXPECT_EQ(count_op(*r, Op::MULADD_I32, "Tick"), 1);
+  r->scan();
+  EXPECT_EQ(r->get<std::int32_t>("l1"), 123);
+  EXPECT_EQ(r->get<std::int32_t>("l2"), 123);
+  EXPECT_EQ(r->get<double>("x"), 5.0);
+  EXPECT_EQ(r->get<double>("y"), 7.0);
+}
+
+}  // namespace vm_fused
+}  // namespace syncplc::st::testing
