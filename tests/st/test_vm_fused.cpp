@@ -1,8 +1,8 @@
-// The instructions added for speed (docs/benchmarks.md section 17) keep the
-// semantics of what they replace: FOR_INC (a FOR with the step 1), LDX/STX
-// typed by the index, MULADD/ADDMUL (a product and a sum, each rounded).
-// Each test also checks that the code generator used the new form, so it
-// tests that form.
+// The instructions and code shapes added for speed (docs/benchmarks.md
+// section 17) keep the semantics of what they replace: FOR_INC (a FOR with
+// the step 1), LDX/STX typed by the index, MULADD/ADDMUL (a product and a
+// sum, each rounded), conditions compiled to jumps. Each test also checks
+// that the code generator used the new form, so it tests that form.
 #include <cmath>
 #include <limits>
 
@@ -156,6 +156,74 @@ TEST(StVmFused, MultiplyAddEvaluatesItsOperandsInTheOrderWritten) {
   EXPECT_EQ(r->get<std::int32_t>("l2"), 123);
   EXPECT_EQ(r->get<double>("x"), 5.0);
   EXPECT_EQ(r->get<double>("y"), 7.0);
+}
+
+TEST(StVmFused, ConditionsAsJumpsGiveTheValuesOfTheirExpressions) {
+  // Each condition both ways: as IF (jumps) and as a BOOL value (AND/OR/NOT).
+  const char* const conds[] = {"a AND b",         "a OR b",           "NOT a",
+                               "a AND NOT b",     "NOT (a AND b)",    "a OR b AND c",
+                               "(a OR b) AND c",  "NOT (a OR NOT c)", "a AND n > 2 OR NOT b AND n <> 5",
+                               "NOT (n < 3) AND c"};
+  std::string vars = "a, b, c : BOOL; n : INT; ";
+  std::string body;
+  for (std::size_t k = 0; k < std::size(conds); ++k) {
+    const std::string i = std::to_string(k);
+    vars += "j" + i + ", v" + i + ", w" + i + " : BOOL; r" + i + " : INT; ";
+    body += "IF " + std::string(conds[k]) + " THEN j" + i + " := TRUE; ELSE j" + i + " := FALSE; END_IF;\n";
+    body += "v" + i + " := " + conds[k] + ";\n";
+    body += "w" + i + " := FALSE; WHILE (" + conds[k] + ") AND NOT w" + i + " DO w" + i + " := TRUE; END_WHILE;\n";
+    body += "r" + i + " := 0; REPEAT r" + i + " := r" + i + " + 1; UNTIL (" + conds[k] + ") OR r" + i + " >= 2 END_REPEAT;\n";
+  }
+  auto r = run_program(vars, body);
+  ASSERT_TRUE(r->ok());
+  for (int bits = 0; bits < 16; ++bits) {
+    r->set<bool>("a", bits & 1);
+    r->set<bool>("b", bits & 2);
+    r->set<bool>("c", bits & 4);
+    r->set<std::int16_t>("n", (bits & 8) ? 5 : 2);
+    ASSERT_TRUE(r->scan());
+    for (std::size_t k = 0; k < std::size(conds); ++k) {
+      const std::string i = std::to_string(k);
+      const bool v = r->get<bool>("v" + i);
+      EXPECT_EQ(r->get<bool>("j" + i), v) << conds[k] << " with " << bits;
+      EXPECT_EQ(r->get<bool>("w" + i), v) << conds[k] << " with " << bits;
+      EXPECT_EQ(r->get<std::int16_t>("r" + i), v ? 1 : 2) << conds[k] << " with " << bits;
+      EXPECT_EQ(r->cell("j" + i)->raw, v ? 1u : 0u);
+    }
+  }
+  EXPECT_EQ(r->fault_texts().size(), 0u);
+}
+
+TEST(StVmFused, ARightOperandThatCanFaultOrWriteIsStillEvaluated) {
+  const std::string tick =
+      "FUNCTION Tick : BOOL\nVAR_INPUT k : DINT; END_VAR\nVAR_IN_OUT log : DINT; END_VAR\n"
+      "log := log * 10 + k; Tick := TRUE;\nEND_FUNCTION";
+  auto r = run_program("off : BOOL; on : BOOL := TRUE; zero, k, log : DINT; arr : ARRAY[0..3] OF DINT; hit : DINT; "
+                       "nan, z : LREAL; ok : BOOL;",
+                       "k := 9;\n"
+                       "IF off AND 10 / zero > 1 THEN hit := hit + 1; END_IF;\n"
+                       "IF on OR arr[k] > 0 THEN hit := hit + 10; END_IF;\n"
+                       "IF off AND Tick(7, log) THEN hit := hit + 100; END_IF;\n"
+                       "nan := z / z; IF NOT (nan < 1.0) THEN ok := TRUE; END_IF;",
+                       tick);
+  ASSERT_TRUE(r->ok());
+  r->scan();
+  EXPECT_EQ(r->get<std::int32_t>("hit"), 10);
+  EXPECT_EQ(r->get<std::int32_t>("log"), 7);  // Tick ran
+  EXPECT_TRUE(r->get<bool>("ok"));            // NOT (NaN < 1.0) is TRUE
+  const auto f = r->fault_texts();
+  ASSERT_EQ(f.size(), 2u);
+  EXPECT_EQ(f[0], "division by zero at t0.st:11:15");
+  EXPECT_EQ(f[1], "array index out of bounds (0..3) at t0.st:12:14");
+}
+
+TEST(StVmFused, SkippableRightOperandsCostNoLogicInstructions) {
+  auto r = run_program("a, b, c, x : BOOL; n : INT;",
+                       "IF a AND NOT b THEN x := TRUE; END_IF; IF NOT a OR n > 3 AND c THEN x := FALSE; END_IF;");
+  ASSERT_TRUE(r->ok());
+  EXPECT_EQ(count_op(*r, Op::AND), 0) << vm::listing(*r->module, 0);
+  EXPECT_EQ(count_op(*r, Op::OR), 0);
+  EXPECT_EQ(count_op(*r, Op::NOT_BOOL), 0);
 }
 
 }  // namespace vm_fused

@@ -73,10 +73,10 @@ void CodeGen::if_statement(const Statement& s) {
   std::vector<std::uint32_t> ends;
   for (std::size_t k = 0; k < s.branches.size(); ++k) {
     const IfBranch& b = s.branches[k];
-    const std::uint32_t skip = branch_unless(b.condition);
+    const std::vector<std::uint32_t> skip = jumps_unless(b.condition);
     body(b.body);
     if (k + 1 < s.branches.size() || s.has_else) ends.push_back(emit(Op::JMP));
-    patch(skip, pc());
+    for (std::uint32_t j : skip) patch(j, pc());
   }
   if (s.has_else) body(s.else_body);
   for (std::uint32_t j : ends) patch(j, pc());
@@ -214,13 +214,13 @@ void CodeGen::for_statement(const Statement& s) {
 
 void CodeGen::while_statement(const Statement& s) {
   const std::uint32_t top = pc();
-  const std::uint32_t skip = branch_unless(s.value);
+  const std::vector<std::uint32_t> skip = jumps_unless(s.value);
   loops_.emplace_back();
   body(s.body);
   const std::uint32_t back = emit(Op::JMPB, 0, 0, 0, top, site(s.loc, kLoopBudget));
   Loop loop = std::move(loops_.back());
   loops_.pop_back();
-  patch(skip, pc());
+  for (std::uint32_t j : skip) patch(j, pc());
   for (std::uint32_t j : loop.exits) patch(j, pc());
   for (std::uint32_t j : loop.continues) patch(j, back);
 }
@@ -230,16 +230,11 @@ void CodeGen::repeat_statement(const Statement& s) {
   loops_.emplace_back();
   body(s.body);
   const std::uint32_t test = pc();
-  std::uint32_t done;
-  {
-    TempScope scope(*this);
-    const Operand c = expr(s.value);
-    done = emit(Op::JNZ, c.at);
-  }
+  const std::vector<std::uint32_t> done = jumps_if(s.value);
   emit(Op::JMPB, 0, 0, 0, top, site(s.loc, kLoopBudget));
   Loop loop = std::move(loops_.back());
   loops_.pop_back();
-  patch(done, pc());
+  for (std::uint32_t j : done) patch(j, pc());
   for (std::uint32_t j : loop.exits) patch(j, pc());
   for (std::uint32_t j : loop.continues) patch(j, test);
 }
