@@ -1,8 +1,9 @@
 // The instructions and code shapes added for speed (docs/benchmarks.md
 // section 17) keep the semantics of what they replace: FOR_INC (a FOR with
 // the step 1), LDX/STX typed by the index, MULADD/ADDMUL (a product and a
-// sum, each rounded), conditions compiled to jumps. Each test also checks
-// that the code generator used the new form, so it tests that form.
+// sum, each rounded), conditions compiled to jumps, and string results
+// written straight into the assigned variable. Each test also checks that
+// the code generator used the new form, so it tests that form.
 #include <cmath>
 #include <limits>
 
@@ -224,6 +225,25 @@ TEST(StVmFused, SkippableRightOperandsCostNoLogicInstructions) {
   EXPECT_EQ(count_op(*r, Op::AND), 0) << vm::listing(*r->module, 0);
   EXPECT_EQ(count_op(*r, Op::OR), 0);
   EXPECT_EQ(count_op(*r, Op::NOT_BOOL), 0);
+}
+
+TEST(StVmFused, StringResultsGoStraightIntoTheVariableUnlessItIsAnOperand) {
+  auto r = run_program("s : STRING[80] := 'abc'; t : STRING[80] := 'a longer text that was here before';"
+                       "u : STRING[80]; w : STRING[80]; k : INT := -42; v : STRING[5]; p : STRING[80] := 'p';",
+                       "s := CONCAT(s, '-', s); t := LEFT(t, 2); u := CONCAT('x', t); u := MID(u, 2, 2);"
+                       "w := INT_TO_STRING(k); v := CONCAT(s, s); p := CONCAT(p, 'q');");
+  ASSERT_TRUE(r->ok());
+  r->scan();
+  EXPECT_EQ(r->str("s"), "abc-abc");
+  EXPECT_EQ(r->str("t"), "a ");
+  EXPECT_EQ(r->str("u"), "a ");
+  EXPECT_EQ(r->str("w"), "-42");
+  EXPECT_EQ(r->str("p"), "pq");
+  EXPECT_EQ(r->str("v"), "abc-a");  // cut, one fault
+  // Zeros after the length (what was there before is gone).
+  const Cell* t = r->cell("t");
+  for (int c = 1; c < vm::string_cells(80, false); ++c) EXPECT_EQ(t[c].raw, c == 1 ? 0x2061u : 0u) << c;
+  ASSERT_EQ(r->fault_texts().size(), 1u);
 }
 
 }  // namespace vm_fused

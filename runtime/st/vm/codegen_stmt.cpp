@@ -65,6 +65,15 @@ void CodeGen::assign(const Statement& s) {
     if (v.at != p.at) emit(Op::MOV, p.at, v.at);
     return;
   }
+  // A string function's result written straight into a variable of the
+  // same capacity (no copy; no cut can happen in the copy it saves).
+  const Type* vt = vi ? vi->type : nullptr;
+  if (p.kind == Place::Kind::Direct && p.bit < 0 && p.type->kind == Type::Kind::String && vt &&
+      vt->kind == Type::Kind::String && vt->wide == p.type->wide && vt->length == p.type->length) {
+    const Operand v = expr(s.value, p.at);
+    if (v.at != p.at) write(p, v, s.loc);
+    return;
+  }
   const Operand v = convert(expr(s.value), p.type, s.value.loc);
   write(p, v, s.loc);
 }
