@@ -1,7 +1,7 @@
 // The instructions and code shapes added for speed (docs/benchmarks.md
 // section 17) keep the semantics of what they replace: FOR_INC (a FOR with
-// the step 1), LDX/STX typed by the index, MULADD/ADDMUL (a product and a
-// sum, each rounded), conditions compiled to jumps, and string results
+// the step 1), LDX/STX typed by the index, MULADD/ADDMUL/MULSUB/SUBMUL (a
+// product and a sum or difference, each rounded), conditions compiled to jumps, and string results
 // written straight into the assigned variable. Each test also checks that
 // the code generator used the new form, so it tests that form.
 #include <cmath>
@@ -117,20 +117,26 @@ TEST(StVmFused, IndexesOfEveryIntegerTypeAreCheckedAndFaultAtTheirSite) {
 
 TEST(StVmFused, MultiplyAddRoundsTheProductAsMulThenAddDo) {
   auto r = run_program(
-      "a, b, c, x, y, v : LREAL; fa, fb, fc, fx : REAL; i, j : SINT; d, e : DINT;",
+      "a, b, c, x, y, v, s1, s2 : LREAL; fa, fb, fc, fx : REAL; i, j, k1, k2 : SINT; d, e : DINT;",
       "a := 1.0 + 2.0 ** -30; b := 1.0 - 2.0 ** -30; c := -1.0;"
       "x := a * b + c; y := c + a * b;"  // a * b is 1 - 2^-60, which rounds to 1: 0, where an FMA gives -2^-60
       "fa := REAL#1.0 + REAL#2.0 ** REAL#-13; fb := REAL#1.0 - REAL#2.0 ** REAL#-13; fc := REAL#-1.0;"
       "fx := fa * fb + fc;"  // rounded in REAL: 0 (in LREAL, 1 - 2^-26 is exact)
       "i := SINT#100; j := i * SINT#2 + SINT#100;"  // 200 wraps to -56, then 44
       "d := 65536; e := d * d + 5;"             // 2^32 wraps to 0
-      "v := 3.0; v := v * 2.0 + v;");           // the destination is an operand
+      "v := 3.0; v := v * 2.0 + v;"             // the destination is an operand
+      "s1 := a * b - 1.0; s2 := 1.0 - a * b;"   // 0 both, where an FMA gives -+2^-60
+      "i := SINT#-100; k1 := i * SINT#2 - SINT#100; k2 := SINT#100 - i * SINT#2;");  // -200 -> 56: -44; 44
   ASSERT_TRUE(r->ok());
   EXPECT_EQ(count_op(*r, Op::MULADD_F64), 2);
   EXPECT_EQ(count_op(*r, Op::ADDMUL_F64), 1);
   EXPECT_EQ(count_op(*r, Op::MULADD_F32), 1);
   EXPECT_EQ(count_op(*r, Op::MULADD_I8), 1);
   EXPECT_EQ(count_op(*r, Op::MULADD_I32), 1);
+  EXPECT_EQ(count_op(*r, Op::MULSUB_F64), 1);
+  EXPECT_EQ(count_op(*r, Op::SUBMUL_F64), 1);
+  EXPECT_EQ(count_op(*r, Op::MULSUB_I8), 1);
+  EXPECT_EQ(count_op(*r, Op::SUBMUL_I8), 1);
   r->scan();
   EXPECT_EQ(r->get<double>("x"), 0.0);
   EXPECT_FALSE(std::signbit(r->get<double>("x")));
@@ -139,6 +145,10 @@ TEST(StVmFused, MultiplyAddRoundsTheProductAsMulThenAddDo) {
   EXPECT_EQ(r->get<std::int8_t>("j"), 44);
   EXPECT_EQ(r->get<std::int32_t>("e"), 5);
   EXPECT_EQ(r->get<double>("v"), 9.0);
+  EXPECT_EQ(r->get<double>("s1"), 0.0);
+  EXPECT_EQ(r->get<double>("s2"), 0.0);
+  EXPECT_EQ(r->get<std::int8_t>("k1"), -44);
+  EXPECT_EQ(r->get<std::int8_t>("k2"), 44);
 }
 
 TEST(StVmFused, MultiplyAddEvaluatesItsOperandsInTheOrderWritten) {

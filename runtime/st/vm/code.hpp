@@ -107,8 +107,10 @@ inline constexpr int kNumCount = 10;
      index d (out of bounds: LDX gives 0, STX writes nothing, both fault at its site) */            \
   SYNCPLC_ST_INT_FAMILY(X, LDX) SYNCPLC_ST_INT_FAMILY(X, STX)                                         \
   /* fused multiply and add, rounded after each as the two operations are (no FMA):                \
-     MULADD a := b * c + d, ADDMUL a := d + b * c (the operands in the order written) */            \
+     MULADD a := b * c + d, ADDMUL a := d + b * c, MULSUB a := b * c - d, SUBMUL a := d - b * c      \
+     (the operands in the order written) */                                                          \
   SYNCPLC_ST_NUM_FAMILY(X, MULADD) SYNCPLC_ST_NUM_FAMILY(X, ADDMUL)                                   \
+  SYNCPLC_ST_NUM_FAMILY(X, MULSUB) SYNCPLC_ST_NUM_FAMILY(X, SUBMUL)                                   \
   /* a := b converted between native types, value-preserving (the implicit widenings) */            \
   SYNCPLC_ST_NUM_FAMILY(X, WIDEN_TO_I16) SYNCPLC_ST_NUM_FAMILY(X, WIDEN_TO_I32)                       \
   SYNCPLC_ST_NUM_FAMILY(X, WIDEN_TO_I64) SYNCPLC_ST_NUM_FAMILY(X, WIDEN_TO_F32)                       \
@@ -129,9 +131,7 @@ enum class Op : std::uint16_t {
 std::string_view op_name(Op op);
 // The operations whose d is a cell operand too (the others' d is a target,
 // a descriptor's index or a count).
-inline bool d_is_cell(Op op) {
-  return (op >= Op::MULADD_I8 && op <= Op::MULADD_F64) || (op >= Op::ADDMUL_I8 && op <= Op::ADDMUL_F64);
-}
+inline bool d_is_cell(Op op) { return op >= Op::MULADD_I8 && op <= Op::SUBMUL_F64; }
 // The member of the typed family starting at `first` (ADD_I8) for `n`.
 inline Op op_of(Op first, Num n) { return static_cast<Op>(static_cast<int>(first) + static_cast<int>(n)); }
 

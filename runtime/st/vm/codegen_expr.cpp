@@ -459,9 +459,9 @@ Operand CodeGen::binary(const Expr& e, std::optional<std::uint32_t> into) {
     emit(Op::MATH2, dst, a.at, b.at, math2(math2_fn("EXPT", *n == Num::F64)));
     return {dst, t};
   }
-  if (op == BinaryOp::Add && !is_time_like(t)) {
-    // x * y + z and z + x * y in one instruction (the operands evaluated in
-    // the order written, the product rounded before the sum as MUL does).
+  if ((op == BinaryOp::Add || op == BinaryOp::Subtract) && !is_time_like(t)) {
+    // x * y +/- z and z +/- x * y in one instruction (the operands evaluated
+    // in the order written, the product rounded before the sum as MUL does).
     auto product = [&](const Expr& x) {
       const ExprInfo* xi = program_.info(x);
       return x.kind == ExprKind::Binary && x.binary_op == BinaryOp::Multiply && xi && xi->type == t && !xi->constant;
@@ -477,7 +477,9 @@ Operand CodeGen::binary(const Expr& e, std::optional<std::uint32_t> into) {
       y = convert(y, t, pe.operands[1].loc);
       if (left) z = convert(expr(eb), t, eb.loc);
       const std::uint32_t dst = into ? *into : temp();
-      emit(op_of(left ? Op::MULADD_I8 : Op::ADDMUL_I8, *n), dst, x.at, y.at, z.at);
+      const bool add = op == BinaryOp::Add;
+      const Op fused = left ? (add ? Op::MULADD_I8 : Op::MULSUB_I8) : (add ? Op::ADDMUL_I8 : Op::SUBMUL_I8);
+      emit(op_of(fused, *n), dst, x.at, y.at, z.at);
       return {dst, t};
     }
   }

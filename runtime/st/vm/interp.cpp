@@ -560,6 +560,12 @@ L_NOT_U64:
   NEXT();                                                                                          \
   L_ADDMUL_##T:                                                                                    \
   wr<T>(f[ip->a], add<T>(rd<T>(f[ip->d]), rounded<T>(mul<T>(rd<T>(f[ip->b]), rd<T>(f[ip->c])))));  \
+  NEXT();                                                                                          \
+  L_MULSUB_##T:                                                                                    \
+  wr<T>(f[ip->a], sub<T>(rounded<T>(mul<T>(rd<T>(f[ip->b]), rd<T>(f[ip->c]))), rd<T>(f[ip->d])));  \
+  NEXT();                                                                                          \
+  L_SUBMUL_##T:                                                                                    \
+  wr<T>(f[ip->a], sub<T>(rd<T>(f[ip->d]), rounded<T>(mul<T>(rd<T>(f[ip->b]), rd<T>(f[ip->c])))));  \
   NEXT();
   SYNCPLC_ST_NUM_TYPES(FUSED)
 #undef FUSED
