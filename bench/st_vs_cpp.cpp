@@ -4,6 +4,7 @@
 //   BM_StateMachine_St / _Cpp   a 20-state CASE machine: inputs, time in state, counters
 //   BM_ArrayLoop_St / _Cpp      a FOR over ARRAY[0..999] OF LREAL: scaling, sum, mean, peak
 //   BM_Strings_St / _Cpp        a message on STRING[80]: CONCAT, INT_TO_STRING, LEN, FIND, LEFT, MID
+//   BM_Call_St / _Cpp           y := x: what calling a block costs either way (a reference)
 //   BM_Load10k                  parse + check + compile of a generated 10,000-line source
 // One iteration is one scan of one instance. Both sides are a Block called
 // through execute_guarded (runtime/core/finite_guard.hpp) as the task calls
@@ -115,6 +116,42 @@ struct PinCells {
     for (int k = 0; k < N; ++k) pins[k] = &cells[k];
   }
 };
+
+// ---- the calling cost: one input copied to one output ----
+
+const char* const kCallSt = R"(
+FUNCTION_BLOCK Pass
+VAR_INPUT
+  x : LREAL;
+END_VAR
+VAR_OUTPUT
+  y : LREAL;
+END_VAR
+y := x;
+END_FUNCTION_BLOCK
+)";
+
+class PassCpp final : public Block {
+ public:
+  enum Pin { kX, kY, kPins };
+  void execute(ScanContext&) noexcept override { out<double>(kY, in<double>(kX)); }
+};
+
+struct PassCells {
+  Cell *x, *y;
+};
+PassCells pass_cells(StBlock& b) { return {b.cell("x"), b.cell("y")}; }
+PassCells pass_cells(PinCells<PassCpp::kPins>& p) { return {p.cells + PassCpp::kX, p.cells + PassCpp::kY}; }
+inline void put(const PassCells& c, double x) { c.x->set(x); }
+
+std::vector<double>& pass_inputs() {
+  static std::vector<double> v = [] {
+    std::vector<double> x(kInputSets);
+    for (int k = 0; k < kInputSets; ++k) x[k] = 0.25 * k;
+    return x;
+  }();
+  return v;
+}
 
 // ---- PID with anti-windup ----
 
@@ -787,6 +824,9 @@ void run(benchmark::State& state, Block& block, const Cells& cells, const Inputs
 
 // The instances (built at first use, after the check in main).
 struct Instances {
+  StBlock pass_st{kCallSt, "Pass"};
+  PinCells<PassCpp::kPins> pass_pins;
+  PassCpp pass_cpp;
   StBlock pid_st{kPidSt, "PidAw"};
   PinCells<PidCpp::kPins> pid_pins;
   PidCpp pid_cpp;
@@ -800,6 +840,7 @@ struct Instances {
   PinCells<AlarmTextCpp::kPins> alarm_pins;
   AlarmTextCpp alarm_cpp;
   Instances() {
+    pass_cpp.bind_pins(pass_pins.pins);
     pid_cpp.bind_pins(pid_pins.pins);
     station_cpp.bind_pins(station_pins.pins);
     window_cpp.bind_pins(window_pins.pins);
@@ -813,6 +854,8 @@ Instances& instances() {
   return i;
 }
 
+void BM_Call_St(benchmark::State& s) { run(s, instances().pass_st, pass_cells(instances().pass_st), pass_inputs()); }
+void BM_Call_Cpp(benchmark::State& s) { run(s, instances().pass_cpp, pass_cells(instances().pass_pins), pass_inputs()); }
 void BM_Pid_St(benchmark::State& s) { run(s, instances().pid_st, pid_cells(instances().pid_st), pids()); }
 void BM_Pid_Cpp(benchmark::State& s) { run(s, instances().pid_cpp, pid_cells(instances().pid_pins), pids()); }
 void BM_StateMachine_St(benchmark::State& s) {
@@ -828,6 +871,8 @@ void BM_ArrayLoop_Cpp(benchmark::State& s) {
 void BM_Strings_St(benchmark::State& s) { run(s, instances().alarm_st, alarm_cells(instances().alarm_st), alarms()); }
 void BM_Strings_Cpp(benchmark::State& s) { run(s, instances().alarm_cpp, alarm_cells(instances().alarm_pins), alarms()); }
 
+BENCHMARK(BM_Call_St);
+BENCHMARK(BM_Call_Cpp);
 BENCHMARK(BM_Pid_St);
 BENCHMARK(BM_Pid_Cpp);
 BENCHMARK(BM_StateMachine_St);
@@ -873,6 +918,9 @@ struct Out {
 std::string check_equal() {
   Instances fresh;
   std::string e;
+  e = compare("call", fresh.pass_st, pass_cells(fresh.pass_st), fresh.pass_cpp, pass_cells(fresh.pass_pins),
+              pass_inputs(), [](const PassCells& a, const PassCells& b) { return std::vector<Out>{{"y", a.y, b.y, 1}}; });
+  if (!e.empty()) return e;
   e = compare("PID", fresh.pid_st, pid_cells(fresh.pid_st), fresh.pid_cpp, pid_cells(fresh.pid_pins), pids(),
               [](const PidCells& a, const PidCells& b) {
                 return std::vector<Out>{{"out", a.out, b.out, 1}, {"saturated", a.saturated, b.saturated, 1}};
