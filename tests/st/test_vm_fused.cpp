@@ -1,9 +1,10 @@
 // The instructions and code shapes added for speed (docs/benchmarks.md
 // section 17) keep the semantics of what they replace: FOR_INC (a FOR with
 // the step 1), LDX/STX typed by the index, MULADD/ADDMUL/MULSUB/SUBMUL (a
-// product and a sum or difference, each rounded), conditions compiled to jumps, and string results
-// written straight into the assigned variable. Each test also checks that
-// the code generator used the new form, so it tests that form.
+// product and a sum or difference, each rounded), conditions compiled to
+// jumps, jumps to jumps threaded, and string results written straight into
+// the assigned variable. Each test also checks that the code generator used
+// the new form, so it tests that form.
 #include <cmath>
 #include <limits>
 
@@ -235,6 +236,33 @@ TEST(StVmFused, SkippableRightOperandsCostNoLogicInstructions) {
   EXPECT_EQ(count_op(*r, Op::AND), 0) << vm::listing(*r->module, 0);
   EXPECT_EQ(count_op(*r, Op::OR), 0);
   EXPECT_EQ(count_op(*r, Op::NOT_BOOL), 0);
+}
+
+TEST(StVmFused, JumpsToJumpsGoStraightToTheirEnd) {
+  auto r = run_program("k, n : INT; a, b : BOOL; x : DINT;",
+                       "x := 0;\n"
+                       "CASE k OF\n"
+                       "  0: IF a THEN IF b THEN x := 1; ELSE x := 2; END_IF; ELSIF b THEN x := 3; ELSE x := 4; END_IF;\n"
+                       "  1: WHILE n < 3 DO IF a THEN n := n + 1; ELSE n := n + 2; END_IF; END_WHILE; x := n;\n"
+                       "ELSE\n"
+                       "  IF a THEN x := 5; ELSIF b THEN x := 6; END_IF;\n"
+                       "END_CASE;");
+  ASSERT_TRUE(r->ok());
+  const auto& code = r->instance->pou().code;
+  for (std::size_t k = 0; k < code.size(); ++k)
+    if (code[k].op == Op::JMP || code[k].op == Op::JZ || code[k].op == Op::JNZ) {
+      EXPECT_NE(code[code[k].d].op, Op::JMP) << k << "\n" << vm::listing(*r->module, 0);
+    }
+  const int expected[3][4] = {{4, 2, 3, 1}, {4, 3, 4, 3}, {0, 5, 6, 5}};  // [k][a + 2b]
+  for (int k = 0; k < 3; ++k)
+    for (int ab = 0; ab < 4; ++ab) {
+      r->set<std::int16_t>("k", static_cast<std::int16_t>(k));
+      r->set<std::int16_t>("n", 0);
+      r->set<bool>("a", ab & 1);
+      r->set<bool>("b", ab & 2);
+      ASSERT_TRUE(r->scan());
+      EXPECT_EQ(r->get<std::int32_t>("x"), expected[k][ab]) << k << " " << ab;
+    }
 }
 
 TEST(StVmFused, StringResultsGoStraightIntoTheVariableUnlessItIsAnOperand) {

@@ -592,12 +592,42 @@ bool run(Vm& vm, std::uint32_t pou, Cell* frame) noexcept {
   return ok;
 }
 
+namespace {
+
+// The forward jumps whose d is their target (JMPB and FOR_NEXT/FOR_INC are
+// backward and count against the budget: left as they are).
+bool forward_jump(Op op) {
+  return op == Op::JMP || op == Op::JZ || op == Op::JNZ || (op >= Op::JNLT_I8 && op <= Op::JNNE_F64) ||
+         (op >= Op::FOR_ENTER_I8 && op <= Op::FOR_ENTER_U64);
+}
+
+// Jump threading: the end of an inner IF jumps to the end of the outer one,
+// an ELSIF branch to the end of the POU. A forward jump whose target is a
+// JMP goes to where that JMP goes; a JMP to a HALT is a HALT. Control flow
+// only: no instruction with an effect is skipped or moved.
+void thread_jumps(std::vector<Insn>& code) {
+  const auto n = static_cast<std::uint32_t>(code.size());
+  auto final_target = [&](std::uint32_t t) {
+    for (int hops = 0; hops < 64 && t < n && code[t].op == Op::JMP && code[t].d != t; ++hops) t = code[t].d;
+    return t;
+  };
+  for (Insn& i : code) {
+    if (!forward_jump(i.op)) continue;
+    i.d = final_target(i.d);
+    if (i.op == Op::JMP && i.d < n && code[i.d].op == Op::HALT) i.op = Op::HALT;
+  }
+}
+
+}  // namespace
+
 void finalize(Module& m) {
   Vm none;
   bool ok = true;
   const void* const* labels = exec(none, nullptr, nullptr, &ok);
-  for (CompiledPou& p : m.pous)
+  for (CompiledPou& p : m.pous) {
+    thread_jumps(p.code);
     for (Insn& i : p.code) i.handler = labels[static_cast<int>(i.op)];
+  }
 }
 
 }  // namespace syncplc::st::vm
