@@ -138,11 +138,11 @@ void BlockRegistry::add(BlockTypeInfo info) {
 const BlockTypeInfo* BlockRegistry::find(std::string_view name) const {
   for (const auto& t : types_)
     if (t->name == name) return t.get();
-  return nullptr;
+  return base_ ? base_->find(name) : nullptr;
 }
 
 std::vector<const BlockTypeInfo*> BlockRegistry::all() const {
-  std::vector<const BlockTypeInfo*> v;
+  std::vector<const BlockTypeInfo*> v = base_ ? base_->all() : std::vector<const BlockTypeInfo*>{};
   for (const auto& t : types_) v.push_back(t.get());
   std::stable_sort(v.begin(), v.end(), [](auto* a, auto* b) {
     return a->category != b->category ? a->category < b->category : a->name < b->name;

@@ -207,6 +207,8 @@ class BlockSetup {
   virtual bool connected(int pin) const = 0;               // wired (whole or any element) or given a constant
   virtual std::uint32_t pin_length(int pin) const = 0;     // elements of an array pin, 1 for a scalar
   virtual std::int64_t task_period_ns() const = 0;
+  // The task's watchdog time, 0 when it has none (ST's loop budget follows it).
+  virtual std::int64_t task_watchdog_ns() const { return 0; }
   virtual std::uint64_t seed() const = 0;                  // project seed mixed with instance name
   virtual void error(const std::string& message) = 0;
 
@@ -285,6 +287,10 @@ struct ScanContext {
 
 class BlockRegistry {
  public:
+  BlockRegistry() = default;
+  // A registry that adds types to `base` (a project's own block types beside
+  // the built-in ones): find() looks here first, then in base.
+  explicit BlockRegistry(const BlockRegistry* base) : base_(base) {}
   // Throws std::logic_error on a duplicate or inconsistent declaration.
   void add(BlockTypeInfo info);
   const BlockTypeInfo* find(std::string_view name) const;
@@ -292,6 +298,7 @@ class BlockRegistry {
 
  private:
   std::vector<std::unique_ptr<BlockTypeInfo>> types_;
+  const BlockRegistry* base_ = nullptr;
 };
 
 }  // namespace syncplc

@@ -15,12 +15,17 @@ constexpr bool is_bits(IecType t) {
   return t == IecType::BYTE || t == IecType::WORD || t == IecType::DWORD || t == IecType::LWORD;
 }
 
+// 128-bit integers hold every 64-bit value, signed or not, and their
+// products by 10^6 (a GCC/Clang extension; the build uses -Wpedantic).
+__extension__ using i128 = __int128;
+__extension__ using u128 = unsigned __int128;
+
 constexpr double kNsPerMs = 1e6;
 
 // A source value: an exact integer or a real.
 struct Value {
   bool real = false;
-  __int128 i = 0;
+  i128 i = 0;
   double r = 0;
 };
 
@@ -36,7 +41,7 @@ Value read(Cell c) noexcept {
     if (v % 1'000'000 == 0) x.i = v / 1'000'000;
     else x.real = true, x.r = static_cast<double>(v) / kNsPerMs;
   } else {
-    x.i = static_cast<__int128>(v);  // BOOL 0/1, integers, bit strings (unsigned)
+    x.i = static_cast<i128>(v);  // BOOL 0/1, integers, bit strings (unsigned)
   }
   return x;
 }
@@ -49,20 +54,20 @@ inline double to_integral(double r, Rounding m) noexcept {
 }
 
 // Clamps v to [lo, hi]; *out_of_range when it had to.
-inline __int128 clamp128(__int128 v, __int128 lo, __int128 hi, bool* out_of_range) noexcept {
+inline i128 clamp128(i128 v, i128 lo, i128 hi, bool* out_of_range) noexcept {
   if (v < lo) { *out_of_range = true; return lo; }
   if (v > hi) { *out_of_range = true; return hi; }
   return v;
 }
 
 // A real as an integer in [lo, hi] (saturated; NaN gives 0, out of range).
-inline __int128 real_to_int(double r, Rounding m, __int128 lo, __int128 hi, bool* out_of_range) noexcept {
+inline i128 real_to_int(double r, Rounding m, i128 lo, i128 hi, bool* out_of_range) noexcept {
   if (std::isnan(r)) { *out_of_range = true; return 0; }
   const double q = to_integral(r, m);
   if (q < static_cast<double>(lo)) { *out_of_range = true; return lo; }
   if (q > static_cast<double>(hi)) { *out_of_range = true; return hi; }
-  // |q| <= 2^64 here, exact in __int128; double(hi) may round up (2^64 - 1 -> 2^64).
-  return clamp128(static_cast<__int128>(q), lo, hi, out_of_range);
+  // |q| <= 2^64 here, exact in i128; double(hi) may round up (2^64 - 1 -> 2^64).
+  return clamp128(static_cast<i128>(q), lo, hi, out_of_range);
 }
 
 template <IecType S, IecType D, Rounding M>
@@ -85,13 +90,13 @@ Cell convert(Cell in, bool* out_of_range) noexcept {
     }
     out.set<DV>(static_cast<DV>(r));
   } else if constexpr (D == IecType::TIME) {
-    constexpr auto lo = static_cast<__int128>(std::numeric_limits<std::int64_t>::min());
-    constexpr auto hi = static_cast<__int128>(std::numeric_limits<std::int64_t>::max());
-    __int128 ns;
+    constexpr auto lo = static_cast<i128>(std::numeric_limits<std::int64_t>::min());
+    constexpr auto hi = static_cast<i128>(std::numeric_limits<std::int64_t>::max());
+    i128 ns;
     if (x.real) {
       const double q = M == Rounding::Trunc ? std::trunc(x.r * kNsPerMs) : std::nearbyint(x.r * kNsPerMs);
       const bool bad = !(q >= -9.2e18 && q <= 9.2e18);  // NaN too
-      ns = std::isnan(q) ? 0 : q < -9.2e18 ? lo : q > 9.2e18 ? hi : static_cast<__int128>(q);
+      ns = std::isnan(q) ? 0 : q < -9.2e18 ? lo : q > 9.2e18 ? hi : static_cast<i128>(q);
       if (bad) *out_of_range = true;
     } else {
       ns = clamp128(x.i * 1'000'000, lo, hi, out_of_range);
@@ -99,12 +104,12 @@ Cell convert(Cell in, bool* out_of_range) noexcept {
     out.set<std::int64_t>(static_cast<std::int64_t>(ns));
   } else if constexpr (is_bits(D)) {
     // The low bits of the two's-complement pattern.
-    constexpr __int128 umax = static_cast<__int128>(std::numeric_limits<DV>::max());
-    const __int128 v = x.real ? real_to_int(x.r, M, 0, umax, out_of_range) : x.i;
-    out.set<DV>(static_cast<DV>(static_cast<unsigned __int128>(v)));
+    constexpr i128 umax = static_cast<i128>(std::numeric_limits<DV>::max());
+    const i128 v = x.real ? real_to_int(x.r, M, 0, umax, out_of_range) : x.i;
+    out.set<DV>(static_cast<DV>(static_cast<u128>(v)));
   } else {  // a signed or unsigned integer
-    constexpr auto lo = static_cast<__int128>(std::numeric_limits<DV>::min());
-    constexpr auto hi = static_cast<__int128>(std::numeric_limits<DV>::max());
+    constexpr auto lo = static_cast<i128>(std::numeric_limits<DV>::min());
+    constexpr auto hi = static_cast<i128>(std::numeric_limits<DV>::max());
     if constexpr (is_bits(S) && sizeof(native_t<S>) == sizeof(DV)) {
       out.set<DV>(static_cast<DV>(in.get<native_t<S>>()));  // same width: the bits, reinterpreted
     } else if (x.real) {

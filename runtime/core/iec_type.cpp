@@ -10,9 +10,7 @@
 namespace syncplc {
 namespace {
 
-constexpr std::array<std::string_view, kIecTypeCount> kNames = {
-    "BOOL", "SINT", "INT", "DINT", "LINT", "USINT", "UINT", "UDINT", "ULINT",
-    "BYTE", "WORD", "DWORD", "LWORD", "REAL", "LREAL", "TIME"};
+constexpr const auto& kNames = kIecTypeNames;
 
 std::string upper(std::string_view s) {
   std::string r(s);

@@ -17,6 +17,11 @@ enum class IecType : std::uint8_t {
   BYTE, WORD, DWORD, LWORD, REAL, LREAL, TIME,
 };
 inline constexpr int kIecTypeCount = 16;
+// The types' names, indexed by IecType (header-only, for code that does not
+// link the core, such as the ST VM's string conversions).
+inline constexpr std::string_view kIecTypeNames[kIecTypeCount] = {
+    "BOOL", "SINT", "INT", "DINT", "LINT", "USINT", "UINT", "UDINT", "ULINT",
+    "BYTE", "WORD", "DWORD", "LWORD", "REAL", "LREAL", "TIME"};
 
 // Generic type classes of IEC 61131-3 (table 11), used by overloaded blocks
 // such as ADD or GT whose pin type is fixed per instance at load.

@@ -161,6 +161,9 @@ class Program {
   std::string version;
   std::string file;
   std::uint64_t seed = 0;
+  // What the blocks' types and code live in beyond the registry (the
+  // project's compiled Structured Text): kept as long as the program.
+  std::shared_ptr<const void> code;
   std::vector<std::unique_ptr<Task>> tasks;
   std::vector<Tag> tags;
   std::vector<RetainedInstance> retained;  // block instances declared retain or persistent

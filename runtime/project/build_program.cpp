@@ -5,6 +5,7 @@
 #include <map>
 #include <stdexcept>
 
+#include "runtime/project/read_st.hpp"
 #include "runtime/project/stages.hpp"
 
 namespace syncplc {
@@ -38,6 +39,8 @@ class LoaderBlockSetup final : public BlockSetup {
     return period_;
   }
   bool period_read() const { return period_read_; }
+  std::int64_t task_watchdog_ns() const override { return watchdog_; }
+  void set_watchdog(std::int64_t ns) { watchdog_ = ns; }
   std::uint64_t seed() const override { return seed_; }
   void error(const std::string& message) override { d_.error(in_.loc, in_.name + " (" + in_.type->name + "): " + message); }
   void unknown_param(std::string_view name) const override {
@@ -53,6 +56,7 @@ class LoaderBlockSetup final : public BlockSetup {
   std::vector<bool> connected_;
   mutable std::vector<WiringSeen> seen_ = std::vector<WiringSeen>(connected_.size(), WiringSeen::NotAsked);
   mutable bool period_read_ = false;
+  std::int64_t watchdog_ = 0;
   std::int64_t period_;
   std::uint64_t seed_;
   Diagnostics& d_;
@@ -107,6 +111,7 @@ std::vector<Created> create_blocks(const Declarations& p, Diagnostics& diags) {
     for (std::size_t q = 0; q < in.type->pins.size(); ++q) connected.push_back(pin_connected(in, q));
     LoaderBlockSetup setup(in, in.param_cells, connected, p.tasks[static_cast<std::size_t>(in.task)].cfg.period_ns,
                            mix_seed(p.seed, in.name), diags);
+    if (const TaskConfig& tc = p.tasks[static_cast<std::size_t>(in.task)].cfg; tc.watchdog) setup.set_watchdog(tc.watchdog_ns);
     std::size_t before = diags.size();
     try {
       block = in.type->create(setup);
@@ -138,6 +143,7 @@ std::unique_ptr<Program> build_program(Declarations& p, const Wiring& w, const B
   std::vector<Created> created = create_blocks(p, diags);
   if (!diags.empty()) return nullptr;
   auto prog = std::make_unique<Program>();
+  prog->code = p.st;
   prog->name = p.name;
   prog->version = p.version;
   prog->file = p.file;

@@ -154,8 +154,11 @@ struct DriverDecl {
 
 using RefList = std::vector<std::pair<std::string, SourceLoc>>;
 
+struct StProject;  // read_st.hpp
+
 struct Declarations {
   std::string file;
+  std::shared_ptr<StProject> st;  // the project's Structured Text (sources:), its block types
   std::string name = "unnamed", version = "0";
   std::uint64_t seed = 1;
   std::size_t max_forces = kDefaultMaxForces;  // project: max_forces

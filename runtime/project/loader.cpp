@@ -7,6 +7,7 @@
 #include "fblocks/library.hpp"
 #include "runtime/io/drivers.hpp"
 #include "runtime/project/modbus_settings.hpp"
+#include "runtime/project/read_st.hpp"
 #include "runtime/project/store_section.hpp"
 #include "runtime/project/stages.hpp"
 #include "runtime/project/yaml_tree.hpp"
@@ -21,12 +22,15 @@ Declarations read_declarations(ConfigNode& root, const std::string& path, const 
                                std::vector<store::SourceFile>& sources, YamlBudget& budget) {
   Declarations p;
   p.file = path;
-  const BlockRegistry& blocks = opts.blocks ? *opts.blocks : builtin_blocks();
+  const BlockRegistry& builtin = opts.blocks ? *opts.blocks : builtin_blocks();
   const DriverRegistry& drivers = opts.drivers ? *opts.drivers : builtin_drivers();
   merge_includes(root, path, diags, &sources, budget);
   for (const auto& [k, v] : root.map)
     if (!kTopKeys.count(k))
-      diags.error(v.loc, "unknown top-level key '" + k + "' (project, include, tasks, tags, blocks, connections, drivers, traces, watch, metrics, modbus, store)");
+      diags.error(v.loc, "unknown top-level key '" + k + "' (project, include, tasks, tags, blocks, programs, sources, connections, drivers, traces, watch, metrics, modbus, store)");
+  // Structured Text first: its FUNCTION_BLOCKs are block types of blocks:.
+  p.st = read_st_sources(root.find("sources"), builtin, diags, &sources);
+  const BlockRegistry& blocks = *p.st->blocks;
   if (auto* n = root.find("project")) read_project(*n, p, diags);
   if (opts.seed) p.seed = *opts.seed;
   if (auto* n = root.find("tasks")) read_tasks(*n, p, diags);
@@ -36,12 +40,14 @@ Declarations read_declarations(ConfigNode& root, const std::string& path, const 
   if (auto* n = root.find("store")) read_store_section(*n, p.store, diags);
   for (auto& [k, v] : root.map)
     if (k == "blocks") read_blocks(v, blocks, p, diags);
+  if (auto* n = root.find("programs")) read_programs(*n, *p.st, p, diags);
   std::set<std::string> driver_overrides;
   for (auto& [k, v] : root.map)
     if (k == "drivers") driver_overrides = override_driver_settings(v, opts, diags);
   if (auto* n = root.find("drivers")) read_drivers(*n, drivers, p, diags);
   apply_overrides(opts, driver_overrides, p, diags);
   if (auto* n = root.find("connections")) read_connections(*n, p, diags);
+  wire_externals(*p.st, p, diags);
   read_refs(root, "traces", p.traces, diags);
   read_refs(root, "watch", p.watch, diags);
   if (auto* n = root.find("metrics")) read_metrics(*n, p, diags);

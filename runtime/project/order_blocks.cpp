@@ -19,20 +19,35 @@ BlockOrder order_blocks(const Declarations& p, const Wiring& w, Diagnostics& dia
   std::vector<std::vector<std::pair<int, SourceLoc>>> succ(p.instances.size());
   // Several writers for element-wise writes; a reader of one element depends
   // only on the writer of that element (or of the whole tag).
-  std::vector<std::vector<std::pair<int, std::optional<std::uint32_t>>>> tag_writers(p.tags.size());
+  struct TagWriter {
+    int instance;
+    std::optional<std::uint32_t> element;
+    int pin;
+  };
+  std::vector<std::vector<TagWriter>> tag_writers(p.tags.size());
   for (const auto& c : w.connections)
     if (c.src.is_pin && !c.dst.is_pin)
-      tag_writers[static_cast<std::size_t>(c.dst.tag)].emplace_back(c.src.instance, c.dst.element);
+      tag_writers[static_cast<std::size_t>(c.dst.tag)].push_back({c.src.instance, c.dst.element, c.src.pin});
+  // An ST instance reads a tag it writes through its VAR_EXTERNAL's pins
+  // (NAME_in at the scan's start, NAME after it, st_block.hpp): its own last
+  // value, not a loop.
+  auto own_external = [&](const TagWriter& wr, const ConnectionDecl& c) {
+    if (wr.instance != c.dst.instance) return false;
+    const BlockTypeInfo& t = *p.instances[static_cast<std::size_t>(c.dst.instance)].type;
+    return t.category.rfind("Structured Text", 0) == 0 &&
+           t.pins[static_cast<std::size_t>(c.dst.pin)].name == t.pins[static_cast<std::size_t>(wr.pin)].name + "_in";
+  };
   for (const auto& c : w.connections) {
     if (!c.dst.is_pin) continue;
     if (p.instances[static_cast<std::size_t>(c.dst.instance)].type->unit_delay) continue;  // reads at the end of the scan
     std::vector<int> from;
     if (c.src.is_pin) from.push_back(c.src.instance);
     else
-      for (const auto& [w, element] : tag_writers[static_cast<std::size_t>(c.src.tag)])
-        if (p.instances[static_cast<std::size_t>(w)].task == p.instances[static_cast<std::size_t>(c.dst.instance)].task &&
-            !(element && c.src.element && *element != *c.src.element))
-          from.push_back(w);
+      for (const TagWriter& wr : tag_writers[static_cast<std::size_t>(c.src.tag)])
+        if (p.instances[static_cast<std::size_t>(wr.instance)].task ==
+                p.instances[static_cast<std::size_t>(c.dst.instance)].task &&
+            !(wr.element && c.src.element && *wr.element != *c.src.element) && !own_external(wr, c))
+          from.push_back(wr.instance);
     for (int f : from) {
       if (p.instances[static_cast<std::size_t>(f)].type->unit_delay) continue;  // its output is ready at the start
       succ[static_cast<std::size_t>(f)].emplace_back(c.dst.instance, c.loc);

@@ -8,7 +8,8 @@
 namespace syncplc {
 
 const std::set<std::string> kTopKeys = {"project", "include", "tasks", "tags", "blocks", "connections",
-                                        "drivers", "traces", "watch", "metrics", "modbus", "store"};
+                                        "drivers", "traces", "watch", "metrics", "modbus", "store",
+                                        "sources", "programs"};
 
 namespace {
 

@@ -53,7 +53,7 @@ tasks:
 tag:
   - {name: x, type: BOOL}
 )"),
-              ElementsAre("p.yaml:4:3: unknown top-level key 'tag' (project, include, tasks, tags, blocks, "
+              ElementsAre("p.yaml:4:3: unknown top-level key 'tag' (project, include, tasks, tags, blocks, programs, sources, "
                           "connections, drivers, traces, watch, metrics, modbus, store)"));
 }
 
@@ -995,7 +995,7 @@ bogus: 1
                           "p.yaml:16:5: type mismatch: b is BOOL, t2.PT is TIME",
                           "p.yaml:17:5: blocks in different tasks exchange data through a tag: connect t2.Q -> a tag "
                           "-> t3.IN",
-                          "p.yaml:18:8: unknown top-level key 'bogus' (project, include, tasks, tags, blocks, "
+                          "p.yaml:18:8: unknown top-level key 'bogus' (project, include, tasks, tags, blocks, programs, sources, "
                           "connections, drivers, traces, watch, metrics, modbus, store)"));
 }
 

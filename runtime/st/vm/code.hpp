@@ -228,6 +228,7 @@ struct CompiledPou {
   std::uint32_t temp_begin = 0, temp_cells = 0;  // VAR_TEMP: reset from image at each call
   std::uint32_t fn_frame = 0;  // FUNCTION: its static frame's offset in a root's area
   std::vector<std::uint32_t> lines;  // source line of each instruction (for faults and tests)
+  std::vector<std::string> externals_written;  // VAR_EXTERNALs the body writes (or passes as VAR_IN_OUT)
 };
 
 // A built-in block embedded in a frame: created for every instance at

@@ -91,7 +91,9 @@ void CodeGen::fb_call(const Expr& e) {
     if (it == program_.args.end() || a.output) continue;
     const Pin* pin = it->second;
     if (pin->dir == PinDir::InOut) {
-      const std::uint32_t r = ref_of(place(a.value));
+      const Place target = place(a.value);
+      note_written(target);
+      const std::uint32_t r = ref_of(target);
       write(member(inst, pin_cell(pin), program_.types->elem(Elem::LWORD)),
             {r, program_.types->elem(Elem::LWORD)}, a.loc);
       continue;
@@ -149,7 +151,9 @@ Operand CodeGen::user_function(const Expr& e, const ExprInfo& i, std::optional<s
       continue;
     }
     if (pin->dir == PinDir::InOut) {
-      call.in.push_back({ref_of(place(a.value)), s->at, 1});
+      const Place target = place(a.value);
+      note_written(target);
+      call.in.push_back({ref_of(target), s->at, 1});
       continue;
     }
     Operand v = convert(expr(a.value), pin->type, a.value.loc);

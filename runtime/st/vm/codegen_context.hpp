@@ -35,6 +35,7 @@ struct Place {
   int bit = -1;             // a bit of the place (w.3)
   const Type* type = nullptr;  // the place's type (BOOL for a bit)
   const Type* word = nullptr;  // with a bit: the type of the word
+  const Variable* root = nullptr;  // the variable the place is part of
 };
 
 // The native type of an elementary type (the enumeration's and subrange's base).
@@ -86,6 +87,7 @@ class CodeGen {
   Place place(const Expr& e);
   Operand read(const Place& p, std::optional<std::uint32_t> into = std::nullopt);
   void write(const Place& p, Operand v, const SourceLoc& loc);
+  void note_written(const Place& p);  // a VAR_EXTERNAL written (its tag belongs to the POU's task)
   std::uint32_t ref_of(const Place& p);  // a cell holding the place's address
   Operand expr(const Expr& e, std::optional<std::uint32_t> into = std::nullopt);
   Operand convert(Operand v, const Type* to, const SourceLoc& loc);

@@ -89,6 +89,7 @@ Place CodeGen::place(const Expr& e) {
       if (!v) break;
       p.type = v->type;
       p.at = var_cell(v);
+      p.root = v;
       if (v->scope == VarScope::InOut || v->scope == VarScope::External) p.kind = Place::Kind::Indirect;
       return p;
     }
@@ -174,6 +175,7 @@ Place CodeGen::place(const Expr& e) {
         p2.index = ix.at;
         p2.check = check(0, ix.type);
         p2.type = at->element;
+        p2.root = b.root;
         return p2;
       }
       const std::uint32_t r = ref_of(b);
@@ -192,6 +194,7 @@ Place CodeGen::place(const Expr& e) {
       p2.kind = Place::Kind::Indirect;
       p2.at = r;
       p2.type = at->element;
+      p2.root = b.root;
       return p2;
     }
     case ExprKind::BitAccess: {
@@ -257,8 +260,17 @@ Operand CodeGen::read(const Place& p, std::optional<std::uint32_t> into) {
   return {p.at, p.type};
 }
 
+void CodeGen::note_written(const Place& p) {
+  if (!p.root || p.root->scope != VarScope::External) return;
+  auto& w = out_->pous[pou_].externals_written;
+  for (const std::string& n : w)
+    if (same_name(n, p.root->name)) return;
+  w.push_back(p.root->name);
+}
+
 void CodeGen::write(const Place& p, Operand v, const SourceLoc& loc) {
   if (!p.type || p.type->is_error()) return;
+  note_written(p);
   if (p.bit >= 0) {
     Place w = p;
     w.bit = -1;

@@ -57,6 +57,7 @@ Instance::Instance(std::shared_ptr<const Module> module, std::uint32_t pou, cons
   area_.assign(frame + module_->function_area + module_->scratch_cells, Cell{});
   std::memcpy(area_.data(), p.image.data(), frame * sizeof(Cell));
   create_blocks(pou, 0, setup, setup.name);
+  find_externals(pou, 0);
   vm_.module = module_.get();
   vm_.functions = area_.data() + frame;
   vm_.scratch = area_.data() + frame + module_->function_area;
@@ -95,6 +96,12 @@ void Instance::create_blocks(std::uint32_t pou, std::uint32_t at, const Instance
       if (off >= v.at && off < v.at + v.cells) member = v.name;
     create_blocks(fb, at + off, setup, path + "." + member);
   }
+}
+
+void Instance::find_externals(std::uint32_t pou, std::uint32_t at) {
+  for (const VarSlot& v : module_->pous[pou].vars)
+    if (v.scope == static_cast<int>(VarScope::External)) externals_.emplace_back(at + v.at, v.name);
+  for (const auto& [off, fb] : module_->nested[pou]) find_externals(fb, at + off);
 }
 
 bool Instance::scan(ScanContext& ctx, std::int64_t loop_budget) noexcept {

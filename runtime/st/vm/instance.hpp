@@ -44,15 +44,20 @@ class Instance {
   const char* last_fault() const noexcept { return vm_.last_fault; }
   // Binds VAR_EXTERNAL `name` of the instance's POU to a cell outside (a tag).
   bool bind_external(std::string_view name, Cell* cell) noexcept;
+  // Every VAR_EXTERNAL reference cell of the frame, nested FB instances' too:
+  // (cell, name), for the owner to bind.
+  const std::vector<std::pair<std::uint32_t, std::string>>& externals() const noexcept { return externals_; }
 
  private:
   void create_blocks(std::uint32_t pou, std::uint32_t at, const InstanceSetup& setup, const std::string& path);
+  void find_externals(std::uint32_t pou, std::uint32_t at);
 
   std::shared_ptr<const Module> module_;
   std::uint32_t pou_ = 0;
   std::vector<Cell> area_;
   std::vector<std::unique_ptr<Block>> blocks_;
   std::vector<std::unique_ptr<Cell*[]>> pins_;
+  std::vector<std::pair<std::uint32_t, std::string>> externals_;
   Vm vm_;
 };
 

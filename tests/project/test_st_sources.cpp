@@ -1,0 +1,215 @@
+// Structured Text in a project: sources:, FUNCTION_BLOCKs as block types,
+// programs:, VAR_EXTERNAL wired to tags, and the errors of each at their place.
+#include "runtime/project/scan_test.hpp"
+#include "tests/project/loader_test_util.hpp"
+
+namespace syncplc::loadertest {
+namespace st_sources {
+
+using ::testing::HasSubstr;
+
+std::string report_text(const ScanTestReport& r) {
+  std::string s;
+  for (const auto& d : r.diagnostics.sorted()) s += d.text() + "\n";
+  for (const auto& c : r.cases)
+    for (const auto& f : c.failures) s += c.name + ": " + f + "\n";
+  return s;
+}
+
+TEST(StSources, ProgramsAndStBlocksRunWithBuiltInBlocksOrderedByTheirDataFlow) {
+  temp_file("st_ok/logic.st", R"(
+(* Counts the scans while enabled; doubles a tag. *)
+PROGRAM Counting
+VAR_EXTERNAL
+  enable : BOOL;
+  count : DINT;
+  level : LREAL;
+  doubled : LREAL;
+END_VAR
+IF enable THEN
+  count := count + 1;
+END_IF;
+doubled := level * 2.0;
+END_PROGRAM
+
+(* Scales its input, and counts its calls through an external. *)
+FUNCTION_BLOCK Scale
+VAR_INPUT x : LREAL; k : LREAL := 3.0; END_VAR
+VAR_OUTPUT y : LREAL; END_VAR
+VAR_EXTERNAL calls : DINT; END_VAR
+y := x * k;
+calls := calls + 1;
+END_FUNCTION_BLOCK
+)");
+  const std::string project = temp_file("st_ok/p.yaml", yaml(R"(
+tasks: [{name: main, period: 10ms}]
+sources: [logic.st]
+tags:
+  - {name: enable, type: BOOL, hmi: readwrite}
+  - {name: count, type: DINT}
+  - {name: level, type: LREAL}
+  - {name: doubled, type: LREAL}
+  - {name: scaled, type: LREAL}
+  - {name: calls, type: DINT, init: 100}
+  - {name: ramp_out, type: LREAL}
+programs:
+  - {name: counting, type: Counting, task: main}
+blocks:
+  - {name: scale, type: Scale}
+  - {name: ramp, type: ADD, inputs: {IN2: 1.0}}
+connections:
+  - doubled -> scale.x
+  - scale.y -> scaled
+  - ramp_out -> ramp.IN1
+  - ramp.OUT -> level
+)"));
+  const std::string tests = temp_file("st_ok/t.yaml", yaml(R"(
+cases:
+  - name: ST and blocks together
+    steps:
+      - at: 0ms
+        expect: {count: 0, calls: 101, doubled: 2.0, scaled: 6.0}
+      - at: 10ms
+        set: {enable: TRUE}
+        expect: {count: 1, calls: 102}
+      - at: 50ms
+        expect: {count: 5, calls: 106}
+)"));
+  const auto r = run_scan_tests(project, tests);
+  EXPECT_TRUE(r.ok()) << report_text(r);
+  auto l = load_project(project);
+  ASSERT_LOADS(l);
+  // The program writes count and doubled: it owns them, as a block owns what it writes.
+  EXPECT_EQ(l.program->find_tag("count")->writer, "block counting.count");
+  EXPECT_EQ(l.program->find_tag("calls")->writer, "block scale.calls");
+}
+
+TEST(StSources, ErrorsOfEveryStageAtTheirPlaceInOneLoad) {
+  const std::string st = temp_file("st_err/bad.st", yaml(R"(
+PROGRAM Main
+VAR_EXTERNAL speed : INT; missing : BOOL; END_VAR
+VAR x : DINT; END_VAR
+x := speed + 1;
+END_PROGRAM
+FUNCTION_BLOCK TON
+VAR_INPUT a : BOOL; END_VAR
+END_FUNCTION_BLOCK
+)"));
+  const std::string project = temp_file("st_err/p.yaml", yaml(R"(
+tasks: [{name: main, period: 10ms}]
+sources: [bad.st, nowhere.st]
+tags:
+  - {name: speed, type: LREAL}
+  - {name: missed, type: BOOL}
+programs:
+  - {name: main_prog, type: Maim, task: main}
+)"));
+  const auto r = load_project(project);
+  EXPECT_FALSE(r.ok());
+  const auto e = errors(r);
+  EXPECT_THAT(e, has_error(project + ":2:19", "sources: cannot read 'nowhere.st'")) << joined(r);
+  // Missing files stop the ST stage; fix that and look at the rest.
+  temp_file("st_err/nowhere.st", "");
+  const auto r2 = load_project(project);
+  const auto e2 = errors(r2);
+  EXPECT_THAT(e2, has_error(st + ":6:1", "'TON' is the name of a built-in function block")) << joined(r2);
+  EXPECT_THAT(e2, has_error(project + ":7:29", "no PROGRAM 'Maim' in the sources")) << joined(r2);
+  // Without the checker's error, the program types exist and the misspelt one gets its suggestion.
+  temp_file("st_err/bad.st", yaml(R"(
+PROGRAM Main
+END_PROGRAM
+)"));
+  temp_file("st_err/nowhere.st", "");
+  const auto r3 = load_project(project);
+  EXPECT_THAT(errors(r3), has_error(project + ":7:29", "no PROGRAM 'Maim' in the sources (did you mean Main?)"))
+      << joined(r3);
+}
+
+TEST(StSources, VarExternalMustNameATagOfTheSameType) {
+  const std::string st = temp_file("st_ext/e.st", yaml(R"(
+PROGRAM Main
+VAR_EXTERNAL
+  speed : INT;
+  misssed : BOOL;
+  ok : LREAL;
+END_VAR
+ok := ok + 1.0;
+END_PROGRAM
+)"));
+  const std::string project = temp_file("st_ext/p.yaml", yaml(R"(
+tasks: [{name: main, period: 10ms}]
+sources: [e.st]
+tags:
+  - {name: speed, type: LREAL}
+  - {name: missed, type: BOOL}
+  - {name: ok, type: LREAL}
+programs: [{name: m, type: Main}]
+)"));
+  const auto r = load_project(project);
+  EXPECT_FALSE(r.ok());
+  EXPECT_THAT(errors(r), has_error(st + ":3:3", "VAR_EXTERNAL speed : INT of Main does not match tag speed : LREAL"))
+      << joined(r);
+  EXPECT_THAT(errors(r), has_error(st + ":4:3", "no tag 'misssed' in the project (did you mean missed?)")) << joined(r);
+}
+
+TEST(StSources, SyntaxAndTypeErrorsOfTheSourcesAreLoadErrors) {
+  const std::string st = temp_file("st_syn/s.st", yaml(R"(
+PROGRAM Main
+VAR x : INT; y : LREAL; END_VAR
+x := y;
+IF x THEN x := 1 END_IF;
+END_PROGRAM
+)"));
+  const std::string project = temp_file("st_syn/p.yaml", yaml(R"(
+tasks: [{name: main, period: 10ms}]
+sources: s.st
+programs: [{name: m, type: Main}]
+)"));
+  const auto r = load_project(project);
+  EXPECT_FALSE(r.ok());
+  EXPECT_THAT(errors(r), has_error(st + ":4:18", "expected ';'")) << joined(r);
+}
+
+TEST(StSources, ARunawayLoopIsStoppedEachScanAndTheTaskGoesOn) {
+  temp_file("st_loop/l.st", yaml(R"(
+PROGRAM Runaway
+VAR_EXTERNAL n : DINT; after : BOOL; END_VAR
+n := 0;
+WHILE TRUE DO
+  n := n + 1;
+END_WHILE;
+after := TRUE;
+END_PROGRAM
+PROGRAM Ticks
+VAR_EXTERNAL ticks : DINT; END_VAR
+ticks := ticks + 1;
+END_PROGRAM
+)"));
+  const std::string project = temp_file("st_loop/p.yaml", yaml(R"(
+tasks:
+  - {name: main, period: 10ms, watchdog: {time: 5ms}}
+  - {name: other, period: 10ms}
+sources: [l.st]
+tags:
+  - {name: n, type: DINT}
+  - {name: after, type: BOOL}
+  - {name: ticks, type: DINT}
+programs:
+  - {name: runaway, type: Runaway, task: main}
+  - {name: counter, type: Ticks, task: other}
+)"));
+  const std::string tests = temp_file("st_loop/t.yaml", yaml(R"(
+cases:
+  - name: the loop is stopped after its budget, on every scan alike
+    steps:
+      - at: 0ms
+        expect: {n: 500001, after: FALSE, ticks: 1}
+      - at: 100ms
+        expect: {n: 500001, after: FALSE, ticks: 11}
+)"));
+  const auto r = run_scan_tests(project, tests);
+  EXPECT_TRUE(r.ok()) << report_text(r);
+}
+
+}  // namespace st_sources
+}  // namespace syncplc::loadertest
