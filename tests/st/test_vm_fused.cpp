@@ -156,18 +156,22 @@ TEST(StVmFused, MultiplyAddEvaluatesItsOperandsInTheOrderWritten) {
   const std::string tick =
       "FUNCTION Tick : LREAL\nVAR_INPUT k : DINT; END_VAR\nVAR_IN_OUT log : DINT; END_VAR\n"
       "log := log * 10 + k; Tick := DINT_TO_LREAL(k);\nEND_FUNCTION";
-  auto r = run_program("x, y : LREAL; l1, l2 : DINT;",
-                       "x := Tick(1, l1) * Tick(2, l1) + Tick(3, l1); y := Tick(1, l2) + Tick(2, l2) * Tick(3, l2);",
+  // w: l3 (a DINT, widened to LREAL) is read after the product's calls changed it, as ADD reads it.
+  auto r = run_program("x, y, w : LREAL; l1, l2, l3 : DINT;",
+                       "x := Tick(1, l1) * Tick(2, l1) + Tick(3, l1); y := Tick(1, l2) + Tick(2, l2) * Tick(3, l2);"
+                       "l3 := 4; w := l3 + Tick(5, l3) * 2.0;",
                        tick);
   ASSERT_TRUE(r->ok());
   EXPECT_EQ(count_op(*r, Op::MULADD_F64), 1);
-  EXPECT_EQ(count_op(*r, Op::ADDMUL_F64), 1);
+  EXPECT_EQ(count_op(*r, Op::ADDMUL_F64), 2);
   EXPECT_EQ(count_op(*r, Op::MULADD_I32, "Tick"), 1);
   r->scan();
   EXPECT_EQ(r->get<std::int32_t>("l1"), 123);
   EXPECT_EQ(r->get<std::int32_t>("l2"), 123);
   EXPECT_EQ(r->get<double>("x"), 5.0);
   EXPECT_EQ(r->get<double>("y"), 7.0);
+  EXPECT_EQ(r->get<std::int32_t>("l3"), 45);
+  EXPECT_EQ(r->get<double>("w"), 55.0);  // 45 + 5 * 2
 }
 
 TEST(StVmFused, ConditionsAsJumpsGiveTheValuesOfTheirExpressions) {

@@ -480,14 +480,16 @@ Operand CodeGen::binary(const Expr& e, std::optional<std::uint32_t> into) {
     };
     const bool left = product(ea), right = !left && product(eb);
     if (left || right) {
+      // Each operand converted where MUL and ADD would convert it: after
+      // the operands evaluated before (a call there may change a variable).
       const Expr& pe = left ? ea : eb;
       Operand z;
-      if (right) z = convert(expr(ea), t, ea.loc);
+      if (right) z = expr(ea);
       Operand x = expr(pe.operands[0]);
       Operand y = expr(pe.operands[1]);
       x = convert(x, t, pe.operands[0].loc);
       y = convert(y, t, pe.operands[1].loc);
-      if (left) z = convert(expr(eb), t, eb.loc);
+      z = left ? convert(expr(eb), t, eb.loc) : convert(z, t, ea.loc);
       const std::uint32_t dst = into ? *into : temp();
       const bool add = op == BinaryOp::Add;
       const Op fused = left ? (add ? Op::MULADD_I8 : Op::MULSUB_I8) : (add ? Op::ADDMUL_I8 : Op::SUBMUL_I8);
