@@ -6,6 +6,8 @@
 #include <string_view>
 
 #include "fblocks/library.hpp"
+#include "runtime/project/loader.hpp"
+#include "runtime/project/read_st.hpp"
 #include "runtime/cli/commands.hpp"
 #include "runtime/core/closest_name.hpp"
 
@@ -51,6 +53,10 @@ std::string tunable_note(const ParamDecl& p) {
   return p.tunable ? " (tunable while running; tuning input " + p.name + kTuningSuffix + ")" : "";
 }
 
+// The compiler's own pins and parameters of an ST type ("(variables)",
+// "(code)"): not for users to wire or set.
+bool hidden(const std::string& name) { return !name.empty() && name.front() == '('; }
+
 void describe(std::ostream& os, const BlockTypeInfo& t) {
   os << t.name << " (" << t.category << ")\n  " << t.doc << "\n";
   if (!t.reference.empty()) os << "  Reference: " << t.reference << "\n";
@@ -60,12 +66,14 @@ void describe(std::ostream& os, const BlockTypeInfo& t) {
   if (t.unit_delay) os << "  Unit delay: its outputs are last scan's inputs, so it may close a feedback loop.\n";
   os << "  Pins:\n";
   for (const auto& p : t.pins)
-    os << fmt::format("    {:<4} {:<10} {:<14} {:<8} {}{}\n", p.dir == PinDir::In ? "in" : "out", p.name, pin_type(p),
+    if (!hidden(p.name))
+      os << fmt::format("    {:<4} {:<10} {:<14} {:<8} {}{}\n", p.dir == PinDir::In ? "in" : "out", p.name, pin_type(p),
                       p.unit.empty() ? "-" : p.unit, p.doc, p.required ? " (required)" : "");
-  if (!t.params.empty()) {
+  if (std::any_of(t.params.begin(), t.params.end(), [](const ParamDecl& p) { return !hidden(p.name); })) {
     os << "  Parameters:\n";
     for (const auto& p : t.params)
-      os << fmt::format("    {:<12} {:<6} default {:<10} range {:<16} {:<8} {}\n", p.name, type_name(p.type),
+      if (!hidden(p.name))
+        os << fmt::format("    {:<12} {:<6} default {:<10} range {:<16} {:<8} {}\n", p.name, type_name(p.type),
                         p.default_value.empty() ? "(required)" : p.default_value, range(p).empty() ? "-" : range(p),
                         p.unit.empty() ? "-" : p.unit, p.doc + tunable_note(p));
   }
@@ -113,8 +121,19 @@ void markdown(std::ostream& os, const BlockRegistry& reg) {
 
 }  // namespace
 
-int cmd_blocks(const std::string& name, bool md) {
-  const auto& reg = builtin_blocks();
+int cmd_blocks(const std::string& name, bool md, const std::string& project) {
+  // With a project: its Structured Text FUNCTION_BLOCKs and PROGRAMs too.
+  LoadResult loaded;
+  const BlockRegistry* with_project = nullptr;
+  if (!project.empty()) {
+    loaded = load_project(project);
+    if (!loaded.ok()) {
+      for (const auto& d : loaded.diagnostics.sorted()) std::cerr << d.text() << "\n";
+      return kExitInvalid;
+    }
+    if (const auto st = std::static_pointer_cast<const StProject>(loaded.program->code)) with_project = st->blocks.get();
+  }
+  const auto& reg = with_project ? *with_project : builtin_blocks();
   if (md) {
     markdown(std::cout, reg);
     return kExitOk;

@@ -33,7 +33,7 @@ LoadResult load_or_report(const std::string& path, const LoadOptions& options);
 bool parse_sets(const std::vector<std::string>& sets, LoadOptions& options);
 
 int cmd_check(const std::string& project);
-int cmd_blocks(const std::string& name, bool markdown);
+int cmd_blocks(const std::string& name, bool markdown, const std::string& project = "");
 int cmd_sim(const std::string& project, const std::string& duration, std::optional<std::uint64_t> seed,
             const std::string& trace, const std::vector<std::string>& sets, bool quiet, const std::string& metrics_path);
 struct RunOptions {

@@ -37,6 +37,8 @@ int main(int argc, char** argv) {
   auto* blocks = app.add_subcommand("blocks", "list the block library, or describe one block type");
   blocks->add_option("TYPE", block, "a block type, e.g. TON");
   blocks->add_flag("--markdown", markdown, "print the library as Markdown (docs/blocks.md)");
+  std::string blocks_project;
+  blocks->add_option("--project,-p", blocks_project, "also the project's Structured Text FUNCTION_BLOCKs and PROGRAMs");
 
   auto* sim = app.add_subcommand("sim", "run a project in virtual time, as fast as the CPU allows");
   sim->add_option("PROJECT", project, "project file (YAML)")->required();
@@ -221,7 +223,7 @@ int main(int argc, char** argv) {
   }
   try {
     if (*check) return cmd_check(project);
-    if (*blocks) return cmd_blocks(block, markdown);
+    if (*blocks) return cmd_blocks(block, markdown, blocks_project);
     if (*sim) return cmd_sim(project, duration, seed, trace, sets, quiet, metrics);
     if (*run) {
       RunOptions o;

@@ -20,18 +20,29 @@ std::optional<std::string> read_file(const fs::path& p) {
   return ss.str();
 }
 
-// The include entries of one file's text: (entry's place, file name). A file
-// the loader cannot read gives none: the PLC's check says where it is broken.
-std::vector<std::pair<SourceLoc, std::string>> includes_of(const std::string& name, const std::string& text) {
-  std::vector<std::pair<SourceLoc, std::string>> out;
+// The files one file's text names: its include: entries (YAML, followed in
+// turn) and its sources: entries (Structured Text): (entry's place, file
+// name, key). A file the loader cannot read gives none: the PLC's check
+// says where it is broken.
+struct Named {
+  SourceLoc where;
+  std::string file;
+  const char* key;  // "include" or "sources"
+};
+
+std::vector<Named> files_named_by(const std::string& name, const std::string& text) {
+  std::vector<Named> out;
   Diagnostics diags;
   const ConfigNode root = read_yaml_string(text, name, diags);
-  const ConfigNode* inc = diags.empty() && root.is_map() ? root.find("include") : nullptr;
-  if (!inc) return out;
-  if (inc->is_scalar()) out.emplace_back(inc->loc, inc->scalar);
-  if (inc->is_list())
-    for (const auto& i : inc->items)
-      if (i.is_scalar()) out.emplace_back(i.loc, i.scalar);
+  if (!diags.empty() || !root.is_map()) return out;
+  for (const char* key : {"include", "sources"}) {
+    const ConfigNode* n = root.find(key);
+    if (!n) continue;
+    if (n->is_scalar()) out.push_back({n->loc, n->scalar, key});
+    if (n->is_list())
+      for (const auto& i : n->items)
+        if (i.is_scalar()) out.push_back({i.loc, i.scalar, key});
+  }
   return out;
 }
 
@@ -57,14 +68,15 @@ std::optional<ProjectUpload> collect_project(const std::string& main_path, std::
     const std::string name = todo.back();
     todo.pop_back();
     const fs::path dir = fs::path(name).parent_path();
-    auto includes = includes_of(name, up.files[name]);
-    for (auto it = includes.rbegin(); it != includes.rend(); ++it) {
-      const auto& [where, file] = *it;
+    auto named = files_named_by(name, up.files[name]);
+    for (auto it = named.rbegin(); it != named.rend(); ++it) {
+      const auto& [where, file, key] = *it;
+      const std::string entry = std::string(key) + " '" + file + "'";
       const fs::path rel = fs::path(file).is_absolute() ? fs::path(file).lexically_normal().lexically_relative(root_abs)
                                                         : (dir / file).lexically_normal();
       const std::string rel_name = rel.generic_string();
       if (rel.empty() || rel_name == ".." || rel_name.rfind("../", 0) == 0) {
-        *error = where.text() + ": include '" + file + "' is outside the project's directory " +
+        *error = where.text() + ": " + entry + " is outside the project's directory " +
                  (root.empty() ? std::string(".") : root.string()) +
                  ": only files under the main file's directory are sent to the PLC";
         return std::nullopt;
@@ -73,17 +85,17 @@ std::optional<ProjectUpload> collect_project(const std::string& main_path, std::
       // The name is inside; what it points to must be too (a symlink to a
       // file elsewhere is refused here, as the PLC refuses it in an upload).
       if (std::string target; !resolves_inside(root_abs, root_abs / rel, &target)) {
-        *error = where.text() + ": include '" + file + "' resolves to " + target + ", outside the project's directory " +
+        *error = where.text() + ": " + entry + " resolves to " + target + ", outside the project's directory " +
                  root_abs.string() + " (a symbolic link): only files under the main file's directory are sent to the PLC";
         return std::nullopt;
       }
       auto sub = read_file(root / rel);
       if (!sub) {
-        *error = where.text() + ": include '" + file + "': cannot open file " + (root / rel).string();
+        *error = where.text() + ": " + entry + ": cannot open file " + (root / rel).string();
         return std::nullopt;
       }
       up.files[rel_name] = std::move(*sub);
-      todo.push_back(rel_name);
+      if (std::string_view(key) == "include") todo.push_back(rel_name);  // ST sources name no files
     }
   }
   return up;

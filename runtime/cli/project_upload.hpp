@@ -1,7 +1,8 @@
 // The files of a project as `syncplc load` sends them to the PLC (POST
 // /projects/load, docs/http-api.md): the main file and every file its
 // `include:` lists name, followed recursively, each relative to the file
-// that includes it (docs/project-format.md, "include"). Names are relative
+// that includes it (docs/project-format.md, "include"), and the Structured
+// Text files their `sources:` name. Names are relative
 // to the main file's directory, which is the upload's root on the PLC: a
 // file outside it would have no name there, so it is refused here with the
 // location of the include that names it; so is a name inside it that is a

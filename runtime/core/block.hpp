@@ -22,6 +22,9 @@ namespace syncplc {
 
 enum class PinDir : std::uint8_t { In, Out };
 
+// Longest array pin a block may declare through its length parameter.
+inline constexpr std::uint32_t kMaxPinLength = 4096;
+
 struct PinDecl {
   std::string name;
   PinDir dir = PinDir::In;
@@ -41,6 +44,8 @@ struct PinDecl {
   // The tuning input of this tunable parameter ("" = an ordinary pin). Added
   // by BlockRegistry::add, named <param>_in (see BlockGuard).
   std::string tunes;
+  // The longest this array pin may be (an ST instance's variables: more).
+  std::uint32_t max_length = kMaxPinLength;
 
   bool is_array() const { return !length_param.empty(); }
 };
@@ -51,9 +56,6 @@ struct PinDecl {
 inline constexpr const char* kEnoPin = "ENO";
 // Suffix of the tuning input BlockRegistry::add gives each tunable parameter.
 inline constexpr const char* kTuningSuffix = "_in";
-
-// Longest array pin a block may declare through its length parameter.
-inline constexpr std::uint32_t kMaxPinLength = 4096;
 
 struct ParamDecl {
   std::string name;
@@ -156,10 +158,22 @@ class Block {
   void out(int pin, std::uint32_t i, T v) noexcept { pins_[pin][i].set<T>(v); }
   Cell* pin_cell(int pin) const noexcept { return pins_[pin]; }
 
-  // Bound by the loader (or a test harness) before the first scan.
-  void bind_pins(Cell* const* pins) noexcept { pins_ = pins; }
+  // Bound by the loader (or a test harness) before the first scan, and again
+  // when an online change moves a kept instance into the new program (on
+  // the task's thread, between two scans).
+  void bind_pins(Cell* const* pins) noexcept {
+    pins_ = pins;
+    pins_bound();
+  }
 
   BlockGuard& guard() noexcept { return guard_; }
+
+ protected:
+  // The pins were (re)bound: a block that keeps state in its pins' cells
+  // (an ST instance's frame) takes them here. No allocation.
+  virtual void pins_bound() noexcept {}
+
+ public:
   const BlockGuard& guard() const noexcept { return guard_; }
 
  private:
@@ -188,6 +202,28 @@ struct BlockTypeInfo {
   // instance's state (otherwise it re-creates the instance). Last, so that
   // types written as one brace list of the fields before it stay as they are.
   bool rewire = false;
+  // A type whose instances have variables beyond their pins (an ST POU's,
+  // runtime/st/vm/st_block.hpp), kept in the array output pin
+  // `variables_pin`: `variable` resolves a path below the instance
+  // ("count", "fb.q", "arr[3]", "s.x") to an element of that pin and its
+  // type, or nullopt with the reason. Users address it as instance.path.
+  struct Variable {
+    std::uint32_t element = 0;
+    IecType type = IecType::LREAL;
+  };
+  int variables_pin = -1;
+  std::function<std::optional<Variable>(std::string_view path, std::string* error)> variable;
+  // Its variables as leaves (elementary values, strings, arrays of them),
+  // for an online change that re-creates an instance to carry over those
+  // whose path and type are unchanged (program_change.cpp).
+  struct VariableLeaf {
+    std::string path;  // "count", "fb.q", "hist"
+    std::string type;  // as the compiler spells it: "DINT", "ARRAY[1..3] OF LREAL", "STRING[20]"
+    std::uint32_t element = 0, count = 1;  // cells of the variables pin
+    bool retain = false;      // declared RETAIN (or inside a RETAIN instance): kept across a restart
+    bool persistent = false;  // declared PERSISTENT: also across loading a changed project
+  };
+  std::vector<VariableLeaf> variable_leaves;
 
   int pin_index(std::string_view pin) const;
   int param_index(std::string_view param) const;

@@ -75,8 +75,8 @@ BlockHarness::BlockHarness(const BlockRegistry& registry, const std::string& typ
     if (p.is_array()) {
       auto k = static_cast<std::size_t>(type_->param_index(p.length_param));
       double len = cell_as_double(type_->params[k].type, params[k]);
-      if (len < 1 || len > kMaxPinLength) {
-        errors_.push_back("array pin " + p.name + ": " + p.length_param + " must be 1.." + std::to_string(kMaxPinLength));
+      if (len < 1 || len > p.max_length) {
+        errors_.push_back("array pin " + p.name + ": " + p.length_param + " must be 1.." + std::to_string(p.max_length));
         len = 1;
       }
       n = static_cast<std::uint32_t>(len);

@@ -30,7 +30,7 @@ struct Value {
 };
 
 template <IecType S>
-Value read(Cell c) noexcept {
+Value read_source(Cell c) noexcept {
   using V = native_t<S>;
   const V v = c.get<V>();
   Value x;
@@ -73,11 +73,10 @@ inline i128 real_to_int(double r, Rounding m, i128 lo, i128 hi, bool* out_of_ran
 template <IecType S, IecType D, Rounding M>
 Cell convert(Cell in, bool* out_of_range) noexcept {
   using DV = native_t<D>;
-  const Value x = read<S>(in);
+  if constexpr (S == D) return in;  // the cell as it is, without reading it as a value
+  const Value x = read_source<S>(in);
   Cell out;
-  if constexpr (S == D) {
-    out = in;
-  } else if constexpr (D == IecType::BOOL) {
+  if constexpr (D == IecType::BOOL) {
     out.set<bool>(x.real ? x.r != 0 : x.i != 0);
   } else if constexpr (D == IecType::REAL || D == IecType::LREAL) {
     double r = x.real ? x.r : static_cast<double>(x.i);

@@ -39,6 +39,25 @@ std::optional<CellRef> Program::resolve(const std::string& text, std::string* er
     return std::nullopt;
   };
   std::string why;
+  // instance.path of a block with variables (an ST instance's, "p.fb.q", "p.arr[3]").
+  if (const auto dot = text.find('.'); dot != std::string::npos) {
+    const auto it = instances.find(text.substr(0, dot));
+    if (it != instances.end()) {
+      const auto& bi = tasks[it->second.first]->blocks[it->second.second];
+      const std::string rest = text.substr(dot + 1);
+      const auto bracket = rest.find_first_of(".[");
+      if (bi.type->variable && bi.type->pin_index(rest.substr(0, bracket)) < 0) {
+        const auto v = bi.type->variable(rest, &why);
+        if (!v) return fail(it->first + "." + rest + ": " + why);
+        CellRef r;
+        r.task = it->second.first;
+        r.cell = bi.pin_cell[static_cast<std::size_t>(bi.type->variables_pin)] + v->element;
+        r.type = v->type;
+        r.length = 1;
+        return r;
+      }
+    }
+  }
   auto ref = parse_reference(text, &why);
   if (!ref) return fail(why);
   CellRef r;

@@ -158,6 +158,35 @@ InstancePlan plan_instance(const BlockInstance& o, const BlockInstance& n, bool 
   return p;
 }
 
+// A re-created instance with variables (an ST POU's changed body, st_block.hpp):
+// the new instance keeps each variable whose path and type are unchanged,
+// copied at the switch from the old variables pin into the new one; the
+// others keep their initial values. The report names both.
+void carry_variables(const BlockInstance& o, const BlockInstance& n, TaskHandover& h, std::string& detail) {
+  const auto op = static_cast<std::size_t>(o.type->variables_pin);
+  const auto np = static_cast<std::size_t>(n.type->variables_pin);
+  std::string kept, fresh;
+  std::size_t kept_count = 0, fresh_count = 0;
+  auto add = [](std::string& list, std::size_t& count, const std::string& path) {
+    if (++count <= 8) list += (list.empty() ? "" : ", ") + path;
+  };
+  for (const auto& leaf : n.type->variable_leaves) {
+    const BlockTypeInfo::VariableLeaf* old = nullptr;
+    for (const auto& l : o.type->variable_leaves)
+      if (l.path == leaf.path && l.type == leaf.type && l.count == leaf.count) old = &l;
+    if (!old) {
+      add(fresh, fresh_count, leaf.path);
+      continue;
+    }
+    h.pins.push_back({o.pin_cell[op] + old->element, n.pin_cell[np] + leaf.element, leaf.count});
+    add(kept, kept_count, leaf.path);
+  }
+  auto more = [](std::size_t count) { return count > 8 ? " and " + std::to_string(count - 8) + " more" : std::string(); };
+  // The signature's difference is the compiler's parameters (code, frame size): say it in the user's words.
+  detail = std::string("its code changed; its variables kept: ") + (kept.empty() ? "none" : kept) +
+            more(kept_count) + (fresh.empty() ? "" : "; new, at their initial values: " + fresh + more(fresh_count));
+}
+
 const RetainedInstance* find_retained(const Program& p, const std::string& name) {
   for (const auto& r : p.retained)
     if (r.name == name) return &r;
@@ -269,6 +298,8 @@ std::unique_ptr<ProgramChange> plan_change(Program& from, Program& to) {
         const auto& ob = ot.blocks[it->second.second];
         const RetainedInstance* ret = find_retained(to, nb.name);
         InstancePlan ip = plan_instance(ob, nb, ret && ret->persistent, tname);
+        if (!ip.mode && ob.type->variables_pin >= 0 && nb.type->variables_pin >= 0)
+          carry_variables(ob, nb, *h, ip.change.detail);
         if (ip.mode) {
           h->blocks.push_back({it->second.second, static_cast<std::uint32_t>(p), *ip.mode});
           if (*ip.mode == BlockHandover::Mode::CarryState && h->state_scratch.size() < nb.signature.state.cells)

@@ -73,11 +73,11 @@ void check_params(Declarations& p, Diagnostics& diags) {
       if (!decl.is_array()) continue;
       auto k = static_cast<std::size_t>(in.type->param_index(decl.length_param));
       double len = cell_as_double(in.type->params[k].type, in.param_cells[k]);
-      if (len < 1 || len > kMaxPinLength) {
+      if (len < 1 || len > decl.max_length) {
         SourceLoc loc = in.param(k) ? in.param(k)->loc : in.loc;
         if (in.override_of(k)) loc = SourceLoc{"command line", 0, 0};
         diags.error(loc, in.name + "." + decl.length_param + " = " + format_value(in.type->params[k].type, in.param_cells[k]) +
-                          ": array pin " + decl.name + " needs 1.." + std::to_string(kMaxPinLength) + " elements");
+                          ": array pin " + decl.name + " needs 1.." + std::to_string(decl.max_length) + " elements");
         in.params_ok = in.values_ok = false;
         break;
       }

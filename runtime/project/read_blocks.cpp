@@ -3,6 +3,7 @@
 #include <utility>
 
 #include "runtime/core/reference.hpp"
+#include "runtime/project/read_st.hpp"
 #include "runtime/project/stages.hpp"
 
 namespace syncplc {
@@ -36,7 +37,10 @@ void read_blocks(ConfigNode& n, const BlockRegistry& blocks, Declarations& p, Di
         else p.names[v.scalar] = v.loc;
       } else if (k == "type") {
         in.type = blocks.find(v.scalar);
-        if (!in.type) { diags.error(v.loc, "unknown block type '" + v.scalar + "' (see `syncplc blocks`)"); ok = false; }
+        // A FUNCTION_BLOCK of a source with errors: those errors say what is wrong.
+        if (!in.type && !(p.st && p.st->declares(v.scalar)))
+          diags.error(v.loc, "unknown block type '" + v.scalar + "' (see `syncplc blocks`)");
+        if (!in.type) ok = false;
       } else if (k == "task") task = &v;
       else if (k == "params") params = &v;
       else if (k == "inputs") inputs = &v;
@@ -52,6 +56,7 @@ void read_blocks(ConfigNode& n, const BlockRegistry& blocks, Declarations& p, Di
       } else if (k == "description") {}
       else diags.error(v.loc, "unknown key '" + k + "' in a block instance (name, type, task, datatype, params, inputs, retain, persistent, description)");
     }
+    mark_st_retain(in);
     if (in.persistent) in.retain = true;  // PERSISTENT implies RETAIN, as for tags
     if (in.name.empty()) { diags.error(b.loc, "block instance without a name"); ok = false; }
     if (!b.find("type")) { diags.error(b.loc, "block instance " + in.name + " has no type"); ok = false; }

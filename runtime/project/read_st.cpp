@@ -75,8 +75,11 @@ std::shared_ptr<StProject> read_st_sources(const ConfigNode* sources, const Bloc
     if (read) read->push_back({path.string(), body});
     unit->parsed.push_back(std::make_unique<st::ParseResult>(st::parse(body, SourceFile(path.string()))));
     report(unit->parsed.back()->diagnostics, diags);
+    for (const auto& pou : unit->parsed.back()->unit.pous)
+      if (pou.kind != st::PouKind::Function) out->declared.insert(pou.name);
     ok = ok && unit->parsed.back()->ok();
   }
+  out->failed = true;  // until the module is made
   if (!ok) return out;
   std::vector<const st::CompilationUnit*> units;
   for (const auto& p : unit->parsed) units.push_back(&p->unit);
@@ -92,6 +95,7 @@ std::shared_ptr<StProject> read_st_sources(const ConfigNode* sources, const Bloc
   report(gen, diags);
   if (!unit->module) return out;
   out->unit = unit;
+  out->failed = false;
   for (std::uint32_t k = 0; k < unit->module->pous.size(); ++k) {
     const st::vm::CompiledPou& p = unit->module->pous[k];
     if (p.kind == st::PouKind::Function) continue;
@@ -141,7 +145,9 @@ void read_programs(const ConfigNode& n, const StProject& st, Declarations& p, Di
         }
       } else if (k == "type") {
         in.type = st.blocks->find(v.scalar);
-        if (!in.type || in.type->category != "Structured Text programs") {
+        if (!in.type && st.declares(v.scalar)) {
+          ok = false;  // its source has errors, reported there
+        } else if (!in.type || in.type->category != "Structured Text programs") {
           std::vector<std::string_view> names;
           for (const auto* t : st.blocks->all())
             if (t->category == "Structured Text programs") names.push_back(t->name);
@@ -182,8 +188,20 @@ void read_programs(const ConfigNode& n, const StProject& st, Declarations& p, Di
     }
     in.source.assign(in.type->pins.size(), -1);
     in.pin_length.assign(in.type->pins.size(), 1);
+    mark_st_retain(in);
     p.instance_by_name.emplace(in.name, static_cast<int>(p.instances.size()));
     p.instances.push_back(std::move(in));
+  }
+}
+
+void mark_st_retain(InstanceDecl& in) {
+  if (!in.type) return;
+  for (const auto& leaf : in.type->variable_leaves) {
+    if (leaf.retain && !in.retain) {
+      in.retain = true;
+      in.retain_loc = in.loc;
+    }
+    if (leaf.persistent) in.persistent = true;
   }
 }
 
@@ -207,14 +225,23 @@ void wire_externals(const StProject& st, Declarations& p, Diagnostics& diags) {
       }
       const Tag& t = p.tags[static_cast<std::size_t>(tag)].tag;
       const bool array = t.length > 1 || t.is_array;
-      // The same elementary type (an enumeration or subrange: its base type).
-      const bool same = !array && (e.type->is_elem() || e.type->kind == st::Type::Kind::Subrange ||
-                                   e.type->kind == st::Type::Kind::Enum) &&
-                        st::elem_name(e.type->elem) == type_name(t.type);
+      // The same elementary type (an enumeration or subrange: its base type);
+      // an array tag: ARRAY[lower..upper] OF it with the tag's bounds.
+      auto same_elem = [&](const st::Type* x) {
+        return (x->is_elem() || x->kind == st::Type::Kind::Subrange || x->kind == st::Type::Kind::Enum) &&
+               st::elem_name(x->elem) == type_name(t.type);
+      };
+      const bool same = array ? e.type->kind == st::Type::Kind::Array && e.type->dims.size() == 1 &&
+                                    e.type->dims[0].low == t.array_lower &&
+                                    e.type->dims[0].count() == static_cast<std::int64_t>(t.length) &&
+                                    same_elem(e.type->element)
+                              : same_elem(e.type);
       if (!same) {
         diags.error(e.loc, fmt::format("VAR_EXTERNAL {} : {} of {} does not match tag {} : {}", e.name, e.type->name,
                                        in.type->name, e.name,
-                                       array ? fmt::format("ARRAY[{}] OF {}", t.length, type_name(t.type))
+                                       array ? fmt::format("ARRAY[{}..{}] OF {}", t.array_lower,
+                                                           t.array_lower + static_cast<std::int64_t>(t.length) - 1,
+                                                           type_name(t.type))
                                              : std::string(type_name(t.type))));
         continue;
       }

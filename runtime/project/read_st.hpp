@@ -6,6 +6,7 @@
 #pragma once
 
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -24,8 +25,14 @@ struct StUnit;
 // What the ST stage gives the rest of the load: the block types (the
 // built-in ones and the project's) and what they run.
 struct StProject {
-  std::shared_ptr<st::vm::StUnit> unit;  // null when the project has no sources
+  std::shared_ptr<st::vm::StUnit> unit;  // null when the project has no sources (or they have errors)
   std::unique_ptr<BlockRegistry> blocks;  // the project's ST types over the base registry
+  // The FUNCTION_BLOCKs and PROGRAMs the sources declare, also when they did
+  // not compile: a block or program of such a type is not reported unknown
+  // then (the source's own errors say what is wrong).
+  std::set<std::string> declared;
+  bool failed = false;
+  bool declares(const std::string& type) const { return failed && declared.count(type) > 0; }
 };
 
 // Reads `sources:` (file names relative to the file that lists them), adding
@@ -37,6 +44,10 @@ std::shared_ptr<StProject> read_st_sources(const ConfigNode* sources, const Bloc
 
 // `programs:` [{name, type, task}]: PROGRAM instances, declared as block instances.
 void read_programs(const ConfigNode& n, const StProject& st, Declarations& p, Diagnostics& diags);
+
+// An instance of an ST type with RETAIN (PERSISTENT) variables is retained
+// (persistent) as `retain: true` (`persistent: true`) makes a block.
+void mark_st_retain(InstanceDecl& in);
 
 // Each ST instance's VAR_EXTERNALs: the tag of the same name (type checked)
 // wired to its read pin, and its write pin to the tag when the POU writes it.

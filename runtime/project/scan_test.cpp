@@ -107,7 +107,8 @@ std::optional<Target> resolve_target(const Program& p, std::size_t axes, const s
       t.length = r->length;
       auto [task, pos] = p.instances.at(owner);
       const auto& bi = p.tasks[task]->blocks[pos];
-      t.unit = bi.type->pins[static_cast<std::size_t>(bi.type->pin_index(member))].unit;
+      // A pin's unit; an instance's variable (instance.path of an ST POU) has none.
+      if (const int pin = bi.type->pin_index(member); pin >= 0) t.unit = bi.type->pins[static_cast<std::size_t>(pin)].unit;
       return t;
     }
     int d = p.find_driver(owner);

@@ -389,6 +389,7 @@ void Checker::declare_section(PouInfo* info, const VarSection& section, VarScope
       v->type = t;
       v->constant = section.constant;
       v->retain = section.retain || section.persistent;
+      v->persistent = section.persistent;
       v->address = d.address;
       v->init = &d.init;
       v->spec = &d.type;

@@ -47,7 +47,8 @@ struct Variable {
   VarScope scope = VarScope::Local;
   const Type* type = nullptr;
   bool constant = false;
-  bool retain = false;
+  bool retain = false;      // RETAIN or PERSISTENT
+  bool persistent = false;  // PERSISTENT
   std::string address;  // AT %IX0.0
   const Initializer* init = nullptr;
   const TypeSpec* spec = nullptr;  // its type as written (an alias's own initial value)

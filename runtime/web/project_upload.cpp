@@ -16,7 +16,7 @@ namespace fs = std::filesystem;
 namespace {
 
 // Plain relative names only: letters, digits, _ - . and / between parts,
-// no part "." or "..", at most 255 bytes; .yaml, .yml or .csv.
+// no part "." or "..", at most 255 bytes; .yaml, .yml, .csv or .st (Structured Text).
 bool good_name(const std::string& n, std::string* why) {
   if (n.empty() || n.size() > 255) {
     *why = "a file name must be 1..255 bytes";
@@ -41,8 +41,8 @@ bool good_name(const std::string& n, std::string* why) {
       return false;
     }
   const std::string ext = fs::path(n).extension().string();
-  if (ext != ".yaml" && ext != ".yml" && ext != ".csv") {
-    *why = "'" + n + "': a project holds .yaml, .yml and .csv files only";
+  if (ext != ".yaml" && ext != ".yml" && ext != ".csv" && ext != ".st") {
+    *why = "'" + n + "': a project holds .yaml, .yml, .csv and .st files only";
     return false;
   }
   return true;

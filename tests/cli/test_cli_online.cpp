@@ -192,6 +192,23 @@ TEST(ProjectUpload, AnIncludeThatIsASymlinkToAFileOutsideIsRefused) {
   EXPECT_EQ(up->files.at("alias.yaml"), "tags: []\n");
 }
 
+TEST(ProjectUpload, StructuredTextSourcesGoWithTheirProject) {
+  const fs::path d = project_dir("upload_sources");
+  put(d / "main.yaml", "include: [parts/io.yaml]\nsources: [logic/main.st]\n");
+  put(d / "parts/io.yaml", "sources: conveyor.st\ntags: []\n");  // relative to the file that lists it
+  put(d / "logic/main.st", "PROGRAM Main\nEND_PROGRAM\n");
+  put(d / "parts/conveyor.st", "FUNCTION_BLOCK Conveyor\nEND_FUNCTION_BLOCK\n");
+  std::string err;
+  auto up = syncplc::cli::collect_project((d / "main.yaml").string(), &err);
+  ASSERT_TRUE(up) << err;
+  ASSERT_EQ(up->files.size(), 4u);
+  EXPECT_EQ(up->files.at("logic/main.st"), "PROGRAM Main\nEND_PROGRAM\n");
+  EXPECT_TRUE(up->files.count("parts/conveyor.st"));
+  put(d / "bad.yaml", "sources: [../x.st]\n");
+  EXPECT_FALSE(syncplc::cli::collect_project((d / "bad.yaml").string(), &err));
+  EXPECT_NE(err.find("bad.yaml:1:11: sources '../x.st' is outside the project's directory"), std::string::npos) << err;
+}
+
 TEST(ProjectUpload, AbsoluteIncludeInsideTheDirectoryIsNamedRelative) {
   const fs::path d = project_dir("upload_absolute");
   put(d / "main.yaml", "include: [" + (d / "sub/a.yaml").string() + "]\n");

@@ -216,10 +216,11 @@ function edit(text, from, to) {
   return { text: out, line, col: at - out.lastIndexOf('\n', at - 1) };
 }
 
-async function upload(page, mainText) {
+async function upload(page, mainText, extra = []) {
   await page.locator('input[name=files]').setInputFiles([
     { name: MAIN, mimeType: 'text/yaml', buffer: Buffer.from(mainText) },
     { name: IO, mimeType: 'text/yaml', buffer: Buffer.from(sources[IO]) },
+    ...extra.map(([name, text]) => ({ name, mimeType: 'text/plain', buffer: Buffer.from(text) })),
   ]);
   assert.equal(await page.getByLabel('Main file').inputValue(), MAIN);
 }
@@ -262,6 +263,22 @@ test('4. a bad upload: its error at its line in the source view; the running pro
   assert.ok(now.values.scan_count > was.values.scan_count + 100, 'the program counts on');
   assert.equal(now.task.state, 'running');
   assert.deepEqual(page.jsErrors, []);
+});
+
+test('4b. an upload with Structured Text: its type error at its line in the .st file\'s source view', async () => {
+  const page = await open('project');
+  await login(page, 'erik');
+  const glue = 'PROGRAM Glue\nVAR x : INT; END_VAR\nx := 1.5;\nEND_PROGRAM\n';
+  await upload(page, `${sources[MAIN]}\nsources: [glue.st]\nprograms: [{name: glue, type: Glue}]\n`, [['glue.st', glue]]);
+  await page.getByRole('button', { name: 'Check' }).click();
+  await page.locator('#check-result.bad', { hasText: '1 error: the project would not load' }).waitFor({ timeout: HANG_GUARD_MS });
+  const link = page.locator('#check-result button.link', { hasText: 'glue.st, line 3, column 6' });
+  await link.waitFor();
+  await link.click();
+  const line = page.locator('.src-line.has-error');
+  await until(async () => (await line.count()) === 1, HANG_GUARD_MS, 'the line in error shown');
+  assert.equal(await line.getAttribute('data-line'), '3');
+  assert.match(await line.innerText(), /x := 1\.5;[\s\S]*column 6: .*expected INT, found a real literal/);
 });
 
 test('5. a good upload is loaded by online change: the change report, no skipped scan, no overrun', async () => {

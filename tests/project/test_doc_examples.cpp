@@ -1,6 +1,6 @@
 // Every YAML example of docs/project-format.md is checked here, so the
 // reference cannot drift from what the loader accepts. Each ```yaml block
-// starts with one of
+// starts with one of (a ```st block: (* part: NAME *), an ST source a project names)
 //   # file: NAME    a project: it must load, or fail with exactly the
 //                   "# error: NAME:line:col: message" lines it contains
 //   # part: NAME    a file included by another example (not loaded alone)
@@ -29,7 +29,7 @@ std::vector<Example> read_examples(const std::string& path) {
   Example* cur = nullptr;
   while (std::getline(in, line)) {
     ++n;
-    if (!cur && line == "```yaml") {
+    if (!cur && (line == "```yaml" || line == "```st")) {
       out.push_back(Example{});
       cur = &out.back();
       cur->doc_line = n;
@@ -47,6 +47,11 @@ std::vector<Example> read_examples(const std::string& path) {
           cur->kind = k;
           cur->name = line.substr(prefix.size());
         }
+      }
+      // A Structured Text source a project example names: (* part: NAME *).
+      if (line.rfind("(* part: ", 0) == 0 && line.size() > 12 && line.substr(line.size() - 3) == " *)") {
+        cur->kind = "part";
+        cur->name = line.substr(9, line.size() - 12);
       }
     }
     if (line.rfind("# error: ", 0) == 0) cur->expected.push_back(line.substr(9));

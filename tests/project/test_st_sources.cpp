@@ -26,10 +26,13 @@ VAR_EXTERNAL
   level : LREAL;
   doubled : LREAL;
 END_VAR
+VAR scans : DINT; t : TON; END_VAR
 IF enable THEN
   count := count + 1;
 END_IF;
 doubled := level * 2.0;
+scans := scans + 1;
+t(IN := enable, PT := T#25ms);
 END_PROGRAM
 
 (* Scales its input, and counts its calls through an external. *)
@@ -37,8 +40,10 @@ FUNCTION_BLOCK Scale
 VAR_INPUT x : LREAL; k : LREAL := 3.0; END_VAR
 VAR_OUTPUT y : LREAL; END_VAR
 VAR_EXTERNAL calls : DINT; END_VAR
+VAR hist : ARRAY[1..3] OF LREAL; END_VAR
 y := x * k;
 calls := calls + 1;
+hist[3] := hist[2]; hist[2] := hist[1]; hist[1] := DINT_TO_LREAL(calls);
 END_FUNCTION_BLOCK
 )");
   const std::string project = temp_file("st_ok/p.yaml", yaml(R"(
@@ -73,7 +78,11 @@ cases:
         set: {enable: TRUE}
         expect: {count: 1, calls: 102}
       - at: 50ms
-        expect: {count: 5, calls: 106}
+        expect: {count: 5, calls: 106, counting.scans: 6, counting.t.Q: TRUE, counting.t.ET: 25ms,
+                 "scale.hist[1]": 106.0, "scale.hist[3]": 104.0, scale.k: 3.0}
+      - at: 60ms
+        set: {enable: FALSE}
+        expect: {counting.t.Q: FALSE}
 )"));
   const auto r = run_scan_tests(project, tests);
   EXPECT_TRUE(r.ok()) << report_text(r);
@@ -82,6 +91,16 @@ cases:
   // The program writes count and doubled: it owns them, as a block owns what it writes.
   EXPECT_EQ(l.program->find_tag("count")->writer, "block counting.count");
   EXPECT_EQ(l.program->find_tag("calls")->writer, "block scale.calls");
+  // instance.var where tags and pins are named: the variables of an ST instance, nested too.
+  std::string why;
+  ASSERT_TRUE(l.program->resolve("counting.t.ET", &why)) << why;
+  EXPECT_EQ(l.program->resolve("counting.t.ET")->type, IecType::TIME);
+  EXPECT_FALSE(l.program->resolve("counting.scanz", &why));
+  EXPECT_EQ(why, "counting.scanz: Counting has no variable 'scanz' (did you mean scans?)");
+  EXPECT_FALSE(l.program->resolve("scale.hist", &why));
+  EXPECT_EQ(why, "scale.hist: it is a ARRAY[1..3] OF LREAL: address one of its elements or fields");
+  EXPECT_FALSE(l.program->resolve("scale.hist[4]", &why));
+  EXPECT_EQ(why, "scale.hist[4]: 'hist[4]': index 4 is outside 1..3");
 }
 
 TEST(StSources, ErrorsOfEveryStageAtTheirPlaceInOneLoad) {

@@ -419,5 +419,48 @@ TEST_F(Retain, ResetColdDeletesRetainValuesAndOriginEverything) {
   EXPECT_EQ(reset_retain(db->sql(), StartMode::Origin), 2);
 }
 
+// An ST instance with RETAIN variables is a retained instance by itself
+// (IEC 61131-3 VAR RETAIN): those come back at a warm start, the others start
+// at their initial values; a RETAIN FB instance inside keeps all of it.
+TEST_F(Retain, StRetainVariablesComeBackAtAWarmStart) {
+  std::ofstream(dir + "/count.st") << R"(
+FUNCTION_BLOCK Tally
+VAR_OUTPUT n : DINT; END_VAR
+n := n + 1;
+END_FUNCTION_BLOCK
+PROGRAM Counting
+VAR RETAIN count : DINT; kept : Tally; END_VAR
+VAR plain : DINT := 5; t : Tally; END_VAR
+count := count + 1;
+plain := plain + 1;
+kept();
+t();
+END_PROGRAM
+)";
+  write(R"(
+tasks: [{name: main, period: 1ms}]
+sources: [count.st]
+programs: [{name: counting, type: Counting}]
+)");
+  auto var = [](Plc& p, const std::string& ref) {
+    const auto r = p.program().resolve(ref);
+    EXPECT_TRUE(r) << ref;
+    return p.program().tasks[r->task]->image(::syncplc::testing::image_key())[r->cell].get<std::int32_t>();
+  };
+  {
+    Plc a = start();
+    a.scan(9'000'000);  // 10 scans
+    EXPECT_EQ(var(a, "counting.count"), 10);
+    a.stop();
+  }
+  Plc b = start();
+  EXPECT_EQ(var(b, "counting.count"), 10);
+  EXPECT_EQ(var(b, "counting.kept.n"), 10);
+  EXPECT_EQ(var(b, "counting.plain"), 5);  // not retained: its initial value
+  EXPECT_EQ(var(b, "counting.t.n"), 0);
+  b.scan(0);
+  EXPECT_EQ(var(b, "counting.count"), 11);
+}
+
 }  // namespace
 }  // namespace syncplc::store

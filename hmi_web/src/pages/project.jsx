@@ -1,4 +1,4 @@
-// Project: upload a project (its main YAML file and includes), check it
+// Project: upload a project (its main YAML file, includes and ST sources), check it
 // without loading (errors shown at their line), load it by online change
 // (the kept/retuned/new/removed report), the stored versions and rollback.
 import { useEffect, useState } from 'preact/hooks';
@@ -134,7 +134,7 @@ export function ProjectPage({ session }) {
   async function pick(e) {
     const all = [...e.currentTarget.files];
     // From a folder: the project's text files only (YAML and CSV tables).
-    const list = all.filter((f) => /\.(ya?ml|csv)$/i.test(f.name));
+    const list = all.filter((f) => /\.(ya?ml|csv|st)$/i.test(f.name));
     setSkipped(all.length - list.length);
     const read = await Promise.all(list.map(async (f) => ({ path: f.webkitRelativePath || f.name, text: await f.text() })));
     const named = relativeNames(read);
@@ -171,9 +171,9 @@ export function ProjectPage({ session }) {
       {!allowed ? <p class="hint">{hint('project')} You can still look at the stored versions.</p> : null}
       <section class="card form">
         <h2>Upload a project</h2>
-        <p class="hint">Choose the project's YAML files: the main file and every file it includes (select several at once, or a whole folder).</p>
+        <p class="hint">Choose the project's files: the main YAML file, every file it includes and its Structured Text sources (select several at once, or a whole folder).</p>
         <div class="toolbar">
-          <label class="btn file-btn">Choose files…<input type="file" multiple accept=".yaml,.yml,.csv" onChange={pick} name="files" /></label>
+          <label class="btn file-btn">Choose files…<input type="file" multiple accept=".yaml,.yml,.csv,.st" onChange={pick} name="files" /></label>
           <label class="btn file-btn">Choose a folder…<input type="file" webkitdirectory multiple onChange={pick} name="folder" /></label>
         </div>
         {files.length ? (
@@ -181,7 +181,7 @@ export function ProjectPage({ session }) {
             <label>Main file
               <select value={main} onChange={(e) => setMain(e.currentTarget.value)}>{files.map((f) => <option value={f.name}>{f.name}</option>)}</select>
             </label>
-            <p class="sub">{files.length} file{files.length > 1 ? 's' : ''}: {files.map((f) => f.name).join(', ')}{skipped ? ` (${skipped} other file${skipped > 1 ? 's' : ''} left out: only .yaml, .yml and .csv are sent)` : ''}</p>
+            <p class="sub">{files.length} file{files.length > 1 ? 's' : ''}: {files.map((f) => f.name).join(', ')}{skipped ? ` (${skipped} other file${skipped > 1 ? 's' : ''} left out: only .yaml, .yml, .csv and .st are sent)` : ''}</p>
             <div class="actions left">
               <button type="button" class="btn" disabled={!allowed || !!busy} title={allowed ? 'Check without changing the running program' : hint('project')} onClick={() => run('check')}>{busy === 'check' ? 'Checking…' : 'Check'}</button>
               <button type="button" class="btn primary" disabled={!allowed || !!busy} title={allowed ? 'Load by online change; the running program is replaced between two scans' : hint('project')} onClick={() => run('load')}>{busy === 'load' ? 'Loading…' : 'Load onto the PLC'}</button>

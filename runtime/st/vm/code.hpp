@@ -215,6 +215,7 @@ struct VarSlot {
   const Type* type = nullptr;
   std::uint32_t at = 0, cells = 1;
   bool retain = false;
+  bool persistent = false;
 };
 
 // One compiled POU: its code and the layout of its frame.

@@ -112,15 +112,7 @@ Place CodeGen::place(const Expr& e) {
             if (same_name(v.name, e.name)) off = v.at;
         }
       }
-      if (b.kind == Place::Kind::Indexed) {
-        b.at = ref_of(b);
-        b.kind = Place::Kind::Indirect;
-        b.k = 0;
-      }
-      if (b.kind == Place::Kind::Direct) b.at += off;
-      else b.k += off;
-      b.type = i->type;
-      return b;
+      return member(b, off, i->type);
     }
     case ExprKind::Index: {
       Place b = place(e.operands[0]);
@@ -144,17 +136,7 @@ Place CodeGen::place(const Expr& e) {
         else
           dynamic = true;
       }
-      if (!dynamic) {
-        if (b.kind == Place::Kind::Indexed) {
-          b.at = ref_of(b);
-          b.kind = Place::Kind::Indirect;
-          b.k = 0;
-        }
-        if (b.kind == Place::Kind::Direct) b.at += static_off;
-        else b.k += static_off;
-        b.type = at->element;
-        return b;
-      }
+      if (!dynamic) return member(b, static_off, at->element);
       auto check = [&](std::size_t k, const Type* index_type) {
         IndexCheck c;
         c.low = at->dims[k].low;
@@ -627,29 +609,22 @@ std::vector<std::uint32_t> CodeGen::jumps_if(const Expr& cond) {
   return {emit(Op::JNZ, v.at)};
 }
 
-std::uint32_t CodeGen::math1(Math1Fn f) {
-  auto& v = out_->math1;
-  for (std::size_t k = 0; k < v.size(); ++k)
-    if (v[k] == f) return static_cast<std::uint32_t>(k);
-  v.push_back(f);
-  return static_cast<std::uint32_t>(v.size() - 1);
+namespace {
+
+// The index of f in a module's function table, added when not there yet.
+template <class F>
+std::uint32_t intern(std::vector<F>& table, F f) {
+  for (std::size_t k = 0; k < table.size(); ++k)
+    if (table[k] == f) return static_cast<std::uint32_t>(k);
+  table.push_back(f);
+  return static_cast<std::uint32_t>(table.size() - 1);
 }
 
-std::uint32_t CodeGen::math2(Math2Fn f) {
-  auto& v = out_->math2;
-  for (std::size_t k = 0; k < v.size(); ++k)
-    if (v[k] == f) return static_cast<std::uint32_t>(k);
-  v.push_back(f);
-  return static_cast<std::uint32_t>(v.size() - 1);
-}
+}  // namespace
 
-std::uint32_t CodeGen::conversion_index(ConvertFn f) {
-  auto& v = out_->conversions;
-  for (std::size_t k = 0; k < v.size(); ++k)
-    if (v[k] == f) return static_cast<std::uint32_t>(k);
-  v.push_back(f);
-  return static_cast<std::uint32_t>(v.size() - 1);
-}
+std::uint32_t CodeGen::math1(Math1Fn f) { return intern(out_->math1, f); }
+std::uint32_t CodeGen::math2(Math2Fn f) { return intern(out_->math2, f); }
+std::uint32_t CodeGen::conversion_index(ConvertFn f) { return intern(out_->conversions, f); }
 
 std::uint32_t CodeGen::string_op(StringCall s) {
   out_->strings.push_back(s);

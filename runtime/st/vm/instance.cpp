@@ -56,6 +56,7 @@ Instance::Instance(std::shared_ptr<const Module> module, std::uint32_t pou, cons
   const std::uint32_t frame = p.frame_cells;
   area_.assign(frame + module_->function_area + module_->scratch_cells, Cell{});
   std::memcpy(area_.data(), p.image.data(), frame * sizeof(Cell));
+  frame_ = area_.data();
   create_blocks(pou, 0, setup, setup.name);
   find_externals(pou, 0);
   vm_.module = module_.get();
@@ -87,8 +88,10 @@ void Instance::create_blocks(std::uint32_t pou, std::uint32_t at, const Instance
     for (std::size_t k = 0; k < n; ++k) pins[k] = cells + 1 + k;
     block->bind_pins(pins.get());
     cells[0].raw = reinterpret_cast<std::uintptr_t>(block.get());
+    block_at_.push_back(at + s.at);
     blocks_.push_back(std::move(block));
     pins_.push_back(std::move(pins));
+    pin_counts_.push_back(n);
   }
   for (const auto& [off, fb] : module_->nested[pou]) {
     std::string member;
@@ -108,13 +111,24 @@ bool Instance::scan(ScanContext& ctx, std::int64_t loop_budget) noexcept {
   vm_.ctx = &ctx;
   vm_.budget = loop_budget;
   vm_.stopped = nullptr;
-  return run(vm_, pou_, area_.data());
+  return run(vm_, pou_, frame_);
+}
+
+void Instance::relocate(Cell* to, bool carry) noexcept {
+  if (to == frame_) return;
+  if (carry) std::memmove(to, frame_, frame_cells() * sizeof(Cell));
+  frame_ = to;
+  for (std::size_t k = 0; k < block_at_.size(); ++k) {
+    Cell** pins = pins_[k].get();
+    Cell* cells = frame_ + block_at_[k];
+    for (std::size_t i = 0; i < pin_counts_[k]; ++i) pins[i] = cells + 1 + i;
+  }
 }
 
 bool Instance::bind_external(std::string_view name, Cell* cell) noexcept {
   for (const VarSlot& v : module_->pous[pou_].vars)
     if (v.scope == static_cast<int>(VarScope::External) && same_name(v.name, name)) {
-      area_[v.at].raw = reinterpret_cast<std::uintptr_t>(cell);
+      frame_[v.at].raw = reinterpret_cast<std::uintptr_t>(cell);
       return true;
     }
   return false;

@@ -34,8 +34,12 @@ class Instance {
   // One execution. False when the loop budget ran out (stopped() names the loop).
   bool scan(ScanContext& ctx, std::int64_t loop_budget) noexcept;
 
-  Cell* frame() noexcept { return area_.data(); }
-  const Cell* frame() const noexcept { return area_.data(); }
+  Cell* frame() noexcept { return frame_; }
+  const Cell* frame() const noexcept { return frame_; }
+  // The frame moves to `to` (frame_cells() cells): with its contents
+  // (`carry`), or taking what is there already (an online change moved the
+  // cells). The built-in blocks' pins follow. Scan path: no allocation.
+  void relocate(Cell* to, bool carry) noexcept;
   std::uint32_t frame_cells() const noexcept { return module_->pous[pou_].frame_cells; }
   const CompiledPou& pou() const noexcept { return module_->pous[pou_]; }
   const Module& module() const noexcept { return *module_; }
@@ -54,7 +58,10 @@ class Instance {
 
   std::shared_ptr<const Module> module_;
   std::uint32_t pou_ = 0;
-  std::vector<Cell> area_;
+  std::vector<Cell> area_;  // the frame until relocated, the FUNCTIONs' frames, scratch
+  Cell* frame_ = nullptr;
+  std::vector<std::uint32_t> block_at_;
+  std::vector<std::size_t> pin_counts_;  // each built-in block's cell in the frame (its pins follow)
   std::vector<std::unique_ptr<Block>> blocks_;
   std::vector<std::unique_ptr<Cell*[]>> pins_;
   std::vector<std::pair<std::uint32_t, std::string>> externals_;

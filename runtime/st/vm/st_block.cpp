@@ -2,6 +2,8 @@
 // Instance in the scan.
 #include "runtime/st/vm/st_block.hpp"
 
+#include "runtime/st/vm/var_path.hpp"
+
 #include <algorithm>
 #include <cstring>
 
@@ -22,17 +24,24 @@ struct PinCell {
   std::uint32_t cell = 0;
 };
 
+// A written VAR_EXTERNAL: its read pin copied to its write pin after the scan.
+struct Written {
+  int from = 0, to = 0;
+  std::uint32_t count = 1;
+};
+
 class StBlock final : public Block {
  public:
   StBlock(std::shared_ptr<const StUnit> unit, std::uint32_t pou, BlockSetup& setup, std::vector<PinCell> inputs,
-          std::vector<PinCell> outputs, std::vector<std::pair<int, int>> written, std::int64_t budget)
+          std::vector<PinCell> outputs, std::vector<Written> written, std::int64_t budget, int frame_pin)
       : unit_(std::move(unit)),
         instance_(unit_->module, pou,
                   InstanceSetup{setup.instance_name(), setup.task_period_ns(), setup.seed()}),
         inputs_(std::move(inputs)),
         outputs_(std::move(outputs)),
         written_(std::move(written)),
-        budget_(budget) {
+        budget_(budget),
+        frame_pin_(frame_pin) {
     const BlockTypeInfo& t = setup.type();
     // Each VAR_EXTERNAL reference cell of the instance (nested ones too) to its read pin.
     for (const auto& [cell, name] : instance_.externals()) {
@@ -48,16 +57,147 @@ class StBlock final : public Block {
     for (const PinCell& in : inputs_) frame[in.cell] = *pin_cell(in.pin);
     if (!instance_.scan(ctx, budget_)) ctx.fault(instance_.stopped());
     for (const PinCell& out : outputs_) *pin_cell(out.pin) = frame[out.cell];
-    for (const auto& [from, to] : written_) *pin_cell(to) = *pin_cell(from);
+    for (const Written& w : written_) std::memcpy(pin_cell(w.to), pin_cell(w.from), w.count * sizeof(Cell));
+  }
+
+  void set_retained(std::vector<std::pair<std::uint32_t, std::uint32_t>> cells, std::uint32_t layout) {
+    retained_ = std::move(cells);
+    retain_layout_ = layout;
+    retain_cells_ = 0;
+    for (const auto& [at, n] : retained_) retain_cells_ += n;
+  }
+  // RETAIN variables (docs/store.md, "Retained block instances"): their cells, in declaration order.
+  std::uint32_t retain_cells() const noexcept override { return retain_cells_; }
+  std::uint32_t retain_layout() const noexcept override { return retain_layout_; }
+  void save_retain(Cell* out) const noexcept override {
+    const Cell* frame = instance_.frame();
+    for (const auto& [at, n] : retained_) {
+      std::memcpy(out, frame + at, n * sizeof(Cell));
+      out += n;
+    }
+  }
+  void load_retain(const Cell* in) noexcept override {
+    Cell* frame = instance_.frame();
+    for (const auto& [at, n] : retained_) {
+      std::memcpy(frame + at, in, n * sizeof(Cell));
+      in += n;
+    }
   }
 
  private:
   std::shared_ptr<const StUnit> unit_;  // the module, its checked program and sources live as long as the block
   Instance instance_;
   std::vector<PinCell> inputs_, outputs_, externals_;
-  std::vector<std::pair<int, int>> written_;  // read pin -> write pin of each written VAR_EXTERNAL
+
+  // The frame lives in its pin: published, monitored and forced like pins.
+  // Bound at the load, it moves there with its initial values; bound again
+  // (an online change moved the pin's cells, and what they hold), it takes
+  // what is there.
+  void pins_bound() noexcept override {
+    instance_.relocate(pin_cell(frame_pin_), !placed_);
+    placed_ = true;
+  }
+
+  std::vector<Written> written_;  // read pin -> write pin of each written VAR_EXTERNAL
   std::int64_t budget_;
+  int frame_pin_;
+  bool placed_ = false;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> retained_;  // (cell, count) of the RETAIN variables
+  std::uint32_t retain_cells_ = 0, retain_layout_ = 1;
 };
+
+// The variables of POU `pou` at `at` as leaves (BlockTypeInfo::VariableLeaf).
+void leaves(const Module& m, std::uint32_t pou, std::uint32_t at, const std::string& prefix,
+            std::vector<BlockTypeInfo::VariableLeaf>& out, int depth, bool retain, bool persistent);
+
+void type_leaves(const Module& m, const Type* t, std::uint32_t at, const std::string& path,
+                 std::vector<BlockTypeInfo::VariableLeaf>& out, int depth, bool retain, bool persistent) {
+  if (depth > 32) return;
+  switch (t->kind) {
+    case Type::Kind::Struct: {
+      std::uint32_t off = 0;
+      for (const Field& f : t->fields) {
+        type_leaves(m, f.type, at + off, path + "." + f.name, out, depth + 1, retain, persistent);
+        off += frame_cells_of(m, f.type);
+      }
+      return;
+    }
+    case Type::Kind::Array: {
+      const Type* e = t->element;
+      if (e->kind != Type::Kind::Struct && e->kind != Type::Kind::FunctionBlock && e->kind != Type::Kind::Array) break;
+      const std::uint32_t n = frame_cells_of(m, e);
+      for (std::int64_t k = 0; k < t->element_count(); ++k)
+        type_leaves(m, e, at + static_cast<std::uint32_t>(k) * n, fmt::format("{}[#{}]", path, k), out, depth + 1,
+                    retain, persistent);
+      return;
+    }
+    case Type::Kind::FunctionBlock:
+      if (t->fb->builtin) {  // its pins; the Block* cell before them belongs to the instance
+        for (std::size_t k = 0; k < t->fb->pins.size(); ++k)
+          out.push_back({path + "." + t->fb->pins[k].name, t->fb->pins[k].type->name,
+                         at + 1 + static_cast<std::uint32_t>(k), 1, retain, persistent});
+      } else if (const int fp = m.find(t->fb->name); fp >= 0) {
+        leaves(m, static_cast<std::uint32_t>(fp), at, path + ".", out, depth + 1, retain, persistent);
+      }
+      return;
+    default: break;
+  }
+  out.push_back({path, t->name, at, frame_cells_of(m, t), retain, persistent});
+}
+
+void leaves(const Module& m, std::uint32_t pou, std::uint32_t at, const std::string& prefix,
+            std::vector<BlockTypeInfo::VariableLeaf>& out, int depth, bool retain, bool persistent) {
+  for (const VarSlot& v : m.pous[pou].vars) {
+    if (v.scope == static_cast<int>(VarScope::External) || v.scope == static_cast<int>(VarScope::InOut) ||
+        v.scope == static_cast<int>(VarScope::Temp))
+      continue;  // references, and what each call sets again
+    // A RETAIN instance of an FB retains all of it (IEC 61131-3 ed. 3, 6.5.6).
+    type_leaves(m, v.type, at + v.at, prefix + v.name, out, depth, retain || v.retain, persistent || v.persistent);
+  }
+}
+
+// A hash of what POU `pou` runs: its code, frame and image, and those of
+// the POUs it embeds or calls (FNV-1a 64). Equal for an unchanged POU in a
+// reloaded project: the online change keeps such an instance as it is.
+std::uint64_t code_identity(const Module& m, std::uint32_t pou) {
+  std::vector<std::uint32_t> todo{pou}, seen;
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  auto mix = [&](std::uint64_t v) {
+    for (int k = 0; k < 8; ++k) h = (h ^ ((v >> (8 * k)) & 0xFF)) * 0x100000001b3ull;
+  };
+  auto mix_text = [&](std::string_view t) {
+    for (unsigned char c : t) h = (h ^ c) * 0x100000001b3ull;
+    mix(t.size());
+  };
+  while (!todo.empty()) {
+    const std::uint32_t p = todo.back();
+    todo.pop_back();
+    if (std::find(seen.begin(), seen.end(), p) != seen.end()) continue;
+    seen.push_back(p);
+    const CompiledPou& c = m.pous[p];
+    mix_text(c.name);
+    mix(c.frame_cells);
+    for (const Cell& x : c.image) mix(x.raw);
+    for (const VarSlot& v : c.vars) {
+      mix_text(v.name);
+      mix_text(v.type->name);
+      mix(v.at);
+      mix(static_cast<std::uint64_t>(v.scope));
+    }
+    for (const Insn& i : c.code) {
+      mix(static_cast<std::uint64_t>(i.op));
+      mix(i.a);
+      mix(i.b);
+      mix(i.c);
+      mix(i.d);
+      mix_text(m.sites.empty() ? "" : m.sites[std::min<std::size_t>(i.site, m.sites.size() - 1)].message);
+      if (i.op == Op::CALL_FB || i.op == Op::CALL_FB_REF) todo.push_back(i.d);
+      if (i.op == Op::CALL_FN) todo.push_back(m.calls[i.d].pou);
+    }
+    for (const auto& [off, fb] : m.nested[p]) todo.push_back(fb);
+  }
+  return h;
+}
 
 bool pin_type(const Type* t, IecType* out) {
   const auto s = t->scalar();
@@ -111,7 +251,13 @@ std::optional<BlockTypeInfo> st_block_type(std::shared_ptr<const StUnit> unit, s
   BlockTypeInfo t;
   t.name = p.name;
   t.category = p.kind == PouKind::Program ? "Structured Text programs" : "Structured Text function blocks";
-  t.doc = info && info->pou ? info->pou->doc : "";
+  // The POU's comment as one paragraph (its line breaks and indents are the source's layout).
+  for (char c : info && info->pou ? info->pou->doc : std::string()) {
+    const bool space = c == ' ' || c == '\n' || c == '\t' || c == '\r';
+    if (space && (t.doc.empty() || t.doc.back() == ' ')) continue;
+    t.doc += space ? ' ' : c;
+  }
+  while (!t.doc.empty() && t.doc.back() == ' ') t.doc.pop_back();
   t.reference = info && info->pou ? info->pou->loc.text() : "";
   std::vector<PinCell> inputs, outputs;
   if (p.kind == PouKind::FunctionBlock) {
@@ -131,17 +277,38 @@ std::optional<BlockTypeInfo> st_block_type(std::shared_ptr<const StUnit> unit, s
       t.pins.push_back(std::move(d));
     }
   }
-  std::vector<std::pair<int, int>> written;
+  std::vector<Written> written;
   for (const StExternal& e : st_externals(*unit, pou)) {
+    // An elementary tag, or an array tag as ARRAY[lo..hi] OF an elementary type.
+    const Type* element = e.type;
+    std::uint32_t count = 1;
+    if (e.type->kind == Type::Kind::Array && e.type->dims.size() == 1) {
+      element = e.type->element;
+      count = static_cast<std::uint32_t>(e.type->dims[0].count());
+    }
     IecType type;
-    if (!pin_type(e.type, &type)) {
-      *why = fmt::format("{}: VAR_EXTERNAL {} : {}: a tag is an elementary value", e.loc.text(), e.name, e.type->name);
+    if (!pin_type(element, &type) || count > kMaxPinLength) {
+      *why = fmt::format("{}: VAR_EXTERNAL {} : {}: a tag is an elementary value or a one-dimensional array of one "
+                         "(at most {} elements)",
+                         e.loc.text(), e.name, e.type->name, kMaxPinLength);
       return std::nullopt;
+    }
+    std::string length_param;
+    if (element != e.type) {
+      ParamDecl len;
+      len.name = "(length of " + e.name + ")";
+      len.type = IecType::UDINT;
+      len.default_value = std::to_string(count);
+      len.min = len.max = static_cast<double>(count);
+      len.doc = "elements of the array tag (set by the compiler)";
+      length_param = len.name;
+      t.params.push_back(std::move(len));
     }
     PinDecl r;
     r.name = e.name + kExternalReadSuffix;
     r.dir = syncplc::PinDir::In;
     r.type = type;
+    r.length_param = length_param;
     r.doc = fmt::format("the tag {} as the scan starts (VAR_EXTERNAL)", e.name);
     const int read_pin = static_cast<int>(t.pins.size());
     t.pins.push_back(std::move(r));
@@ -150,8 +317,9 @@ std::optional<BlockTypeInfo> st_block_type(std::shared_ptr<const StUnit> unit, s
       w.name = e.name;
       w.dir = syncplc::PinDir::Out;
       w.type = type;
+      w.length_param = length_param;
       w.doc = fmt::format("the tag {} as the POU left it (VAR_EXTERNAL)", e.name);
-      written.push_back({read_pin, static_cast<int>(t.pins.size())});
+      written.push_back({read_pin, static_cast<int>(t.pins.size()), count});
       t.pins.push_back(std::move(w));
     }
   }
@@ -162,11 +330,73 @@ std::optional<BlockTypeInfo> st_block_type(std::shared_ptr<const StUnit> unit, s
                            t.reference, p.name, t.pins[i].name, kExternalReadSuffix);
         return std::nullopt;
       }
-  t.create = [unit, pou, inputs, outputs, written](BlockSetup& s) -> std::unique_ptr<Block> {
+  // The frame as an array output pin sized by a parameter the compiler sets.
+  if (p.frame_cells > kMaxFrameCells) {
+    *why = fmt::format("{}: {} needs {} cells for its variables; an instance may have at most {}", t.reference, p.name,
+                       p.frame_cells, kMaxFrameCells);
+    return std::nullopt;
+  }
+  const std::uint32_t frame_cells = std::max<std::uint32_t>(p.frame_cells, 1);
+  ParamDecl cells;
+  cells.name = kVariablesParam;
+  cells.type = IecType::UDINT;
+  cells.default_value = std::to_string(frame_cells);
+  cells.min = cells.max = static_cast<double>(frame_cells);
+  cells.doc = "cells of the instance's variables (set by the compiler)";
+  t.params.push_back(std::move(cells));
+  PinDecl frame;
+  frame.name = kVariablesPin;
+  frame.dir = syncplc::PinDir::Out;
+  frame.type = IecType::LWORD;
+  frame.length_param = kVariablesParam;
+  frame.max_length = kMaxFrameCells;
+  frame.doc = "the instance's variables, reached as instance.name (docs/st.md)";
+  const int frame_pin = static_cast<int>(t.pins.size());
+  t.pins.push_back(std::move(frame));
+  t.variables_pin = frame_pin;
+  leaves(*unit->module, pou, 0, "", t.variable_leaves, 0, false, false);
+  // RETAIN variables: the block's retained state, cell ranges of its frame.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> retained;
+  std::uint64_t layout = 0xcbf29ce484222325ull;
+  for (const auto& leaf : t.variable_leaves)
+    if (leaf.retain) {
+      retained.emplace_back(leaf.element, leaf.count);
+      for (unsigned char ch : leaf.path + ":" + leaf.type) layout = (layout ^ ch) * 0x100000001b3ull;
+    }
+  // What the instance runs, as a parameter: part of its signature's
+  // structure, so a changed body re-creates it (and carries its variables).
+  ParamDecl code;
+  code.name = kCodeParam;
+  code.type = IecType::LWORD;
+  code.default_value = fmt::format("16#{:016X}", code_identity(*unit->module, pou));
+  code.doc = "identity of the compiled code (set by the compiler)";
+  t.params.push_back(std::move(code));
+  t.variable = [unit, pou](std::string_view path, std::string* error) -> std::optional<BlockTypeInfo::Variable> {
+    const auto r = resolve_path(*unit->module, pou, path, error);
+    if (!r) return std::nullopt;
+    if (r->reference) {
+      *error = "a VAR_IN_OUT or VAR_EXTERNAL refers to another variable (name the tag itself)";
+      return std::nullopt;
+    }
+    if (r->bit >= 0) {
+      *error = "a bit of a variable cannot be addressed alone: address the whole variable";
+      return std::nullopt;
+    }
+    IecType type;
+    if (!pin_type(r->type, &type)) {
+      *error = fmt::format("it is a {}: address one of its elements or fields", r->type->name);
+      return std::nullopt;
+    }
+    return BlockTypeInfo::Variable{r->at, type};
+  };
+  const auto retain_layout = static_cast<std::uint32_t>(layout ^ (layout >> 32));
+  t.create = [unit, pou, inputs, outputs, written, frame_pin, retained, retain_layout](BlockSetup& s) -> std::unique_ptr<Block> {
     // The budget from the task's watchdog, else its period.
     const std::int64_t time_ns = s.task_watchdog_ns() > 0 ? s.task_watchdog_ns() : s.task_period_ns();
     const std::int64_t budget = std::max<std::int64_t>(1000, time_ns / kNsPerBackwardJump);
-    return std::make_unique<StBlock>(unit, pou, s, inputs, outputs, written, budget);
+    auto b = std::make_unique<StBlock>(unit, pou, s, inputs, outputs, written, budget, frame_pin);
+    b->set_retained(retained, retain_layout);
+    return b;
   };
   return t;
 }

@@ -42,6 +42,14 @@ std::vector<StExternal> st_externals(const StUnit& unit, std::uint32_t pou);
 
 // The suffix of the pin through which a VAR_EXTERNAL reads its tag.
 inline constexpr const char* kExternalReadSuffix = "_in";
+// The array output pin that holds the instance's frame (its variables, so
+// they are published, monitored, traced and forced like pins), and the
+// parameter that sizes it (set by the compiler; not to be given).
+inline constexpr const char* kVariablesPin = "(variables)";
+inline constexpr const char* kVariablesParam = "(variable cells)";
+inline constexpr const char* kCodeParam = "(code)";
+// The largest frame of an instance, in cells (8 MiB).
+inline constexpr std::uint32_t kMaxFrameCells = 1u << 20;
 
 // The block type of FUNCTION_BLOCK or PROGRAM `pou`; nullopt with the
 // reason when it cannot be one (a pin name twice, an external of a type a

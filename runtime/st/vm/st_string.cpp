@@ -320,8 +320,8 @@ namespace {
 bool is_space(char c) noexcept { return c == ' ' || c == '\t' || c == '\n' || c == '\v' || c == '\f' || c == '\r'; }
 char to_upper(char c) noexcept { return c >= 'a' && c <= 'z' ? static_cast<char>(c - 'a' + 'A') : c; }
 char to_lower(char c) noexcept { return c >= 'A' && c <= 'Z' ? static_cast<char>(c - 'A' + 'a') : c; }
-bool is_digit(char c) noexcept { return c >= '0' && c <= '9'; }
-bool is_alpha(char c) noexcept { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); }
+bool ascii_digit(char c) noexcept { return c >= '0' && c <= '9'; }
+bool ascii_letter(char c) noexcept { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); }
 
 std::string_view trim(std::string_view s) noexcept {
   while (!s.empty() && is_space(s.front())) s.remove_prefix(1);
@@ -453,13 +453,13 @@ Parse parse_duration(std::string_view text, std::int64_t& out) noexcept {
   int last_rank = 100;
   while (i < s.size()) {
     std::size_t j = i;
-    while (j < s.size() && (is_digit(s[j]) || s[j] == '.')) ++j;
+    while (j < s.size() && (ascii_digit(s[j]) || s[j] == '.')) ++j;
     if (j == i) return Parse::Invalid;
     double num;
     auto [p, ec] = std::from_chars(s.data() + i, s.data() + j, num);
     if (ec != std::errc() || p != s.data() + j) return Parse::Invalid;
     std::size_t k = j;
-    while (k < s.size() && is_alpha(s[k])) ++k;
+    while (k < s.size() && ascii_letter(s[k])) ++k;
     char unit[4] = {};
     if (k - j > 3) return Parse::Invalid;
     for (std::size_t u = j; u < k; ++u) unit[u - j] = to_lower(s[u]);

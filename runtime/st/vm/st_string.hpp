@@ -31,9 +31,8 @@
 //
 // Positions are 1-based (IEC); L and P arrive as int64 (the VM widens every
 // integer type). Out-of-range rules (CODESYS documents none; these are the
-// nearest defined results, in the spirit of IEC 61499's reference functions
-// and the Siemens/Panasonic tables: a bad position removes nothing, and puts
-// what is inserted at the nearest end):
+// nearest defined results, as docs/st.md "Strings at run time" explains: a
+// bad position removes nothing, and what is inserted goes to the nearest end):
 //   LEFT/RIGHT(IN, L)   L < 0: '' (BadArgument); L > LEN(IN): all of IN (Ok).
 //   MID(IN, L, P)       P in 1 .. LEN(IN)+1 and L >= 0: the L characters from
 //                       P, fewer when IN ends first (Ok); L < 0 or P outside
