@@ -68,8 +68,6 @@ inline constexpr int kNumCount = 10;
   X(STI)         /* *(ref a)[0..c) := b[0..c) */                                                     \
   X(LDI1)        /* a := *(ref b + c) */                                                             \
   X(STI1)        /* *(ref a + c) := b */                                                             \
-  X(LDX)         /* a := frame[b + (index cell c - low) * stride], one cell; array index d */       \
-  X(STX)         /* frame[a + (index cell c - low) * stride] := b, one cell; array index d */       \
   /* bits */                                                                                          \
   X(GETBIT)      /* a := (b >> c) & 1 */                                                             \
   X(SETBIT)      /* bit c of a := cell b != 0 */                                                     \
@@ -102,6 +100,17 @@ inline constexpr int kNumCount = 10;
   SYNCPLC_ST_NUM_FAMILY(X, JNGE) SYNCPLC_ST_NUM_FAMILY(X, JNEQ) SYNCPLC_ST_NUM_FAMILY(X, JNNE)         \
   /* FOR: enter (skip to d when the range is empty) and next (step, goto d while in range) */       \
   SYNCPLC_ST_INT_FAMILY(X, FOR_ENTER) SYNCPLC_ST_INT_FAMILY(X, FOR_NEXT)                              \
+  /* FOR with the step 1: if a < b then a := a + 1, goto d (counted against the loop budget) */    \
+  SYNCPLC_ST_INT_FAMILY(X, FOR_INC)                                                                   \
+  /* one cell of a local one-dimensional array by a checked index, typed by the index cell's type:  \
+     LDX a := frame[b + (index cell c - low)], STX frame[a + (index cell c - low)] := b; array       \
+     index d (out of bounds: LDX gives 0, STX writes nothing, both fault at its site) */            \
+  SYNCPLC_ST_INT_FAMILY(X, LDX) SYNCPLC_ST_INT_FAMILY(X, STX)                                         \
+  /* fused multiply and add, rounded after each as the two operations are (no FMA):                \
+     MULADD a := b * c + d, ADDMUL a := d + b * c, MULSUB a := b * c - d, SUBMUL a := d - b * c      \
+     (the operands in the order written) */                                                          \
+  SYNCPLC_ST_NUM_FAMILY(X, MULADD) SYNCPLC_ST_NUM_FAMILY(X, ADDMUL)                                   \
+  SYNCPLC_ST_NUM_FAMILY(X, MULSUB) SYNCPLC_ST_NUM_FAMILY(X, SUBMUL)                                   \
   /* a := b converted between native types, value-preserving (the implicit widenings) */            \
   SYNCPLC_ST_NUM_FAMILY(X, WIDEN_TO_I16) SYNCPLC_ST_NUM_FAMILY(X, WIDEN_TO_I32)                       \
   SYNCPLC_ST_NUM_FAMILY(X, WIDEN_TO_I64) SYNCPLC_ST_NUM_FAMILY(X, WIDEN_TO_F32)                       \
@@ -120,6 +129,9 @@ enum class Op : std::uint16_t {
 };
 
 std::string_view op_name(Op op);
+// The operations whose d is a cell operand too (the others' d is a target,
+// a descriptor's index or a count).
+inline bool d_is_cell(Op op) { return op >= Op::MULADD_I8 && op <= Op::SUBMUL_F64; }
 // The member of the typed family starting at `first` (ADD_I8) for `n`.
 inline Op op_of(Op first, Num n) { return static_cast<Op>(static_cast<int>(first) + static_cast<int>(n)); }
 

@@ -209,7 +209,7 @@ Operand CodeGen::conversion(const Expr& e, const ExprInfo& i, std::optional<std:
       s.wide = to->wide;
       s.capacity = to->length;
       s.type = iec_of(*from->scalar());
-      s.dst = temp(cells_of(to));
+      s.dst = into ? *into : temp(cells_of(to));  // into: a variable of this type (assign)
     } else {
       s.fn = StringFn::FromString;
       s.wide = from->wide;
@@ -394,7 +394,10 @@ Operand CodeGen::string_call(const Expr& e, const ExprInfo& i, const StdFunction
       StringCall step = s;
       step.args[0] = acc;
       step.args[1] = args[m];
-      step.dst = temp(n);
+      // The last step into the assigned variable, unless it is an operand
+      // (a destination never aliases a source, st_string.hpp).
+      const bool last = m + 1 == bound.size();
+      step.dst = last && into && *into != acc && *into != args[m] ? *into : temp(n);
       string_op(step);
       acc = step.dst;
     }
@@ -410,7 +413,9 @@ Operand CodeGen::string_call(const Expr& e, const ExprInfo& i, const StdFunction
     error(e.loc, fmt::format("the code generator has no {}", name));
     return {0, rt};
   }
-  s.dst = temp(n);
+  bool aliased = false;
+  for (std::uint32_t a : args) aliased = aliased || (into && a == *into);
+  s.dst = into && !aliased ? *into : temp(n);
   string_op(s);
   return {s.dst, rt};
 }

@@ -95,8 +95,11 @@ class CodeGen {
   Operand binary(const Expr& e, std::optional<std::uint32_t> into);
   Operand unary(const Expr& e, std::optional<std::uint32_t> into);
   Operand constant_of(const Expr& e, const ExprInfo& i);
-  // Jumps to the returned instruction's d (patch it) when `cond` is false.
-  std::uint32_t branch_unless(const Expr& cond);
+  // The jumps (patch their d) taken when `cond` is false / true.
+  std::vector<std::uint32_t> jumps_unless(const Expr& cond);
+  std::vector<std::uint32_t> jumps_if(const Expr& cond);
+  // Evaluating e can be skipped with no visible difference (no call, no fault).
+  bool skippable(const Expr& e) const;
 
   // ---- calls (codegen_call.cpp) ----
   Operand call(const Expr& e, std::optional<std::uint32_t> into);

@@ -52,6 +52,29 @@ StringFn string_compare(BinaryOp op) {
 
 bool is_real_num(Num n) { return n == Num::F32 || n == Num::F64; }
 
+// The typed LDX/STX of an index cell of type n (integers only; the checker
+// allows no other index).
+Num index_num(Num n) { return is_real_num(n) ? Num::I64 : n; }
+
+// The jump taken when the comparison is true: when its negation is false
+// (integers only: with a NaN operand both a < b and a >= b are false).
+Op jump_if_op(BinaryOp op) {
+  switch (op) {
+    case BinaryOp::Less: return Op::JNGE_I8;
+    case BinaryOp::Greater: return Op::JNLE_I8;
+    case BinaryOp::LessEqual: return Op::JNGT_I8;
+    case BinaryOp::GreaterEqual: return Op::JNLT_I8;
+    case BinaryOp::Equal: return Op::JNNE_I8;
+    default: return Op::JNEQ_I8;
+  }
+}
+
+// Durations and dates: a product of these may be a scaled one (TIME * 2).
+bool is_time_like(const Type* t) {
+  const auto e = t ? t->scalar() : std::nullopt;
+  return e && (is_duration(*e) || *e >= Elem::DATE);
+}
+
 }  // namespace
 
 // ---- places ----
@@ -212,7 +235,7 @@ Operand CodeGen::read(const Place& p, std::optional<std::uint32_t> into) {
     }
     case Place::Kind::Indexed: {
       const std::uint32_t dst = into ? *into : temp();
-      emit(Op::LDX, dst, p.at, p.index, p.check);
+      emit(op_of(Op::LDX_I8, index_num(out_->indexes[p.check].index)), dst, p.at, p.index, p.check);
       return {dst, p.type};
     }
   }
@@ -287,7 +310,9 @@ void CodeGen::write(const Place& p, Operand v, const SourceLoc& loc) {
         emit(Op::STI, r, v.at, n);
       }
       return;
-    case Place::Kind::Indexed: emit(Op::STX, p.at, v.at, p.index, p.check); return;
+    case Place::Kind::Indexed:
+      emit(op_of(Op::STX_I8, index_num(out_->indexes[p.check].index)), p.at, v.at, p.index, p.check);
+      return;
   }
 }
 
@@ -428,6 +453,32 @@ Operand CodeGen::binary(const Expr& e, std::optional<std::uint32_t> into) {
     emit(Op::MATH2, dst, a.at, b.at, math2(math2_fn("EXPT", *n == Num::F64)));
     return {dst, t};
   }
+  if ((op == BinaryOp::Add || op == BinaryOp::Subtract) && !is_time_like(t)) {
+    // x * y +/- z and z +/- x * y in one instruction (the operands evaluated
+    // in the order written, the product rounded before the sum as MUL does).
+    auto product = [&](const Expr& x) {
+      const ExprInfo* xi = program_.info(x);
+      return x.kind == ExprKind::Binary && x.binary_op == BinaryOp::Multiply && xi && xi->type == t && !xi->constant;
+    };
+    const bool left = product(ea), right = !left && product(eb);
+    if (left || right) {
+      // Each operand converted where MUL and ADD would convert it: after
+      // the operands evaluated before (a call there may change a variable).
+      const Expr& pe = left ? ea : eb;
+      Operand z;
+      if (right) z = expr(ea);
+      Operand x = expr(pe.operands[0]);
+      Operand y = expr(pe.operands[1]);
+      x = convert(x, t, pe.operands[0].loc);
+      y = convert(y, t, pe.operands[1].loc);
+      z = left ? convert(expr(eb), t, eb.loc) : convert(z, t, ea.loc);
+      const std::uint32_t dst = into ? *into : temp();
+      const bool add = op == BinaryOp::Add;
+      const Op fused = left ? (add ? Op::MULADD_I8 : Op::MULSUB_I8) : (add ? Op::ADDMUL_I8 : Op::SUBMUL_I8);
+      emit(op_of(fused, *n), dst, x.at, y.at, z.at);
+      return {dst, t};
+    }
+  }
   Operand a = expr(ea);
   Operand b = expr(eb);
   const std::uint32_t dst = into ? *into : temp();
@@ -466,19 +517,96 @@ Operand CodeGen::binary(const Expr& e, std::optional<std::uint32_t> into) {
   return {dst, t};
 }
 
-std::uint32_t CodeGen::branch_unless(const Expr& cond) {
+// Conditions become jumps: IF a AND b tests a, then b, with no BOOL
+// computed; IF NOT a jumps on a. The right operand of AND (OR) is skipped
+// when the left one is FALSE (TRUE), which IEC's AND does not do, so only a
+// right operand whose evaluation cannot be seen is skipped: no call, no
+// division, no index, no conversion (none of them can fault or write).
+bool CodeGen::skippable(const Expr& e) const {
+  const ExprInfo* i = program_.info(e);
+  if (!i || !i->type || i->type->is_error()) return false;
+  if (i->constant) return true;
+  switch (e.kind) {
+    case ExprKind::Literal: return true;
+    case ExprKind::Name: return i->variable != nullptr;
+    case ExprKind::Member:
+    case ExprKind::BitAccess:
+    case ExprKind::Unary: return skippable(e.operands[0]);
+    case ExprKind::Binary: {
+      if (e.binary_op == BinaryOp::Divide || e.binary_op == BinaryOp::Mod || e.binary_op == BinaryOp::Power)
+        return false;
+      const Type* ot = i->operand_type ? i->operand_type : i->type;
+      if (!num_of(ot)) return false;  // strings
+      return skippable(e.operands[0]) && skippable(e.operands[1]);
+    }
+    default: return false;
+  }
+}
+
+namespace {
+
+bool is_bool_op(const Expr& e, const ExprInfo* i, BinaryOp op) {
+  return e.kind == ExprKind::Binary && e.binary_op == op && i && !i->constant && i->type && i->type->is(Elem::BOOL);
+}
+bool is_bool_not(const Expr& e, const ExprInfo* i) {
+  return e.kind == ExprKind::Unary && e.unary_op == UnaryOp::Not && i && !i->constant && i->type &&
+         i->type->is(Elem::BOOL);
+}
+
+}  // namespace
+
+std::vector<std::uint32_t> CodeGen::jumps_unless(const Expr& cond) {
   const ExprInfo* i = program_.info(cond);
+  if (is_bool_op(cond, i, BinaryOp::And) && skippable(cond.operands[1])) {
+    std::vector<std::uint32_t> out = jumps_unless(cond.operands[0]);
+    for (std::uint32_t j : jumps_unless(cond.operands[1])) out.push_back(j);
+    return out;
+  }
+  if (is_bool_op(cond, i, BinaryOp::Or) && skippable(cond.operands[1])) {
+    const std::vector<std::uint32_t> taken = jumps_if(cond.operands[0]);
+    std::vector<std::uint32_t> out = jumps_unless(cond.operands[1]);
+    for (std::uint32_t j : taken) patch(j, pc());
+    return out;
+  }
+  if (is_bool_not(cond, i)) return jumps_if(cond.operands[0]);
   if (cond.kind == ExprKind::Binary && is_comparison(cond.binary_op) && i && !i->constant && i->operand_type &&
       num_of(i->operand_type)) {
     const Type* ot = i->operand_type;
     TempScope scope(*this);
     const Operand a = convert(expr(cond.operands[0]), ot, cond.loc);
     const Operand b = convert(expr(cond.operands[1]), ot, cond.loc);
-    return emit(op_of(jump_unless_op(cond.binary_op), *num_of(ot)), a.at, b.at);
+    return {emit(op_of(jump_unless_op(cond.binary_op), *num_of(ot)), a.at, b.at)};
   }
   TempScope scope(*this);
   const Operand v = expr(cond);
-  return emit(Op::JZ, v.at);
+  return {emit(Op::JZ, v.at)};
+}
+
+std::vector<std::uint32_t> CodeGen::jumps_if(const Expr& cond) {
+  const ExprInfo* i = program_.info(cond);
+  if (is_bool_op(cond, i, BinaryOp::Or) && skippable(cond.operands[1])) {
+    std::vector<std::uint32_t> out = jumps_if(cond.operands[0]);
+    for (std::uint32_t j : jumps_if(cond.operands[1])) out.push_back(j);
+    return out;
+  }
+  if (is_bool_op(cond, i, BinaryOp::And) && skippable(cond.operands[1])) {
+    const std::vector<std::uint32_t> not_taken = jumps_unless(cond.operands[0]);
+    std::vector<std::uint32_t> out = jumps_if(cond.operands[1]);
+    for (std::uint32_t j : not_taken) patch(j, pc());
+    return out;
+  }
+  if (is_bool_not(cond, i)) return jumps_unless(cond.operands[0]);
+  const Num on = i && i->operand_type ? num_of(i->operand_type).value_or(Num::F64) : Num::F64;
+  if (cond.kind == ExprKind::Binary && is_comparison(cond.binary_op) && i && !i->constant && !is_real_num(on)) {
+    const Type* ot = i->operand_type;
+    TempScope scope(*this);
+    const Operand a = convert(expr(cond.operands[0]), ot, cond.loc);
+    const Operand b = convert(expr(cond.operands[1]), ot, cond.loc);
+    return {emit(op_of(jump_if_op(cond.binary_op), on), a.at, b.at)};
+  }
+  TempScope scope(*this);
+  const Operand v = expr(cond);
+  return {emit(Op::JNZ, v.at)};
 }
 
 namespace {

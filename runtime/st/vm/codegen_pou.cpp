@@ -353,6 +353,7 @@ void CodeGen::place_constants() {
     fix(i.a);
     fix(i.b);
     fix(i.c);
+    if (d_is_cell(i.op)) fix(i.d);
   }
   for (std::uint32_t k : my_calls_)
     for (CellCopy& c : out_->calls[k].in) fix(c.from);

@@ -65,6 +65,15 @@ void CodeGen::assign(const Statement& s) {
     if (v.at != p.at) emit(Op::MOV, p.at, v.at);
     return;
   }
+  // A string function's result written straight into a variable of the
+  // same capacity (no copy; no cut can happen in the copy it saves).
+  const Type* vt = vi ? vi->type : nullptr;
+  if (p.kind == Place::Kind::Direct && p.bit < 0 && p.type->kind == Type::Kind::String && vt &&
+      vt->kind == Type::Kind::String && vt->wide == p.type->wide && vt->length == p.type->length) {
+    const Operand v = expr(s.value, p.at);
+    if (v.at != p.at) write(p, v, s.loc);
+    return;
+  }
   const Operand v = convert(expr(s.value), p.type, s.value.loc);
   write(p, v, s.loc);
 }
@@ -73,10 +82,10 @@ void CodeGen::if_statement(const Statement& s) {
   std::vector<std::uint32_t> ends;
   for (std::size_t k = 0; k < s.branches.size(); ++k) {
     const IfBranch& b = s.branches[k];
-    const std::uint32_t skip = branch_unless(b.condition);
+    const std::vector<std::uint32_t> skip = jumps_unless(b.condition);
     body(b.body);
     if (k + 1 < s.branches.size() || s.has_else) ends.push_back(emit(Op::JMP));
-    patch(skip, pc());
+    for (std::uint32_t j : skip) patch(j, pc());
   }
   if (s.has_else) body(s.else_body);
   for (std::uint32_t j : ends) patch(j, pc());
@@ -200,7 +209,11 @@ void CodeGen::for_statement(const Statement& s) {
   const std::uint32_t top = pc();
   loops_.emplace_back();
   body(s.body);
-  const std::uint32_t next = emit(op_of(Op::FOR_NEXT_I8, *n), v.at, end, step, top, site(s.loc, kLoopBudget));
+  // The step 1 (written or not) takes the instruction that needs no step.
+  const ExprInfo* bi = s.by.kind == ExprKind::None ? nullptr : program_.info(s.by);
+  const bool step_one = s.by.kind == ExprKind::None || (bi && bi->constant && !bi->constant->is_real && bi->constant->i == 1);
+  const std::uint32_t next = step_one ? emit(op_of(Op::FOR_INC_I8, *n), v.at, end, 0, top, site(s.loc, kLoopBudget))
+                                      : emit(op_of(Op::FOR_NEXT_I8, *n), v.at, end, step, top, site(s.loc, kLoopBudget));
   Loop loop = std::move(loops_.back());
   loops_.pop_back();
   patch(enter, pc());
@@ -210,13 +223,13 @@ void CodeGen::for_statement(const Statement& s) {
 
 void CodeGen::while_statement(const Statement& s) {
   const std::uint32_t top = pc();
-  const std::uint32_t skip = branch_unless(s.value);
+  const std::vector<std::uint32_t> skip = jumps_unless(s.value);
   loops_.emplace_back();
   body(s.body);
   const std::uint32_t back = emit(Op::JMPB, 0, 0, 0, top, site(s.loc, kLoopBudget));
   Loop loop = std::move(loops_.back());
   loops_.pop_back();
-  patch(skip, pc());
+  for (std::uint32_t j : skip) patch(j, pc());
   for (std::uint32_t j : loop.exits) patch(j, pc());
   for (std::uint32_t j : loop.continues) patch(j, back);
 }
@@ -226,16 +239,11 @@ void CodeGen::repeat_statement(const Statement& s) {
   loops_.emplace_back();
   body(s.body);
   const std::uint32_t test = pc();
-  std::uint32_t done;
-  {
-    TempScope scope(*this);
-    const Operand c = expr(s.value);
-    done = emit(Op::JNZ, c.at);
-  }
+  const std::vector<std::uint32_t> done = jumps_if(s.value);
   emit(Op::JMPB, 0, 0, 0, top, site(s.loc, kLoopBudget));
   Loop loop = std::move(loops_.back());
   loops_.pop_back();
-  patch(done, pc());
+  for (std::uint32_t j : done) patch(j, pc());
   for (std::uint32_t j : loop.exits) patch(j, pc());
   for (std::uint32_t j : loop.continues) patch(j, test);
 }

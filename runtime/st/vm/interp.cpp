@@ -132,6 +132,43 @@ inline std::int64_t element(const IndexCheck& k, const Cell& index) noexcept {
   return static_cast<std::int64_t>(at * k.stride);
 }
 
+// For a step of any type (an unsigned one is never negative; no
+// -Wtype-limits for it).
+template <class T>
+inline bool is_negative(T v) noexcept {
+  if constexpr (std::is_signed_v<T>) return v < T{0};
+  else return false;
+}
+
+// An index cell of type T as a signed 64-bit number, saturated as read_index.
+template <class T>
+inline std::int64_t index_as_i64(const Cell& c) noexcept {
+  if constexpr (std::is_same_v<T, U64>) {
+    const U64 v = rd<U64>(c);
+    return v > static_cast<U64>(std::numeric_limits<I64>::max()) ? std::numeric_limits<I64>::max() : static_cast<I64>(v);
+  } else {
+    return static_cast<I64>(rd<T>(c));
+  }
+}
+
+// A product as the separate MUL rounds it: kept out of a contraction into a
+// fused multiply-add (-ffp-contract=fast with an FMA target), so MULADD gives
+// the bits MUL then ADD give.
+template <class T>
+inline T rounded(T v) noexcept {
+  if constexpr (std::is_floating_point_v<T>) {
+#if defined(__x86_64__) || defined(__i386__)
+    asm("" : "+x"(v));
+#elif defined(__aarch64__)
+    asm("" : "+w"(v));
+#else
+    volatile T keep = v;
+    v = keep;
+#endif
+  }
+  return v;
+}
+
 template <class T>
 inline void range_store(Vm& vm, Cell& dst, const Cell& src, const RangeCheck& r) noexcept {
   const std::int64_t v = static_cast<std::int64_t>(rd<T>(src));
@@ -183,6 +220,11 @@ const void* const* exec(Vm& vm, const CompiledPou* pou, Cell* f, bool* ok) noexc
   const Module& m = *vm.module;
   const Insn* const code = pou->code.data();
   const Insn* ip = code;
+  // The loop budget in a local: vm.budget is an int64 in memory that every
+  // store to a cell may alias, so counting there costs a load and a store on
+  // each backward jump. Written back before a call (the callee counts on)
+  // and on every way out.
+  std::int64_t budget = vm.budget;
 #define DISPATCH() goto *ip->handler
 #define NEXT() \
   do {         \
@@ -197,12 +239,14 @@ const void* const* exec(Vm& vm, const CompiledPou* pou, Cell* f, bool* ok) noexc
   DISPATCH();
 
 L_HALT:
+  vm.budget = budget;
   *ok = true;
   return nullptr;
 L_JMP:
   JUMP(ip->d);
 L_JMPB:
-  if (--vm.budget < 0) {
+  if (--budget < 0) {
+    vm.budget = budget;
     vm.stopped = m.sites[ip->site].message;
     *ok = false;
     return nullptr;
@@ -261,24 +305,6 @@ L_LDI1:
 L_STI1:
   ptr(f[ip->a])[ip->c] = f[ip->b];
   NEXT();
-L_LDX: {
-  const IndexCheck& k = m.indexes[ip->d];
-  const std::int64_t at = element(k, f[ip->c]);
-  if (at < 0) {
-    vm.fault(k.site, static_cast<double>(read_index(f[ip->c], k.index)));
-    f[ip->a].raw = 0;
-  } else {
-    f[ip->a] = f[ip->b + at];
-  }
-  NEXT();
-}
-L_STX: {
-  const IndexCheck& k = m.indexes[ip->d];
-  const std::int64_t at = element(k, f[ip->c]);
-  if (at < 0) vm.fault(k.site, static_cast<double>(read_index(f[ip->c], k.index)));
-  else f[ip->a + at] = f[ip->b];
-  NEXT();
-}
 L_GETBIT:
   wr<bool>(f[ip->a], ((f[ip->b].raw >> ip->c) & 1u) != 0);
   NEXT();
@@ -287,16 +313,20 @@ L_SETBIT:
   else f[ip->a].raw &= ~(std::uint64_t{1} << ip->c);
   NEXT();
 L_CALL_FB:
+  vm.budget = budget;
   if (!run(vm, ip->d, f + ip->a)) {
     *ok = false;
     return nullptr;
   }
+  budget = vm.budget;
   NEXT();
 L_CALL_FB_REF:
+  vm.budget = budget;
   if (!run(vm, ip->d, ptr(f[ip->a]))) {
     *ok = false;
     return nullptr;
   }
+  budget = vm.budget;
   NEXT();
 L_CALL_FN: {
   const FunctionCall& call = m.calls[ip->d];
@@ -304,10 +334,12 @@ L_CALL_FN: {
   Cell* cf = vm.functions + callee.fn_frame;
   std::memcpy(cf, callee.image.data(), callee.frame_cells * sizeof(Cell));
   for (const CellCopy& c : call.in) std::memcpy(cf + c.to, f + c.from, c.count * sizeof(Cell));
+  vm.budget = budget;
   if (!run(vm, call.pou, cf)) {
     *ok = false;
     return nullptr;
   }
+  budget = vm.budget;
   for (const CellCopy& c : call.out) std::memcpy(f + c.to, cf + c.from, c.count * sizeof(Cell));
   NEXT();
 }
@@ -460,14 +492,15 @@ L_NOT_U64:
 #define FOR(T)                                                                        \
   L_FOR_ENTER_##T: {                                                                  \
     const T i = rd<T>(f[ip->a]), e = rd<T>(f[ip->b]), s = rd<T>(f[ip->c]);            \
-    if (!(s < T{0}) ? i > e : i < e) JUMP(ip->d);                                      \
+    if (!is_negative(s) ? i > e : i < e) JUMP(ip->d);                                  \
     NEXT();                                                                           \
   }                                                                                   \
   L_FOR_NEXT_##T: {                                                                   \
     const __int128 i = rd<T>(f[ip->a]), e = rd<T>(f[ip->b]), s = rd<T>(f[ip->c]);     \
     if (s > 0 ? e - i < s : s < 0 ? i - e < -s : false) NEXT();                        \
     wr<T>(f[ip->a], static_cast<T>(i + s));                                           \
-    if (--vm.budget < 0) {                                                            \
+    if (--budget < 0) {                                                               \
+      vm.budget = budget;                                                             \
       vm.stopped = m.sites[ip->site].message;                                         \
       *ok = false;                                                                    \
       return nullptr;                                                                 \
@@ -476,6 +509,66 @@ L_NOT_U64:
   }
   SYNCPLC_ST_INT_TYPES(FOR)
 #undef FOR
+
+  // FOR with the step 1 (the common case): a < b cannot wrap a + 1.
+#define FOR_INC(T)                                  \
+  L_FOR_INC_##T: {                                  \
+    const T i = rd<T>(f[ip->a]);                    \
+    if (!(i < rd<T>(f[ip->b]))) NEXT();             \
+    wr<T>(f[ip->a], static_cast<T>(i + 1));         \
+    if (--budget < 0) {                             \
+      vm.budget = budget;                           \
+      vm.stopped = m.sites[ip->site].message;       \
+      *ok = false;                                  \
+      return nullptr;                               \
+    }                                               \
+    JUMP(ip->d);                                    \
+  }
+  SYNCPLC_ST_INT_TYPES(FOR_INC)
+#undef FOR_INC
+
+  // Checked one-cell elements, typed by the index (no switch on its type;
+  // the code generator makes these for one-dimensional arrays of one-cell
+  // elements only, so the stride is 1).
+#define INDEXED(T)                                                                   \
+  L_LDX_##T: {                                                                       \
+    const IndexCheck& k = m.indexes[ip->d];                                          \
+    const std::int64_t v = index_as_i64<T>(f[ip->c]);                                \
+    const std::uint64_t at = static_cast<std::uint64_t>(v) - static_cast<std::uint64_t>(k.low); \
+    if (at >= k.count) {                                                             \
+      vm.fault(k.site, static_cast<double>(v));                                      \
+      f[ip->a].raw = 0;                                                              \
+    } else {                                                                         \
+      f[ip->a] = f[ip->b + at];                                                      \
+    }                                                                                \
+    NEXT();                                                                          \
+  }                                                                                  \
+  L_STX_##T: {                                                                       \
+    const IndexCheck& k = m.indexes[ip->d];                                          \
+    const std::int64_t v = index_as_i64<T>(f[ip->c]);                                \
+    const std::uint64_t at = static_cast<std::uint64_t>(v) - static_cast<std::uint64_t>(k.low); \
+    if (at >= k.count) vm.fault(k.site, static_cast<double>(v));                     \
+    else f[ip->a + at] = f[ip->b];                                                   \
+    NEXT();                                                                          \
+  }
+  SYNCPLC_ST_INT_TYPES(INDEXED)
+#undef INDEXED
+
+#define FUSED(T)                                                                                   \
+  L_MULADD_##T:                                                                                    \
+  wr<T>(f[ip->a], add<T>(rounded<T>(mul<T>(rd<T>(f[ip->b]), rd<T>(f[ip->c]))), rd<T>(f[ip->d])));  \
+  NEXT();                                                                                          \
+  L_ADDMUL_##T:                                                                                    \
+  wr<T>(f[ip->a], add<T>(rd<T>(f[ip->d]), rounded<T>(mul<T>(rd<T>(f[ip->b]), rd<T>(f[ip->c])))));  \
+  NEXT();                                                                                          \
+  L_MULSUB_##T:                                                                                    \
+  wr<T>(f[ip->a], sub<T>(rounded<T>(mul<T>(rd<T>(f[ip->b]), rd<T>(f[ip->c]))), rd<T>(f[ip->d])));  \
+  NEXT();                                                                                          \
+  L_SUBMUL_##T:                                                                                    \
+  wr<T>(f[ip->a], sub<T>(rd<T>(f[ip->d]), rounded<T>(mul<T>(rd<T>(f[ip->b]), rd<T>(f[ip->c])))));  \
+  NEXT();
+  SYNCPLC_ST_NUM_TYPES(FUSED)
+#undef FUSED
 #undef BIN
 #undef DISPATCH
 #undef NEXT
@@ -499,12 +592,42 @@ bool run(Vm& vm, std::uint32_t pou, Cell* frame) noexcept {
   return ok;
 }
 
+namespace {
+
+// The forward jumps whose d is their target (JMPB and FOR_NEXT/FOR_INC are
+// backward and count against the budget: left as they are).
+bool forward_jump(Op op) {
+  return op == Op::JMP || op == Op::JZ || op == Op::JNZ || (op >= Op::JNLT_I8 && op <= Op::JNNE_F64) ||
+         (op >= Op::FOR_ENTER_I8 && op <= Op::FOR_ENTER_U64);
+}
+
+// Jump threading: the end of an inner IF jumps to the end of the outer one,
+// an ELSIF branch to the end of the POU. A forward jump whose target is a
+// JMP goes to where that JMP goes; a JMP to a HALT is a HALT. Control flow
+// only: no instruction with an effect is skipped or moved.
+void thread_jumps(std::vector<Insn>& code) {
+  const auto n = static_cast<std::uint32_t>(code.size());
+  auto final_target = [&](std::uint32_t t) {
+    for (int hops = 0; hops < 64 && t < n && code[t].op == Op::JMP && code[t].d != t; ++hops) t = code[t].d;
+    return t;
+  };
+  for (Insn& i : code) {
+    if (!forward_jump(i.op)) continue;
+    i.d = final_target(i.d);
+    if (i.op == Op::JMP && i.d < n && code[i.d].op == Op::HALT) i.op = Op::HALT;
+  }
+}
+
+}  // namespace
+
 void finalize(Module& m) {
   Vm none;
   bool ok = true;
   const void* const* labels = exec(none, nullptr, nullptr, &ok);
-  for (CompiledPou& p : m.pous)
+  for (CompiledPou& p : m.pous) {
+    thread_jumps(p.code);
     for (Insn& i : p.code) i.handler = labels[static_cast<int>(i.op)];
+  }
 }
 
 }  // namespace syncplc::st::vm
