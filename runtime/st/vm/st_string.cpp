@@ -240,10 +240,17 @@ std::int64_t str_find(const Cell* in1, const Cell* in2) noexcept {
   if (n2 == 0 || n2 > n1) return 0;
   const char* a = str_chars(in1);
   const char* b = str_chars(in2);
-  const std::size_t w = sizeof(C);
-  for (std::int64_t i = 0; i + n2 <= n1; ++i)
-    if (std::memcmp(a + i * w, b, static_cast<std::size_t>(n2) * w) == 0) return i + 1;
-  return 0;
+  if constexpr (sizeof(C) == 1) {
+    // The library's search (memchr for the first character, then memcmp): no allocation.
+    const std::string_view hay(a, static_cast<std::size_t>(n1)), needle(b, static_cast<std::size_t>(n2));
+    const std::size_t at = hay.find(needle);
+    return at == std::string_view::npos ? 0 : static_cast<std::int64_t>(at) + 1;
+  } else {
+    const std::size_t w = sizeof(C);
+    for (std::int64_t i = 0; i + n2 <= n1; ++i)
+      if (std::memcmp(a + i * w, b, static_cast<std::size_t>(n2) * w) == 0) return i + 1;
+    return 0;
+  }
 }
 
 template <StringChar C>
