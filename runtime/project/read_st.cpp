@@ -54,6 +54,7 @@ std::shared_ptr<StProject> read_st_sources(const ConfigNode* sources, const Bloc
     const auto size = std::filesystem::file_size(path, ec);
     if (ec) {
       diags.error(f->loc, fmt::format("sources: cannot read '{}': {}", f->scalar, ec.message()));
+      out->unreadable = true;
       ok = false;
       continue;
     }

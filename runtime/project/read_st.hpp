@@ -32,7 +32,8 @@ struct StProject {
   // then (the source's own errors say what is wrong).
   std::set<std::string> declared;
   bool failed = false;
-  bool declares(const std::string& type) const { return failed && declared.count(type) > 0; }
+  bool unreadable = false;  // a source could not be read: any type may be in it
+  bool declares(const std::string& type) const { return failed && (unreadable || declared.count(type) > 0); }
 };
 
 // Reads `sources:` (file names relative to the file that lists them), adding

@@ -111,7 +111,7 @@ def on_servo(text):
 
 
 def make_project(tmp, port):
-    for f in ("sync.yaml", "table.yaml"):
+    for f in ("sync.yaml", "table.yaml", "table.st"):
         shutil.copy(os.path.join(SRC, f), os.path.join(tmp, f))
     table = os.path.join(tmp, "table.yaml")
     text = open(table).read()

@@ -58,7 +58,7 @@ EXTRA = "  - {name: spare, type: ADD, inputs: {IN1: 1.0, IN2: 2.0}}\n"
 
 
 def make_project(tmp):
-    for f in ("sync.yaml", "table.yaml"):
+    for f in ("sync.yaml", "table.yaml", "table.st"):
         shutil.copy(os.path.join(SRC, f), os.path.join(tmp, f))
     table = os.path.join(tmp, "table.yaml")
     text = open(table).read()
