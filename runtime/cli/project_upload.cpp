@@ -95,7 +95,7 @@ std::optional<ProjectUpload> collect_project(const std::string& main_path, std::
         return std::nullopt;
       }
       up.files[rel_name] = std::move(*sub);
-      if (std::string_view(key) == "include") todo.push_back(rel_name);  // ST sources name no files
+      if (std::string_view(key) == "include") todo.push_back(rel_name);  // followed in turn; an ST source names no files
     }
   }
   return up;

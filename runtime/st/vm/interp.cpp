@@ -244,13 +244,19 @@ L_HALT:
   return nullptr;
 L_JMP:
   JUMP(ip->d);
+  // A backward jump: one of the scan's loop budget; when it is spent the
+  // whole call chain stops at this loop (its site names it).
+#define COUNT_BACKWARD_JUMP()                   \
+  do {                                          \
+    if (--budget < 0) {                         \
+      vm.budget = budget;                       \
+      vm.stopped = m.sites[ip->site].message;   \
+      *ok = false;                              \
+      return nullptr;                           \
+    }                                           \
+  } while (0)
 L_JMPB:
-  if (--budget < 0) {
-    vm.budget = budget;
-    vm.stopped = m.sites[ip->site].message;
-    *ok = false;
-    return nullptr;
-  }
+  COUNT_BACKWARD_JUMP();
   JUMP(ip->d);
 L_JZ:
   if (f[ip->a].raw == 0) JUMP(ip->d);
@@ -499,12 +505,7 @@ L_NOT_U64:
     const __int128 i = rd<T>(f[ip->a]), e = rd<T>(f[ip->b]), s = rd<T>(f[ip->c]);     \
     if (s > 0 ? e - i < s : s < 0 ? i - e < -s : false) NEXT();                        \
     wr<T>(f[ip->a], static_cast<T>(i + s));                                           \
-    if (--budget < 0) {                                                               \
-      vm.budget = budget;                                                             \
-      vm.stopped = m.sites[ip->site].message;                                         \
-      *ok = false;                                                                    \
-      return nullptr;                                                                 \
-    }                                                                                 \
+    COUNT_BACKWARD_JUMP();                                                            \
     JUMP(ip->d);                                                                      \
   }
   SYNCPLC_ST_INT_TYPES(FOR)
@@ -516,12 +517,7 @@ L_NOT_U64:
     const T i = rd<T>(f[ip->a]);                    \
     if (!(i < rd<T>(f[ip->b]))) NEXT();             \
     wr<T>(f[ip->a], static_cast<T>(i + 1));         \
-    if (--budget < 0) {                             \
-      vm.budget = budget;                           \
-      vm.stopped = m.sites[ip->site].message;       \
-      *ok = false;                                  \
-      return nullptr;                               \
-    }                                               \
+    COUNT_BACKWARD_JUMP();                                                            \
     JUMP(ip->d);                                    \
   }
   SYNCPLC_ST_INT_TYPES(FOR_INC)
@@ -570,6 +566,7 @@ L_NOT_U64:
   SYNCPLC_ST_NUM_TYPES(FUSED)
 #undef FUSED
 #undef BIN
+#undef COUNT_BACKWARD_JUMP
 #undef DISPATCH
 #undef NEXT
 #undef JUMP

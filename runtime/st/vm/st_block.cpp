@@ -160,7 +160,7 @@ void leaves(const Module& m, std::uint32_t pou, std::uint32_t at, const std::str
 // the POUs it embeds or calls (FNV-1a 64). Equal for an unchanged POU in a
 // reloaded project: the online change keeps such an instance as it is.
 std::uint64_t code_identity(const Module& m, std::uint32_t pou) {
-  std::vector<std::uint32_t> todo{pou}, seen;
+  std::vector<std::uint32_t> pending{pou}, seen;  // POUs whose code is still to hash
   std::uint64_t h = 0xcbf29ce484222325ull;
   auto mix = [&](std::uint64_t v) {
     for (int k = 0; k < 8; ++k) h = (h ^ ((v >> (8 * k)) & 0xFF)) * 0x100000001b3ull;
@@ -169,9 +169,9 @@ std::uint64_t code_identity(const Module& m, std::uint32_t pou) {
     for (unsigned char c : t) h = (h ^ c) * 0x100000001b3ull;
     mix(t.size());
   };
-  while (!todo.empty()) {
-    const std::uint32_t p = todo.back();
-    todo.pop_back();
+  while (!pending.empty()) {
+    const std::uint32_t p = pending.back();
+    pending.pop_back();
     if (std::find(seen.begin(), seen.end(), p) != seen.end()) continue;
     seen.push_back(p);
     const CompiledPou& c = m.pous[p];
@@ -191,10 +191,10 @@ std::uint64_t code_identity(const Module& m, std::uint32_t pou) {
       mix(i.c);
       mix(i.d);
       mix_text(m.sites.empty() ? "" : m.sites[std::min<std::size_t>(i.site, m.sites.size() - 1)].message);
-      if (i.op == Op::CALL_FB || i.op == Op::CALL_FB_REF) todo.push_back(i.d);
-      if (i.op == Op::CALL_FN) todo.push_back(m.calls[i.d].pou);
+      if (i.op == Op::CALL_FB || i.op == Op::CALL_FB_REF) pending.push_back(i.d);
+      if (i.op == Op::CALL_FN) pending.push_back(m.calls[i.d].pou);
     }
-    for (const auto& [off, fb] : m.nested[p]) todo.push_back(fb);
+    for (const auto& [off, fb] : m.nested[p]) pending.push_back(fb);
   }
   return h;
 }
