@@ -10,6 +10,7 @@ import atexit
 import http.client
 import json
 import os
+import random
 import re
 import select
 import signal
@@ -267,6 +268,32 @@ def check_counters(c, t, requests_at_least=False, label=""):
 
 
 # --- pymodbus -----------------------------------------------------------------------
+
+def free_port():
+    """A free 127.0.0.1 port below the kernel's ephemeral range. A port from
+    that range (what bind(0) hands out) can be taken by a client of the test
+    itself: a driver reconnecting to a device that is down may be given the
+    device's own port as its source port and connect to itself (TCP
+    simultaneous open), and the restarted device then cannot bind."""
+    low = 32768
+    try:
+        with open("/proc/sys/net/ipv4/ip_local_port_range") as f:
+            low = int(f.read().split()[0])
+    except (OSError, ValueError, IndexError):
+        pass
+    rng = random.Random(os.getpid() ^ int(time.monotonic_ns()))
+    for _ in range(200):
+        port = rng.randrange(max(1024, low - 12000), low)
+        s = socket.socket()
+        try:
+            s.bind(("127.0.0.1", port))
+            return port
+        except OSError:
+            continue
+        finally:
+            s.close()
+    raise AssertionError("no free port below %d" % low)
+
 
 def pymodbus_client(port, timeout=5):
     from pymodbus.client import ModbusTcpClient  # only /usr/bin/python3 has it

@@ -59,13 +59,6 @@ drivers:
 """ % (tags, dead_port)
 
 
-def free_port():
-    s = socket.socket()
-    s.bind(("127.0.0.1", 0))
-    port = s.getsockname()[1]
-    s.close()  # nothing listens there: the driver's device is gone
-    return port
-
 
 class Stream:
     """A subscription's Server-Sent Events, read one `values` event at a time."""
@@ -108,7 +101,7 @@ def main():
                    input="erik-secret-3\n", text=True, capture_output=True, timeout=60, check=True)
     path = os.path.join(peerlib.STATE_DIR, "http_live.yaml")
     with open(path, "w") as f:
-        f.write(project_text(free_port()))
+        f.write(project_text(peerlib.free_port()))
     srv = peerlib.Server(BINARY, path, extra=["--http", "127.0.0.1:0", "--db", DB])
     port = srv.http_port()
     api = peerlib.HttpApi(port)

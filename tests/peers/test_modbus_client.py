@@ -35,13 +35,6 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 STALE_AFTER = 0.5
 
 
-def free_port():
-    s = socket.socket()
-    s.bind(("127.0.0.1", 0))
-    port = s.getsockname()[1]
-    s.close()
-    return port
-
 
 class Device:
     """mb_device.py on a port; kill() plays a dead device, start() a restarted one."""
@@ -158,7 +151,7 @@ modbus: {{}}
 
 def main():
     binary = peerlib.syncplc_binary()
-    dev = Device(free_port())
+    dev = Device(peerlib.free_port())
     mute = MuteDevice()
     tmp = tempfile.mkdtemp(prefix="mbclient-")
     atexit.register(shutil.rmtree, tmp, True)

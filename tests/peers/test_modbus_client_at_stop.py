@@ -42,14 +42,6 @@ drivers:
 """
 
 
-def free_port():
-    import socket
-    s = socket.socket()
-    s.bind(("127.0.0.1", 0))
-    port = s.getsockname()[1]
-    s.close()
-    return port
-
 
 def start_device(port):
     proc = subprocess.Popen(["/usr/bin/python3", os.path.join(HERE, "mb_device.py"), str(port)],
@@ -89,7 +81,7 @@ def wait_for(port, value, timeout=20):
 
 
 def run(binary, tmp, at_stop, how):
-    port = free_port()
+    port = peerlib.free_port()
     dev = start_device(port)
     try:
         path = os.path.join(tmp, "at_stop_%s_%s.yaml" % (at_stop, how))

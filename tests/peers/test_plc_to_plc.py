@@ -15,7 +15,7 @@ import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import peerlib  # noqa: E402
-from test_modbus_client import Device, free_port  # noqa: E402
+from test_modbus_client import Device  # noqa: E402
 
 PROJECT_A = """
 project: {{name: plc_a, version: 1.0.0}}
@@ -47,7 +47,7 @@ modbus: {{}}
 def main():
     binary = peerlib.syncplc_binary()
     b = peerlib.Server(binary, peerlib.project("plc_b.yaml"))
-    x = Device(free_port())
+    x = Device(peerlib.free_port())
     tmp = tempfile.mkdtemp(prefix="plc2plc-")
     atexit.register(shutil.rmtree, tmp, True)
     path = os.path.join(tmp, "plc_a.yaml")
