@@ -212,7 +212,7 @@ struct BlockTypeInfo {
     IecType type = IecType::LREAL;
   };
   int variables_pin = -1;
-  std::function<std::optional<Variable>(std::string_view path, std::string* error)> variable;
+  std::function<std::optional<Variable>(std::string_view path, std::string* error)> variable{};
   // Its variables as leaves (elementary values, strings, arrays of them),
   // for an online change that re-creates an instance to carry over those
   // whose path and type are unchanged (program_change.cpp).
@@ -223,7 +223,7 @@ struct BlockTypeInfo {
     bool retain = false;      // declared RETAIN (or inside a RETAIN instance): kept across a restart
     bool persistent = false;  // declared PERSISTENT: also across loading a changed project
   };
-  std::vector<VariableLeaf> variable_leaves;
+  std::vector<VariableLeaf> variable_leaves{};
 
   int pin_index(std::string_view pin) const;
   // Whether instance.member names one of the type's variables rather than a

@@ -32,8 +32,12 @@ std::string_view trim(std::string_view s) {
   return s;
 }
 
+// 128-bit so that a literal's range check cannot overflow itself.
+__extension__ using i128 = __int128;
+__extension__ using u128 = unsigned __int128;
+
 // Integer literal with optional sign and base prefix (16#, 8#, 2#, 0x, 0b).
-bool parse_integer(std::string_view text, bool& negative, unsigned __int128& mag, std::string* err) {
+bool parse_integer(std::string_view text, bool& negative, u128& mag, std::string* err) {
   std::string s = strip_underscores(trim(text));
   negative = false;
   std::size_t i = 0;
@@ -65,7 +69,7 @@ bool parse_integer(std::string_view text, bool& negative, unsigned __int128& mag
       return false;
     }
     mag = mag * static_cast<unsigned>(base) + static_cast<unsigned>(d);
-    if (mag > (static_cast<unsigned __int128>(1) << 65)) {
+    if (mag > (static_cast<u128>(1) << 65)) {
       if (err) *err = "'" + std::string(text) + "' is too large";
       return false;
     }
@@ -91,11 +95,11 @@ bool parse_double(std::string_view text, double& out, std::string* err) {
 }
 
 template <class T>
-std::optional<Cell> make_int(bool neg, unsigned __int128 mag, IecType t, std::string_view text, std::string* err) {
+std::optional<Cell> make_int(bool neg, u128 mag, IecType t, std::string_view text, std::string* err) {
   using L = std::numeric_limits<T>;
   bool ok;
-  __int128 v = neg ? -static_cast<__int128>(mag) : static_cast<__int128>(mag);
-  ok = v >= static_cast<__int128>(L::min()) && v <= static_cast<__int128>(L::max());
+  i128 v = neg ? -static_cast<i128>(mag) : static_cast<i128>(mag);
+  ok = v >= static_cast<i128>(L::min()) && v <= static_cast<i128>(L::max());
   if (!ok) {
     if (err)
       *err = "value " + std::string(trim(text)) + " is out of range for " + std::string(type_name(t)) + " (" +
@@ -336,7 +340,7 @@ std::optional<Cell> parse_value(IecType t, std::string_view text, std::string* e
     default: break;
   }
   bool neg;
-  unsigned __int128 mag;
+  u128 mag;
   if (!parse_integer(s, neg, mag, err)) return std::nullopt;
   if (neg && mag != 0 && !is_signed_integer(t)) {
     if (err) *err = "value " + std::string(s) + " is out of range for " + std::string(type_name(t)) + " (unsigned)";

@@ -37,7 +37,7 @@ constexpr Named kUnits[] = {
 struct Parser {
   std::string_view s;
   std::size_t i = 0;
-  std::string err;
+  std::string err{};
 
   void skip() {
     while (i < s.size() && std::isspace(static_cast<unsigned char>(s[i]))) ++i;
