@@ -5,6 +5,8 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
+#include <cstdint>
 #include <cctype>
 #include <string>
 #include <string_view>
@@ -12,22 +14,36 @@
 
 namespace syncplc {
 
-// Levenshtein distance, case-insensitive (IEC names are).
-inline std::size_t name_distance(std::string_view x, std::string_view y) {
-  std::vector<std::size_t> d(y.size() + 1);
+// Levenshtein distance, case-insensitive (IEC names are), or `limit` when
+// it is `limit` or more: a distance is never below the difference of the
+// lengths, and a row whose least value reaches the limit cannot come back
+// under it, so both stop early. Names of up to 127 characters need no heap.
+inline std::size_t name_distance(std::string_view x, std::string_view y, std::size_t limit = SIZE_MAX) {
+  const std::size_t apart = x.size() > y.size() ? x.size() - y.size() : y.size() - x.size();
+  if (apart >= limit) return limit;
+  std::array<std::size_t, 128> row_small;
+  std::vector<std::size_t> row_big;
+  std::size_t* d = row_small.data();
+  if (y.size() >= row_small.size()) {
+    row_big.resize(y.size() + 1);
+    d = row_big.data();
+  }
   for (std::size_t j = 0; j <= y.size(); ++j) d[j] = j;
   for (std::size_t i = 1; i <= x.size(); ++i) {
+    const int xi = std::toupper(static_cast<unsigned char>(x[i - 1]));
     std::size_t diag = d[0];
     d[0] = i;
+    std::size_t least = d[0];
     for (std::size_t j = 1; j <= y.size(); ++j) {
       const std::size_t up = d[j];
-      const bool same = std::toupper(static_cast<unsigned char>(x[i - 1])) ==
-                        std::toupper(static_cast<unsigned char>(y[j - 1]));
+      const bool same = xi == std::toupper(static_cast<unsigned char>(y[j - 1]));
       d[j] = std::min({d[j] + 1, d[j - 1] + 1, diag + (same ? 0 : 1)});
+      least = std::min(least, d[j]);
       diag = up;
     }
+    if (least >= limit) return limit;
   }
-  return d[y.size()];
+  return std::min(d[y.size()], limit);
 }
 
 // The candidate closest to `name`, at most a third of its letters wrong (a
@@ -37,16 +53,16 @@ inline std::size_t name_distance(std::string_view x, std::string_view y) {
 template <class Names>
 std::string closest_name(std::string_view name, const Names& candidates) {
   if (name.size() > 64) return "";
-  std::string best;
+  std::string_view best;
   std::size_t best_d = name.size() / 3 + 1;
   for (const auto& c : candidates) {
     const std::string_view cv(c);
-    if (const std::size_t d = name_distance(name, cv); d < best_d) {
-      best = std::string(cv);
+    if (const std::size_t d = name_distance(name, cv, best_d); d < best_d) {
+      best = cv;
       best_d = d;
     }
   }
-  return best;
+  return std::string(best);
 }
 
 }  // namespace syncplc

@@ -133,7 +133,9 @@ TEST(Histogram, BucketEdges) {
     std::uint64_t hi = Histogram::upper(b);
     ASSERT_GE(hi, u);
     ASSERT_LE(static_cast<double>(hi - u), static_cast<double>(u) / 32.0) << u;
-    if (b > 0) ASSERT_LT(Histogram::upper(b - 1), u) << u;  // buckets are contiguous
+    if (b > 0) {
+      ASSERT_LT(Histogram::upper(b - 1), u) << u;  // buckets are contiguous
+    }
   }
   EXPECT_EQ(Histogram::index(UINT64_MAX), Histogram::kBuckets - 1);
   EXPECT_EQ(Histogram::upper(Histogram::kBuckets - 1), UINT64_MAX);
