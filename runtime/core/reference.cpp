@@ -53,7 +53,9 @@ std::string unknown_tag_message(const std::string& name) { return "unknown tag o
 
 std::string pin_names(const BlockTypeInfo& type) {
   std::string names;
-  for (const auto& p : type.pins) names += (names.empty() ? "" : ", ") + p.name;
+  for (const auto& p : type.pins)
+    if (p.name.empty() || p.name.front() != '(')  // not the hidden "(variables)" of an ST POU
+      names += (names.empty() ? "" : ", ") + p.name;
   return names;
 }
 

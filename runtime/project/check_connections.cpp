@@ -3,6 +3,7 @@
 // inferred, types checked, required inputs found connected; trace, watch
 // and metrics references resolved the same way.
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <deque>
 #include <utility>
@@ -15,14 +16,16 @@ namespace syncplc {
 namespace {
 
 bool endpoint_type_known(const Declarations& p, const Endpoint& e) {
-  if (!e.is_pin) return true;
+  if (!e.is_pin || e.variable_type) return true;
   const auto& in = p.instances[static_cast<std::size_t>(e.instance)];
   const auto& pd = in.type->pins[static_cast<std::size_t>(e.pin)];
   return pd.cls == TypeClass::Exact || in.datatype.has_value();
 }
 
 const std::string& endpoint_unit(const Declarations& p, const Endpoint& e) {
+  static const std::string none;
   if (!e.is_pin) return p.tags[static_cast<std::size_t>(e.tag)].tag.unit;
+  if (e.variable_type) return none;  // ST variables carry no unit
   return p.instances[static_cast<std::size_t>(e.instance)].type->pins[static_cast<std::size_t>(e.pin)].unit;
 }
 
@@ -48,14 +51,64 @@ IecType endpoint_type(const Declarations& p, const Endpoint& e, std::uint32_t* l
     if (length) *length = e.element ? 1 : t.length;
     return t.type;
   }
+  if (e.variable_type) {
+    if (length) *length = 1;
+    return *e.variable_type;
+  }
   const auto& in = p.instances[static_cast<std::size_t>(e.instance)];
   const auto& pd = in.type->pins[static_cast<std::size_t>(e.pin)];
   if (length) *length = e.element ? 1 : in.pin_length[static_cast<std::size_t>(e.pin)];
   return pd.cls == TypeClass::Exact ? pd.type : in.datatype.value_or(IecType::LREAL);
 }
 
+namespace {
+
+// instance.path naming a variable of an ST instance rather than one of its
+// pins: resolved to an element of its variables pin. Yes when it is one
+// (`e` filled), No when the text names no such variable (a pin or a tag:
+// the caller goes on), Failed when it names one wrongly (reported).
+enum class VariableEnd { Yes, No, Failed };
+
+VariableEnd resolve_variable_end(const std::string& written, const SourceLoc& loc, const Declarations& p, Endpoint& e,
+                                 Diagnostics& diags) {
+  std::string_view trimmed = written;
+  while (!trimmed.empty() && std::isspace(static_cast<unsigned char>(trimmed.front()))) trimmed.remove_prefix(1);
+  while (!trimmed.empty() && std::isspace(static_cast<unsigned char>(trimmed.back()))) trimmed.remove_suffix(1);
+  const std::string text(trimmed);
+  const auto dot = text.find('.');
+  if (dot == std::string::npos) return VariableEnd::No;
+  const int i = p.instance_index(text.substr(0, dot));
+  if (i < 0) return VariableEnd::No;
+  const auto& in = p.instances[static_cast<std::size_t>(i)];
+  const BlockTypeInfo& T = *in.type;
+  const std::string path = text.substr(dot + 1);
+  // A pin of the type stays a pin (an ST FB's outputs are pins too).
+  if (!T.names_variable(path) || T.pin_index(path.substr(0, path.find_first_of(".["))) >= 0) return VariableEnd::No;
+  std::string why;
+  const auto v = T.variable(path, &why);
+  e.loc = loc;
+  e.text = text;
+  if (!v) {
+    diags.error(loc, text + ": " + why);
+    return VariableEnd::Failed;
+  }
+  e.is_pin = true;
+  e.instance = i;
+  e.pin = T.variables_pin;
+  e.element = v->element;
+  e.variable_type = v->type;
+  return VariableEnd::Yes;
+}
+
+}  // namespace
+
 bool resolve_endpoint(const std::string& text, const SourceLoc& loc, const Declarations& p, Endpoint& e,
                       Diagnostics& diags) {
+  switch (resolve_variable_end(text, loc, p, e, diags)) {
+    case VariableEnd::Yes: return true;
+    case VariableEnd::Failed: return false;
+    case VariableEnd::No: break;
+  }
   std::string why;
   auto ref = parse_reference(text, &why);
   e.loc = loc;
@@ -123,6 +176,12 @@ Wiring wire_connections(Declarations& p, Diagnostics& diags) {
     if (cd.src.is_pin) {
       const auto& pd = p.instances[static_cast<std::size_t>(cd.src.instance)].type->pins[static_cast<std::size_t>(cd.src.pin)];
       if (pd.dir != PinDir::Out) { diags.error(c.src_loc, cd.src.text + " is an input: a connection starts at an output or a tag"); continue; }
+    }
+    if (cd.dst.variable_type) {
+      const auto& di = p.instances[static_cast<std::size_t>(cd.dst.instance)];
+      diags.error(c.dst_loc, cd.dst.text + " is a variable of ST instance " + di.name +
+                                 ": a connection ends at an input or a tag (the program reads a tag through VAR_EXTERNAL)");
+      continue;
     }
     if (cd.dst.is_pin) {
       const auto& pd = p.instances[static_cast<std::size_t>(cd.dst.instance)].type->pins[static_cast<std::size_t>(cd.dst.pin)];
@@ -266,26 +325,13 @@ void check_connections(const Declarations& p, const Wiring& w, Diagnostics& diag
 
 void check_refs(const Declarations& p, Diagnostics& diags) {
   for (const auto& [ref, loc] : p.traces) {
-    // instance.path of an ST instance's variable (runtime/st/vm/st_block.hpp).
-    if (const auto dot = ref.find('.'); dot != std::string::npos) {
-      const int i = p.instance_index(ref.substr(0, dot));
-      const BlockTypeInfo* t = i >= 0 ? p.instances[static_cast<std::size_t>(i)].type : nullptr;
-      const std::string path = ref.substr(dot + 1);
-      if (t && t->names_variable(path)) {
-        std::string why;
-        const bool variable = t->variable(path, &why).has_value();
-        if (variable || t->pin_index(path.substr(0, path.find_first_of(".["))) < 0) {
-          if (!variable) diags.error(loc, "trace: " + ref + ": " + why);
-          continue;
-        }
-      }
-    }
     Endpoint e;
     std::size_t before = diags.size();
     if (!resolve_endpoint(ref, loc, p, e, diags)) {
       for (std::size_t k = before; k < diags.size(); ++k) diags.prefix_message(k, "trace: ");
       continue;
     }
+    if (e.variable_type) continue;  // one element of an ST instance's variables
     bool array = e.is_pin ? p.instances[static_cast<std::size_t>(e.instance)].type->pins[static_cast<std::size_t>(e.pin)].is_array()
                           : p.tags[static_cast<std::size_t>(e.tag)].tag.is_array;
     if (array && !e.element) diags.error(loc, "trace: " + ref + " is an array; trace its elements (" + ref + "[i])");

@@ -128,6 +128,9 @@ struct Endpoint {
   std::optional<std::uint32_t> element;  // 0-based
   SourceLoc loc;
   std::string text;
+  // A variable of an ST instance (instance.path, not a pin of its type): an
+  // element of its variables pin, of this type (runtime/st/vm/st_block.hpp).
+  std::optional<IecType> variable_type;
 };
 
 // A connection as written: "a.OUT -> b.IN" or {from, to}.

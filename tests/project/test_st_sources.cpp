@@ -235,5 +235,97 @@ cases:
   EXPECT_TRUE(r.ok()) << report_text(r);
 }
 
+// A variable of an ST instance is the source of a connection, as an output
+// pin is: into a tag (and with it the Modbus map, trends, the HMI, retain of
+// the tag) or into another block's input. Writes from outside reach ST
+// through tags (VAR_EXTERNAL), so a variable is never a connection's end.
+TEST(StSources, InstanceVariablesFeedTagsAndPinsThroughConnections) {
+  temp_file("st_conn/c.st", yaml(R"(
+PROGRAM Cell
+VAR_EXTERNAL run : BOOL; END_VAR
+VAR scans : DINT; t : TON; hist : ARRAY[1..3] OF LREAL; s : STRUCT_HOLD; END_VAR
+scans := scans + 1;
+t(IN := run, PT := T#30ms);
+hist[3] := hist[2]; hist[2] := hist[1]; hist[1] := DINT_TO_LREAL(scans);
+s.level := hist[1] * 0.5;
+END_PROGRAM
+TYPE STRUCT_HOLD : STRUCT level : LREAL; END_STRUCT; END_TYPE
+)"));
+  const std::string project = temp_file("st_conn/p.yaml", yaml(R"(
+tasks: [{name: main, period: 10ms}]
+sources: [c.st]
+tags:
+  - {name: run, type: BOOL, hmi: readwrite}
+  - {name: scans_shown, type: DINT, hmi: read, modbus: {table: input_register, address: 100}, trend: true}
+  - {name: elapsed, type: TIME, hmi: read}
+  - {name: second, type: LREAL, hmi: read, trend: {rate: 50ms}}
+  - {name: doubled, type: LREAL, hmi: read}
+programs:
+  - {name: cell, type: Cell, task: main}
+blocks:
+  - {name: twice, type: MUL, inputs: {IN2: 2.0}}
+connections:
+  - cell.scans -> scans_shown
+  - cell.t.ET -> elapsed
+  - {from: "cell.hist[2]", to: second}
+  - cell.s.level -> twice.IN1
+  - twice.OUT -> doubled
+)"));
+  const std::string tests = temp_file("st_conn/t.yaml", yaml(R"(
+cases:
+  - name: the tags follow the variables, scan by scan
+    steps:
+      - at: 0ms
+        expect: {scans_shown: 1, elapsed: 0ms, second: 0.0, doubled: 1.0}
+      - at: 20ms
+        set: {run: TRUE}
+        expect: {scans_shown: 3, second: 2.0, doubled: 3.0}
+      - at: 60ms
+        expect: {scans_shown: 7, elapsed: 30ms, "cell.hist[2]": 6.0, second: 6.0, doubled: 7.0}
+)"));
+  const auto r = run_scan_tests(project, tests);
+  EXPECT_TRUE(r.ok()) << report_text(r);
+  auto l = load_project(project);
+  ASSERT_LOADS(l);
+  const Tag* shown = l.program->find_tag("scans_shown");
+  ASSERT_TRUE(shown);
+  EXPECT_EQ(shown->writer, "block cell.scans");
+  EXPECT_TRUE(shown->written_every_scan);
+  // The program runs before the block its variable feeds.
+  const auto& blocks = l.program->tasks[0]->blocks;
+  ASSERT_EQ(blocks.size(), 2u);
+  EXPECT_EQ(blocks[0].name, "cell");
+  EXPECT_EQ(blocks[1].name, "twice");
+
+  // Each wrong end at its place, with the reason.
+  const std::string bad = temp_file("st_conn/bad.yaml", yaml(R"(
+tasks: [{name: main, period: 10ms}, {name: slow, period: 50ms}]
+sources: [c.st]
+tags:
+  - {name: run, type: BOOL}
+  - {name: x, type: DINT}
+  - {name: y, type: LREAL}
+programs:
+  - {name: cell, type: Cell, task: main}
+blocks:
+  - {name: other, type: MUL, task: slow, inputs: {IN2: 1.0}}
+connections:
+  - cell.scanz -> x
+  - x -> cell.scans
+  - cell.hist -> y
+  - cell.scans -> y
+  - cell.s.level -> other.IN1
+)"));
+  const auto e = load_project(bad);
+  EXPECT_FALSE(e.ok());
+  EXPECT_THAT(errors(e), has_error(bad + ":12:5", "Cell has no variable 'scanz' (did you mean scans?)")) << joined(e);
+  EXPECT_THAT(errors(e), has_error(bad + ":13:10", "cell.scans is a variable of ST instance cell: a connection ends at "
+                                                   "an input or a tag (the program reads a tag through VAR_EXTERNAL)"))
+      << joined(e);
+  EXPECT_THAT(errors(e), has_error(bad + ":14:5", "it is a ARRAY[1..3] OF LREAL: address one of its elements")) << joined(e);
+  EXPECT_THAT(errors(e), has_error(bad + ":15:5", "type mismatch: cell.scans is DINT, y is LREAL")) << joined(e);
+  EXPECT_THAT(errors(e), has_error(bad + ":16:5", "blocks in different tasks exchange data through a tag")) << joined(e);
+}
+
 }  // namespace st_sources
 }  // namespace syncplc::loadertest
