@@ -1,0 +1,59 @@
+"""Variables of an ST program (not tags) shown to clients nobody here wrote,
+through tags connected from them (docs/st.md): Debian's python3-pymodbus
+reads them from the Modbus map and writes the tag the program reads; the
+HTTP API (Python's http.client) reads them by instance.path and by tag; the
+historian's points of one are read back with the `sqlite3` shell.
+
+    /usr/bin/python3 tests/peers/test_st_vars.py build/syncplc
+"""
+import os
+import subprocess
+
+import peerlib
+
+BINARY = peerlib.syncplc_binary()
+DB = os.path.join(peerlib.STATE_DIR, "st_vars.db")
+
+
+def main():
+    srv = peerlib.Server(BINARY, peerlib.project("st_vars.yaml"), extra=["--http", "127.0.0.1:0", "--db", DB])
+    api = peerlib.HttpApi(srv.http_port())
+    tally = peerlib.Tally()
+    mb = peerlib.Peer(srv.port, tally, unit=srv.unit)
+
+    # The program counts its scans in a variable; the tag follows it scan by scan.
+    first = mb.read_values(100, ["DINT"], table="input")[0]
+    peerlib.wait_until(lambda: (lambda v: (v >= first + 20, v))(mb.read_values(100, ["DINT"], table="input")[0]),
+                       "cell.scans counting on input registers 100..101")
+    level = mb.read_values(110, ["LREAL"], table="input")[0]
+    assert 0.0 <= level <= 49.5 and level * 2 == int(level * 2), level
+
+    # The HTTP API names the variable itself and the tag.
+    def both():
+        v = api.expect(200, "GET", "/values?refs=cell.scans,scans_shown,cell.t.Q")
+        return v["values"]["cell.scans"] >= v["values"]["scans_shown"] > first, v
+    peerlib.wait_until(both, "cell.scans and scans_shown over HTTP")
+
+    # A Modbus client writes the tag the program reads (VAR_EXTERNAL run); the
+    # TON inside the program runs, and its Q comes back on a discrete input.
+    assert mb.read("discrete", 5, 1) == [False]
+    mb.write_coil(0, True)
+    peerlib.wait_until(lambda: (mb.read("discrete", 5, 1) == [True], None), "cell.t.Q on discrete input 5")
+    assert api.expect(200, "GET", "/values?refs=cell.t.Q")["values"]["cell.t.Q"] is True
+
+    # The historian records the tag: points, read with the sqlite3 shell.
+    def points():
+        out = subprocess.run(["sqlite3", "-readonly", DB,
+                              "SELECT count(*), max(p.max) FROM trend_point p JOIN trend_series s ON s.id = p.series "
+                              "WHERE s.tag = 'scans_shown'"], capture_output=True, text=True, timeout=30)
+        if out.returncode != 0:
+            return False, out.stderr
+        n, top = out.stdout.strip().split("|")
+        return int(n) >= 3 and float(top) > first, out.stdout
+    peerlib.wait_until(points, "trend points of scans_shown in the database", timeout=30)
+    srv.stop()
+    print("ST variables: on the Modbus map, over HTTP and in the historian through their tags")
+
+
+if __name__ == "__main__":
+    main()
