@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <limits>
 
+#include "runtime/core/duration_text.hpp"
+
 namespace syncplc {
 namespace {
 
@@ -181,21 +183,8 @@ double cell_as_double(IecType t, Cell c) {
 }
 
 std::string format_duration(std::int64_t ns) {
-  if (ns == 0) return "0ms";
-  std::string sign = ns < 0 ? "-" : "";
-  // Magnitude as unsigned so INT64_MIN formats without overflow.
-  std::uint64_t m = ns < 0 ? 0 - static_cast<std::uint64_t>(ns) : static_cast<std::uint64_t>(ns);
-  struct U { std::uint64_t f; const char* n; };
-  constexpr U units[] = {{3600000000000ULL, "h"}, {60000000000ULL, "m"}, {1000000000ULL, "s"},
-                         {1000000ULL, "ms"}, {1000ULL, "us"}, {1ULL, "ns"}};
-  std::string out = sign;
-  for (const auto& u : units) {
-    if (m >= u.f) {
-      out += std::to_string(m / u.f) + u.n;
-      m %= u.f;
-    }
-  }
-  return out;
+  char buf[kDurationTextMax];
+  return std::string(buf, write_duration(buf, ns));
 }
 
 std::string format_value(IecType t, Cell c) {
@@ -220,69 +209,25 @@ std::string format_value(IecType t, Cell c) {
 }
 
 std::optional<std::int64_t> parse_duration_ns(std::string_view text, std::string* err) {
-  std::string s = strip_underscores(trim(text));
-  std::string u = upper(s);
-  if (u.rfind("LTIME#", 0) == 0) s = s.substr(6);
-  else if (u.rfind("TIME#", 0) == 0) s = s.substr(5);
-  else if (u.rfind("LT#", 0) == 0) s = s.substr(3);
-  else if (u.rfind("T#", 0) == 0) s = s.substr(2);
-  auto bad = [&](const std::string& why) -> std::optional<std::int64_t> {
-    if (err) *err = "'" + std::string(trim(text)) + "' is not a duration (" + why + "; write e.g. 1ms, 250us, 0.5s, T#1m30s)";
-    return std::nullopt;
-  };
-  if (s.empty()) return bad("empty");
-  bool neg = false;
-  std::size_t i = 0;
-  if (s[0] == '-' || s[0] == '+') {
-    neg = s[0] == '-';
-    i = 1;
-  }
-  long double total = 0;
-  bool any = false;
-  int last_rank = 100;
-  while (i < s.size()) {
-    std::size_t j = i;
-    while (j < s.size() && (std::isdigit(static_cast<unsigned char>(s[j])) || s[j] == '.')) ++j;
-    if (j == i) return bad("missing number");
-    double num;
-    std::string numtxt = s.substr(i, j - i);
-    auto [p, ec] = std::from_chars(numtxt.data(), numtxt.data() + numtxt.size(), num);
-    if (ec != std::errc() || p != numtxt.data() + numtxt.size()) return bad("bad number '" + numtxt + "'");
-    std::size_t k = j;
-    while (k < s.size() && std::isalpha(static_cast<unsigned char>(s[k]))) ++k;
-    std::string unit = s.substr(j, k - j);
-    for (auto& ch : unit) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-    long double f;
-    int rank;
-    if (unit == "d") { f = 86400e9L; rank = 6; }
-    else if (unit == "h") { f = 3600e9L; rank = 5; }
-    else if (unit == "m" || unit == "min") { f = 60e9L; rank = 4; }
-    else if (unit == "s") { f = 1e9L; rank = 3; }
-    else if (unit == "ms") { f = 1e6L; rank = 2; }
-    else if (unit == "us") { f = 1e3L; rank = 1; }
-    else if (unit == "ns") { f = 1; rank = 0; }
-    else if (unit.empty()) {
-      // "10 ms": the unit is there, after a space a duration may not have.
-      std::size_t u = k;
-      while (u < s.size() && std::isspace(static_cast<unsigned char>(s[u]))) ++u;
-      if (u > k && u < s.size() && std::isalpha(static_cast<unsigned char>(s[u])))
-        return bad("no space may separate " + numtxt + " from its unit: " + numtxt + s.substr(u, s.find_first_of(" \t", u) - u));
-      return bad("missing unit after " + numtxt);
+  const DurationScan d = scan_duration(text);
+  if (d.fault == DurationFault::None) return d.ns;
+  if (err) {
+    const std::string number(d.number), unit(d.unit);
+    std::string why;
+    switch (d.fault) {
+      case DurationFault::None: break;
+      case DurationFault::Empty: why = "empty"; break;
+      case DurationFault::MissingNumber: why = "missing number"; break;
+      case DurationFault::BadNumber: why = "bad number '" + number + "'"; break;
+      case DurationFault::MissingUnit: why = "missing unit after " + number; break;
+      case DurationFault::SpacedUnit: why = "no space may separate " + number + " from its unit: " + number + unit; break;
+      case DurationFault::UnknownUnit: why = "unknown unit '" + unit + "'"; break;
+      case DurationFault::UnitOrder: why = "units must go from largest to smallest"; break;
+      case DurationFault::TooLong: why = "too long for TIME (at most about 106751 days)"; break;
     }
-    else return bad("unknown unit '" + unit + "'");
-    if (rank >= last_rank) return bad("units must go from largest to smallest");
-    last_rank = rank;
-    total += static_cast<long double>(num) * f;
-    any = true;
-    i = k;
+    *err = "'" + std::string(trim(text)) + "' is not a duration (" + why + "; write e.g. 1ms, 250us, 0.5s, T#1m30s)";
   }
-  if (!any) return bad("empty");
-  long double r = std::roundl(total);
-  // x87 long double holds 2^63 exactly; -2^63 ns is the one value whose magnitude exceeds INT64_MAX.
-  const long double limit = neg ? 9223372036854775808.0L : 9223372036854775807.0L;
-  if (r > limit) return bad("too long for TIME (at most about 106751 days)");
-  if (neg) return r == 9223372036854775808.0L ? INT64_MIN : -static_cast<std::int64_t>(r);
-  return static_cast<std::int64_t>(r);
+  return std::nullopt;
 }
 
 std::optional<Cell> real_cell(IecType t, double v, std::string_view text, std::string* err) {

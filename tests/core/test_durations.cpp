@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <string>
 
+#include "runtime/core/duration_text.hpp"
 #include "runtime/core/iec_type.hpp"
 
 namespace syncplc {
@@ -103,6 +104,59 @@ TEST(Durations, Format) {
   EXPECT_EQ(format_duration(INT64_MIN), "-2562047h47m16s854ms775us808ns");
   for (std::int64_t v : std::initializer_list<std::int64_t>{1, 999 * kUs, 61 * kS + 7, 9'200'000'000'000'000'000, -123456789})
     EXPECT_EQ(ns(format_duration(v)), v) << v;
+}
+
+}  // namespace
+}  // namespace syncplc
+
+namespace syncplc {
+namespace {
+
+// The reading under parse_duration_ns and ST's STRING_TO_TIME: its faults,
+// with what they point at, and no allocation on any path.
+TEST(DurationText, FaultsSayWhatIsWrong) {
+  EXPECT_EQ(scan_duration("T#1m30s").ns, 90'000'000'000);
+  EXPECT_EQ(scan_duration(" 1_000ms ").ns, 1'000'000'000);
+  EXPECT_EQ(scan_duration("ltime#-1.5s").ns, -1'500'000'000);
+  EXPECT_EQ(scan_duration("T#").fault, DurationFault::Empty);
+  EXPECT_EQ(scan_duration("-").fault, DurationFault::Empty);
+  EXPECT_EQ(scan_duration("ms").fault, DurationFault::MissingNumber);
+  const DurationScan bad = scan_duration("1.5.2us");
+  EXPECT_EQ(bad.fault, DurationFault::BadNumber);
+  EXPECT_EQ(bad.number, "1.5.2");
+  EXPECT_EQ(scan_duration("10").fault, DurationFault::MissingUnit);
+  const DurationScan spaced = scan_duration("10 ms x");
+  EXPECT_EQ(spaced.fault, DurationFault::SpacedUnit);
+  EXPECT_EQ(spaced.number, "10");
+  EXPECT_EQ(spaced.unit, "ms");
+  const DurationScan unknown = scan_duration("5q");
+  EXPECT_EQ(unknown.fault, DurationFault::UnknownUnit);
+  EXPECT_EQ(unknown.unit, "q");
+  EXPECT_EQ(scan_duration("1s1m").fault, DurationFault::UnitOrder);
+  // A number longer than the reading holds is no number, not an overflow.
+  EXPECT_EQ(scan_duration(std::string(100, '1') + "ms").fault, DurationFault::BadNumber);
+}
+
+TEST(DurationText, PastTheRangeGivesTheLimitOfItsSign) {
+  const DurationScan up = scan_duration("T#200000d");
+  EXPECT_EQ(up.fault, DurationFault::TooLong);
+  EXPECT_EQ(up.ns, INT64_MAX);
+  const DurationScan down = scan_duration("T#-200000d");
+  EXPECT_EQ(down.fault, DurationFault::TooLong);
+  EXPECT_EQ(down.ns, INT64_MIN);
+  EXPECT_EQ(scan_duration("-9223372036854775808ns").ns, INT64_MIN);
+}
+
+TEST(DurationText, WrittenShortestAndWithinItsRoom) {
+  char buf[kDurationTextMax];
+  auto text = [&](std::int64_t v) { return std::string(buf, write_duration(buf, v)); };
+  EXPECT_EQ(text(0), "0ms");
+  EXPECT_EQ(text(90'000'000'000), "1m30s");
+  EXPECT_EQ(text(-250'000), "-250us");
+  EXPECT_EQ(text(INT64_MIN), "-2562047h47m16s854ms775us808ns");
+  EXPECT_LE(text(INT64_MIN).size(), kDurationTextMax);
+  EXPECT_EQ(scan_duration(text(INT64_MIN)).ns, INT64_MIN);
+  EXPECT_EQ(scan_duration(text(INT64_MAX)).ns, INT64_MAX);
 }
 
 }  // namespace

@@ -8,6 +8,8 @@
 #include <limits>
 #include <string_view>
 
+#include "runtime/core/duration_text.hpp"
+
 namespace syncplc::st::vm {
 namespace {
 
@@ -269,32 +271,13 @@ int str_compare(const Cell* a, const Cell* b) noexcept {
 
 namespace {
 
-// Appends the decimal digits of v to p.
-char* put_u64(char* p, std::uint64_t v) noexcept { return std::to_chars(p, p + 20, v).ptr; }
-
 char* put_text(char* p, std::string_view s) noexcept {
   std::memcpy(p, s.data(), s.size());
   return p + s.size();
 }
 
-// T#1h2m3s4ms5us6ns, as "T#" + format_duration (runtime/core/iec_type.cpp).
-char* put_duration(char* p, std::int64_t ns) noexcept {
-  p = put_text(p, "T#");
-  if (ns == 0) return put_text(p, "0ms");
-  if (ns < 0) *p++ = '-';
-  // The magnitude as unsigned, so INT64_MIN has one.
-  std::uint64_t m = ns < 0 ? 0 - static_cast<std::uint64_t>(ns) : static_cast<std::uint64_t>(ns);
-  struct Unit { std::uint64_t f; std::string_view n; };
-  constexpr Unit units[] = {{3600000000000ULL, "h"}, {60000000000ULL, "m"}, {1000000000ULL, "s"},
-                            {1000000ULL, "ms"},      {1000ULL, "us"},       {1ULL, "ns"}};
-  for (const auto& u : units)
-    if (m >= u.f) {
-      p = put_u64(p, m / u.f);
-      p = put_text(p, u.n);
-      m %= u.f;
-    }
-  return p;
-}
+// T#1h2m3s4ms5us6ns, as format_value writes a TIME (runtime/core/duration_text.hpp).
+char* put_duration(char* p, std::int64_t ns) noexcept { return write_duration(put_text(p, "T#"), ns); }
 
 }  // namespace
 
@@ -326,9 +309,6 @@ namespace {
 
 bool is_space(char c) noexcept { return c == ' ' || c == '\t' || c == '\n' || c == '\v' || c == '\f' || c == '\r'; }
 char to_upper(char c) noexcept { return c >= 'a' && c <= 'z' ? static_cast<char>(c - 'a' + 'A') : c; }
-char to_lower(char c) noexcept { return c >= 'A' && c <= 'Z' ? static_cast<char>(c - 'A' + 'a') : c; }
-bool ascii_digit(char c) noexcept { return c >= '0' && c <= '9'; }
-bool ascii_letter(char c) noexcept { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); }
 
 std::string_view trim(std::string_view s) noexcept {
   while (!s.empty() && is_space(s.front())) s.remove_prefix(1);
@@ -341,10 +321,6 @@ bool iequals(std::string_view a, std::string_view b) noexcept {
   for (std::size_t i = 0; i < a.size(); ++i)
     if (to_upper(a[i]) != to_upper(b[i])) return false;
   return true;
-}
-
-bool starts_with_ci(std::string_view s, std::string_view prefix) noexcept {
-  return s.size() >= prefix.size() && iequals(s.substr(0, prefix.size()), prefix);
 }
 
 // s without underscores, into buf (room for kMaxNumberText).
@@ -439,64 +415,16 @@ Parse parse_double(std::string_view text, double& out) noexcept {
   return Parse::Ok;
 }
 
-// A duration as parse_duration_ns reads it; past TIME's range: the limit of
-// its sign, Saturated.
+// A duration as parse_duration_ns reads it (one reading: scan_duration);
+// past TIME's range: the limit of its sign, Saturated.
 Parse parse_duration(std::string_view text, std::int64_t& out) noexcept {
-  char buf[kMaxNumberText];
-  std::string_view s = strip_underscores(trim(text), buf);
-  if (starts_with_ci(s, "LTIME#")) s.remove_prefix(6);
-  else if (starts_with_ci(s, "TIME#")) s.remove_prefix(5);
-  else if (starts_with_ci(s, "LT#")) s.remove_prefix(3);
-  else if (starts_with_ci(s, "T#")) s.remove_prefix(2);
-  if (s.empty()) return Parse::Invalid;
-  bool neg = false;
-  std::size_t i = 0;
-  if (s[0] == '-' || s[0] == '+') {
-    neg = s[0] == '-';
-    i = 1;
-  }
-  long double total = 0;
-  bool any = false;
-  int last_rank = 100;
-  while (i < s.size()) {
-    std::size_t j = i;
-    while (j < s.size() && (ascii_digit(s[j]) || s[j] == '.')) ++j;
-    if (j == i) return Parse::Invalid;
-    double num;
-    auto [p, ec] = std::from_chars(s.data() + i, s.data() + j, num);
-    if (ec != std::errc() || p != s.data() + j) return Parse::Invalid;
-    std::size_t k = j;
-    while (k < s.size() && ascii_letter(s[k])) ++k;
-    char unit[4] = {};
-    if (k - j > 3) return Parse::Invalid;
-    for (std::size_t u = j; u < k; ++u) unit[u - j] = to_lower(s[u]);
-    const std::string_view un(unit, k - j);
-    long double f;
-    int rank;
-    if (un == "d") { f = 86400e9L; rank = 6; }
-    else if (un == "h") { f = 3600e9L; rank = 5; }
-    else if (un == "m" || un == "min") { f = 60e9L; rank = 4; }
-    else if (un == "s") { f = 1e9L; rank = 3; }
-    else if (un == "ms") { f = 1e6L; rank = 2; }
-    else if (un == "us") { f = 1e3L; rank = 1; }
-    else if (un == "ns") { f = 1; rank = 0; }
-    else return Parse::Invalid;  // no unit, or an unknown one
-    if (rank >= last_rank) return Parse::Invalid;  // largest to smallest
-    last_rank = rank;
-    total += static_cast<long double>(num) * f;
-    any = true;
-    i = k;
-  }
-  if (!any) return Parse::Invalid;
-  const long double r = std::roundl(total);
-  // x87 long double holds 2^63 exactly; -2^63 ns is the one value whose magnitude exceeds INT64_MAX.
-  const long double limit = neg ? 9223372036854775808.0L : 9223372036854775807.0L;
-  if (!(r <= limit)) {  // too long (or not finite)
-    out = neg ? std::numeric_limits<std::int64_t>::min() : std::numeric_limits<std::int64_t>::max();
+  const DurationScan d = scan_duration(text);
+  if (d.fault == DurationFault::TooLong) {
+    out = d.ns;
     return Parse::Saturated;
   }
-  if (neg) out = r == 9223372036854775808.0L ? std::numeric_limits<std::int64_t>::min() : -static_cast<std::int64_t>(r);
-  else out = static_cast<std::int64_t>(r);
+  if (d.fault != DurationFault::None) return Parse::Invalid;
+  out = d.ns;
   return Parse::Ok;
 }
 
