@@ -288,5 +288,51 @@ TEST(StVmFused, StringResultsGoStraightIntoTheVariableUnlessItIsAnOperand) {
   ASSERT_EQ(r->fault_texts().size(), 1u);
 }
 
+// The clamping IF is one CLAMP; the IFs that only look like it are not, and
+// every one gives what the IF says, NaN and crossed bounds too.
+TEST(StVmFused, TheClampingIfIsOneInstructionWithTheIfsResults) {
+  const std::string decls =
+      "x, y, z, w, v, lo, hi : LREAL; n, m : INT; flag : BOOL; px, py, pz, pw, pv : LREAL; pn : INT;";
+  const std::string body =
+      "IF x > hi THEN x := hi; ELSIF x < lo THEN x := lo; END_IF;\n"       // CLAMP, upper first
+      "IF y < lo THEN y := lo; ELSIF y > hi THEN y := hi; END_IF;\n"       // CLAMP, lower first
+      "IF n > 100 THEN n := 100; ELSIF n < -5 THEN n := -5; END_IF;\n"     // CLAMP_I16 on constants
+      "IF z > hi THEN z := lo; ELSIF z < lo THEN z := hi; END_IF;\n"       // not: the bounds swapped
+      "IF w > hi THEN w := hi; ELSIF w < lo THEN w := lo; ELSE flag := TRUE; END_IF;\n"  // not: an ELSE
+      "IF v > hi THEN v := hi; ELSIF x < lo THEN v := lo; END_IF;\n"       // not: another variable tested
+      "IF m > 100 THEN m := 99; ELSIF m < 0 THEN m := 0; END_IF;\n";       // not: another constant assigned
+  auto r = run_program(decls, body);
+  ASSERT_TRUE(r->ok());
+  EXPECT_EQ(count_op(*r, Op::CLAMP_F64), 2);
+  EXPECT_EQ(count_op(*r, Op::CLAMP_I16), 1);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  // The IF's result, for each order.
+  auto upper_first = [](double x, double lo, double hi) { return x > hi ? hi : (x < lo ? lo : x); };
+  auto lower_first = [](double x, double lo, double hi) { return x < lo ? lo : (x > hi ? hi : x); };
+  for (const double lo : {-1.0, 0.0, 2.0, nan})
+    for (const double hi : {-2.0, 1.0, 2.0, nan})
+      for (const double x : {-3.0, -1.0, 0.5, 1.0, 1.5, 3.0, nan}) {
+        r->set<double>("lo", lo);
+        r->set<double>("hi", hi);
+        for (const char* name : {"x", "y", "z", "w", "v"}) r->set<double>(name, x);
+        r->set<bool>("flag", false);
+        ASSERT_TRUE(r->scan());
+        auto same = [](double a, double b) { return (std::isnan(a) && std::isnan(b)) || a == b; };
+        const std::string at = " for x " + std::to_string(x) + ", lo " + std::to_string(lo) + ", hi " + std::to_string(hi);
+        EXPECT_TRUE(same(r->get<double>("x"), upper_first(x, lo, hi))) << "x" << at;
+        EXPECT_TRUE(same(r->get<double>("y"), lower_first(x, lo, hi))) << "y" << at;
+        EXPECT_TRUE(same(r->get<double>("z"), x > hi ? lo : (x < lo ? hi : x))) << "z" << at;
+        EXPECT_TRUE(same(r->get<double>("w"), upper_first(x, lo, hi))) << "w" << at;
+        EXPECT_EQ(r->get<bool>("flag"), !(x > hi) && !(x < lo)) << at;
+      }
+  for (const std::int16_t n : {-32768, -6, -5, 0, 100, 101, 32767}) {
+    r->set<std::int16_t>("n", n);
+    r->set<std::int16_t>("m", n);
+    ASSERT_TRUE(r->scan());
+    EXPECT_EQ(r->get<std::int16_t>("n"), n > 100 ? 100 : (n < -5 ? -5 : n));
+    EXPECT_EQ(r->get<std::int16_t>("m"), n > 100 ? 99 : (n < 0 ? 0 : n));
+  }
+}
+
 }  // namespace vm_fused
 }  // namespace syncplc::st::testing

@@ -114,7 +114,10 @@ inline constexpr int kNumCount = 10;
   /* a := b converted between native types, value-preserving (the implicit widenings) */            \
   SYNCPLC_ST_NUM_FAMILY(X, WIDEN_TO_I16) SYNCPLC_ST_NUM_FAMILY(X, WIDEN_TO_I32)                       \
   SYNCPLC_ST_NUM_FAMILY(X, WIDEN_TO_I64) SYNCPLC_ST_NUM_FAMILY(X, WIDEN_TO_F32)                       \
-  SYNCPLC_ST_NUM_FAMILY(X, WIDEN_TO_F64)
+  SYNCPLC_ST_NUM_FAMILY(X, WIDEN_TO_F64)                                                              \
+  /* the clamping IF (codegen_stmt.cpp, clamp_statement): d = 0: IF a > c THEN a := c ELSIF a < b   \
+     THEN a := b; d = 1: the lower bound tested first */                                             \
+  SYNCPLC_ST_NUM_FAMILY(X, CLAMP)
 
 #define SYNCPLC_ST_NUM_FAMILY(X, op) \
   X(op##_I8) X(op##_I16) X(op##_I32) X(op##_I64) X(op##_U8) X(op##_U16) X(op##_U32) X(op##_U64) X(op##_F32) X(op##_F64)

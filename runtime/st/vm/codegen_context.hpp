@@ -123,6 +123,8 @@ class CodeGen {
   void statement(const Statement& s);
   void assign(const Statement& s);
   void if_statement(const Statement& s);
+  bool clamp_statement(const Statement& s);
+  const Variable* plain_variable(const Expr& e) const;
   void case_statement(const Statement& s);
   void for_statement(const Statement& s);
   void while_statement(const Statement& s);

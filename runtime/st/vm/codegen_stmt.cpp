@@ -78,7 +78,63 @@ void CodeGen::assign(const Statement& s) {
   write(p, v, s.loc);
 }
 
+// A variable of the POU's own frame named alone (x): not a reference
+// (VAR_IN_OUT, VAR_EXTERNAL), not a subrange (its writes are checked).
+const Variable* CodeGen::plain_variable(const Expr& e) const {
+  if (e.kind != ExprKind::Name) return nullptr;
+  const ExprInfo* i = program_.info(e);
+  const Variable* v = i ? i->variable : nullptr;
+  if (!v || v->scope == VarScope::InOut || v->scope == VarScope::External || v->constant) return nullptr;
+  if (!v->type || v->type->kind == Type::Kind::Subrange || !num_of(v->type)) return nullptr;
+  return v;
+}
+
+// The clamp every controller writes, as one instruction (CLAMP_T):
+//   IF x > hi THEN x := hi; ELSIF x < lo THEN x := lo; END_IF;
+// (or lo tested first), x a plain numeric variable, each bound a variable or
+// a constant written the same in its test and its assignment, all of x's
+// type. Anything else is an ordinary IF.
+bool CodeGen::clamp_statement(const Statement& s) {
+  if (s.has_else || s.branches.size() != 2) return false;
+  const Variable* x = nullptr;
+  const Expr* bound[2] = {nullptr, nullptr};  // [0] lower, [1] upper
+  bool upper_first = false;
+  for (std::size_t k = 0; k < 2; ++k) {
+    const IfBranch& b = s.branches[k];
+    const Expr& c = b.condition;
+    if (c.kind != ExprKind::Binary || (c.binary_op != BinaryOp::Greater && c.binary_op != BinaryOp::Less)) return false;
+    if (b.body.size() != 1 || b.body[0].kind != StmtKind::Assign) return false;
+    const bool upper = c.binary_op == BinaryOp::Greater;
+    if (bound[upper]) return false;  // both tests the same way
+    if (k == 0) upper_first = upper;
+    const Variable* tested = plain_variable(c.operands[0]);
+    if (!tested || tested != plain_variable(b.body[0].target) || (x && tested != x)) return false;
+    x = tested;
+    const ExprInfo* cmp = program_.info(c);
+    if (!cmp || cmp->operand_type != x->type) return false;
+    const Expr& limit = c.operands[1];
+    const Expr& value = b.body[0].value;
+    const ExprInfo* li = program_.info(limit);
+    const ExprInfo* vi = program_.info(value);
+    if (!li || !vi || li->type != x->type || vi->type != x->type) return false;
+    const Variable* lv = plain_variable(limit);
+    if (lv) {
+      if (lv != plain_variable(value)) return false;
+    } else {
+      const Num n = *num_of(x->type);
+      if (!li->constant || !vi->constant || num_cell(n, *li->constant).raw != num_cell(n, *vi->constant).raw)
+        return false;
+    }
+    bound[upper] = &limit;
+  }
+  TempScope scope(*this);
+  const Operand lo = expr(*bound[0]), hi = expr(*bound[1]);
+  emit(op_of(Op::CLAMP_I8, *num_of(x->type)), var_cell(x), lo.at, hi.at, upper_first ? 0 : 1);
+  return true;
+}
+
 void CodeGen::if_statement(const Statement& s) {
+  if (clamp_statement(s)) return;
   std::vector<std::uint32_t> ends;
   for (std::size_t k = 0; k < s.branches.size(); ++k) {
     const IfBranch& b = s.branches[k];

@@ -51,7 +51,7 @@ class EmbeddedSetup final : public BlockSetup {
 }  // namespace
 
 Instance::Instance(std::shared_ptr<const Module> module, std::uint32_t pou, const InstanceSetup& setup)
-    : module_(std::move(module)), pou_(pou) {
+    : module_(std::move(module)), pou_(pou), compiled_(&module_->pous[pou]) {
   const CompiledPou& p = module_->pous[pou];
   const std::uint32_t frame = p.frame_cells;
   area_.assign(frame + module_->function_area + module_->scratch_cells, Cell{});
@@ -111,7 +111,7 @@ bool Instance::scan(ScanContext& ctx, std::int64_t loop_budget) noexcept {
   vm_.ctx = &ctx;
   vm_.budget = loop_budget;
   vm_.stopped = nullptr;
-  return run(vm_, pou_, frame_);
+  return run(vm_, *compiled_, frame_);
 }
 
 void Instance::relocate(Cell* to, bool carry) noexcept {

@@ -58,6 +58,7 @@ class Instance {
 
   std::shared_ptr<const Module> module_;
   std::uint32_t pou_ = 0;
+  const CompiledPou* compiled_ = nullptr;  // module_->pous[pou_]: the module never changes
   std::vector<Cell> area_;  // the frame until relocated, the FUNCTIONs' frames, scratch
   Cell* frame_ = nullptr;
   std::vector<std::uint32_t> block_at_;

@@ -562,7 +562,15 @@ L_NOT_U64:
   NEXT();                                                                                          \
   L_SUBMUL_##T:                                                                                    \
   wr<T>(f[ip->a], sub<T>(rd<T>(f[ip->d]), rounded<T>(mul<T>(rd<T>(f[ip->b]), rd<T>(f[ip->c])))));  \
-  NEXT();
+  NEXT();                                                                                          \
+  L_CLAMP_##T: {                                                                                   \
+    const T x = rd<T>(f[ip->a]);                                                                   \
+    const bool over = x > rd<T>(f[ip->c]), under = x < rd<T>(f[ip->b]);                            \
+    /* the branch taken first wins when the bounds cross (lo > hi), as the IF it replaces */       \
+    if (ip->d == 0 ? over : (over && !under)) f[ip->a] = f[ip->c];                                 \
+    else if (under) f[ip->a] = f[ip->b];                                                           \
+    NEXT();                                                                                        \
+  }
   SYNCPLC_ST_NUM_TYPES(FUSED)
 #undef FUSED
 #undef BIN
@@ -580,8 +588,9 @@ void Vm::fault(std::uint32_t site, double value) noexcept {
   if (ctx) ctx->fault(last_fault, value);
 }
 
-bool run(Vm& vm, std::uint32_t pou, Cell* frame) noexcept {
-  const CompiledPou& p = vm.module->pous[pou];
+bool run(Vm& vm, std::uint32_t pou, Cell* frame) noexcept { return run(vm, vm.module->pous[pou], frame); }
+
+bool run(Vm& vm, const CompiledPou& p, Cell* frame) noexcept {
   if (p.temp_cells)
     std::memcpy(frame + p.temp_begin, p.image.data() + p.temp_begin, p.temp_cells * sizeof(Cell));
   bool ok = true;

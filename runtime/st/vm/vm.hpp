@@ -30,6 +30,9 @@ struct Vm {
 // Runs POU `pou` of vm.module on `frame`. False when the loop budget ran out
 // (vm.stopped names the loop); the callers unwind at once.
 bool run(Vm& vm, std::uint32_t pou, Cell* frame) noexcept;
+// The same for a POU already looked up: an instance keeps its POU at hand,
+// so a scan starts without walking module -> pous -> POU first.
+bool run(Vm& vm, const CompiledPou& pou, Cell* frame) noexcept;
 
 // Resolves every instruction's handler (direct threading); once per module,
 // after code generation and before the first run.
