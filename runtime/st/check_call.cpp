@@ -326,6 +326,20 @@ Val Checker::conversion_call(const Expr& e, const Conversion& c) {
     settle_default(in, v);
   }
   const Type* to = c.to ? elem(*c.to) : types_.string(80, c.to_wstring);
+  // Of the date types IEC 61131-3 (Table 22) converts DT to its DATE and
+  // its TOD; nothing converts a date to or from a number, and their text
+  // forms are not done yet (docs/st.md).
+  const Type* seen = from ? from : info(in).type;
+  const auto fe = seen ? seen->scalar() : std::nullopt;
+  const bool from_date = fe && *fe >= Elem::DATE, to_date = c.to && *c.to >= Elem::DATE;
+  if ((from_date || to_date) && !(fe && c.to && *fe == *c.to) &&
+      !(fe == Elem::DT && (c.to == Elem::DATE || c.to == Elem::TOD))) {
+    error(e.loc, fmt::format("{}: a DATE, TOD or DT converts only as DT_TO_DATE and DT_TO_TOD (IEC 61131-3 "
+                             "Table 22); build one with its arithmetic: DT#1970-01-01-00:00:00 + T#..., "
+                             "TOD#00:00:00 + T#...",
+                             e.name));
+    return record(e, {err()});
+  }
   return record(e, {to});
 }
 

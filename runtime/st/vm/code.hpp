@@ -78,6 +78,9 @@ inline constexpr int kNumCount = 10;
   X(CALL_BLOCK)  /* execute the built-in block whose Block* is in cell a (pins follow it) */          \
   X(CALL_BLOCK_REF) /* the same through ref a */                                                     \
   X(CONV)        /* a := conversion d of b (a function; faults at site c when out of range) */       \
+  X(DT_TO_DATE)  /* a := the day of DT b, at its midnight (floored; before DATE's range: its first day, \
+                    fault at its site) */                                                              \
+  X(DT_TO_TOD)   /* a := the time of day of DT b (0 <= a < 24 h) */                                  \
   X(MATH1)       /* a := function d (b) (REAL/LREAL library function) */                           \
   X(MATH2)       /* a := function d (b, c) */                                                        \
   X(STRFN)       /* string function: descriptor d */                                                 \

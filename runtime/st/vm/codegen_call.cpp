@@ -225,9 +225,17 @@ Operand CodeGen::conversion(const Expr& e, const ExprInfo& i, std::optional<std:
     error(e.loc, fmt::format("the code generator cannot convert {} to {}", from->name, to->name));
     return {0, to};
   }
+  // DT_TO_DATE, DT_TO_TOD: the day and the time in it (the checker lets no
+  // other date conversion through).
+  if (*fe == Elem::DT && (*te == Elem::DATE || *te == Elem::TOD)) {
+    const std::uint32_t dst = into ? *into : temp();
+    emit(*te == Elem::DATE ? Op::DT_TO_DATE : Op::DT_TO_TOD, dst, v.at, 0, 0,
+         site(e.loc, fmt::format("{}: the day is before DATE's first (1677-09-22)", e.name)));
+    return {dst, to};
+  }
   const bool dates = *fe >= Elem::DATE || *te >= Elem::DATE;
   if (dates && *fe != *te) {
-    error(e.loc, fmt::format("{} is not supported yet (docs/st.md: DATE, TOD and DT)", e.name));
+    error(e.loc, fmt::format("the code generator cannot convert {} to {}", from->name, to->name));
     return {0, to};
   }
   const IecType fi = iec_of(*fe), ti = iec_of(*te);

@@ -367,6 +367,28 @@ L_CONV: {
   if (out_of_range) vm.fault(ip->site);
   NEXT();
 }
+  // A DT is nanoseconds since 1970-01-01 00:00 (UTC); its day is the
+  // floored quotient by a day's nanoseconds.
+L_DT_TO_DATE: {
+  constexpr std::int64_t kDay = 86'400'000'000'000;
+  const std::int64_t dt = rd<std::int64_t>(f[ip->b]);
+  std::int64_t day = dt / kDay - (dt % kDay < 0 ? 1 : 0);
+  // The day of the first twelve minutes DT holds starts before INT64_MIN ns.
+  constexpr std::int64_t kFirstDay = std::numeric_limits<std::int64_t>::min() / kDay;
+  if (day < kFirstDay) {
+    day = kFirstDay;
+    vm.fault(ip->site, static_cast<double>(dt));
+  }
+  wr<std::int64_t>(f[ip->a], day * kDay);
+  NEXT();
+}
+L_DT_TO_TOD: {
+  constexpr std::int64_t kDay = 86'400'000'000'000;
+  const std::int64_t dt = rd<std::int64_t>(f[ip->b]);
+  const std::int64_t r = dt % kDay;
+  wr<std::int64_t>(f[ip->a], r < 0 ? r + kDay : r);
+  NEXT();
+}
 L_MATH1:
   f[ip->a] = m.math1[ip->d](f[ip->b]);
   NEXT();
