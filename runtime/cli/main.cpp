@@ -179,8 +179,9 @@ int main(int argc, char** argv) {
   add_online_options(read, online);
   read->add_flag("--json", online.json, "print the API's answer (GET /values) as it comes");
 
-  auto* write = app.add_subcommand("write", "write a tag (with hmi: readwrite) of a running PLC; needs the operator role");
-  write->add_option("TAG", ref, "a tag or an element, e.g. speed, levels[2]")->required();
+  auto* write = app.add_subcommand("write", "write a tag (with hmi: readwrite; the operator role) or a variable of an ST instance "
+                                               "(once, at its task's next scan; the engineer role) of a running PLC");
+  write->add_option("TAG", ref, "a tag, an element or instance.var, e.g. speed, levels[2], cell.recipe.speed")->required();
   write->add_option("VALUE", value, "a number, TRUE/FALSE, or IEC text: T#5ms, 16#FF, \"1500 mm\"")->required();
   add_online_options(write, online);
 

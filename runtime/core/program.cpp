@@ -33,6 +33,32 @@ int Program::find_driver(const std::string& n) const {
   return -1;
 }
 
+std::optional<CellRef> Program::resolve_variable(const std::string& text, bool* names_one, std::string* error) const {
+  *names_one = false;
+  const auto dot = text.find('.');
+  if (dot == std::string::npos) return std::nullopt;
+  const auto it = instances.find(text.substr(0, dot));
+  if (it == instances.end()) return std::nullopt;
+  const auto& bi = tasks[it->second.first]->blocks[it->second.second];
+  const std::string rest = text.substr(dot + 1);
+  if (!bi.type->names_variable(rest)) return std::nullopt;
+  std::string why;
+  const auto v = bi.type->variable(rest, &why);
+  // Not a variable after all (ENO, a VAR_EXTERNAL's pin): a pin.
+  if (!v && bi.type->pin_index(rest.substr(0, rest.find_first_of(".["))) >= 0) return std::nullopt;
+  *names_one = true;
+  if (!v) {
+    if (error) *error = it->first + "." + rest + ": " + why;
+    return std::nullopt;
+  }
+  CellRef r;
+  r.task = it->second.first;
+  r.cell = bi.pin_cell[static_cast<std::size_t>(bi.type->variables_pin)] + v->element;
+  r.type = v->type;
+  r.length = 1;
+  return r;
+}
+
 std::optional<CellRef> Program::resolve(const std::string& text, std::string* error) const {
   auto fail = [&](const std::string& why) -> std::optional<CellRef> {
     if (error) *error = why;
@@ -40,27 +66,9 @@ std::optional<CellRef> Program::resolve(const std::string& text, std::string* er
   };
   std::string why;
   // instance.path of a block with variables (an ST instance's, "p.fb.q", "p.arr[3]").
-  if (const auto dot = text.find('.'); dot != std::string::npos) {
-    const auto it = instances.find(text.substr(0, dot));
-    if (it != instances.end()) {
-      const auto& bi = tasks[it->second.first]->blocks[it->second.second];
-      const std::string rest = text.substr(dot + 1);
-      const auto bracket = rest.find_first_of(".[");
-      if (bi.type->names_variable(rest)) {
-        const auto v = bi.type->variable(rest, &why);
-        // Not a variable after all (ENO, a VAR_EXTERNAL's pin): the pin, below.
-        if (!v && bi.type->pin_index(rest.substr(0, bracket)) < 0) return fail(it->first + "." + rest + ": " + why);
-        if (v) {
-          CellRef r;
-          r.task = it->second.first;
-          r.cell = bi.pin_cell[static_cast<std::size_t>(bi.type->variables_pin)] + v->element;
-          r.type = v->type;
-          r.length = 1;
-          return r;
-        }
-      }
-    }
-  }
+  bool variable = false;
+  if (auto v = resolve_variable(text, &variable, &why)) return v;
+  if (variable) return fail(why);
   auto ref = parse_reference(text, &why);
   if (!ref) return fail(why);
   CellRef r;

@@ -181,6 +181,11 @@ class Program {
   int find_driver(const std::string& name) const;
   // "instance.pin", "tag" or "tag[i]" (i within the tag's declared bounds, e.g. 1..4).
   std::optional<CellRef> resolve(const std::string& ref, std::string* error = nullptr) const;
+  // A variable of an instance that has them (an ST instance's "cell.count",
+  // "cell.fb.q", "cell.arr[2]"), not a pin: its cell, or nullopt with
+  // *names_one telling whether `ref` names such a variable at all (then
+  // *error says what is wrong with it).
+  std::optional<CellRef> resolve_variable(const std::string& ref, bool* names_one, std::string* error) const;
   // Instance name -> (task, position in execution order).
   std::map<std::string, std::pair<std::uint16_t, std::uint32_t>> instances;
 

@@ -111,6 +111,50 @@ int force_status(const Program& p, const std::string& ref, const ForceResult& r)
   return 409;
 }
 
+// A variable of an ST instance (instance.path, not a pin; Program::
+// resolve_variable): an engineer's one-shot write, as CODESYS's "write
+// value": queued for the start of its task's next scan, from where the
+// program goes on (its next assignment replaces it; to hold a value, force
+// it). Operators write tags with hmi: readwrite only. False when `name` is
+// no such variable (a tag or a pin: the caller goes on); otherwise answered.
+bool variable_write(const Program& p, const std::string& name, const Session& who, const nlohmann::json& value,
+                    http::Response& res, std::string* event, std::string* task) {
+  bool names_one = false;
+  std::string why;
+  const auto r = p.resolve_variable(name, &names_one, &why);
+  if (!names_one) return false;
+  if (!r) {
+    send_error(res, 404, why);
+    return true;
+  }
+  if (who.role < Role::Engineer) {
+    send_error(res, 403, name + " is a variable of an ST instance: writing it needs the engineer role (operators "
+                               "write tags with hmi: readwrite)");
+    return true;
+  }
+  *task = p.tasks[r->task]->config().name;
+  if (p.tasks[r->task]->stopped()) {
+    send_error(res, 409, "task " + *task + " has stopped: nothing it owns can be written until it runs again");
+    return true;
+  }
+  auto text = value_text(value, &why);
+  std::optional<Cell> cell;
+  if (text) cell = parse_value(r->type, *text, &why);
+  if (!cell) {
+    send_error(res, 400, name + ": " + why);
+    return true;
+  }
+  const QueuedWrite w{r->cell, *cell};
+  if (!p.tasks[r->task]->enqueue(&w, 1)) {
+    send_error(res, 409, "task " + *task + "'s write queue is full; try again");
+    return true;
+  }
+  const std::string shown = format_value(r->type, *cell);
+  *event = name + " := " + shown;
+  send_json(res, 200, {{"ok", true}, {"tag", name}, {"value", shown}, {"task", *task}});
+  return true;
+}
+
 }  // namespace
 
 void add_change_routes(http::Router& s, ApiContext& c) {
@@ -126,6 +170,7 @@ void add_change_routes(http::Router& s, ApiContext& c) {
     const std::string name = req.matches[1];
     std::string event, task;
     c.host.with_program([&](Program& p) {
+      if (variable_write(p, name, *who, (*body)["value"], res, &event, &task)) return;
       auto w = write_target(p, name, res);
       if (!w) return;
       const Tag& t = *w->tag;

@@ -244,7 +244,9 @@ TEST(BusTiming, NodeBoundOfEquationElevenIsConsistentWithTheCycle) {
     int n = ieee1394_max_nodes(b, period, 8);
     ASSERT_GT(n, 0);
     EXPECT_LE(ieee1394_cycle_us(b, n, 8), b.alpha * period + 1e-9) << period;
-    if (n < 63) EXPECT_GT(ieee1394_cycle_us(b, n + 1, 8), b.alpha * period) << period;
+    if (n < 63) {
+      EXPECT_GT(ieee1394_cycle_us(b, n + 1, 8), b.alpha * period) << period;
+    }
   }
   EXPECT_GT(ieee1394_max_nodes(b, 4000, 8), ieee1394_max_nodes(b, 1000, 8));
 }

@@ -269,6 +269,14 @@ def check_counters(c, t, requests_at_least=False, label=""):
 
 # --- pymodbus -----------------------------------------------------------------------
 
+def add_user(binary, db, name, role, password):
+    """`syncplc user add` into the database a server will use."""
+    p = subprocess.run([binary, "user", "add", name, "--role", role, "--password-stdin", "--db", db],
+                       input=password + "\n", text=True, capture_output=True, timeout=60)
+    if p.returncode != 0:
+        raise AssertionError("syncplc user add %s: %d\n%s%s" % (name, p.returncode, p.stdout, p.stderr))
+
+
 def free_port():
     """A free 127.0.0.1 port below the kernel's ephemeral range. A port from
     that range (what bind(0) hands out) can be taken by a client of the test

@@ -21,10 +21,7 @@ USERS = {"vera": ("viewer", "vera-secret-1"), "olga": ("operator", "olga-secret-
 
 
 def add_user(name, role, password):
-    p = subprocess.run([BINARY, "user", "add", name, "--role", role, "--password-stdin", "--db", DB],
-                       input=password + "\n", text=True, capture_output=True, timeout=60)
-    if p.returncode != 0:
-        raise AssertionError("syncplc user add %s: %d\n%s%s" % (name, p.returncode, p.stdout, p.stderr))
+    peerlib.add_user(BINARY, DB, name, role, password)
 
 
 class Api(peerlib.HttpApi):

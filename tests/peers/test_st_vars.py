@@ -1,8 +1,9 @@
 """Variables of an ST program (not tags) shown to clients nobody here wrote,
 through tags connected from them (docs/st.md): Debian's python3-pymodbus
 reads them from the Modbus map and writes the tag the program reads; the
-HTTP API (Python's http.client) reads them by instance.path and by tag; the
-historian's points of one are read back with the `sqlite3` shell.
+HTTP API (Python's http.client) reads them by instance.path and by tag, and
+an engineer writes one (an operator may not); the historian's points of
+one are read back with the `sqlite3` shell.
 
     /usr/bin/python3 tests/peers/test_st_vars.py build/syncplc
 """
@@ -15,7 +16,17 @@ BINARY = peerlib.syncplc_binary()
 DB = os.path.join(peerlib.STATE_DIR, "st_vars.db")
 
 
+USERS = {"olga": ("operator", "olga-secret-2"), "erik": ("engineer", "erik-secret-3")}
+
+
+def login(api, user):
+    api.token = None
+    api.token = api.expect(200, "POST", "/login", {"user": user, "password": USERS[user][1]}, what="login " + user)["token"]
+
+
 def main():
+    for name, (role, password) in USERS.items():
+        peerlib.add_user(BINARY, DB, name, role, password)
     srv = peerlib.Server(BINARY, peerlib.project("st_vars.yaml"), extra=["--http", "127.0.0.1:0", "--db", DB])
     api = peerlib.HttpApi(srv.http_port())
     tally = peerlib.Tally()
@@ -40,6 +51,27 @@ def main():
     mb.write_coil(0, True)
     peerlib.wait_until(lambda: (mb.read("discrete", 5, 1) == [True], None), "cell.t.Q on discrete input 5")
     assert api.expect(200, "GET", "/values?refs=cell.t.Q")["values"]["cell.t.Q"] is True
+
+    # An engineer writes a variable of the program once (at the start of its
+    # task's next scan): the program goes on from it. An operator may not,
+    # and a name the program does not have is refused with a suggestion.
+    login(api, "olga")
+    api.expect(403, "PUT", "/tags/cell.scale", {"value": 2.0}, what="an operator writes an ST variable")
+    login(api, "erik")
+    api.expect(404, "PUT", "/tags/cell.scael", {"value": 2.0}, what="a misspelt variable")
+    api.expect(400, "PUT", "/tags/cell.scale", {"value": "fast"}, what="not a number")
+    j = api.expect(200, "PUT", "/tags/cell.scale", {"value": 2.0}, what="an engineer writes an ST variable")
+    assert j["tag"] == "cell.scale" and j["task"] == "main", j
+    peerlib.wait_until(lambda: (lambda v: (v["values"]["cell.scale"] == 2.0, v))(
+        api.expect(200, "GET", "/values?refs=cell.scale")), "cell.scale written")
+    level = mb.read_values(110, ["LREAL"], table="input")[0]
+    assert level * 0.5 == int(level * 0.5) and level <= 198.0, level  # scans MOD 100 * 2.0
+    before = api.expect(200, "GET", "/values?refs=cell.scans")["values"]["cell.scans"]
+    api.expect(200, "PUT", "/tags/cell.scans", {"value": 1000000}, what="a variable the program counts on from")
+    peerlib.wait_until(lambda: (lambda v: (v >= 1000000, v))(mb.read_values(100, ["DINT"], table="input")[0]),
+                       "cell.scans counting on from 1000000 (was %d)" % before)
+    ev = api.expect(200, "GET", "/events?kind=hmi-write")["events"]
+    assert any("cell.scale := 2 (by erik)" in e["message"] for e in ev), ev
 
     # The historian records the tag: points, read with the sqlite3 shell.
     def points():

@@ -183,7 +183,9 @@ TEST(OnlineChangeRealtime, ARetimedTaskSwitchesAsInVirtualTime) {
   EXPECT_EQ((real[1] - first_new) % 10'000'000, 0) << "on the new grid";
   EXPECT_GE(static_cast<std::int64_t>(b->tasks[0]->stats.skipped.load()), (real[1] - first_new) / 10'000'000)
       << "a switch later than its first new point counts the points it missed";
-  if (b->tasks[0]->stats.skipped.load() == 0) EXPECT_EQ(real[1], virt[1]);
+  if (b->tasks[0]->stats.skipped.load() == 0) {
+    EXPECT_EQ(real[1], virt[1]);
+  }
 }
 
 }  // namespace

@@ -81,7 +81,9 @@ blocks:
   EXPECT_EQ(m["rc"].size(), 180'180u);         // ceil((60 s − 111 us) / 333 us)
   // dt is the distance between planned releases: the period, always.
   for (const auto& r : records())
-    if (r.instance == "rc") ASSERT_EQ(r.dt_ns, 333'000);
+    if (r.instance == "rc") {
+      ASSERT_EQ(r.dt_ns, 333'000);
+    }
 }
 
 TEST(Releases, HigherPriorityRunsFirstAtEqualReleaseThenDeclarationOrder) {

@@ -230,8 +230,12 @@ TEST(Historian, ARateChangedByAnOnlineChangeStampsEachBucketWithItsOwnRate) {
   for (const auto& pt : pts) {
     const std::int64_t at = (pt.t - kT0) / kMs;
     EXPECT_LT(at, 400) << "a bucket stamped after the last scan";
-    if (pt.max == 1.0) EXPECT_EQ(at % 100, 0) << "an old bucket off the 100 ms grid, at " << at << " ms";
-    if (pt.min == 3.0) EXPECT_GE(at, 250) << "a new bucket before the switch, at " << at << " ms";
+    if (pt.max == 1.0) {
+      EXPECT_EQ(at % 100, 0) << "an old bucket off the 100 ms grid, at " << at << " ms";
+    }
+    if (pt.min == 3.0) {
+      EXPECT_GE(at, 250) << "a new bucket before the switch, at " << at << " ms";
+    }
     scans += pt.count;
   }
   // 0..249 ms in three old buckets (the last cut by the switch), 250..389 ms in new ones.
