@@ -1,6 +1,6 @@
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import { normalizeEvents, normalizeProjectReport, normalizeStatus, normalizeTags, normalizeTrend, normalizeVersions, parseWhere } from '../src/api/shapes.js';
+import { normalizeBlocks, normalizeEvents, normalizeProjectReport, normalizeStatus, normalizeTags, normalizeTrend, normalizeVersions, parseWhere } from '../src/api/shapes.js';
 
 test('status after the outline: runtime, tasks with statistics and histogram, forces', () => {
   const s = normalizeStatus({
@@ -82,4 +82,15 @@ test('the server as runtime/web writes it: _ns keys, jitter, element type with i
   assert.equal(arr.writable, true);
   assert.equal(every.type, 'INT');
   assert.equal(every.writable, false);
+});
+
+test('blocks keep their pins, and an ST instance its variables', () => {
+  const [b, c] = normalizeBlocks({ blocks: [
+    { name: 'cell', type: 'Cell', task: 'main', position: 0, pins: [{ name: 'run_in', direction: 'in', type: 'BOOL', value: true }],
+      variables: [{ name: 'scans', type: 'DINT', value: 7, forced: false }, { name: 't.ET', type: 'TIME', value: null, forced: true }] },
+    { name: 'k', type: 'MOVE<LREAL>', pins: [] },
+  ] });
+  assert.deepEqual(b.variables, [{ name: 'scans', type: 'DINT', value: 7, forced: false }, { name: 't.ET', type: 'TIME', value: null, forced: true }]);
+  assert.equal(b.pins[0].name, 'run_in');
+  assert.deepEqual(c.variables, []);
 });

@@ -136,12 +136,25 @@ struct PinInfo {
   CellRef cell;  // length n for an array pin (ARRAY[1..n])
 };
 
+// An elementary variable of an instance that has them (an ST instance's
+// "count", "t.ET", "hist[2]"), for monitoring.
+struct VariableInfo {
+  std::string name;  // the path below the instance
+  IecType type = IecType::LREAL;
+  CellRef cell;
+};
+
 struct InstanceInfo {
   std::string name;
   std::string type;            // block type; generic ones with their type: "ADD<LREAL>"
   std::string task;
   std::uint32_t position = 0;  // in the task's execution order
-  std::vector<PinInfo> pins;   // in declaration order
+  std::vector<PinInfo> pins;   // in declaration order; not the hidden "(variables)" pins of an ST POU
+  // Its variables, leaf by leaf, one-dimensional arrays element by element
+  // (up to kMaxShownElements of each); strings and deeper arrays are
+  // addressed by hand (instance.path).
+  std::vector<VariableInfo> variables;
+  static constexpr std::size_t kMaxShownElements = 64;
 };
 
 // How long a read keeps a task's pins monitored after it (Program::read_value).

@@ -126,7 +126,17 @@ nlohmann::json instance_json(Program& p, const InstanceInfo& b, const ForcedCell
                     {"value", v.value},
                     {"forced", v.forced}});
   }
-  return {{"name", b.name}, {"type", b.type}, {"task", b.task}, {"position", b.position}, {"pins", pins}};
+  nlohmann::json j = {{"name", b.name}, {"type", b.type}, {"task", b.task}, {"position", b.position}, {"pins", pins}};
+  // An ST instance's variables (addressed instance.path).
+  if (!b.variables.empty()) {
+    nlohmann::json vars = nlohmann::json::array();
+    for (const auto& v : b.variables) {
+      const RefValue rv = ref_value(p, v.cell, forced);
+      vars.push_back({{"name", v.name}, {"type", type_name(v.type)}, {"value", rv.value}, {"forced", rv.forced}});
+    }
+    j["variables"] = std::move(vars);
+  }
+  return j;
 }
 
 }  // namespace syncplc::web

@@ -97,13 +97,17 @@ void hide_paths(nlohmann::json& runtime) {
 }
 
 void hide_pins(nlohmann::json& instance, const InstanceInfo& b, const HiddenCells& hidden) {
-  if (!instance.contains("pins") || !instance["pins"].is_array()) return;
-  auto& pins = instance["pins"];
-  for (std::size_t i = 0; i < b.pins.size() && i < pins.size(); ++i)
-    if (hidden.hides(b.pins[i].cell)) {
-      pins[i]["value"] = nullptr;
-      pins[i]["hidden"] = true;
-    }
+  auto hide = [&](const char* key, const auto& items) {
+    if (!instance.contains(key) || !instance[key].is_array()) return;
+    auto& shown = instance[key];
+    for (std::size_t i = 0; i < items.size() && i < shown.size(); ++i)
+      if (hidden.hides(items[i].cell)) {
+        shown[i]["value"] = nullptr;
+        shown[i]["hidden"] = true;
+      }
+  };
+  hide("pins", b.pins);
+  hide("variables", b.variables);
 }
 
 }  // namespace syncplc::web

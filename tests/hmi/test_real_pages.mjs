@@ -328,6 +328,51 @@ test('5. a good upload is loaded by online change: the change report, no skipped
   assert.deepEqual(page.jsErrors, []);
 });
 
+test('5b. an ST program loaded by online change shows its variables under its instance: an engineer writes one, an operator may not', async () => {
+  const page = await open('project');
+  await login(page, 'erik');
+  const counter = 'PROGRAM Counter\nVAR_EXTERNAL enable : BOOL; END_VAR\nVAR\n  runs : DINT;\n  step : DINT := 1;\n'
+    + '  last : ARRAY[1..3] OF DINT;\nEND_VAR\nIF enable THEN\n  runs := runs + step;\nEND_IF;\n'
+    + 'last[3] := last[2]; last[2] := last[1]; last[1] := runs;\nEND_PROGRAM\n';
+  const text = edit(sources[MAIN], 'version: 1.0.0', 'version: 1.1.0').text;
+  await upload(page, `${text}\nsources: [counter.st]\nprograms: [{name: counter, type: Counter}]\n`, [['counter.st', counter]]);
+  await page.getByRole('button', { name: 'Load onto the PLC' }).click();
+  await page.locator('#check-result.good', { hasText: 'Loaded' }).waitFor({ timeout: HANG_GUARD_MS });
+  assert.match(await page.locator('#change-report').innerText(), /New\s*1\b/);
+
+  await page.goto(`${plc.url}/#/tags`);
+  await page.locator('#blocks-table button.disclosure', { hasText: 'counter' }).click();
+  const runs = page.locator('tr[data-ref="counter.runs"] .value .num');
+  const first = await until(async () => { const t = await runs.innerText(); return !noValue(t) && Number(t); }, HANG_GUARD_MS, 'counter.runs live');
+  await until(async () => Number(await runs.innerText()) > first, HANG_GUARD_MS, `counter.runs to count on from ${first}`);
+  for (const ref of ['counter.step', 'counter.last[1]', 'counter.last[3]']) await page.locator(`tr[data-ref="${ref}"]`).waitFor();
+  assert.equal(await page.locator('tr[data-ref="counter.(variables)"]').count(), 0, 'the hidden pin is not listed');
+
+  // The engineer writes step once: runs then grows by 1000 a scan.
+  await page.locator('tr[data-ref="counter.step"] button', { hasText: 'Write' }).click();
+  await page.locator('dialog[open] input[name=value]').fill('1000');
+  await page.locator('dialog[open] button[type=submit]').click();
+  await page.locator('.ok-note', { hasText: 'Written to counter.step.' }).waitFor();
+  const [a, b] = await until(async () => {
+    const v = (await values('counter.last[1]', 'counter.last[2]')).values;
+    return v['counter.last[1]'] - v['counter.last[2]'] === 1000 && [v['counter.last[1]'], v['counter.last[2]']];
+  }, HANG_GUARD_MS, 'runs to grow by 1000 a scan');
+  assert.ok(a > b);
+  const events = (await plc.api('/events?kind=hmi-write')).events.map((e) => e.message);
+  assert.ok(events.some((m) => m.includes('counter.step := 1000') && m.includes('erik')), events.join('\n'));
+
+  // An operator sees the variables but cannot write them.
+  const op = await open('tags');
+  await login(op, 'olga');
+  await op.locator('#blocks-table button.disclosure', { hasText: 'counter' }).click();
+  const write = op.locator('tr[data-ref="counter.step"] button', { hasText: 'Write' });
+  await write.waitFor();
+  assert.equal(await write.isDisabled(), true);
+  assert.match(await write.getAttribute('title'), /engineer role/);
+  assert.deepEqual(page.jsErrors, []);
+  assert.deepEqual(op.jsErrors, []);
+});
+
 test('6. without login nothing changes the PLC: the API answers 401 to the page, and its controls are disabled', async () => {
   const page = await open('tags');
   await page.locator('tr[data-tag=speed_set]').waitFor();

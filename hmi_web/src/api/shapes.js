@@ -103,6 +103,13 @@ export function normalizeBlocks(d) {
       value: first(p.value, null),
       forced: first(p.forced, false),
     })),
+    // An ST instance's variables (instance.path); none for other blocks.
+    variables: (b.variables || []).map((v) => ({
+      name: v.name,
+      type: v.type,
+      value: first(v.value, null),
+      forced: first(v.forced, false),
+    })),
   }));
 }
 

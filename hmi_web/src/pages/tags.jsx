@@ -1,5 +1,6 @@
 // Tags & pins: every tag with its live value, a filter, write (operator) and
-// force/unforce (engineer) from the row; block instances open to their pins.
+// force/unforce (engineer) from the row; block instances open to their pins,
+// ST instances also to their variables.
 import { useEffect, useState } from 'preact/hooks';
 import { getBlocks, getTags, unforce } from '../api/endpoints.js';
 import { can, hint } from '../auth/session.js';
@@ -40,8 +41,35 @@ function RowActions({ session, item, writable, onChange, onUnforce }) {
   );
 }
 
+// A variable of an ST instance (block.variables): an engineer writes it
+// once (the program goes on from it) or forces it.
+function VariableRow({ block, v, session, onChange, onUnforce }) {
+  const ref = `${block.name}.${v.name}`;
+  const engineer = can('force', session);
+  const item = { name: ref, type: v.type, unit: '', forced: v.forced, access: 'readwrite', current: hasValue(ref) ? valueOf(ref) : v.value };
+  const forced = liveForced(ref, v.forced);
+  return (
+    <tr class="variable-row" data-ref={ref}>
+      <td data-label="Variable" class="pin-name">· {ref}</td>
+      <td data-label="Type">{v.type}</td>
+      <td data-label="Direction">variable</td>
+      <td data-label="Value" class="value-cell"><Value value={item.current} type={v.type} forced={forced} quality={qualityOf(ref)} /></td>
+      <td data-label="" colSpan={2}>
+        <div class="row-actions">
+          <button type="button" class="btn small" disabled={!engineer}
+            title={engineer ? 'Write once: the program goes on from this value' : 'Writing a variable of an ST program needs the engineer role'}
+            onClick={() => onChange('write', item)}>Write…</button>
+          <button type="button" class="btn small" disabled={!engineer} title={engineer ? '' : hint('force')}
+            onClick={() => (forced ? onUnforce(item) : onChange('force', item))}>{forced ? 'Unforce' : 'Force…'}</button>
+        </div>
+      </td>
+    </tr>
+  );
+}
+
 function BlockRow({ block, open, onToggle, session, onChange, onUnforce }) {
-  const refs = open ? block.pins.map((p) => `${block.name}.${p.name}`) : [];
+  const variables = block.variables || [];
+  const refs = open ? [...block.pins, ...variables].map((p) => `${block.name}.${p.name}`) : [];
   useLive(refs, 200);
   return (
     <>
@@ -53,7 +81,7 @@ function BlockRow({ block, open, onToggle, session, onChange, onUnforce }) {
         </td>
         <td data-label="Type">{block.type}</td>
         <td data-label="Task">{block.task}{block.position !== null ? ` #${block.position}` : ''}</td>
-        <td data-label="Pins" colSpan={3}>{block.pins.length} pins</td>
+        <td data-label="Pins" colSpan={3}>{block.pins.length} pins{variables.length ? `, ${variables.length} variables` : ''}</td>
       </tr>
       {open ? block.pins.map((p) => {
         const ref = `${block.name}.${p.name}`;
@@ -75,6 +103,7 @@ function BlockRow({ block, open, onToggle, session, onChange, onUnforce }) {
           </tr>
         );
       }) : null}
+      {open ? variables.map((v) => <VariableRow block={block} v={v} session={session} onChange={onChange} onUnforce={onUnforce} />) : null}
     </>
   );
 }
@@ -106,7 +135,7 @@ export function TagsPage({ session }) {
   const liveRefs = shown.slice(0, MAX_LIVE).map((t) => t.name);
   useLive(liveRefs, 150);
   const shownBlocks = (blocks || []).filter((b) => !query || [b.name, b.type, b.task].join(' ').toLowerCase().includes(query.toLowerCase())
-    || b.pins.some((p) => `${b.name}.${p.name}`.toLowerCase().includes(query.toLowerCase())));
+    || [...b.pins, ...(b.variables || [])].some((p) => `${b.name}.${p.name}`.toLowerCase().includes(query.toLowerCase())));
 
   async function doUnforce(item) {
     setNotice(null);
