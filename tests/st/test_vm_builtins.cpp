@@ -202,5 +202,46 @@ TEST(StVmBuiltins, ATunableParameterHoldsUntilTheProgramWritesItsTuningInput) {
   EXPECT_TRUE(r->fault_texts().empty());
 }
 
+TEST(StVmBuiltins, EveryBlockWithArrayPinsIsATypeAndEveryDefaultAValue) {
+  const auto sigs = vm::block_signatures(::syncplc::builtin_blocks());
+  auto find = [&](const std::string& n) {
+    return std::find_if(sigs.begin(), sigs.end(), [&](const BlockSignature& b) { return b.name == n; });
+  };
+  for (const char* n : {"TRANSIENT_SYNC", "SYNC_CONTROLLER", "CIRCLE", "COSINE_TRAJECTORY"})
+    EXPECT_NE(find(n), sigs.end()) << n;
+  for (const BlockSignature& b : sigs) {
+    const BlockTypeInfo* t = ::syncplc::builtin_blocks().find(b.name);
+    ASSERT_TRUE(t);
+    ASSERT_EQ(b.params.size(), t->params.size()) << b.name;
+    for (std::size_t k = 0; k < b.params.size(); ++k)
+      EXPECT_EQ(b.params[k].value.has_value(), !t->params[k].default_value.empty()) << b.name << "." << b.params[k].name;
+  }
+}
+
+// Issue 23: "every built-in block can be instanced and called from ST as an
+// FB". Each one (but the operators AND, OR, XOR, NOT, MOD), its parameters without a default at the lower end of their
+// range (1 where that is open), declared, called and run for a few scans.
+TEST(StVmBuiltins, EveryBuiltInBlockIsInstancedAndCalledFromSt) {
+  int blocks = 0;
+  for (const BlockSignature& b : vm::block_signatures(::syncplc::builtin_blocks())) {
+    // ST's operators (keywords): a graph block, not an FB name in ST.
+    if (b.name == "AND" || b.name == "OR" || b.name == "XOR" || b.name == "NOT" || b.name == "MOD") continue;
+    std::string params;
+    for (const auto& p : b.params) {
+      if (p.value) continue;
+      std::string v = p.type == "BOOL" ? "FALSE" : p.type == "TIME" ? "T#1s" : "1";
+      if (p.min && *p.min > 1) v = std::to_string(static_cast<long long>(*p.min));
+      params += (params.empty() ? "" : ", ") + p.name + " := " + v;
+    }
+    const std::string decl = "b : " + b.name + (params.empty() ? "" : " := (" + params + ")") + ";";
+    auto r = std::make_unique<StRun>(std::vector<std::string>{"PROGRAM Main\nVAR\n" + decl + "\nEND_VAR\nb();\nEND_PROGRAM\n"},
+                                     "Main");
+    EXPECT_TRUE(r->ok()) << decl << ": " << (r->errors.empty() ? "not instanced" : r->errors[0]);
+    if (r->ok()) r->scan(3);
+    ++blocks;
+  }
+  EXPECT_GT(blocks, 30);
+}
+
 }  // namespace vm_builtins
 }  // namespace syncplc::st::testing
