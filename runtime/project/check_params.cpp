@@ -1,7 +1,6 @@
 // Parameters and constant inputs: --set overrides applied, every value
 // parsed in its declared type and unit, ranges checked, array pins sized.
-#include <cstdio>
-
+#include "runtime/core/param_range.hpp"
 #include "runtime/project/stages.hpp"
 
 namespace syncplc {
@@ -54,13 +53,11 @@ void check_params(Declarations& p, Diagnostics& diags) {
         continue;
       }
       auto v = parse_literal(decl.type, decl.unit, text, loc, in.name + "." + decl.name, diags);
-      if (v && (decl.min || decl.max)) {
-        double x = cell_as_double(decl.type, *v);
-        if ((decl.min && x < *decl.min) || (decl.max && x > *decl.max)) {
-          auto fmt = [](double d) { char b[32]; std::snprintf(b, sizeof b, "%g", d); return std::string(b); };
-          diags.error(loc, in.name + "." + decl.name + " = " + text + " is outside its range " +
-                            (decl.min ? fmt(*decl.min) : "-inf") + " .. " + (decl.max ? fmt(*decl.max) : "inf") +
-                            (decl.unit.empty() ? "" : " " + decl.unit));
+      if (v) {
+        const std::string why = param_range_error(in.name + "." + decl.name, text, cell_as_double(decl.type, *v),
+                                                  decl.min, decl.max, decl.unit);
+        if (!why.empty()) {
+          diags.error(loc, why);
           v.reset();
         }
       }
@@ -73,11 +70,13 @@ void check_params(Declarations& p, Diagnostics& diags) {
       if (!decl.is_array()) continue;
       auto k = static_cast<std::size_t>(in.type->param_index(decl.length_param));
       double len = cell_as_double(in.type->params[k].type, in.param_cells[k]);
-      if (len < 1 || len > decl.max_length) {
+      const std::string why = pin_length_error(in.name + "." + decl.length_param,
+                                               format_value(in.type->params[k].type, in.param_cells[k]), len, decl.name,
+                                               decl.max_length);
+      if (!why.empty()) {
         SourceLoc loc = in.param(k) ? in.param(k)->loc : in.loc;
         if (in.override_of(k)) loc = SourceLoc{"command line", 0, 0};
-        diags.error(loc, in.name + "." + decl.length_param + " = " + format_value(in.type->params[k].type, in.param_cells[k]) +
-                          ": array pin " + decl.name + " needs 1.." + std::to_string(decl.max_length) + " elements");
+        diags.error(loc, why);
         in.params_ok = in.values_ok = false;
         break;
       }

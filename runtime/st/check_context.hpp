@@ -35,10 +35,22 @@ class Checker {
   const Type* resolve_spec(const TypeSpec& spec, const std::string& name_for_new);
   const Type* named_type(const std::string& name, const SourceLoc& loc);
   std::optional<std::int64_t> const_int(const Expr& e, const Type* want, const char* what);
-  void check_init(const Initializer& init, const Type* type);
+  // block_params: a built-in block's parameters may be named here (a
+  // declaration's own initializer; block_instance checked them).
+  void check_init(const Initializer& init, const Type* type, bool block_params = false);
   void declare_pou_variables(PouInfo& info, const Pou& pou);
   void declare_section(PouInfo* info, const VarSection& section, VarScope scope,
                        std::vector<std::unique_ptr<Variable>>& into);
+
+  // ---- built-in blocks (check_blocks.cpp) ----
+  void add_builtin(const BlockSignature& b);
+  std::vector<Pin> block_pins(const FbType& fb);  // array pins sized by fb's parameter values
+  // The type of `var`, a declared instance of built-in block `base`, with
+  // the parameters its initializer gives (error type when one is wrong or
+  // a parameter without a default is left out, each reported at its place).
+  const Type* block_instance(const Type* base, const Initializer& init, const std::string& var, const SourceLoc& loc);
+  // Reports (at loc) and returns true when t is a built-in block a parameter of which has no value.
+  bool incomplete_block(const Type* t, const SourceLoc& loc, std::string_view what);
 
   // ---- expressions (check_expr.cpp) ----
   Val expr(const Expr& e, const Type* want = nullptr);
@@ -93,6 +105,9 @@ class Checker {
   CheckedProgram& out_;
   TypeTable& types_;
   std::map<std::string, const Type*> fb_types_;       // by name_key: user and built-in FBs
+  std::map<std::string, std::vector<BlockSignature::PinSpec>> block_specs_;  // built-in blocks' pins, by block name
+  std::map<std::string, const Type*> block_instances_;  // built-in block types by their parameterization's name
+  std::map<std::pair<std::int64_t, const Type*>, const Type*> pin_arrays_;  // ARRAY[1..n] OF element
   std::map<std::string, PouInfo*> functions_;         // by name_key
   std::map<std::string, const Variable*> globals_;    // by name_key
   PouInfo* pou_ = nullptr;  // the POU being checked

@@ -97,22 +97,7 @@ const PouInfo* CheckedProgram::pou(std::string_view n) const {
 }
 
 Checker::Checker(CheckedProgram& out, const std::vector<BlockSignature>& blocks) : out_(out), types_(*out.types) {
-  for (const auto& b : blocks) {
-    FbType fb;
-    fb.name = b.name;
-    fb.builtin = true;
-    fb.doc = b.doc;
-    for (const auto& p : b.pins) {
-      const auto e = parse_elem(p.type);
-      fb.pins.push_back({p.name, p.output ? PinDir::Output : PinDir::Input, e ? elem(*e) : err(), {}});
-    }
-    const FbType* f = types_.add_fb(std::move(fb));
-    Type t;
-    t.kind = Type::Kind::FunctionBlock;
-    t.name = b.name;
-    t.fb = f;
-    fb_types_[name_key(b.name)] = types_.add(std::move(t));
-  }
+  for (const auto& b : blocks) add_builtin(b);
 }
 
 std::string Checker::suggestion(std::string_view n) {
@@ -219,7 +204,7 @@ const Type* Checker::resolve_spec(const TypeSpec& spec, const std::string& name_
         t.dims.push_back({*lo, *hi});
       }
       t.element = spec.element.empty() ? err() : resolve(spec.element[0], "");
-      if (!ok || t.element->is_error()) return err();
+      if (!ok || t.element->is_error() || incomplete_block(t.element, spec.loc, "an array")) return err();
       std::string dims;
       for (const auto& d : t.dims) dims += (dims.empty() ? "" : ",") + fmt::format("{}..{}", d.low, d.high);
       t.name = name_for_new.empty() ? fmt::format("ARRAY[{}] OF {}", dims, t.element->name) : name_for_new;
@@ -232,6 +217,7 @@ const Type* Checker::resolve_spec(const TypeSpec& spec, const std::string& name_
       t.name = name_for_new.empty() ? "STRUCT" : name_for_new;
       for (const auto& m : spec.members) {
         const Type* ft = resolve(m.type, "");
+        if (incomplete_block(ft, m.type.loc, "a field")) ft = err();
         if (m.init.kind != InitKind::None) check_init(m.init, ft);
         for (std::size_t i = 0; i < m.names.size(); ++i) {
           const SourceLoc& loc = i < m.name_locs.size() ? m.name_locs[i] : m.loc;
@@ -301,7 +287,7 @@ const Type* Checker::resolve_spec(const TypeSpec& spec, const std::string& name_
   return err();
 }
 
-void Checker::check_init(const Initializer& init, const Type* type) {
+void Checker::check_init(const Initializer& init, const Type* type, bool block_params) {
   if (type->is_error()) return;
   switch (init.kind) {
     case InitKind::None: return;
@@ -337,9 +323,24 @@ void Checker::check_init(const Initializer& init, const Type* type) {
           }
           check_init(f.value, field->type);
         } else {
-          const Pin* pin = type->fb->find(f.name);
+          const FbType& fb = *type->fb;
+          if (fb.builtin && fb.param(f.name)) {
+            if (!block_params)
+              error(f.loc, fmt::format("parameter '{}' of {}: a built-in block's parameters are given in the "
+                                       "declaration of an instance on its own, not inside an array or a structure",
+                                       f.name, fb.name));
+            continue;
+          }
+          const Pin* pin = fb.find(f.name);
           if (!pin || pin->dir == PinDir::InOut || pin->dir == PinDir::External) {
-            error(f.loc, fmt::format("'{}' has no input or variable '{}' to initialise", type->name, f.name));
+            std::vector<std::string_view> names;
+            for (const auto& x : fb.pins)
+              if (x.dir != PinDir::InOut && x.dir != PinDir::External) names.push_back(x.name);
+            for (const auto& x : fb.params) names.push_back(x.name);
+            const std::string best = closest_name(f.name, names);
+            error(f.loc, fmt::format("'{}' has no input{} or variable '{}' to initialise{}", type->name,
+                                     fb.builtin ? ", parameter" : "", f.name,
+                                     best.empty() ? "" : " (did you mean " + best + "?)"));
             continue;
           }
           check_init(f.value, pin->type);
@@ -378,14 +379,22 @@ void Checker::declare_section(PouInfo* info, const VarSection& section, VarScope
                               std::vector<std::unique_ptr<Variable>>& into) {
   for (const auto& d : section.decls) {
     const Type* t = resolve(d.type, "");
-    if (info && info->kind == PouKind::Function && t->kind == Type::Kind::FunctionBlock)
+    // A built-in block's instance: its type is that of the parameters its
+    // initializer gives (its inputs' initial values are still checked when
+    // a parameter is wrong, against the block's own type).
+    const Type* declared = t;
+    const bool in_function = info && info->kind == PouKind::Function;
+    if (in_function && t->kind == Type::Kind::FunctionBlock)
       error(d.type.loc, fmt::format("a FUNCTION keeps no state, so it cannot hold an instance of {}", t->name));
+    const bool instance = scope != VarScope::InOut && scope != VarScope::External && !in_function;
+    if (instance && t->kind == Type::Kind::FunctionBlock && t->fb->builtin && !d.names.empty())
+      t = block_instance(t, d.init, d.names[0], d.name_locs.empty() ? d.loc : d.name_locs[0]);
     if (scope == VarScope::InOut || scope == VarScope::External) {
       if (d.init.kind != InitKind::None)
         error(d.init.loc, fmt::format("a {} variable takes no initial value",
                                       scope == VarScope::InOut ? "VAR_IN_OUT" : "VAR_EXTERNAL"));
     } else {
-      check_init(d.init, t);
+      check_init(d.init, t->is_error() ? declared : t, true);
     }
     if (section.constant && d.init.kind == InitKind::None && scope != VarScope::External)
       error(d.loc, "a CONSTANT needs an initial value");

@@ -29,15 +29,6 @@
 
 namespace syncplc::st {
 
-// A folded constant: integers (also BOOL, bit strings, enumeration values)
-// exactly in 128 bits, reals as double, durations in nanoseconds (in i).
-struct ConstValue {
-  bool is_real = false;
-  Wide i = 0;
-  double r = 0;
-  double as_double() const { return is_real ? r : static_cast<double>(i); }
-};
-
 struct PouInfo;
 
 enum class VarScope { Local, Input, Output, InOut, Temp, External, Global, Return };

@@ -128,6 +128,18 @@ const Pin* FbType::find(std::string_view n) const {
   return nullptr;
 }
 
+const BlockSignature::ParamSpec* FbType::param(std::string_view n) const {
+  for (const auto& p : params)
+    if (same_name(p.name, n)) return &p;
+  return nullptr;
+}
+
+bool FbType::complete() const {
+  for (const auto& p : params)
+    if (!p.value) return false;
+  return true;
+}
+
 TypeTable::TypeTable() {
   Type err;
   err.kind = Type::Kind::Error;

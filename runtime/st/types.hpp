@@ -55,6 +55,15 @@ Wide max_value(Elem e);
 bool widens_to(Elem from, Elem to);
 
 
+// A folded constant: integers (also BOOL, bit strings, enumeration values)
+// exactly in 128 bits, reals as double, durations in nanoseconds (in i).
+struct ConstValue {
+  bool is_real = false;
+  Wide i = 0;
+  double r = 0;
+  double as_double() const { return is_real ? r : static_cast<double>(i); }
+};
+
 struct Type;
 
 struct ArrayDim {
@@ -91,28 +100,49 @@ struct Pin {
   SourceLoc loc;
 };
 
+// A built-in block's pins and parameters as the loader gives them (from the
+// BlockRegistry): type names are elementary type names ("BOOL", "TIME", …).
+struct BlockSignature {
+  struct PinSpec {
+    std::string name;
+    bool output = false;
+    std::string type;
+    // An array pin: ARRAY[1..n] OF type, n the value of this parameter ("": a scalar pin).
+    std::string length_param{};
+    std::uint32_t max_length = 0;
+  };
+  struct ParamSpec {
+    std::string name;
+    std::string type;
+    // Its value: the default in a signature (nullopt: none, it must be
+    // given), in an instance's own FbType the one its declaration gives.
+    // Durations in nanoseconds.
+    std::optional<ConstValue> value{};
+    std::optional<double> min{}, max{};  // its range, inclusive (durations in seconds), in `unit`
+    std::string unit{};
+  };
+  std::string name;
+  std::vector<PinSpec> pins;
+  std::string doc;
+  std::vector<ParamSpec> params{};
+};
+
 // A function block type: a user FUNCTION_BLOCK, or a built-in block given
-// through a BlockSignature.
+// through a BlockSignature. A built-in block whose parameters are given in
+// a declaration (`s : TRANSIENT_SYNC := (n := 4)`) has a type of its own
+// for each set of values (its array pins sized by them): `name` is the
+// block's, `params` hold the values.
 struct FbType {
   std::string name;
   bool builtin = false;
   std::vector<Pin> pins;
   std::string doc;
   SourceLoc loc;
-  const Pin* find(std::string_view name) const;  // case-insensitive
-};
-
-// A built-in block's pins as the loader gives them (from the BlockRegistry):
-// type names are elementary type names ("BOOL", "TIME", …).
-struct BlockSignature {
-  struct PinSpec {
-    std::string name;
-    bool output = false;
-    std::string type;
-  };
-  std::string name;
-  std::vector<PinSpec> pins;
-  std::string doc;
+  std::vector<BlockSignature::ParamSpec> params;  // built-in: in the registry's order
+  const Pin* find(std::string_view name) const;   // case-insensitive
+  const BlockSignature::ParamSpec* param(std::string_view name) const;  // case-insensitive
+  // A built-in block whose every parameter has a value (else it cannot be instanced as it is).
+  bool complete() const;
 };
 
 struct Type {

@@ -239,6 +239,77 @@ cases:
 // pin is: into a tag (and with it the Modbus map, trends, the HMI, retain of
 // the tag) or into another block's input. Writes from outside reach ST
 // through tags (VAR_EXTERNAL), so a variable is never a connection's end.
+TEST(StSources, AProgramInstancesTransientSyncWithItsParameterAsTheGraphDoes) {
+  // The same block with n := 4 in ST and in the graph, fed the same
+  // references: their positions differ by exactly 0 at every step, and all
+  // four axes arrive together.
+  temp_file("st_sync/axes.st", R"(
+PROGRAM Axes
+VAR_EXTERNAL go : BOOL; refs : ARRAY[1..4] OF LREAL; END_VAR
+VAR
+  sync : TRANSIENT_SYNC := (n := 4);
+  r : ARRAY[1..4] OF LREAL;
+  lim : ARRAY[1..4] OF LREAL := [4(1.0)]; nlim : ARRAY[1..4] OF LREAL := [4(-1.0)];
+  acc : ARRAY[1..4] OF LREAL := [4(2.0)]; nacc : ARRAY[1..4] OF LREAL := [4(-2.0)];
+  targets : ARRAY[1..4] OF LREAL := [0.5, -1.0, 1.5, 0.25];
+END_VAR
+IF go THEN r := targets; END_IF;
+refs := r;
+sync(r := r, v_min := nlim, v_max := lim, a_min := nacc, a_max := acc);
+END_PROGRAM
+)");
+  const std::string project = temp_file("st_sync/p.yaml", yaml(R"(
+tasks: [{name: main, period: 10ms}]
+sources: [axes.st]
+tags:
+  - {name: go, type: BOOL, hmi: readwrite}
+  - {name: refs, type: "ARRAY[1..4] OF LREAL"}
+  - {name: d2, type: LREAL}
+  - {name: d3, type: LREAL}
+programs:
+  - {name: prog, type: Axes, task: main}
+blocks:
+  - name: ts
+    type: TRANSIENT_SYNC
+    params: {n: 4}
+    inputs: {r_dot: 0, v_min: -1, v_max: 1, a_min: -2, a_max: 2}
+  - {name: diff2, type: SUB}
+  - {name: diff3, type: SUB}
+connections:
+  - refs -> ts.r
+  - prog.sync.x[2] -> diff2.IN1
+  - ts.x[2] -> diff2.IN2
+  - diff2.OUT -> d2
+  - prog.sync.x[3] -> diff3.IN1
+  - ts.x[3] -> diff3.IN2
+  - diff3.OUT -> d3
+)"));
+  const std::string tests = temp_file("st_sync/t.yaml", yaml(R"(
+cases:
+  - name: ST and the graph agree, and the axes arrive together
+    steps:
+      - at: 0ms
+        expect: {"prog.sync.x[2]": 0.0, d2: 0.0, prog.sync.synchronized: TRUE}
+      - at: 10ms
+        set: {go: TRUE}
+        expect: {prog.sync.synchronized: FALSE}
+      - at: 300ms
+        expect: {d2: 0.0, d3: 0.0}
+      - at: 900ms
+        expect: {d2: 0.0, d3: 0.0, prog.sync.synchronized: FALSE}
+      - at: 3000ms
+        expect: {"prog.sync.x[2]": -1.0, "prog.sync.x[3]": 1.5, d2: 0.0, d3: 0.0, prog.sync.synchronized: TRUE,
+                 prog.sync.spread: 0, prog.sync.windows: 1}
+)"));
+  const auto r = run_scan_tests(project, tests);
+  EXPECT_TRUE(r.ok()) << report_text(r);
+  auto l = load_project(project);
+  ASSERT_LOADS(l);
+  std::string why;
+  EXPECT_FALSE(l.program->resolve("prog.sync.x[5]", &why));
+  EXPECT_EQ(why, "prog.sync.x[5]: 'sync.x[5]': index 5 is outside 1..4");
+}
+
 TEST(StSources, InstanceVariablesFeedTagsAndPinsThroughConnections) {
   temp_file("st_conn/c.st", yaml(R"(
 PROGRAM Cell

@@ -239,11 +239,14 @@ struct CompiledPou {
 };
 
 // A built-in block embedded in a frame: created for every instance at
-// instantiation, its Block* stored in cell `at` and its pins in the cells
-// after it (one per pin of its type, in declaration order).
+// instantiation with the parameters of its FB type, its Block* stored in
+// cell `at` and pin k's cells from at + pin_at[k] (builtin_layout,
+// var_path.hpp: in declaration order, an array pin one cell per element).
 struct BlockSlot {
   const BlockTypeInfo* type = nullptr;
   std::uint32_t at = 0;
+  const FbType* fb = nullptr;  // the checker's type: parameter values, pin types
+  std::vector<std::uint32_t> pin_at;
 };
 
 // Everything compiled from a project's sources.

@@ -81,7 +81,7 @@ void CodeGen::fb_call(const Expr& e) {
     return;
   }
   auto pin_cell = [&](const Pin* pin) -> std::uint32_t {
-    if (b) return 1 + static_cast<std::uint32_t>(b->pin_index(pin->name));
+    if (b) return builtin_pin_at(t, pin->name);
     const VarSlot* s = slot(fp, pin->name);
     return s ? s->at : 0;
   };

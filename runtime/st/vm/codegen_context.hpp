@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "runtime/st/vm/codegen.hpp"
+#include "runtime/st/vm/var_path.hpp"
 
 namespace syncplc::st::vm {
 
@@ -64,6 +65,8 @@ class CodeGen {
   std::uint32_t cells_of(const Type* t);
   std::uint32_t fb_pou(const Type* fb_type);  // a user FB type's POU index
   const BlockTypeInfo* builtin(const Type* fb_type);
+  // The offset of pin `pin` of a built-in block instance from its cell (builtin_layout).
+  std::uint32_t builtin_pin_at(const Type* fb_type, std::string_view pin);
   void default_image(const Type* t, Cell* at, const std::string& spelt, std::uint32_t pou);
   void apply_init(const Initializer& init, const Type* t, Cell* at);
   void const_cells(const Expr& e, const Type* t, Cell* at);

@@ -103,8 +103,8 @@ Place CodeGen::place(const Expr& e) {
           off += cells_of(f.type);
         }
       } else if (bt && bt->kind == Type::Kind::FunctionBlock) {
-        if (const BlockTypeInfo* bi = builtin(bt)) {
-          off = 1 + static_cast<std::uint32_t>(bi->pin_index(e.name));
+        if (builtin(bt)) {
+          off = builtin_pin_at(bt, e.name);
         } else {
           const std::uint32_t fp = fb_pou(bt);
           lay_out(fp);

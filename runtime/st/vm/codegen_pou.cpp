@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "runtime/st/vm/block_signatures.hpp"
 #include "runtime/st/vm/codegen_context.hpp"
 #include "runtime/st/vm/st_string.hpp"
 #include "runtime/st/vm/vm.hpp"
@@ -96,6 +97,13 @@ const BlockTypeInfo* CodeGen::builtin(const Type* fb_type) {
   return blocks_->find(fb_type->fb->name);
 }
 
+std::uint32_t CodeGen::builtin_pin_at(const Type* fb_type, std::string_view pin) {
+  const BuiltinLayout l = builtin_layout(*fb_type->fb);
+  for (std::size_t k = 0; k < fb_type->fb->pins.size(); ++k)
+    if (same_name(fb_type->fb->pins[k].name, pin)) return l.pin_at[k];
+  return 0;
+}
+
 std::uint32_t CodeGen::cells_of(const Type* t) {
   switch (t->kind) {
     case Type::Kind::String: return static_cast<std::uint32_t>(string_cells(t->length, t->wide));
@@ -106,10 +114,7 @@ std::uint32_t CodeGen::cells_of(const Type* t) {
       return n;
     }
     case Type::Kind::FunctionBlock: {
-      if (t->fb->builtin) {
-        const BlockTypeInfo* b = builtin(t);
-        return b ? 1 + static_cast<std::uint32_t>(b->pins.size()) : 1;
-      }
+      if (t->fb->builtin) return builtin(t) ? builtin_layout(*t->fb).cells : 1;
       const std::uint32_t p = fb_pou(t);
       if (p == ~0u) return 1;
       compile_pou(p);
@@ -173,14 +178,26 @@ void CodeGen::default_image(const Type* t, Cell* at, const std::string& spelt, s
       const std::uint32_t off = static_cast<std::uint32_t>(at - out_->pous[pou].image.data());
       if (t->fb->builtin) {
         const BlockTypeInfo* b = builtin(t);
-        if (!b) break;
-        out_->block_slots[pou].push_back({b, off});
+        if (!b || b->pins.size() != t->fb->pins.size() || b->params.size() != t->fb->params.size()) break;
+        BuiltinLayout l = builtin_layout(*t->fb);
         for (std::size_t k = 0; k < b->pins.size(); ++k) {
           const PinDecl& pin = b->pins[k];
-          if (pin.init.empty()) continue;
-          std::string why;
-          if (const auto c = parse_value(pin.type, pin.init, &why)) at[1 + k] = *c;
+          std::optional<Cell> c;
+          if (!pin.tunes.empty()) {
+            // A tuning input starts at its parameter's value, so the block
+            // keeps the parameter until the program writes the input.
+            const auto q = static_cast<std::size_t>(b->param_index(pin.tunes));  // the registry made the pin from it
+            if (const auto& v = t->fb->params[q].value) c = param_cell(b->params[q].type, *v);
+          } else if (!pin.init.empty()) {
+            std::string why;
+            c = parse_value(pin.cls == TypeClass::Exact ? pin.type : b->default_datatype.value_or(pin.type), pin.init,
+                            &why);
+          }
+          if (!c) continue;
+          const std::uint32_t end = k + 1 < b->pins.size() ? l.pin_at[k + 1] : l.cells;
+          for (std::uint32_t i = l.pin_at[k]; i < end; ++i) at[i] = *c;  // an array pin: every element
         }
+        out_->block_slots[pou].push_back({b, off, t->fb, std::move(l.pin_at)});
         break;
       }
       const std::uint32_t p = fb_pou(t);
@@ -211,6 +228,10 @@ void CodeGen::apply_init(const Initializer& init, const Type* t, Cell* at) {
             if (same_name(fi.name, f.name)) apply_init(fi.value, f.type, at + off);
           off += cells_of(f.type);
         }
+      } else if (t->kind == Type::Kind::FunctionBlock && t->fb->builtin) {
+        // Its inputs' initial values (its parameters made its type).
+        for (const FieldInit& fi : init.fields)
+          if (const Pin* pin = t->fb->find(fi.name)) apply_init(fi.value, pin->type, at + builtin_pin_at(t, pin->name));
       } else if (t->kind == Type::Kind::FunctionBlock && !t->fb->builtin) {
         const std::uint32_t p = fb_pou(t);
         if (p == ~0u) return;

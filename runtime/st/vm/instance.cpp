@@ -7,28 +7,32 @@
 #include <fmt/format.h>
 
 #include "runtime/st/checker.hpp"
+#include "runtime/st/vm/block_signatures.hpp"
 
 namespace syncplc::st::vm {
 
 namespace {
 
 // What a built-in block's factory sees of an instance embedded in ST: every
-// input is given by the ST code (connected), parameters take their defaults.
+// input is given by the ST code (connected), the parameters and the array
+// pins' lengths are those of its FB type (its declaration's, checked).
 class EmbeddedSetup final : public BlockSetup {
  public:
-  EmbeddedSetup(std::string name, const BlockTypeInfo& type, const InstanceSetup& s)
-      : name_(std::move(name)), type_(type), setup_(s) {}
+  EmbeddedSetup(std::string name, const BlockTypeInfo& type, const FbType& fb, const InstanceSetup& s)
+      : name_(std::move(name)), type_(type), fb_(fb), setup_(s) {}
   const std::string& instance_name() const override { return name_; }
   const BlockTypeInfo& type() const override { return type_; }
   IecType datatype() const override { return type_.default_datatype.value_or(IecType::LREAL); }
   Cell param_cell(int index) const override {
-    const ParamDecl& p = type_.params[static_cast<std::size_t>(index)];
-    std::string why;
-    if (const auto c = parse_value(p.type, p.default_value, &why)) return *c;
-    return Cell{};
+    const auto k = static_cast<std::size_t>(index);
+    const auto& v = fb_.params[k].value;
+    return v ? vm::param_cell(type_.params[k].type, *v) : Cell{};
   }
   bool connected(int pin) const override { return type_.pins[static_cast<std::size_t>(pin)].dir == syncplc::PinDir::In; }
-  std::uint32_t pin_length(int) const override { return 1; }
+  std::uint32_t pin_length(int pin) const override {
+    const Type* t = fb_.pins[static_cast<std::size_t>(pin)].type;
+    return t->kind == Type::Kind::Array ? static_cast<std::uint32_t>(t->element_count()) : 1;
+  }
   std::int64_t task_period_ns() const override { return setup_.task_period_ns; }
   std::uint64_t seed() const override {
     std::uint64_t h = setup_.seed ^ 0x9E3779B97F4A7C15ull;  // the instance's name mixed in (FNV-1a)
@@ -44,6 +48,7 @@ class EmbeddedSetup final : public BlockSetup {
  private:
   std::string name_;
   const BlockTypeInfo& type_;
+  const FbType& fb_;
   const InstanceSetup& setup_;
   std::vector<std::string> errors_;
 };
@@ -72,26 +77,25 @@ void Instance::create_blocks(std::uint32_t pou, std::uint32_t at, const Instance
     for (const VarSlot& v : p.vars)
       if (s.at >= v.at && s.at < v.at + v.cells) member = v.name;
     const std::string name = path + "." + member;
-    for (const ParamDecl& d : s.type->params)
-      if (d.default_value.empty())
-        throw std::runtime_error(fmt::format("{} ({}): parameter '{}' has no default value, and ST cannot give one "
-                                             "(use the block in the project's blocks: instead)",
-                                             name, s.type->name, d.name));
-    EmbeddedSetup b(name, *s.type, setup);
+    // The checker gave every parameter its value (the declaration's or the
+    // default) or refused the program: this is a module out of step with it.
+    for (const auto& q : s.fb->params)
+      if (!q.value)
+        throw std::runtime_error(fmt::format("{} ({}): parameter '{}' has no value", name, s.type->name, q.name));
+    EmbeddedSetup b(name, *s.type, *s.fb, setup);
     std::unique_ptr<Block> block = s.type->create(b);
     if (!b.errors().empty() || !block)
       throw std::runtime_error(fmt::format("{} ({}): {}", name, s.type->name,
                                            b.errors().empty() ? "not created" : b.errors().front()));
-    const std::size_t n = s.type->pins.size();
-    auto pins = std::make_unique<Cell*[]>(n);
+    auto pins = std::make_unique<Cell*[]>(s.pin_at.size());
     Cell* cells = area_.data() + at + s.at;
-    for (std::size_t k = 0; k < n; ++k) pins[k] = cells + 1 + k;
+    for (std::size_t k = 0; k < s.pin_at.size(); ++k) pins[k] = cells + s.pin_at[k];
     block->bind_pins(pins.get());
     cells[0].raw = reinterpret_cast<std::uintptr_t>(block.get());
     block_at_.push_back(at + s.at);
     blocks_.push_back(std::move(block));
     pins_.push_back(std::move(pins));
-    pin_counts_.push_back(n);
+    slots_.push_back(&s);
   }
   for (const auto& [off, fb] : module_->nested[pou]) {
     std::string member;
@@ -121,7 +125,8 @@ void Instance::relocate(Cell* to, bool carry) noexcept {
   for (std::size_t k = 0; k < block_at_.size(); ++k) {
     Cell** pins = pins_[k].get();
     Cell* cells = frame_ + block_at_[k];
-    for (std::size_t i = 0; i < pin_counts_[k]; ++i) pins[i] = cells + 1 + i;
+    const std::vector<std::uint32_t>& pin_at = slots_[k]->pin_at;
+    for (std::size_t i = 0; i < pin_at.size(); ++i) pins[i] = cells + pin_at[i];
   }
 }
 

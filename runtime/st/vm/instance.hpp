@@ -26,7 +26,7 @@ struct InstanceSetup {
 class Instance {
  public:
   // Throws std::runtime_error naming the built-in block that cannot be
-  // created (a parameter without a default value).
+  // created (its factory refused its parameters).
   Instance(std::shared_ptr<const Module> module, std::uint32_t pou, const InstanceSetup& setup);
   Instance(const Instance&) = delete;
   Instance& operator=(const Instance&) = delete;
@@ -62,7 +62,7 @@ class Instance {
   std::vector<Cell> area_;  // the frame until relocated, the FUNCTIONs' frames, scratch
   Cell* frame_ = nullptr;
   std::vector<std::uint32_t> block_at_;
-  std::vector<std::size_t> pin_counts_;  // each built-in block's cell in the frame (its pins follow)
+  std::vector<const BlockSlot*> slots_;  // each built-in block's slot (its pins' layout)
   std::vector<std::unique_ptr<Block>> blocks_;
   std::vector<std::unique_ptr<Cell*[]>> pins_;
   std::vector<std::pair<std::uint32_t, std::string>> externals_;

@@ -133,9 +133,12 @@ void type_leaves(const Module& m, const Type* t, std::uint32_t at, const std::st
     }
     case Type::Kind::FunctionBlock:
       if (t->fb->builtin) {  // its pins; the Block* cell before them belongs to the instance
-        for (std::size_t k = 0; k < t->fb->pins.size(); ++k)
-          out.push_back({path + "." + t->fb->pins[k].name, t->fb->pins[k].type->name,
-                         at + 1 + static_cast<std::uint32_t>(k), 1, retain, persistent});
+        const BuiltinLayout l = builtin_layout(*t->fb);
+        for (std::size_t k = 0; k < t->fb->pins.size(); ++k) {
+          const Pin& pin = t->fb->pins[k];
+          out.push_back({path + "." + pin.name, pin.type->name, at + l.pin_at[k], frame_cells_of(m, pin.type), retain,
+                         persistent});
+        }
       } else if (const int fp = m.find(t->fb->name); fp >= 0) {
         leaves(m, static_cast<std::uint32_t>(fp), at, path + ".", out, depth + 1, retain, persistent);
       }

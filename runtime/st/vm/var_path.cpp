@@ -24,6 +24,16 @@ bool ident_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) || 
 
 }  // namespace
 
+BuiltinLayout builtin_layout(const FbType& fb) {
+  BuiltinLayout l;
+  l.pin_at.reserve(fb.pins.size());
+  for (const Pin& p : fb.pins) {
+    l.pin_at.push_back(l.cells);
+    l.cells += p.type->kind == Type::Kind::Array ? static_cast<std::uint32_t>(p.type->element_count()) : 1;
+  }
+  return l;
+}
+
 std::uint32_t frame_cells_of(const Module& m, const Type* t) {
   switch (t->kind) {
     case Type::Kind::String: return static_cast<std::uint32_t>(string_cells(t->length, t->wide));
@@ -34,7 +44,7 @@ std::uint32_t frame_cells_of(const Module& m, const Type* t) {
       return n;
     }
     case Type::Kind::FunctionBlock: {
-      if (t->fb->builtin) return 1 + static_cast<std::uint32_t>(t->fb->pins.size());
+      if (t->fb->builtin) return builtin_layout(*t->fb).cells;
       const int p = m.find(t->fb->name);
       return p < 0 ? 1 : std::max<std::uint32_t>(m.pous[static_cast<std::size_t>(p)].frame_cells, 1);
     }
@@ -114,7 +124,7 @@ std::optional<VarRef> resolve_path(const Module& m, std::uint32_t pou, std::stri
             ++k;
           }
           if (!found) return fail(fmt::format("{} has no pin '{}'{}", t->name, name, suggest(name, names)));
-          r.at += 1 + static_cast<std::uint32_t>(k);
+          r.at += builtin_layout(*t->fb).pin_at[static_cast<std::size_t>(k)];
           r.type = found->type;
           continue;
         }

@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "runtime/st/vm/code.hpp"
 
@@ -27,5 +28,16 @@ std::optional<VarRef> resolve_path(const Module& m, std::uint32_t pou, std::stri
 
 // Cells a value of type t takes in a frame (as the code generator lays it out).
 std::uint32_t frame_cells_of(const Module& m, const Type* t);
+
+// Where a built-in block instance's pins are in a frame, from its cell (the
+// Block*, at 0): the one layout the code generator, var_path and the
+// instance's binding share. Each pin takes its cells in declaration order,
+// an array pin one per element (pin_at[k] its first, the cell
+// Block::bind_pins points pin k at).
+struct BuiltinLayout {
+  std::vector<std::uint32_t> pin_at;
+  std::uint32_t cells = 1;  // the Block* cell and every pin's
+};
+BuiltinLayout builtin_layout(const FbType& fb);
 
 }  // namespace syncplc::st::vm
