@@ -1,6 +1,7 @@
 // libFuzzer harness on the Structured Text front end (runtime/st): any bytes
 // as a source file through the lexer, the parser, the AST dump and the type
-// checker (st::check, with a few built-in blocks as the loader gives them).
+// checker (st::check, with a few built-in blocks as the loader gives them,
+// one with array pins sized by a parameter).
 // The checker runs on every tree, also one with syntax errors: the parser's
 // recovery leaves partial declarations and expressions, and the checker must
 // take those too. Besides ASan/UBSan (and the stack: the nesting limit must
@@ -40,6 +41,14 @@ const std::vector<syncplc::st::BlockSignature>& blocks() {
       {"CTU",
        {{"CU", false, "BOOL"}, {"R", false, "BOOL"}, {"PV", false, "INT"}, {"Q", true, "BOOL"}, {"CV", true, "INT"}},
        ""},
+      // Array pins of the length a parameter gives, a required parameter
+      // and one with a default and a range (TRANSIENT_SYNC's shape): the
+      // declaration's parameters, `s : SYNC := (n := 3)`.
+      {"SYNC",
+       {{"r", false, "LREAL", "n", 1024}, {"x", true, "LREAL", "n", 1024}, {"done", true, "BOOL"}},
+       "",
+       {{"n", "DINT", std::nullopt, 1.0, 1024.0, ""},
+        {"t_f", "LREAL", syncplc::st::ConstValue{true, 0, 0.5}, 0.0, 100.0, "s"}}},
   };
   return b;
 }
