@@ -230,7 +230,9 @@ Val Checker::std_call(const Expr& e, const StdFunction& f, const Type*) {
   bool all_literal = true;
   Val::Lit lit_kind = Val::Lit::Int;
   for (auto& [a, p] : bound) {
-    Val v = expr(a->value, p->cls == ParamClass::Bool ? elem(Elem::BOOL) : nullptr);
+    Val v = expr(a->value, p->cls == ParamClass::Bool    ? elem(Elem::BOOL)
+                           : p->cls == ParamClass::Fixed ? elem(p->elem)
+                                                         : nullptr);
     if (v.error()) {
       ok = false;
       continue;
@@ -239,6 +241,7 @@ Val Checker::std_call(const Expr& e, const StdFunction& f, const Type*) {
     const std::string where = fmt::format("{} of {}", p->name, f.name);
     switch (p->cls) {
       case ParamClass::Bool: coerce(a->value, v, elem(Elem::BOOL), where); break;
+      case ParamClass::Fixed: coerce(a->value, v, elem(p->elem), where); break;
       case ParamClass::AnyInt:
       case ParamClass::AnyNum:
         if (v.lit == Val::Lit::Int || (v.lit == Val::Lit::Real && p->cls == ParamClass::AnyNum) ||
@@ -300,6 +303,7 @@ Val Checker::std_call(const Expr& e, const StdFunction& f, const Type*) {
     case ResultRule::T: result.type = t ? t : err(); break;
     case ResultRule::Int: result.type = elem(Elem::INT); break;
     case ResultRule::Dint: result.type = elem(Elem::DINT); break;
+    case ResultRule::Fixed: result.type = elem(f.result_elem); break;
   }
   return record(e, result);
 }

@@ -7,6 +7,11 @@ namespace {
 using P = ParamClass;
 using G = GenericClass;
 
+// IN1 of type a, IN2 of type b, the result of type r.
+StdFunction time_fn(std::string_view name, Elem a, Elem b, Elem r) {
+  return {name, GenericClass::None, {{"IN1", P::Fixed, a}, {"IN2", P::Fixed, b}}, false, 2, ResultRule::Fixed, r};
+}
+
 const std::vector<StdFunction>& table() {
   static const std::vector<StdFunction> t = {
       // Numeric (3rd edition, table 22)
@@ -48,6 +53,31 @@ const std::vector<StdFunction>& table() {
       {"REPLACE", G::AnyString, {{"IN1", P::T}, {"IN2", P::T}, {"L", P::AnyInt}, {"P", P::AnyInt}}, false, 4,
        ResultRule::T},
       {"FIND", G::AnyString, {{"IN1", P::T}, {"IN2", P::T}}, false, 2, ResultRule::Int},
+      // Time types (3rd edition, table 35): the operators by name.
+      time_fn("ADD_TIME", Elem::TIME, Elem::TIME, Elem::TIME),
+      time_fn("ADD_TOD_TIME", Elem::TOD, Elem::TIME, Elem::TOD),
+      time_fn("ADD_DT_TIME", Elem::DT, Elem::TIME, Elem::DT),
+      time_fn("SUB_TIME", Elem::TIME, Elem::TIME, Elem::TIME),
+      time_fn("SUB_DATE_DATE", Elem::DATE, Elem::DATE, Elem::TIME),
+      time_fn("SUB_TOD_TIME", Elem::TOD, Elem::TIME, Elem::TOD),
+      time_fn("SUB_TOD_TOD", Elem::TOD, Elem::TOD, Elem::TIME),
+      time_fn("SUB_DT_TIME", Elem::DT, Elem::TIME, Elem::DT),
+      time_fn("SUB_DT_DT", Elem::DT, Elem::DT, Elem::TIME),
+      {"MUL_TIME", G::None, {{"IN1", P::Fixed, Elem::TIME}, {"IN2", P::AnyNum}}, false, 2, ResultRule::Fixed, Elem::TIME},
+      {"DIV_TIME", G::None, {{"IN1", P::Fixed, Elem::TIME}, {"IN2", P::AnyNum}}, false, 2, ResultRule::Fixed, Elem::TIME},
+      time_fn("CONCAT_DATE_TOD", Elem::DATE, Elem::TOD, Elem::DT),
+      // Time types (3rd edition, table 36): a date, a time of day and a
+      // date and time from their fields, and a date's day of the week.
+      {"CONCAT_DATE", G::None, {{"YEAR", P::AnyInt}, {"MONTH", P::AnyInt}, {"DAY", P::AnyInt}}, false, 3,
+       ResultRule::Fixed, Elem::DATE},
+      {"CONCAT_TOD", G::None,
+       {{"HOUR", P::AnyInt}, {"MINUTE", P::AnyInt}, {"SECOND", P::AnyInt}, {"MILLISECOND", P::AnyInt}}, false, 4,
+       ResultRule::Fixed, Elem::TOD},
+      {"CONCAT_DT", G::None,
+       {{"YEAR", P::AnyInt}, {"MONTH", P::AnyInt}, {"DAY", P::AnyInt}, {"HOUR", P::AnyInt}, {"MINUTE", P::AnyInt},
+        {"SECOND", P::AnyInt}, {"MILLISECOND", P::AnyInt}},
+       false, 7, ResultRule::Fixed, Elem::DT},
+      {"DAY_OF_WEEK", G::None, {{"IN", P::Fixed, Elem::DATE}}, false, 1, ResultRule::Fixed, Elem::INT},
   };
   return t;
 }
@@ -86,6 +116,7 @@ bool in_generic_class(const Type* t, GenericClass c) {
     case GenericClass::AnyElementary:
       return e.has_value() || t->kind == Type::Kind::String || t->kind == Type::Kind::Enum;
     case GenericClass::AnyString: break;
+    case GenericClass::None: return false;
   }
   return false;
 }
@@ -98,6 +129,7 @@ std::string_view generic_class_name(GenericClass c) {
     case GenericClass::AnyBits: return "ANY_BIT (not BOOL)";
     case GenericClass::AnyElementary: return "ANY_ELEMENTARY";
     case GenericClass::AnyString: return "ANY_STRING";
+    case GenericClass::None: return "fixed types";
   }
   return "";
 }

@@ -13,21 +13,24 @@
 
 namespace syncplc::st {
 
-// The class of the generic type T of an entry.
-enum class GenericClass { AnyNum, AnyReal, AnyInt, AnyBits, AnyElementary, AnyString };
+// The class of the generic type T of an entry; None for the functions of
+// the time types, whose parameters have fixed types.
+enum class GenericClass { AnyNum, AnyReal, AnyInt, AnyBits, AnyElementary, AnyString, None };
 
 enum class ParamClass {
   T,       // of the shared generic type
   AnyInt,  // any integer type, independently of T (shift counts, lengths, MUX's selector)
   AnyNum,  // any number, independently of T (EXPT's exponent)
   Bool,
+  Fixed,   // of the type StdParam::elem
 };
 
-enum class ResultRule { T, Int, Dint };
+enum class ResultRule { T, Int, Dint, Fixed };
 
 struct StdParam {
   std::string_view name;
   ParamClass cls = ParamClass::T;
+  Elem elem = Elem::BOOL;  // Fixed
 };
 
 struct StdFunction {
@@ -39,6 +42,7 @@ struct StdFunction {
   bool variadic = false;
   std::size_t min_args = 0;
   ResultRule result = ResultRule::T;
+  Elem result_elem = Elem::BOOL;  // ResultRule::Fixed
 };
 
 // The entry named `name` (case-insensitive), or nullptr.

@@ -195,6 +195,10 @@ bool assignable(const Type* from, const Type* to) {
 
 std::string conversion_hint(const Type* from, const Type* to) {
   const auto f = from->scalar(), t = to->scalar();
+  // Of the date types only a DT converts (to its DATE and its TOD); no hint
+  // names a conversion the checker refuses (check_call.cpp).
+  const bool dates = (f && *f >= Elem::DATE) || (t && *t >= Elem::DATE);
+  if (dates && !(f == Elem::DT && (t == Elem::DATE || t == Elem::TOD))) return "";
   if (f && t) return std::string(elem_name(*f)) + "_TO_" + std::string(elem_name(*t));
   if (f && to->kind == Type::Kind::String)
     return std::string(elem_name(*f)) + (to->wide ? "_TO_WSTRING" : "_TO_STRING");

@@ -81,6 +81,8 @@ inline constexpr int kNumCount = 10;
   X(DT_TO_DATE)  /* a := the day of DT b, at its midnight (floored; before DATE's range: its first day, \
                     fault at its site) */                                                              \
   X(DT_TO_TOD)   /* a := the time of day of DT b (0 <= a < 24 h) */                                  \
+  X(DATEFN)      /* a := date function d (DateFn, date_fns.hpp) of the 64-bit integers from cell b   \
+                    (a fault at its site for fields out of range) */                                 \
   X(MATH1)       /* a := function d (b) (REAL/LREAL library function) */                           \
   X(MATH2)       /* a := function d (b, c) */                                                        \
   X(STRFN)       /* string function: descriptor d */                                                 \

@@ -6,6 +6,7 @@
 
 #include "runtime/core/iec_convert.hpp"
 #include "runtime/st/vm/codegen_context.hpp"
+#include "runtime/st/vm/date_fns.hpp"
 #include "runtime/st/vm/math_fns.hpp"
 #include "runtime/st/vm/st_string.hpp"
 
@@ -265,6 +266,7 @@ Operand CodeGen::std_call(const Expr& e, const ExprInfo& i, std::optional<std::u
     }
   }
   if (f.generic == GenericClass::AnyString) return string_call(e, i, f, into);
+  if (f.generic == GenericClass::None) return time_call(e, i, f, into);
   auto arg = [&](std::string_view name) -> const Expr* {
     for (const auto& [a, p] : bound)
       if (same_name(p->name, name)) return &a->value;
@@ -370,6 +372,49 @@ Operand CodeGen::std_call(const Expr& e, const ExprInfo& i, std::optional<std::u
   }
   error(e.loc, fmt::format("the code generator has no {}", name));
   return {0, i.type};
+}
+
+// The functions of the time types (tables 35 and 36): the operators by
+// name, as the operators compute them, and the date functions (DATEFN).
+Operand CodeGen::time_call(const Expr& e, const ExprInfo& i, const StdFunction& f, std::optional<std::uint32_t> into) {
+  const auto& bound = program_.std_args.at(&e);
+  // Evaluated in the order written, kept in the order of the parameters.
+  std::vector<Operand> v(f.params.size());
+  for (const auto& [a, p] : bound) {
+    const auto k = static_cast<std::size_t>(p - f.params.data());
+    const Operand x = expr(a->value);
+    v[k] = p->cls == ParamClass::Fixed ? convert(x, program_.types->elem(p->elem), a->value.loc) : x;
+  }
+  const std::string_view name = f.name;
+  const std::uint32_t dst = into ? *into : temp();
+  auto starts = [&](std::string_view prefix) { return name.size() > prefix.size() && same_name(name.substr(0, prefix.size()), prefix); };
+  if (starts("ADD_") || same_name(name, "CONCAT_DATE_TOD")) {
+    emit(Op::ADD_I64, dst, v[0].at, v[1].at);  // DATE + TOD: the day's midnight plus the time of day
+  } else if (starts("SUB_")) {
+    emit(Op::SUB_I64, dst, v[0].at, v[1].at);
+  } else if (same_name(name, "MUL_TIME") || same_name(name, "DIV_TIME")) {
+    // As TIME * k and TIME / k: a real factor rounds to the nanosecond and saturates.
+    const bool mul = same_name(name, "MUL_TIME");
+    const auto nf = num_of(v[1].type);
+    if (nf && (*nf == Num::F32 || *nf == Num::F64)) {
+      const Operand r = convert(v[1], program_.types->elem(Elem::LREAL), e.loc);
+      emit(Op::MATH2, dst, v[0].at, r.at, math2(mul ? time_mul_real : time_div_real));
+    } else {
+      emit(mul ? Op::MUL_I64 : Op::DIV_I64, dst, v[0].at, as_i64(v[1]).at, 0,
+           mul ? 0u : site(e.loc, "division by zero"));
+    }
+  } else {
+    const DateFn fn = same_name(name, "CONCAT_DATE")   ? DateFn::ConcatDate
+                      : same_name(name, "CONCAT_TOD")  ? DateFn::ConcatTod
+                      : same_name(name, "CONCAT_DT")   ? DateFn::ConcatDt
+                                                       : DateFn::DayOfWeek;
+    const auto n = static_cast<std::uint32_t>(v.size());
+    const std::uint32_t block = temp(n);
+    for (std::uint32_t k = 0; k < n; ++k) emit(Op::MOV, block + k, fn == DateFn::DayOfWeek ? v[k].at : as_i64(v[k]).at);
+    emit(Op::DATEFN, dst, block, 0, static_cast<std::uint32_t>(fn),
+         site(e.loc, fmt::format("{}: {}", name, fn == DateFn::DayOfWeek ? "no such day" : "a field out of its range, or a date DATE does not hold")));
+  }
+  return {dst, i.type};
 }
 
 Operand CodeGen::string_call(const Expr& e, const ExprInfo& i, const StdFunction& f, std::optional<std::uint32_t> into) {

@@ -108,6 +108,7 @@ class CodeGen {
   Operand call(const Expr& e, std::optional<std::uint32_t> into);
   Operand std_call(const Expr& e, const ExprInfo& i, std::optional<std::uint32_t> into);
   Operand string_call(const Expr& e, const ExprInfo& i, const StdFunction& f, std::optional<std::uint32_t> into);
+  Operand time_call(const Expr& e, const ExprInfo& i, const StdFunction& f, std::optional<std::uint32_t> into);
   Operand conversion(const Expr& e, const ExprInfo& i, std::optional<std::uint32_t> into);
   Operand user_function(const Expr& e, const ExprInfo& i, std::optional<std::uint32_t> into);
   void fb_call(const Expr& e);

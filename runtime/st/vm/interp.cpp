@@ -13,6 +13,7 @@
 #include <type_traits>
 
 #include "runtime/core/finite_guard.hpp"
+#include "runtime/st/vm/date_fns.hpp"
 #include "runtime/st/vm/strings_op.hpp"
 #include "runtime/st/vm/vm.hpp"
 
@@ -387,6 +388,12 @@ L_DT_TO_TOD: {
   const std::int64_t dt = rd<std::int64_t>(f[ip->b]);
   const std::int64_t r = dt % kDay;
   wr<std::int64_t>(f[ip->a], r < 0 ? r + kDay : r);
+  NEXT();
+}
+L_DATEFN: {
+  bool fault = false;
+  f[ip->a] = date_fn(static_cast<DateFn>(ip->d), f + ip->b, &fault);
+  if (fault) vm.fault(ip->site);
   NEXT();
 }
 L_MATH1:
