@@ -210,6 +210,11 @@ struct BlockTypeInfo {
   struct Variable {
     std::uint32_t element = 0;
     IecType type = IecType::LREAL;
+    // Why a write from outside would not take ("" when it would): a VAR
+    // CONSTANT, a VAR_TEMP.
+    std::string read_only{};
+    // A subrange's bounds: a write outside them is refused.
+    std::optional<std::pair<std::int64_t, std::int64_t>> range{};
   };
   int variables_pin = -1;
   std::function<std::optional<Variable>(std::string_view path, std::string* error)> variable{};
@@ -224,6 +229,17 @@ struct BlockTypeInfo {
     bool persistent = false;  // declared PERSISTENT: also across loading a changed project
   };
   std::vector<VariableLeaf> variable_leaves{};
+  // Its variables to monitor, element by element with their real indices
+  // ("count", "t.ET", "grid[1, 2]", "pts[2].x"; not the pins, not strings),
+  // made once with the type; at most kMaxMonitored, and how many more.
+  struct Monitored {
+    std::string path;
+    std::uint32_t element = 0;
+    IecType type = IecType::LREAL;
+  };
+  static constexpr std::size_t kMaxMonitored = 1024;
+  std::vector<Monitored> monitored{};
+  std::size_t monitored_left_out = 0;
 
   int pin_index(std::string_view pin) const;
   // Whether instance.member names one of the type's variables rather than a

@@ -75,6 +75,9 @@ DurationScan scan_duration(std::string_view s) noexcept {
   bool any = false;
   int last_rank = 100;
   while (i < s.size()) {
+    // Underscores may stand anywhere between the parts, as in a number.
+    while (i < s.size() && s[i] == '_') ++i;
+    if (i == s.size()) break;
     std::size_t j = i;
     while (j < s.size() && (digit(s[j]) || s[j] == '.' || s[j] == '_')) ++j;
     if (j == i) return fail(DurationFault::MissingNumber);
@@ -91,8 +94,14 @@ DurationScan scan_duration(std::string_view s) noexcept {
     const auto [end, ec] = std::from_chars(buf, buf + n, num);
     if (n == 0 || ec != std::errc() || end != buf + n) return fail(DurationFault::BadNumber);
     std::size_t k = j;
-    while (k < s.size() && letter(s[k])) ++k;
-    if (k == j) {
+    char unit[4];
+    std::size_t unit_len = 0;
+    while (k < s.size() && (letter(s[k]) || s[k] == '_')) {
+      if (s[k] != '_' && unit_len < sizeof unit) unit[unit_len] = s[k];
+      unit_len += s[k] != '_';
+      ++k;
+    }
+    if (unit_len == 0) {
       std::size_t u = k;
       while (u < s.size() && blank(s[u])) ++u;
       if (u > k && u < s.size() && letter(s[u])) {
@@ -103,7 +112,7 @@ DurationScan scan_duration(std::string_view s) noexcept {
       }
       return fail(DurationFault::MissingUnit);
     }
-    const UnitScale scale = unit_scale(s.substr(j, k - j));
+    const UnitScale scale = unit_len <= sizeof unit ? unit_scale(std::string_view(unit, unit_len)) : UnitScale{0, -1};
     if (scale.rank < 0) {
       r.unit = s.substr(j, k - j);
       return fail(DurationFault::UnknownUnit);

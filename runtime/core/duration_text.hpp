@@ -31,8 +31,9 @@ struct DurationScan {
 
 // Reads `text`: blanks around it, an optional T#, TIME#, LT# or LTIME#
 // prefix (any case), a sign, then number-unit pairs (d, h, m or min, s, ms,
-// us, ns; numbers may have a fraction and underscores), largest unit first;
-// rounded to the nearest nanosecond.
+// us, ns; numbers may have a fraction), largest unit first, underscores
+// anywhere after the prefix ignored; rounded to the nearest nanosecond. A
+// number of more than 64 characters is refused (BadNumber).
 DurationScan scan_duration(std::string_view text) noexcept;
 
 // Room write_duration needs: "-2562047h47m16s854ms775us808ns".

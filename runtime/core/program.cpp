@@ -33,7 +33,8 @@ int Program::find_driver(const std::string& n) const {
   return -1;
 }
 
-std::optional<CellRef> Program::resolve_variable(const std::string& text, bool* names_one, std::string* error) const {
+std::optional<CellRef> Program::resolve_variable(const std::string& text, bool* names_one, std::string* error,
+                                                 BlockTypeInfo::Variable* info) const {
   *names_one = false;
   const auto dot = text.find('.');
   if (dot == std::string::npos) return std::nullopt;
@@ -51,6 +52,7 @@ std::optional<CellRef> Program::resolve_variable(const std::string& text, bool* 
     if (error) *error = it->first + "." + rest + ": " + why;
     return std::nullopt;
   }
+  if (info) *info = *v;
   CellRef r;
   r.task = it->second.first;
   r.cell = bi.pin_cell[static_cast<std::size_t>(bi.type->variables_pin)] + v->element;

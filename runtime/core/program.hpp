@@ -150,11 +150,10 @@ struct InstanceInfo {
   std::string task;
   std::uint32_t position = 0;  // in the task's execution order
   std::vector<PinInfo> pins;   // in declaration order; not the hidden "(variables)" pins of an ST POU
-  // Its variables, leaf by leaf, one-dimensional arrays element by element
-  // (up to kMaxShownElements of each); strings and deeper arrays are
-  // addressed by hand (instance.path).
+  // Its variables that are not pins, element by element (BlockTypeInfo::
+  // monitored: at most kMaxMonitored; strings are addressed by hand).
   std::vector<VariableInfo> variables;
-  static constexpr std::size_t kMaxShownElements = 64;
+  std::size_t variables_left_out = 0;
 };
 
 // How long a read keeps a task's pins monitored after it (Program::read_value).
@@ -198,7 +197,9 @@ class Program {
   // "cell.fb.q", "cell.arr[2]"), not a pin: its cell, or nullopt with
   // *names_one telling whether `ref` names such a variable at all (then
   // *error says what is wrong with it).
-  std::optional<CellRef> resolve_variable(const std::string& ref, bool* names_one, std::string* error) const;
+  // *info (when given): what else the type says of it (read only, a range).
+  std::optional<CellRef> resolve_variable(const std::string& ref, bool* names_one, std::string* error,
+                                          BlockTypeInfo::Variable* info = nullptr) const;
   // Instance name -> (task, position in execution order).
   std::map<std::string, std::pair<std::uint16_t, std::uint32_t>> instances;
 

@@ -2,9 +2,6 @@
 // the published snapshots, pins from the tasks' pin monitors, and the list
 // of block instances with their pins and variables.
 #include <algorithm>
-#include <cinttypes>
-#include <cstdio>
-#include <string>
 
 #include "runtime/core/program.hpp"
 
@@ -36,38 +33,6 @@ std::optional<ValueStamp> Program::read_value(const CellRef& r, Cell* out, std::
   return ValueStamp{taken, release_ns};
 }
 
-namespace {
-
-// "ARRAY[1..3] OF LREAL" -> 1, 3; nullopt for anything else (more
-// dimensions, not an array).
-std::optional<std::pair<std::int64_t, std::int64_t>> one_dimension(const std::string& type) {
-  std::int64_t low = 0, high = 0;
-  int used = 0;
-  if (std::sscanf(type.c_str(), "ARRAY[%" SCNd64 "..%" SCNd64 "] OF %n", &low, &high, &used) != 2 || used == 0)
-    return std::nullopt;
-  return std::pair{low, high};
-}
-
-// Each elementary leaf of the instance's variables, as the type resolves it.
-void variables_of(const BlockInstance& bi, std::uint16_t task, std::vector<VariableInfo>& out) {
-  const std::uint32_t base = bi.pin_cell[static_cast<std::size_t>(bi.type->variables_pin)];
-  auto add = [&](const std::string& path) {
-    std::string why;
-    if (const auto v = bi.type->variable(path, &why))
-      out.push_back({path, v->type, CellRef{task, base + v->element, v->type, 1}});
-  };
-  for (const auto& leaf : bi.type->variable_leaves) {
-    if (leaf.count == 1) {
-      add(leaf.path);
-    } else if (const auto dim = one_dimension(leaf.type)) {
-      const std::int64_t last = std::min(dim->second, dim->first + static_cast<std::int64_t>(InstanceInfo::kMaxShownElements) - 1);
-      for (std::int64_t i = dim->first; i <= last; ++i) add(leaf.path + "[" + std::to_string(i) + "]");
-    }
-  }
-}
-
-}  // namespace
-
 std::vector<InstanceInfo> Program::block_instances() const {
   std::vector<InstanceInfo> out;
   for (std::size_t ti = 0; ti < tasks.size(); ++ti) {
@@ -91,7 +56,13 @@ std::vector<InstanceInfo> Program::block_instances() const {
                          q < bi.pin_length.size() ? bi.pin_length[q] : 1};
         info.pins.push_back(std::move(p));
       }
-      if (bi.type->variables_pin >= 0) variables_of(bi, static_cast<std::uint16_t>(ti), info.variables);
+      if (bi.type->variables_pin >= 0) {
+        // The type's list, made once with it (BlockTypeInfo::monitored).
+        const std::uint32_t base = bi.pin_cell[static_cast<std::size_t>(bi.type->variables_pin)];
+        for (const auto& v : bi.type->monitored)
+          info.variables.push_back({v.path, v.type, CellRef{static_cast<std::uint16_t>(ti), base + v.element, v.type, 1}});
+        info.variables_left_out = bi.type->monitored_left_out;
+      }
       out.push_back(std::move(info));
     }
   }

@@ -338,10 +338,14 @@ Val Checker::conversion_call(const Expr& e, const Conversion& c) {
   const bool from_date = fe && *fe >= Elem::DATE, to_date = c.to && *c.to >= Elem::DATE;
   if ((from_date || to_date) && !(fe && c.to && *fe == *c.to) &&
       !(fe == Elem::DT && (c.to == Elem::DATE || c.to == Elem::TOD))) {
+    const std::string origin = fe == Elem::TOD ? "TOD#00:00:00" : fe == Elem::DT ? "DT#1970-01-01-00:00:00" : "D#1970-01-01";
     error(e.loc, fmt::format("{}: a DATE, TOD or DT converts only as DT_TO_DATE and DT_TO_TOD (IEC 61131-3 "
-                             "Table 22); build one with its arithmetic: DT#1970-01-01-00:00:00 + T#..., "
-                             "TOD#00:00:00 + T#...",
-                             e.name));
+                             "Table 22); {}",
+                             e.name,
+                             from_date && !to_date
+                                 ? fmt::format("its number is a duration's: TIME_TO_LINT(x - {}) (milliseconds)", origin)
+                                 : std::string("build one from its fields (CONCAT_DATE, CONCAT_TOD, CONCAT_DT) or "
+                                               "with its arithmetic (DT#1970-01-01-00:00:00 + T#...)")));
     return record(e, {err()});
   }
   return record(e, {to});

@@ -1,6 +1,7 @@
 // Writes and forces (docs/http-api.md, "Changing the PLC"): through the
 // owning task's write queue, as Modbus writes go; every one an event naming
 // the user and the client.
+#include <type_traits>
 #include <vector>
 
 #include "runtime/core/tag_limits.hpp"
@@ -121,10 +122,15 @@ bool variable_write(const Program& p, const std::string& name, const Session& wh
                     http::Response& res, std::string* event, std::string* task) {
   bool names_one = false;
   std::string why;
-  const auto r = p.resolve_variable(name, &names_one, &why);
+  BlockTypeInfo::Variable info;
+  const auto r = p.resolve_variable(name, &names_one, &why, &info);
   if (!names_one) return false;
   if (!r) {
     send_error(res, 404, why);
+    return true;
+  }
+  if (!info.read_only.empty()) {
+    send_error(res, 409, name + " cannot be written: " + info.read_only);
     return true;
   }
   if (who.role < Role::Engineer) {
@@ -143,6 +149,19 @@ bool variable_write(const Program& p, const std::string& name, const Session& wh
   if (!cell) {
     send_error(res, 400, name + ": " + why);
     return true;
+  }
+  if (info.range) {  // a subrange: what an assignment in ST would keep it in
+    // Subranges are of integer types; the value as the ST checker compares it (64-bit signed).
+    const std::int64_t x = dispatch_type(r->type, [&]<IecType T>() -> std::int64_t {
+      using N = typename Native<T>::type;
+      if constexpr (std::is_integral_v<N>) return static_cast<std::int64_t>(cell->get<N>());
+      else return 0;
+    });
+    if (x < info.range->first || x > info.range->second) {
+      send_error(res, 400, name + ": " + std::to_string(x) + " is outside its subrange " +
+                               std::to_string(info.range->first) + ".." + std::to_string(info.range->second));
+      return true;
+    }
   }
   const QueuedWrite w{r->cell, *cell};
   if (!p.tasks[r->task]->enqueue(&w, 1)) {

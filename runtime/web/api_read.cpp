@@ -17,15 +17,21 @@ namespace syncplc::web {
 namespace {
 
 std::vector<std::string> split_refs(const std::string& text) {
+  // Commas between references; a comma inside [] separates the indexes of
+  // one element of a multi-dimensional array ("cell.grid[1, 2]").
   std::vector<std::string> out;
-  std::size_t at = 0;
-  while (at <= text.size()) {
-    const std::size_t comma = text.find(',', at);
-    std::string r = text.substr(at, comma == std::string::npos ? std::string::npos : comma - at);
-    if (!r.empty()) out.push_back(std::move(r));
-    if (comma == std::string::npos) break;
-    at = comma + 1;
+  std::string r;
+  int depth = 0;
+  for (char c : text) {
+    if (c == ',' && depth == 0) {
+      if (!r.empty()) out.push_back(std::move(r));
+      r.clear();
+      continue;
+    }
+    depth += c == '[' ? 1 : c == ']' && depth > 0 ? -1 : 0;
+    r.push_back(c);
   }
+  if (!r.empty()) out.push_back(std::move(r));
   return out;
 }
 

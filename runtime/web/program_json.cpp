@@ -136,6 +136,7 @@ nlohmann::json instance_json(Program& p, const InstanceInfo& b, const ForcedCell
     }
     j["variables"] = std::move(vars);
   }
+  if (b.variables_left_out) j["variables_left_out"] = b.variables_left_out;
   return j;
 }
 

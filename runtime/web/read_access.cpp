@@ -21,6 +21,24 @@ HiddenCells::HiddenCells(const Program& p) {
       if (!h[cell + k]) h[cell + k] = changed = true;
     return changed;
   };
+  // An ST instance holds each input and output twice: in its pin and in
+  // its variables (the frame the code runs on): hidden together.
+  struct Twin {
+    std::size_t task;
+    std::uint32_t pin, variable;
+  };
+  std::vector<Twin> twins;
+  for (std::size_t t = 0; t < p.tasks.size(); ++t)
+    for (const BlockInstance& b : p.tasks[t]->blocks) {
+      if (b.type->variables_pin < 0 || !b.type->variable) continue;
+      const std::uint32_t base = b.pin_cell[static_cast<std::size_t>(b.type->variables_pin)];
+      for (std::size_t q = 0; q < b.type->pins.size(); ++q) {
+        const PinDecl& d = b.type->pins[q];
+        if (d.name.empty() || d.name.front() == '(' || d.is_array()) continue;
+        std::string why;
+        if (const auto v = b.type->variable(d.name, &why)) twins.push_back({t, b.pin_cell[q], base + v->element});
+      }
+    }
   bool any_hidden = false;
   for (const Tag& tag : p.tags)
     if (tag.hmi == HmiAccess::None && tag.owner < hidden_.size()) any_hidden |= mark(tag.owner, tag.cell, tag.length);
@@ -33,6 +51,11 @@ HiddenCells::HiddenCells(const Program& p) {
       for (const Inbound& ib : task.inbound)  // a tag read by another task: its copy there
         for (const CellCopy& c : ib.copies)
           if (ib.producer < hidden_.size() && any(ib.producer, c.src, c.n)) changed |= mark(t, c.dst, c.n);
+      for (const Twin& w : twins)
+        if (w.task == t) {
+          if (any(t, w.pin, 1)) changed |= mark(t, w.variable, 1);
+          if (any(t, w.variable, 1)) changed |= mark(t, w.pin, 1);
+        }
       for (const BlockInstance& b : task.blocks) {
         for (const CellCopy& c : b.copy_in)  // tag or pin -> input pin
           if (any(t, c.src, c.n)) changed |= mark(t, c.dst, c.n);

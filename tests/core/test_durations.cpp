@@ -117,6 +117,9 @@ namespace {
 TEST(DurationText, FaultsSayWhatIsWrong) {
   EXPECT_EQ(scan_duration("T#1m30s").ns, 90'000'000'000);
   EXPECT_EQ(scan_duration(" 1_000ms ").ns, 1'000'000'000);
+  EXPECT_EQ(scan_duration("T#1s_").ns, 1'000'000'000);        // as the project files always read it
+  EXPECT_EQ(scan_duration("T#1m_30s").ns, 90'000'000'000);
+  EXPECT_EQ(scan_duration("1m_s").ns, 1'000'000);  // the unit ms, an underscore in it
   EXPECT_EQ(scan_duration("ltime#-1.5s").ns, -1'500'000'000);
   EXPECT_EQ(scan_duration("T#").fault, DurationFault::Empty);
   EXPECT_EQ(scan_duration("-").fault, DurationFault::Empty);

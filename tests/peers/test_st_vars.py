@@ -58,14 +58,25 @@ def main():
     login(api, "olga")
     api.expect(403, "PUT", "/tags/cell.scale", {"value": 2.0}, what="an operator writes an ST variable")
     login(api, "erik")
-    api.expect(404, "PUT", "/tags/cell.scael", {"value": 2.0}, what="a misspelt variable")
+    j = api.expect(404, "PUT", "/tags/cell.scal", {"value": 2.0}, what="a misspelt variable")
+    assert "did you mean scale?" in j["error"], j
+    # What a write could not change: a constant the code has compiled in; a
+    # subrange's bounds hold as an assignment in ST keeps them.
+    j = api.expect(409, "PUT", "/tags/cell.limit", {"value": 1.0}, what="a VAR CONSTANT")
+    assert "VAR CONSTANT" in j["error"], j
+    j = api.expect(400, "PUT", "/tags/cell.pct", {"value": 150}, what="outside the subrange")
+    assert "outside its subrange 0..100" in j["error"], j
+    api.expect(200, "PUT", "/tags/cell.pct", {"value": 60}, what="inside the subrange")
     api.expect(400, "PUT", "/tags/cell.scale", {"value": "fast"}, what="not a number")
     j = api.expect(200, "PUT", "/tags/cell.scale", {"value": 2.0}, what="an engineer writes an ST variable")
     assert j["tag"] == "cell.scale" and j["task"] == "main", j
     peerlib.wait_until(lambda: (lambda v: (v["values"]["cell.scale"] == 2.0, v))(
         api.expect(200, "GET", "/values?refs=cell.scale")), "cell.scale written")
-    level = mb.read_values(110, ["LREAL"], table="input")[0]
-    assert level * 0.5 == int(level * 0.5) and level <= 198.0, level  # scans MOD 100 * 2.0
+    # level := (scans MOD 100) * scale, both read from one scan.
+    def scaled():
+        v = api.expect(200, "GET", "/values?refs=cell.level,cell.scans")["values"]
+        return v["cell.level"] == (v["cell.scans"] % 100) * 2.0, v
+    peerlib.wait_until(scaled, "cell.level = (cell.scans MOD 100) * 2.0")
     before = api.expect(200, "GET", "/values?refs=cell.scans")["values"]["cell.scans"]
     api.expect(200, "PUT", "/tags/cell.scans", {"value": 1000000}, what="a variable the program counts on from")
     peerlib.wait_until(lambda: (lambda v: (v >= 1000000, v))(mb.read_values(100, ["DINT"], table="input")[0]),

@@ -31,7 +31,21 @@ TEST(StVmDates, ADateAndTimeSplitsIntoItsDayAndItsTimeOfDay) {
   EXPECT_TRUE(r->fault_texts().empty());
 }
 
-TEST(StVmDates, TheFirstMinutesOfDtHaveNoDateAndFault) {
+TEST(StVmDates, DtsFirstDayHasNoDateAndFaultsItsNeighboursDoNot) {
+  auto r = run_program("d1, d2, d3 : DATE; ok : ARRAY[1..3] OF BOOL;",
+                       "d1 := DT_TO_DATE(DT#1677-09-21-23:59:59.999999999);\n"
+                       "d2 := DT_TO_DATE(DT#1677-09-22-00:00:00);\n"
+                       "d3 := DT_TO_DATE(DT#2262-04-11-23:47:16.854775807);\n"
+                       "ok[1] := d1 = D#1677-09-22; ok[2] := d2 = D#1677-09-22; ok[3] := d3 = D#2262-04-11;");
+  ASSERT_TRUE(r->ok()) << r->errors.front();
+  ASSERT_TRUE(r->scan());
+  for (int k = 1; k <= 3; ++k) EXPECT_TRUE(r->get<bool>("ok[" + std::to_string(k) + "]")) << k;
+  const auto f = r->fault_texts();
+  ASSERT_EQ(f.size(), 1u);  // the first only
+  EXPECT_THAT(f[0], HasSubstr("at t0.st:5:7"));
+}
+
+TEST(StVmDates, TheEarliestDtHasNoDateAndFaults) {
   auto r = run_program("d : DATE; t : TOD; first : BOOL;",
                        "d := DT_TO_DATE(DT#1677-09-21-00:12:44);\nt := DT_TO_TOD(DT#1677-09-21-00:12:44);\n"
                        "first := d = D#1677-09-22;");
@@ -51,9 +65,11 @@ TEST(StVmDates, OtherConversionsOfDatesAreRefusedWithTheWayToBuildOne) {
       "Main");
   ASSERT_EQ(r->errors.size(), 5u);
   EXPECT_THAT(r->errors[0], HasSubstr("t0.st:5:6: LINT_TO_DATE: a DATE, TOD or DT converts only as DT_TO_DATE and "
-                                      "DT_TO_TOD (IEC 61131-3 Table 22); build one with its arithmetic: "
-                                      "DT#1970-01-01-00:00:00 + T#..., TOD#00:00:00 + T#..."));
-  EXPECT_THAT(r->errors[1], HasSubstr("t0.st:6:6: DATE_TO_LINT"));
+                                      "DT_TO_TOD (IEC 61131-3 Table 22); build one from its fields (CONCAT_DATE, "
+                                      "CONCAT_TOD, CONCAT_DT) or with its arithmetic (DT#1970-01-01-00:00:00 + T#...)"));
+  EXPECT_THAT(r->errors[1], HasSubstr("t0.st:6:6: DATE_TO_LINT: a DATE, TOD or DT converts only as DT_TO_DATE and "
+                                      "DT_TO_TOD (IEC 61131-3 Table 22); its number is a duration's: "
+                                      "TIME_TO_LINT(x - D#1970-01-01) (milliseconds)"));
   EXPECT_THAT(r->errors[2], HasSubstr("t0.st:7:6: DT_TO_STRING"));
   EXPECT_THAT(r->errors[3], HasSubstr("t0.st:8:6: DATE_TO_DT"));
   EXPECT_THAT(r->errors[4], HasSubstr("t0.st:9:6: TO_DT"));

@@ -323,8 +323,32 @@ TEST(StVmFused, TheClampingIfIsOneInstructionWithTheIfsResults) {
         EXPECT_TRUE(same(r->get<double>("y"), lower_first(x, lo, hi))) << "y" << at;
         EXPECT_TRUE(same(r->get<double>("z"), x > hi ? lo : (x < lo ? hi : x))) << "z" << at;
         EXPECT_TRUE(same(r->get<double>("w"), upper_first(x, lo, hi))) << "w" << at;
+        // v's second test reads x, as the first statement left it.
+        const double x1 = upper_first(x, lo, hi);
+        EXPECT_TRUE(same(r->get<double>("v"), x > hi ? hi : (x1 < lo ? lo : x))) << "v" << at;
         EXPECT_EQ(r->get<bool>("flag"), !(x > hi) && !(x < lo)) << at;
       }
+  // In a FUNCTION's frame, on REAL and on an unsigned type, and with a bound that is x itself.
+  auto f = run_program("a : REAL; u : UDINT; k : LREAL; lo2, hi2 : LREAL;",
+                       "a := Clip(a); IF u > 10 THEN u := 10; ELSIF u < 3 THEN u := 3; END_IF;\n"
+                       "IF k > k THEN k := k; ELSIF k < lo2 THEN k := lo2; END_IF;",
+                       "FUNCTION Clip : REAL\nVAR_INPUT v : REAL; END_VAR\n"
+                       "IF v > 1.5 THEN v := 1.5; ELSIF v < -1.5 THEN v := -1.5; END_IF;\nClip := v;\nEND_FUNCTION");
+  ASSERT_TRUE(f->ok());
+  EXPECT_EQ(count_op(*f, Op::CLAMP_F32, "Clip"), 1);
+  EXPECT_EQ(count_op(*f, Op::CLAMP_U32), 1);
+  EXPECT_EQ(count_op(*f, Op::CLAMP_F64), 1);
+  for (const float a : {-3.0f, -1.5f, 0.25f, 1.5f, 7.0f}) {
+    f->set<float>("a", a);
+    f->set<std::uint32_t>("u", static_cast<std::uint32_t>(a + 4.0f));
+    f->set<double>("k", a);
+    f->set<double>("lo2", 0.0);
+    ASSERT_TRUE(f->scan());
+    EXPECT_EQ(f->get<float>("a"), a > 1.5f ? 1.5f : (a < -1.5f ? -1.5f : a));
+    const std::uint32_t u = static_cast<std::uint32_t>(a + 4.0f);
+    EXPECT_EQ(f->get<std::uint32_t>("u"), u > 10 ? 10u : (u < 3 ? 3u : u));
+    EXPECT_EQ(f->get<double>("k"), a < 0 ? 0.0 : a);
+  }
   for (const std::int16_t n : {-32768, -6, -5, 0, 100, 101, 32767}) {
     r->set<std::int16_t>("n", n);
     r->set<std::int16_t>("m", n);

@@ -51,6 +51,51 @@ TEST(ReadAccess, HmiNoneTagsAndThePinsWiredToThemAreHiddenInEveryTask) {
   EXPECT_TRUE(sees_everything(Session{"erik", Role::Engineer}));
 }
 
+// An ST FUNCTION_BLOCK holds each input and output twice, in its pin and in
+// its variables: a hidden tag wired to the pin hides both, so neither
+// instance.x (the variable of an output) nor the variables list shows it.
+TEST(ReadAccess, AnStInstancesInputsAndOutputsAreHiddenInItsVariablesToo) {
+  syncplc::testing::write_temp_file("st_hidden_twice.st", R"(FUNCTION_BLOCK Twice
+VAR_INPUT x : LREAL; END_VAR
+VAR_OUTPUT y : LREAL; END_VAR
+VAR last : LREAL; END_VAR
+y := 2.0 * x;
+last := x;
+END_FUNCTION_BLOCK
+)");
+  const LoadResult r = load_project(syncplc::testing::write_temp_file("st_hidden.yaml", R"(project: {name: st_hidden}
+tasks: [{name: main, period: 1ms}]
+sources: [st_hidden_twice.st]
+tags:
+  - {name: secret_in, type: LREAL, init: 1.234}
+  - {name: secret_out, type: LREAL}
+  - {name: open_in, type: LREAL, hmi: read}
+blocks:
+  - {name: tw, type: Twice}
+  - {name: pub, type: Twice}
+connections:
+  - secret_in -> tw.x
+  - tw.y -> secret_out
+  - open_in -> pub.x
+)"), {});
+  ASSERT_TRUE(r.ok()) << (r.diagnostics.sorted().empty() ? "" : r.diagnostics.sorted().front().text());
+  const Program& p = *r.program;
+  const HiddenCells hidden(p);
+  auto hides = [&](const char* ref) {
+    auto c = p.resolve(ref);
+    EXPECT_TRUE(c) << ref;
+    return c && hidden.hides(*c);
+  };
+  for (const char* ref : {"tw.x", "tw.y"}) EXPECT_TRUE(hides(ref)) << ref;
+  for (const char* ref : {"pub.x", "pub.y"}) EXPECT_FALSE(hides(ref)) << ref;
+  // The variables list shows what is not a pin ("last"), once.
+  for (const auto& b : p.block_instances())
+    if (b.name == "tw") {
+      ASSERT_EQ(b.variables.size(), 1u);
+      EXPECT_EQ(b.variables[0].name, "last");
+    }
+}
+
 TEST(ReadAccess, PathsAreCutToTheirFileName) {
   EXPECT_EQ(without_dirs("/srv/plc/line.yaml:3:4: unknown block"), "line.yaml:3:4: unknown block");
   EXPECT_EQ(without_dirs("started project /home/eng/p/line.yaml, database /var/lib/plc/plc.db"),

@@ -224,6 +224,7 @@ struct VarSlot {
   std::uint32_t at = 0, cells = 1;
   bool retain = false;
   bool persistent = false;
+  bool constant = false;  // VAR CONSTANT: the code uses its declared value
 };
 
 // One compiled POU: its code and the layout of its frame.

@@ -296,7 +296,7 @@ void CodeGen::lay_out(std::uint32_t p) {
     const bool ref = v.scope == VarScope::InOut || v.scope == VarScope::External;
     const std::uint32_t n = ref ? 1 : cells_of(v.type);
     st.at[&v] = at;
-    out.vars.push_back({v.name, static_cast<int>(v.scope), v.type, at, n, v.retain, v.persistent});
+    out.vars.push_back({v.name, static_cast<int>(v.scope), v.type, at, n, v.retain, v.persistent, v.constant});
     at += n;
   };
   for (const auto& v : info.variables)

@@ -374,7 +374,7 @@ L_DT_TO_DATE: {
   constexpr std::int64_t kDay = 86'400'000'000'000;
   const std::int64_t dt = rd<std::int64_t>(f[ip->b]);
   std::int64_t day = dt / kDay - (dt % kDay < 0 ? 1 : 0);
-  // The day of the first twelve minutes DT holds starts before INT64_MIN ns.
+  // DT's first day (1677-09-21) began before INT64_MIN ns: it has no DATE.
   constexpr std::int64_t kFirstDay = std::numeric_limits<std::int64_t>::min() / kDay;
   if (day < kFirstDay) {
     day = kFirstDay;

@@ -213,6 +213,82 @@ bool pin_type(const Type* t, IecType* out) {
   return true;
 }
 
+// The variables to monitor (BlockTypeInfo::monitored): every elementary
+// value below `path`, arrays element by element with their real indices.
+struct MonitorWalk {
+  const Module& m;
+  BlockTypeInfo& t;
+
+  bool full() const { return t.monitored.size() >= BlockTypeInfo::kMaxMonitored; }
+
+  void add(const std::string& path, std::uint32_t at, IecType type) {
+    if (full()) ++t.monitored_left_out;
+    else t.monitored.push_back({path, at, type});
+  }
+
+  void pou_vars(std::uint32_t pou, std::uint32_t at, const std::string& prefix, int depth,
+                const std::vector<PinDecl>* pins) {
+    for (const VarSlot& v : m.pous[pou].vars) {
+      if (v.scope == static_cast<int>(VarScope::External) || v.scope == static_cast<int>(VarScope::InOut) ||
+          v.scope == static_cast<int>(VarScope::Temp))
+        continue;  // references, and what each call sets again
+      // The instance's own pins are shown as pins.
+      if (pins && std::any_of(pins->begin(), pins->end(), [&](const PinDecl& d) { return same_name(d.name, v.name); }))
+        continue;
+      type(v.type, at + v.at, prefix + v.name, depth);
+    }
+  }
+
+  void type(const Type* ty, std::uint32_t at, const std::string& path, int depth) {
+    if (depth > 32) return;
+    IecType iec;
+    switch (ty->kind) {
+      case Type::Kind::String: return;  // not a cell's value
+      case Type::Kind::Struct: {
+        std::uint32_t off = 0;
+        for (const Field& f : ty->fields) {
+          type(f.type, at + off, path + "." + f.name, depth + 1);
+          off += frame_cells_of(m, f.type);
+        }
+        return;
+      }
+      case Type::Kind::Array: {
+        const std::uint32_t stride = frame_cells_of(m, ty->element);
+        const std::int64_t n = ty->element_count();
+        for (std::int64_t k = 0; k < n; ++k) {
+          if (full()) {  // the rest only counted
+            t.monitored_left_out += static_cast<std::size_t>(n - k);
+            return;
+          }
+          // Row-major, the last index fastest (as the code generator lays it out).
+          std::string index;
+          std::int64_t rest = k;
+          std::vector<std::int64_t> idx(ty->dims.size());
+          for (std::size_t d = ty->dims.size(); d-- > 0;) {
+            idx[d] = ty->dims[d].low + rest % ty->dims[d].count();
+            rest /= ty->dims[d].count();
+          }
+          for (std::size_t d = 0; d < idx.size(); ++d) index += (d ? ", " : "") + std::to_string(idx[d]);
+          type(ty->element, at + static_cast<std::uint32_t>(k) * stride, path + "[" + index + "]", depth + 1);
+        }
+        return;
+      }
+      case Type::Kind::FunctionBlock:
+        if (ty->fb->builtin) {
+          const BuiltinLayout l = builtin_layout(*ty->fb);
+          for (std::size_t k = 0; k < ty->fb->pins.size(); ++k)
+            type(ty->fb->pins[k].type, at + l.pin_at[k], path + "." + ty->fb->pins[k].name, depth + 1);
+        } else if (const int fp = m.find(ty->fb->name); fp >= 0) {
+          pou_vars(static_cast<std::uint32_t>(fp), at, path + ".", depth + 1, nullptr);
+        }
+        return;
+      default:
+        if (pin_type(ty, &iec)) add(path, at, iec);
+        return;
+    }
+  }
+};
+
 void collect_externals(const StUnit& unit, std::uint32_t pou, std::vector<StExternal>& out, int depth) {
   const Module& m = *unit.module;
   const CompiledPou& p = m.pous[pou];
@@ -358,6 +434,7 @@ std::optional<BlockTypeInfo> st_block_type(std::shared_ptr<const StUnit> unit, s
   t.pins.push_back(std::move(frame));
   t.variables_pin = frame_pin;
   leaves(*unit->module, pou, 0, "", t.variable_leaves, 0, false, false);
+  MonitorWalk{*unit->module, t}.pou_vars(pou, 0, "", 0, &t.pins);
   // RETAIN variables: the block's retained state, cell ranges of its frame.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> retained;
   std::uint64_t layout = 0xcbf29ce484222325ull;
@@ -390,7 +467,11 @@ std::optional<BlockTypeInfo> st_block_type(std::shared_ptr<const StUnit> unit, s
       *error = fmt::format("it is a {}: address one of its elements or fields", r->type->name);
       return std::nullopt;
     }
-    return BlockTypeInfo::Variable{r->at, type};
+    BlockTypeInfo::Variable v{r->at, type};
+    if (r->constant) v.read_only = "it is a VAR CONSTANT: the program uses its declared value";
+    else if (r->temp) v.read_only = "it is a VAR_TEMP: the program sets it again at every call";
+    if (r->type->kind == Type::Kind::Subrange) v.range = std::pair{r->type->low, r->type->high};
+    return v;
   };
   const auto retain_layout = static_cast<std::uint32_t>(layout ^ (layout >> 32));
   t.create = [unit, pou, inputs, outputs, written, frame_pin, retained, retain_layout](BlockSetup& s) -> std::unique_ptr<Block> {

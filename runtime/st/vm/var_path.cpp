@@ -77,6 +77,8 @@ std::optional<VarRef> resolve_path(const Module& m, std::uint32_t pou, std::stri
   r.at = slot->at;
   r.type = slot->type;
   r.reference = slot->scope == static_cast<int>(VarScope::InOut) || slot->scope == static_cast<int>(VarScope::External);
+  r.temp = slot->scope == static_cast<int>(VarScope::Temp);
+  r.constant = slot->constant;
   while (i < path.size()) {
     if (r.bit >= 0) return fail(fmt::format("'{}': nothing follows a bit", path));
     if (r.reference) return fail(fmt::format("'{}': {} is a reference (VAR_IN_OUT or VAR_EXTERNAL); name what it refers to",
@@ -139,6 +141,8 @@ std::optional<VarRef> resolve_path(const Module& m, std::uint32_t pou, std::stri
         r.at += v->at;
         r.type = v->type;
         r.reference = v->scope == static_cast<int>(VarScope::InOut) || v->scope == static_cast<int>(VarScope::External);
+        r.temp = r.temp || v->scope == static_cast<int>(VarScope::Temp);
+        r.constant = r.constant || v->constant;
         continue;
       }
       return fail(fmt::format("'{}': a {} has no fields", path, t->name));

@@ -20,6 +20,10 @@ struct VarRef {
   int bit = -1;                // a bit of the cell at `at`
   // A VAR_IN_OUT or VAR_EXTERNAL: `at` holds the reference, not the value.
   bool reference = false;
+  // The path runs through a VAR_TEMP (set again at every call) or a VAR
+  // CONSTANT (its declared value is compiled into the code).
+  bool temp = false;
+  bool constant = false;
 };
 
 // Resolves `path` in POU `pou` of `m`; on failure nullopt and *error says
