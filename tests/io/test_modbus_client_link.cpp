@@ -465,7 +465,9 @@ TEST(ModbusClientLink, NoWriteBeforeTheFirstGoodReadOnEachConnection) {
     return log.count(6) >= 1;
   }));
   for (const auto& s : log.seen())
-    if (s.function == 6) EXPECT_EQ(s.value, 8) << "the values handed over before the first read were written";
+    if (s.function == 6) {
+      EXPECT_EQ(s.value, 8) << "the values handed over before the first read were written";
+    }
   // A reconnect: the first request on the new connection is a read.
   log.drop = true;
   ASSERT_TRUE(eventually([&] {

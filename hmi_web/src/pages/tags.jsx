@@ -69,7 +69,8 @@ function VariableRow({ block, v, session, onChange, onUnforce }) {
 
 function BlockRow({ block, open, onToggle, session, onChange, onUnforce }) {
   const variables = block.variables || [];
-  const refs = open ? [...block.pins, ...variables].map((p) => `${block.name}.${p.name}`) : [];
+  // Streamed live: the first MAX_LIVE (an instance lists up to 1024 variables).
+  const refs = open ? [...block.pins, ...variables].slice(0, MAX_LIVE).map((p) => `${block.name}.${p.name}`) : [];
   useLive(refs, 200);
   return (
     <>
