@@ -8,7 +8,7 @@
 #include "tests/support/test_blocks.hpp"
 
 namespace syncplc::web {
-namespace {
+namespace read_access {
 
 const char* kProject = R"(project: {name: hidden}
 tasks:
@@ -32,16 +32,23 @@ connections:
   - reader.OUT -> relay
 )";
 
+// Whether `ref` of `p` is hidden (it must resolve).
+bool hides(const Program& p, const HiddenCells& hidden, const char* ref) {
+  auto c = p.resolve(ref);
+  EXPECT_TRUE(c) << ref;
+  return c && hidden.hides(*c);
+}
+
+std::string first_error(const LoadResult& r) {
+  return r.diagnostics.sorted().empty() ? "" : r.diagnostics.sorted().front().text();
+}
+
 TEST(ReadAccess, HmiNoneTagsAndThePinsWiredToThemAreHiddenInEveryTask) {
   const LoadResult r = load_project(syncplc::testing::write_temp_file("hidden.yaml", kProject), {});
-  ASSERT_TRUE(r.ok()) << (r.diagnostics.sorted().empty() ? "" : r.diagnostics.sorted().front().text());
+  ASSERT_TRUE(r.ok()) << first_error(r);
   const Program& p = *r.program;
   const HiddenCells hidden(p);
-  auto hides = [&](const char* ref) {
-    auto c = p.resolve(ref);
-    EXPECT_TRUE(c) << ref;
-    return c && hidden.hides(*c);
-  };
+  auto hides = [&](const char* ref) { return read_access::hides(p, hidden, ref); };
   for (const char* ref : {"sw", "secret", "gate.IN", "k.OUT", "reader.IN"}) EXPECT_TRUE(hides(ref)) << ref;
   // What the project chose to show, and what no hidden tag feeds.
   for (const char* ref : {"shown", "relay", "gate.OUT", "reader.OUT", "k.IN", "other.IN", "other.OUT"})
@@ -78,14 +85,10 @@ connections:
   - tw.y -> secret_out
   - open_in -> pub.x
 )"), {});
-  ASSERT_TRUE(r.ok()) << (r.diagnostics.sorted().empty() ? "" : r.diagnostics.sorted().front().text());
+  ASSERT_TRUE(r.ok()) << first_error(r);
   const Program& p = *r.program;
   const HiddenCells hidden(p);
-  auto hides = [&](const char* ref) {
-    auto c = p.resolve(ref);
-    EXPECT_TRUE(c) << ref;
-    return c && hidden.hides(*c);
-  };
+  auto hides = [&](const char* ref) { return read_access::hides(p, hidden, ref); };
   for (const char* ref : {"tw.x", "tw.y"}) EXPECT_TRUE(hides(ref)) << ref;
   for (const char* ref : {"pub.x", "pub.y"}) EXPECT_FALSE(hides(ref)) << ref;
   // The variables list shows what is not a pin ("last"), once.
@@ -109,5 +112,5 @@ TEST(ReadAccess, PathsAreCutToTheirFileName) {
   EXPECT_EQ(runtime["store"]["detail"], "plc.db");
 }
 
-}  // namespace
+}  // namespace read_access
 }  // namespace syncplc::web
