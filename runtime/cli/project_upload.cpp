@@ -62,11 +62,11 @@ std::optional<ProjectUpload> collect_project(const std::string& main_path, std::
   // (an include cycle ends here, and the PLC's check reports it).
   fs::path root_abs = fs::absolute(root.empty() ? fs::current_path() : root).lexically_normal();
   if (!root_abs.has_filename()) root_abs = root_abs.parent_path();  // "/a/b/" -> "/a/b"
-  std::vector<std::string> todo = {up.main};
+  std::vector<std::string> unread = {up.main};
   up.files[up.main] = std::move(*text);
-  while (!todo.empty()) {
-    const std::string name = todo.back();
-    todo.pop_back();
+  while (!unread.empty()) {
+    const std::string name = unread.back();
+    unread.pop_back();
     const fs::path dir = fs::path(name).parent_path();
     auto named = files_named_by(name, up.files[name]);
     for (auto it = named.rbegin(); it != named.rend(); ++it) {
@@ -95,7 +95,7 @@ std::optional<ProjectUpload> collect_project(const std::string& main_path, std::
         return std::nullopt;
       }
       up.files[rel_name] = std::move(*sub);
-      if (std::string_view(key) == "include") todo.push_back(rel_name);  // followed in turn; an ST source names no files
+      if (std::string_view(key) == "include") unread.push_back(rel_name);  // followed in turn; an ST source names no files
     }
   }
   return up;
