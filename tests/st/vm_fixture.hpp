@@ -16,6 +16,7 @@
 #include "runtime/st/vm/codegen.hpp"
 #include "runtime/st/vm/instance.hpp"
 #include "runtime/st/vm/var_path.hpp"
+#include "runtime/st/vm/vm.hpp"
 
 namespace syncplc::st::testing {
 
@@ -37,7 +38,8 @@ struct StRun {
   std::vector<std::string> errors;
 
   // Compiles `sources` and instances POU `pou`; errors (of any stage) in `errors`.
-  StRun(const std::vector<std::string>& sources, const std::string& pou, std::int64_t period_ns = 10'000'000) {
+  StRun(const std::vector<std::string>& sources, const std::string& pou, std::int64_t period_ns = 10'000'000,
+        vm::Engine engine = vm::Engine::Native) {
     std::vector<const CompilationUnit*> units;
     for (std::size_t i = 0; i < sources.size(); ++i) {
       parsed.push_back(std::make_unique<ParseResult>(parse(sources[i], SourceFile("t" + std::to_string(i) + ".st"))));
@@ -53,6 +55,7 @@ struct StRun {
     auto m = vm::compile(checked, &::syncplc::builtin_blocks(), codegen);
     for (const auto& d : codegen.list()) errors.push_back(d.text());
     if (!m) return;
+    vm::set_engine(*m, engine);
     module = std::move(m);
     const int p = module->find(pou);
     if (p < 0) {

@@ -30,6 +30,8 @@ struct BlockTypeInfo;
 
 namespace syncplc::st::vm {
 
+struct Vm;
+
 // The native representations an instruction is typed with.
 #define SYNCPLC_ST_NUM_TYPES(X) X(I8) X(I16) X(I32) X(I64) X(U8) X(U16) X(U32) X(U64) X(F32) X(F64)
 #define SYNCPLC_ST_INT_TYPES(X) X(I8) X(I16) X(I32) X(I64) X(U8) X(U16) X(U32) X(U64)
@@ -239,6 +241,11 @@ struct CompiledPou {
   std::uint32_t fn_frame = 0;  // FUNCTION: its static frame's offset in a root's area
   std::vector<std::uint32_t> lines;  // source line of each instruction (for faults and tests)
   std::vector<std::string> externals_written;  // VAR_EXTERNALs the body writes (or passes as VAR_IN_OUT)
+  // The same code as machine code (native_x64.cpp), when the module's engine
+  // is native: run() calls it in place of the interpreter. 1: ran to its end,
+  // 0: the loop budget ran out (as run()'s result).
+  int (*native)(Vm* vm, Cell* frame) noexcept = nullptr;
+  std::shared_ptr<const void> native_code;  // owns the executable memory
 };
 
 // A built-in block embedded in a frame: created for every instance at

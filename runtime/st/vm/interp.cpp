@@ -211,7 +211,13 @@ inline U ror(U v, std::int64_t n) noexcept {
 
 // The one function with the labels: run() with frame == nullptr hands out the
 // label table instead of running (how finalize() learns the addresses).
-const void* const* exec(Vm& vm, const CompiledPou* pou, Cell* f, bool* ok) noexcept {
+//
+// Step = true makes the other instance of it: one instruction, *at, is run
+// and *step_at is left at the next one (nullptr after HALT). Native code
+// (native_x64.cpp) calls it for every instruction it has no template of, so
+// each instruction's meaning is written once, here.
+template <bool Step>
+const void* const* exec(Vm& vm, const CompiledPou* pou, Cell* f, bool* ok, const Insn** step_at) noexcept {
   static const void* const labels[] = {
 #define X(op) &&L_##op,
       SYNCPLC_ST_OPS(X)
@@ -220,13 +226,22 @@ const void* const* exec(Vm& vm, const CompiledPou* pou, Cell* f, bool* ok) noexc
   if (!f) return labels;
   const Module& m = *vm.module;
   const Insn* const code = pou->code.data();
-  const Insn* ip = code;
+  const Insn* ip = Step ? *step_at : code;
   // The loop budget in a local: vm.budget is an int64 in memory that every
   // store to a cell may alias, so counting there costs a load and a store on
   // each backward jump. Written back before a call (the callee counts on)
   // and on every way out.
   std::int64_t budget = vm.budget;
-#define DISPATCH() goto *ip->handler
+#define DISPATCH()                \
+  do {                            \
+    if constexpr (Step) {         \
+      vm.budget = budget;         \
+      *step_at = ip;              \
+      return nullptr;             \
+    } else {                      \
+      goto *ip->handler;          \
+    }                             \
+  } while (0)
 #define NEXT() \
   do {         \
     ++ip;      \
@@ -237,11 +252,13 @@ const void* const* exec(Vm& vm, const CompiledPou* pou, Cell* f, bool* ok) noexc
     ip = code + (target);   \
     DISPATCH();             \
   } while (0)
-  DISPATCH();
+  if constexpr (Step) goto *labels[static_cast<int>(ip->op)];
+  else goto *ip->handler;
 
 L_HALT:
   vm.budget = budget;
   *ok = true;
+  if constexpr (Step) *step_at = nullptr;
   return nullptr;
 L_JMP:
   JUMP(ip->d);
@@ -622,9 +639,19 @@ bool run(Vm& vm, std::uint32_t pou, Cell* frame) noexcept { return run(vm, vm.mo
 bool run(Vm& vm, const CompiledPou& p, Cell* frame) noexcept {
   if (p.temp_cells)
     std::memcpy(frame + p.temp_begin, p.image.data() + p.temp_begin, p.temp_cells * sizeof(Cell));
+  if (p.native) return p.native(&vm, frame) != 0;
   bool ok = true;
-  exec(vm, &p, frame, &ok);
+  exec<false>(vm, &p, frame, &ok, nullptr);
   return ok;
+}
+
+std::uint32_t step(Vm* vm, const CompiledPou* pou, Cell* frame, std::uint32_t pc) noexcept {
+  bool ok = true;
+  const Insn* at = pou->code.data() + pc;
+  exec<true>(*vm, pou, frame, &ok, &at);
+  if (!ok) return kStepStopped;
+  if (!at) return kStepHalted;
+  return static_cast<std::uint32_t>(at - pou->code.data());
 }
 
 namespace {
@@ -655,14 +682,15 @@ void thread_jumps(std::vector<Insn>& code) {
 
 }  // namespace
 
-void finalize(Module& m) {
+void finalize(Module& m, Engine engine) {
   Vm none;
   bool ok = true;
-  const void* const* labels = exec(none, nullptr, nullptr, &ok);
+  const void* const* labels = exec<false>(none, nullptr, nullptr, &ok, nullptr);
   for (CompiledPou& p : m.pous) {
     thread_jumps(p.code);
     for (Insn& i : p.code) i.handler = labels[static_cast<int>(i.op)];
   }
+  set_engine(m, engine);
 }
 
 }  // namespace syncplc::st::vm

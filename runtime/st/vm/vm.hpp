@@ -4,6 +4,7 @@
 // defined value; a loop that exhausts the budget stops the whole call chain.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 #include "runtime/core/block.hpp"
@@ -34,8 +35,27 @@ bool run(Vm& vm, std::uint32_t pou, Cell* frame) noexcept;
 // so a scan starts without walking module -> pous -> POU first.
 bool run(Vm& vm, const CompiledPou& pou, Cell* frame) noexcept;
 
-// Resolves every instruction's handler (direct threading); once per module,
-// after code generation and before the first run.
-void finalize(Module& m);
+// How a module's POUs run. Native: as x86-64 machine code made at load
+// (native_x64.cpp), on machines where that exists and the system lets a
+// process map code; the interpreter otherwise, and everywhere for the
+// instructions native code has no template of. Both give the same bits
+// (docs/st.md, "How compiled ST runs").
+enum class Engine { Native, Interpreter };
+
+// Resolves every instruction's handler (direct threading), then makes the
+// engine's code; once per module, after code generation and before the
+// first run.
+void finalize(Module& m, Engine engine = Engine::Native);
+// Switches a finalized module's engine (tests and benchmarks compare them);
+// not while it runs. Native where it cannot be made stays interpreted.
+void set_engine(Module& m, Engine engine);
+// The POUs of `m` that run as native code.
+std::size_t native_pous(const Module& m);
+
+// One instruction of `pou` at `pc` run by the interpreter: the next pc, or
+// one of these. Native code's way into the interpreter.
+inline constexpr std::uint32_t kStepHalted = 0xFFFF'FFFFu;   // HALT: the POU returned
+inline constexpr std::uint32_t kStepStopped = 0xFFFF'FFFEu;  // the loop budget ran out
+std::uint32_t step(Vm* vm, const CompiledPou* pou, Cell* frame, std::uint32_t pc) noexcept;
 
 }  // namespace syncplc::st::vm

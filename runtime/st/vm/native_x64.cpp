@@ -1,0 +1,531 @@
+// Native code for compiled ST on x86-64: a baseline compiler from the VM's
+// instructions (code.hpp) to machine code, made at load with Xbyak (Debian's
+// libxbyak-dev) into memory that is written, then made read+execute (never
+// both). docs/st.md, "How compiled ST runs", gives the reasons.
+//
+// One template per instruction, in the instruction's order: no dispatch, the
+// frame's base in a register and every operand a constant displacement from
+// it. An instruction with no template here, and every rare path of one that
+// has (an index out of bounds, the loop budget running out), calls step()
+// (interp.cpp), which runs that one instruction by the interpreter's own
+// handler and says where to go on; so each instruction's meaning is written
+// once, and native code and the interpreter give the same bits.
+//
+// Registers while a POU's code runs (all callee-saved, so step() keeps them):
+//   rbx  the frame (cell k at [rbx + 8k])
+//   r12  the Vm
+//   r13  the loop budget (Vm::budget, written back around every step())
+//   r14  the CompiledPou
+//   r15  the table of each instruction's code address (the targets of step())
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <memory>
+
+#include "runtime/st/vm/vm.hpp"
+
+#if defined(__x86_64__) && defined(SYNCPLC_HAVE_XBYAK)
+#define SYNCPLC_ST_NATIVE 1
+#include <xbyak/xbyak.h>
+#endif
+
+namespace syncplc::st::vm {
+
+#if SYNCPLC_ST_NATIVE
+namespace {
+
+using namespace Xbyak;
+using namespace Xbyak::util;
+
+constexpr int kBudget = static_cast<int>(offsetof(Vm, budget));
+
+bool is_signed(Num n) { return n <= Num::I64; }
+int width(Num n) {  // bytes
+  switch (n) {
+    case Num::I8: case Num::U8: return 1;
+    case Num::I16: case Num::U16: return 2;
+    case Num::I32: case Num::U32: case Num::F32: return 4;
+    default: return 8;
+  }
+}
+// The member of family `first` (ADD_I8) that `op` is, and its type; false
+// when op is not in that family.
+bool in_family(Op op, Op first, int members, Num* n) {
+  const int k = static_cast<int>(op) - static_cast<int>(first);
+  if (k < 0 || k >= members) return false;
+  *n = static_cast<Num>(k);
+  return true;
+}
+
+class Emitter : public CodeGenerator {
+ public:
+  Emitter(const Module& m, const CompiledPou& p, std::size_t bytes)
+      : CodeGenerator(bytes, DontSetProtectRWE), m_(m), p_(p), at_(p.code.size()), slow_(p.code.size()) {}
+
+  void emit() {
+    prologue();
+    const auto n = static_cast<std::uint32_t>(p_.code.size());
+    std::vector<bool> needs_slow(n, false);
+    for (std::uint32_t pc = 0; pc < n; ++pc) {
+      L(at_[pc]);
+      if (!insn(pc, p_.code[pc])) step_call(pc);
+      else if (slow_used_) needs_slow[pc] = true;
+      slow_used_ = false;
+    }
+    // The code never falls off its end (the generator ends every POU with
+    // HALT); were it to, it returns as HALT does.
+    jmp(exit_ok_, T_NEAR);
+    for (std::uint32_t pc = 0; pc < n; ++pc)
+      if (needs_slow[pc]) {
+        L(slow_[pc]);
+        step_call(pc);
+        jmp(at_[pc + 1 < n ? pc + 1 : pc], T_NEAR);  // unreachable for the last (HALT)
+      }
+    // Where step() did not go on to the next instruction.
+    L(after_step_);
+    mov(eax, eax);  // a uint32 result: rax's high half is not defined
+    cmp(eax, kStepStopped);
+    je(exit_stop_, T_NEAR);
+    cmp(eax, kStepHalted);
+    je(exit_ok_, T_NEAR);
+    jmp(qword[r15 + rax * 8]);
+    L(exit_ok_);
+    mov(qword[r12 + kBudget], r13);
+    mov(eax, 1);
+    epilogue();
+    L(exit_stop_);
+    xor_(eax, eax);  // step() left the budget in the Vm
+    epilogue();
+    align(8);
+    L(table_);
+    for (std::uint32_t pc = 0; pc < n; ++pc) putL(at_[pc]);
+  }
+
+ private:
+  const Module& m_;
+  const CompiledPou& p_;
+  std::vector<Label> at_, slow_;
+  Label after_step_, exit_ok_, exit_stop_, table_;
+  bool slow_used_ = false;
+
+  Address cell(std::uint32_t k) const { return qword[rbx + static_cast<int>(k) * 8]; }
+  static int disp(std::uint32_t k) { return static_cast<int>(k) * 8; }
+
+  void prologue() {
+    push(rbx);
+    push(r12);
+    push(r13);
+    push(r14);
+    push(r15);  // five pushes: rsp is 16-aligned again for the calls
+    mov(r12, rdi);
+    mov(rbx, rsi);
+    mov(r13, qword[r12 + kBudget]);
+    mov(r14, reinterpret_cast<std::uintptr_t>(&p_));
+    lea(r15, ptr[rip + table_]);
+  }
+  void epilogue() {
+    pop(r15);
+    pop(r14);
+    pop(r13);
+    pop(r12);
+    pop(rbx);
+    ret();
+  }
+
+  // The instruction at pc by the interpreter; on to pc + 1 when that is
+  // where it goes.
+  void step_call(std::uint32_t pc) {
+    mov(qword[r12 + kBudget], r13);
+    mov(rdi, r12);
+    mov(rsi, r14);
+    mov(rdx, rbx);
+    mov(ecx, pc);
+    mov(rax, reinterpret_cast<std::uintptr_t>(&step));
+    call(rax);
+    mov(r13, qword[r12 + kBudget]);
+    cmp(eax, pc + 1);
+    jne(after_step_, T_NEAR);
+  }
+  // The rare path of a templated instruction: step() runs it.
+  const Label& slow(std::uint32_t pc) {
+    slow_used_ = true;
+    return slow_[pc];
+  }
+
+  // A cell of integer type n into r (sign- or zero-extended to 64 bits), as
+  // Cell::get reads its low bytes.
+  void load_int(const Reg64& r, std::uint32_t k, Num n) {
+    const int d = disp(k);
+    switch (n) {
+      case Num::I8: movsx(r, byte[rbx + d]); break;
+      case Num::I16: movsx(r, word[rbx + d]); break;
+      case Num::I32: movsxd(r, dword[rbx + d]); break;
+      case Num::U8: movzx(r.cvt32(), byte[rbx + d]); break;
+      case Num::U16: movzx(r.cvt32(), word[rbx + d]); break;
+      case Num::U32: mov(r.cvt32(), dword[rbx + d]); break;
+      default: mov(r, qword[rbx + d]); break;
+    }
+  }
+  // r's low bytes of n's width, the rest zero, into cell k (as Cell::set).
+  void store_int(std::uint32_t k, const Reg64& r, Num n) {
+    switch (width(n)) {
+      case 1: movzx(r.cvt32(), r.cvt8()); break;
+      case 2: movzx(r.cvt32(), r.cvt16()); break;
+      case 4: mov(r.cvt32(), r.cvt32()); break;
+      default: break;
+    }
+    mov(cell(k), r);
+  }
+  void load_real(const Xmm& x, std::uint32_t k, Num n) {
+    if (n == Num::F32) movss(x, dword[rbx + disp(k)]);
+    else movsd(x, qword[rbx + disp(k)]);
+  }
+  void store_real(std::uint32_t k, const Xmm& x, Num n) {
+    if (n == Num::F32) {
+      movd(eax, x);  // zero-extended: the cell's high half is zero
+      mov(cell(k), rax);
+    } else {
+      movsd(cell(k), x);
+    }
+  }
+  void real_op(char op, const Xmm& x, std::uint32_t k, Num n) {
+    const bool f32 = n == Num::F32;
+    const Address a = f32 ? dword[rbx + disp(k)] : qword[rbx + disp(k)];
+    switch (op) {
+      case '+': f32 ? addss(x, a) : addsd(x, a); break;
+      case '-': f32 ? subss(x, a) : subsd(x, a); break;
+      default: f32 ? mulss(x, a) : mulsd(x, a); break;
+    }
+  }
+  void real_op(char op, const Xmm& x, const Xmm& y, Num n) {
+    const bool f32 = n == Num::F32;
+    switch (op) {
+      case '+': f32 ? addss(x, y) : addsd(x, y); break;
+      case '-': f32 ? subss(x, y) : subsd(x, y); break;
+      default: f32 ? mulss(x, y) : mulsd(x, y); break;
+    }
+  }
+  void ucomi(const Xmm& x, std::uint32_t k, Num n) {
+    if (n == Num::F32) ucomiss(x, dword[rbx + disp(k)]);
+    else ucomisd(x, qword[rbx + disp(k)]);
+  }
+
+  enum class Rel { Lt, Le, Gt, Ge, Eq, Ne };
+
+  // Flags for "x rel y" after an integer cmp(x, y): the jump taken when it
+  // holds.
+  void jump_if(Rel r, bool sgn, const Label& to) {
+    switch (r) {
+      case Rel::Lt: sgn ? jl(to, T_NEAR) : jb(to, T_NEAR); break;
+      case Rel::Le: sgn ? jle(to, T_NEAR) : jbe(to, T_NEAR); break;
+      case Rel::Gt: sgn ? jg(to, T_NEAR) : ja(to, T_NEAR); break;
+      case Rel::Ge: sgn ? jge(to, T_NEAR) : jae(to, T_NEAR); break;
+      case Rel::Eq: je(to, T_NEAR); break;
+      case Rel::Ne: jne(to, T_NEAR); break;
+    }
+  }
+  void set_if(Rel r, bool sgn, const Reg8& b) {
+    switch (r) {
+      case Rel::Lt: sgn ? setl(b) : setb(b); break;
+      case Rel::Le: sgn ? setle(b) : setbe(b); break;
+      case Rel::Gt: sgn ? setg(b) : seta(b); break;
+      case Rel::Ge: sgn ? setge(b) : setae(b); break;
+      case Rel::Eq: sete(b); break;
+      case Rel::Ne: setne(b); break;
+    }
+  }
+  static Rel negated(Rel r) {
+    switch (r) {
+      case Rel::Lt: return Rel::Ge;
+      case Rel::Le: return Rel::Gt;
+      case Rel::Gt: return Rel::Le;
+      case Rel::Ge: return Rel::Lt;
+      case Rel::Eq: return Rel::Ne;
+      default: return Rel::Eq;
+    }
+  }
+
+  // Flags of a real comparison "cell x rel cell y" as C++ computes it (false
+  // when either is NaN): ucomis sets CF=ZF=PF=1 for unordered, so every
+  // relation is tested as "above" or "above or equal" of the right pair.
+  // Leaves al = 1 when it holds.
+  void real_relation(Rel r, std::uint32_t x, std::uint32_t y, Num n) {
+    switch (r) {
+      case Rel::Gt: load_real(xmm0, x, n); ucomi(xmm0, y, n); seta(al); break;
+      case Rel::Ge: load_real(xmm0, x, n); ucomi(xmm0, y, n); setae(al); break;
+      case Rel::Lt: load_real(xmm0, y, n); ucomi(xmm0, x, n); seta(al); break;
+      case Rel::Le: load_real(xmm0, y, n); ucomi(xmm0, x, n); setae(al); break;
+      case Rel::Eq: load_real(xmm0, x, n); ucomi(xmm0, y, n); sete(al); setnp(cl); and_(al, cl); break;
+      case Rel::Ne: load_real(xmm0, x, n); ucomi(xmm0, y, n); setne(al); setp(cl); or_(al, cl); break;
+    }
+  }
+
+  void compare_set(Rel r, const Insn& i, Num n) {  // a := b rel c
+    if (n == Num::F32 || n == Num::F64) {
+      real_relation(r, i.b, i.c, n);
+    } else {
+      load_int(rax, i.b, n);
+      load_int(rcx, i.c, n);
+      cmp(rax, rcx);
+      set_if(r, is_signed(n), al);
+    }
+    movzx(eax, al);
+    mov(cell(i.a), rax);
+  }
+  void compare_jump(Rel r, const Insn& i, Num n) {  // if !(a rel b) goto d
+    if (n == Num::F32 || n == Num::F64) {
+      // Not above / below: taken also when unordered (CF = 1), as !(x > y).
+      const Label& to = at_[i.d];
+      switch (r) {
+        case Rel::Gt: load_real(xmm0, i.a, n); ucomi(xmm0, i.b, n); jbe(to, T_NEAR); break;
+        case Rel::Ge: load_real(xmm0, i.a, n); ucomi(xmm0, i.b, n); jb(to, T_NEAR); break;
+        case Rel::Lt: load_real(xmm0, i.b, n); ucomi(xmm0, i.a, n); jbe(to, T_NEAR); break;
+        case Rel::Le: load_real(xmm0, i.b, n); ucomi(xmm0, i.a, n); jb(to, T_NEAR); break;
+        case Rel::Eq: load_real(xmm0, i.a, n); ucomi(xmm0, i.b, n); jne(to, T_NEAR); jp(to, T_NEAR); break;
+        case Rel::Ne: {
+          Label differ;
+          load_real(xmm0, i.a, n);
+          ucomi(xmm0, i.b, n);
+          jne(differ, T_NEAR);
+          jp(differ, T_NEAR);
+          jmp(to, T_NEAR);
+          L(differ);
+          break;
+        }
+      }
+    } else {
+      load_int(rax, i.a, n);
+      load_int(rcx, i.b, n);
+      cmp(rax, rcx);
+      jump_if(negated(r), is_signed(n), at_[i.d]);
+    }
+  }
+
+  void arith(char op, const Insn& i, Num n) {  // a := b op c
+    if (n == Num::F32 || n == Num::F64) {
+      load_real(xmm0, i.b, n);
+      real_op(op, xmm0, i.c, n);
+      store_real(i.a, xmm0, n);
+      return;
+    }
+    load_int(rax, i.b, n);
+    load_int(rcx, i.c, n);
+    switch (op) {  // modulo 2^64, then cut to n's width: the wrap in n's type
+      case '+': add(rax, rcx); break;
+      case '-': sub(rax, rcx); break;
+      default: imul(rax, rcx); break;
+    }
+    store_int(i.a, rax, n);
+  }
+
+  // MULADD a := b * c + d, ADDMUL a := d + b * c, MULSUB a := b * c - d,
+  // SUBMUL a := d - b * c: the product rounded first, as the two operations.
+  void fused(int form, const Insn& i, Num n) {
+    if (n == Num::F32 || n == Num::F64) {
+      load_real(xmm0, i.b, n);
+      real_op('*', xmm0, i.c, n);
+      switch (form) {
+        case 0: real_op('+', xmm0, i.d, n); store_real(i.a, xmm0, n); break;
+        case 1: load_real(xmm1, i.d, n); real_op('+', xmm1, xmm0, n); store_real(i.a, xmm1, n); break;
+        case 2: real_op('-', xmm0, i.d, n); store_real(i.a, xmm0, n); break;
+        default: load_real(xmm1, i.d, n); real_op('-', xmm1, xmm0, n); store_real(i.a, xmm1, n); break;
+      }
+      return;
+    }
+    load_int(rax, i.b, n);
+    load_int(rcx, i.c, n);
+    imul(rax, rcx);
+    load_int(rcx, i.d, n);
+    switch (form) {
+      case 0: case 1: add(rax, rcx); break;
+      case 2: sub(rax, rcx); break;
+      default: sub(rcx, rax); mov(rax, rcx); break;
+    }
+    store_int(i.a, rax, n);
+  }
+
+  // FOR with the step 1: if a < b then a := a + 1, count, goto d.
+  void for_inc(std::uint32_t pc, const Insn& i, Num n) {
+    load_int(rax, i.a, n);
+    load_int(rcx, i.b, n);
+    cmp(rax, rcx);
+    jump_if(Rel::Ge, is_signed(n), at_[pc + 1]);
+    test(r13, r13);
+    jle(slow(pc), T_NEAR);  // the budget is spent: step() stops the chain
+    dec(r13);
+    add(rax, 1);
+    store_int(i.a, rax, n);
+    jmp(at_[i.d], T_NEAR);
+  }
+
+  // rcx := the checked element offset of index cell c (array index d); out
+  // of bounds to step(), which faults. U64 indices (saturated) go to step().
+  bool element(std::uint32_t pc, const Insn& i, Num n) {
+    if (n == Num::U64) return false;
+    const IndexCheck& k = m_.indexes[i.d];
+    load_int(rcx, i.c, n);
+    if (k.low >= std::numeric_limits<std::int32_t>::min() && k.low <= std::numeric_limits<std::int32_t>::max()) {
+      sub(rcx, static_cast<std::uint32_t>(static_cast<std::int32_t>(k.low)));
+    } else {
+      mov(rdx, static_cast<std::uint64_t>(k.low));
+      sub(rcx, rdx);
+    }
+    if (k.count <= static_cast<std::uint64_t>(std::numeric_limits<std::int32_t>::max())) {
+      cmp(rcx, static_cast<std::uint32_t>(k.count));
+    } else {
+      mov(rdx, k.count);
+      cmp(rcx, rdx);
+    }
+    jae(slow(pc), T_NEAR);
+    return true;
+  }
+
+  // The clamping IF: d = 0 tests the upper bound c first, d = 1 the lower b.
+  void clamp(const Insn& i, Num n) {
+    Label to_c, to_b, done;
+    const bool real = n == Num::F32 || n == Num::F64;
+    auto over = [&] {  // a > c
+      if (real) { load_real(xmm0, i.a, n); ucomi(xmm0, i.c, n); ja(to_c, T_NEAR); }
+      else { load_int(rax, i.a, n); load_int(rcx, i.c, n); cmp(rax, rcx); jump_if(Rel::Gt, is_signed(n), to_c); }
+    };
+    auto under = [&] {  // a < b
+      if (real) { load_real(xmm0, i.b, n); ucomi(xmm0, i.a, n); ja(to_b, T_NEAR); }
+      else { load_int(rax, i.a, n); load_int(rcx, i.b, n); cmp(rax, rcx); jump_if(Rel::Lt, is_signed(n), to_b); }
+    };
+    if (i.d == 0) { over(); under(); }
+    else { under(); over(); }
+    jmp(done, T_NEAR);
+    L(to_c);
+    mov(rax, cell(i.c));
+    mov(cell(i.a), rax);
+    jmp(done, T_NEAR);
+    L(to_b);
+    mov(rax, cell(i.b));
+    mov(cell(i.a), rax);
+    L(done);
+  }
+
+  // One instruction's template; false when it has none (step() runs it).
+  bool insn(std::uint32_t pc, const Insn& i) {
+    Num n{};
+    switch (i.op) {
+      case Op::HALT: jmp(exit_ok_, T_NEAR); return true;
+      case Op::JMP: jmp(at_[i.d], T_NEAR); return true;
+      case Op::JMPB:
+        test(r13, r13);
+        jle(slow(pc), T_NEAR);
+        dec(r13);
+        jmp(at_[i.d], T_NEAR);
+        return true;
+      case Op::JZ: cmp(cell(i.a), 0); je(at_[i.d], T_NEAR); return true;
+      case Op::JNZ: cmp(cell(i.a), 0); jne(at_[i.d], T_NEAR); return true;
+      case Op::MOV: mov(rax, cell(i.b)); mov(cell(i.a), rax); return true;
+      case Op::AND: mov(rax, cell(i.b)); and_(rax, cell(i.c)); mov(cell(i.a), rax); return true;
+      case Op::OR: mov(rax, cell(i.b)); or_(rax, cell(i.c)); mov(cell(i.a), rax); return true;
+      case Op::XOR: mov(rax, cell(i.b)); xor_(rax, cell(i.c)); mov(cell(i.a), rax); return true;
+      case Op::NOT_BOOL: mov(rax, cell(i.b)); xor_(rax, 1); mov(cell(i.a), rax); return true;
+      case Op::GETBIT:
+        if (i.c > 63) return false;
+        mov(rax, cell(i.b));
+        shr(rax, static_cast<int>(i.c));
+        and_(eax, 1);
+        mov(cell(i.a), rax);
+        return true;
+      default: break;
+    }
+    constexpr int kNum = kNumCount, kInt = 8;
+    if (in_family(i.op, Op::ADD_I8, kNum, &n)) return arith('+', i, n), true;
+    if (in_family(i.op, Op::SUB_I8, kNum, &n)) return arith('-', i, n), true;
+    if (in_family(i.op, Op::MUL_I8, kNum, &n)) return arith('*', i, n), true;
+    const Rel rels[] = {Rel::Eq, Rel::Ne, Rel::Lt, Rel::Le, Rel::Gt, Rel::Ge};
+    const Op sets[] = {Op::EQ_I8, Op::NE_I8, Op::LT_I8, Op::LE_I8, Op::GT_I8, Op::GE_I8};
+    for (int k = 0; k < 6; ++k)
+      if (in_family(i.op, sets[k], kNum, &n)) return compare_set(rels[k], i, n), true;
+    const Rel jrels[] = {Rel::Lt, Rel::Le, Rel::Gt, Rel::Ge, Rel::Eq, Rel::Ne};
+    const Op jumps[] = {Op::JNLT_I8, Op::JNLE_I8, Op::JNGT_I8, Op::JNGE_I8, Op::JNEQ_I8, Op::JNNE_I8};
+    for (int k = 0; k < 6; ++k)
+      if (in_family(i.op, jumps[k], kNum, &n)) return compare_jump(jrels[k], i, n), true;
+    const Op forms[] = {Op::MULADD_I8, Op::ADDMUL_I8, Op::MULSUB_I8, Op::SUBMUL_I8};
+    for (int k = 0; k < 4; ++k)
+      if (in_family(i.op, forms[k], kNum, &n)) return fused(k, i, n), true;
+    if (in_family(i.op, Op::FOR_INC_I8, kInt, &n)) return for_inc(pc, i, n), true;
+    if (in_family(i.op, Op::LDX_I8, kInt, &n)) {
+      if (!element(pc, i, n)) return false;
+      mov(rax, qword[rbx + rcx * 8 + disp(i.b)]);
+      mov(cell(i.a), rax);
+      return true;
+    }
+    if (in_family(i.op, Op::STX_I8, kInt, &n)) {
+      if (!element(pc, i, n)) return false;
+      mov(rax, cell(i.b));
+      mov(qword[rbx + rcx * 8 + disp(i.a)], rax);
+      return true;
+    }
+    if (in_family(i.op, Op::CLAMP_I8, kNum, &n)) return clamp(i, n), true;
+    if (in_family(i.op, Op::WIDEN_TO_F64_I8, kNum, &n) && n != Num::U64 && n != Num::F64) {
+      if (n == Num::F32) cvtss2sd(xmm0, dword[rbx + disp(i.b)]);
+      else { load_int(rax, i.b, n); cvtsi2sd(xmm0, rax); }
+      movsd(cell(i.a), xmm0);
+      return true;
+    }
+    return false;
+  }
+};
+
+// Every operand a displacement from the frame's register: the frame must fit
+// a 32-bit displacement (it always does for the checker's limits; if not,
+// the POU stays interpreted).
+bool fits(const CompiledPou& p) {
+  return p.frame_cells < (std::uint32_t{1} << 27) && p.code.size() < (std::size_t{1} << 24);
+}
+
+struct NativeCode {
+  std::unique_ptr<Emitter> code;
+};
+
+}  // namespace
+
+void set_engine(Module& m, Engine engine) {
+  for (CompiledPou& p : m.pous) {
+    p.native = nullptr;
+    p.native_code.reset();
+  }
+  if (engine != Engine::Native) return;
+  for (CompiledPou& p : m.pous) {
+    if (p.code.empty() || !fits(p)) continue;
+    try {
+      // The largest template with its rare path is under 200 bytes.
+      auto e = std::make_unique<Emitter>(m, p, p.code.size() * 256 + 4096);
+      e->emit();
+      e->setProtectModeRE();  // written, now executable and no longer writable
+      p.native = e->getCode<int (*)(Vm*, Cell*) noexcept>();
+      auto owner = std::make_shared<NativeCode>();
+      owner->code = std::move(e);
+      p.native_code = std::move(owner);
+    } catch (const std::exception&) {
+      // No executable memory (a hardened kernel) or code over the estimate:
+      // this POU stays with the interpreter, which gives the same results.
+      p.native = nullptr;
+      p.native_code.reset();
+    }
+  }
+}
+
+#else
+
+void set_engine(Module& m, Engine) {
+  for (CompiledPou& p : m.pous) {
+    p.native = nullptr;
+    p.native_code.reset();
+  }
+}
+
+#endif
+
+std::size_t native_pous(const Module& m) {
+  std::size_t n = 0;
+  for (const CompiledPou& p : m.pous) n += p.native != nullptr;
+  return n;
+}
+
+}  // namespace syncplc::st::vm

@@ -1,0 +1,264 @@
+// Native code (runtime/st/vm/native_x64.cpp) against the interpreter: the
+// same program, compiled twice, run on both engines from the same inputs;
+// after every scan the frames must agree bit for bit, and so must the
+// faults (their text and order) and whether the loop budget stopped the scan.
+// Programs: one per numeric type exercising every instruction native code
+// has a template of (and the ones it hands to the interpreter), with edge
+// inputs (each type's limits, NaN, infinities, -0.0, indices out of bounds,
+// loops that exhaust the budget); and every program of the valid corpus.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "tests/st/corpus_files.hpp"
+#include "tests/st/vm_fixture.hpp"
+
+namespace syncplc::st::testing {
+namespace {
+
+// The program for one type: `T` in it is replaced by the type's name.
+// `widen` adds the implicit widening to LREAL (not for 64-bit integers).
+std::string typed_program(const std::string& type, bool widen) {
+  std::string src = R"(
+PROGRAM P
+VAR
+  x, y, z, s, p, q : T;
+  r : ARRAY[0..9] OF T;
+  lt, le, gt, ge, eq, ne, b1, b2 : BOOL;
+  k, n, hit, stop_at : INT;
+  w : LREAL;
+END_VAR
+s := x + y; p := x - y; q := x * y;
+lt := x < y; le := x <= y; gt := x > y; ge := x >= y; eq := x = y; ne := x <> y;
+b1 := (lt AND NOT gt) OR (eq XOR ne);
+b2 := b1 XOR le;
+IF x < y THEN hit := hit + 1; END_IF;
+IF x <= y THEN hit := hit + 2; END_IF;
+IF x > y THEN hit := hit + 4; END_IF;
+IF x >= y THEN hit := hit + 8; END_IF;
+IF x = y THEN hit := hit + 16; END_IF;
+IF x <> y THEN hit := hit + 32; END_IF;
+IF NOT b1 THEN hit := hit - 1; END_IF;
+z := x * y + z;
+z := z + x * y;
+z := x * y - z;
+z := z - x * y;
+IF z > y THEN z := y; ELSIF z < x THEN z := x; END_IF;
+q := q / y;
+MODULO
+IF s < x THEN s := x; ELSIF s > y THEN s := y; END_IF;
+WIDEN
+FOR k := 0 TO 9 DO
+  r[k] := r[k] + x;
+  s := s + r[k];
+  IF r[k] > s THEN s := r[k] * y; END_IF;
+END_FOR;
+FOR k := n TO n + 3 DO
+  r[k] := y;
+END_FOR;
+FOR k := 9 TO 0 BY -1 DO
+  IF r[k] > x THEN EXIT; END_IF;
+  p := p + r[k];
+END_FOR;
+FOR k := 0 TO 2 DO
+  FOR n := 0 TO 3 DO
+    q := q + r[k + n];
+  END_FOR;
+END_FOR;
+n := stop_at MOD 13;
+k := 0;
+WHILE k < stop_at DO
+  k := k + 1;
+  IF k = 7 AND x = y THEN RETURN; END_IF;
+END_WHILE;
+END_PROGRAM
+)";
+  auto replace_all = [&](const std::string& from, const std::string& to) {
+    for (std::size_t at = 0; (at = src.find(from, at)) != std::string::npos; at += to.size()) src.replace(at, from.size(), to);
+  };
+  replace_all("WIDEN", widen ? "w := x + w * 0.5;" : "");
+  replace_all("MODULO", type == "REAL" || type == "LREAL" ? "" : "p := p MOD y;");
+  replace_all(": T;", ": " + type + ";");
+  replace_all("OF T;", "OF " + type + ";");
+  return src;
+}
+
+template <class C>
+std::vector<C> edge_values() {
+  using L = std::numeric_limits<C>;
+  std::vector<C> v = {C(0), C(1), C(2), C(3), L::max(), L::lowest(), C(L::max() - C(1))};
+  if constexpr (std::is_signed_v<C>) v.push_back(C(-1)), v.push_back(C(-3));
+  if constexpr (std::is_floating_point_v<C>) {
+    v.push_back(L::quiet_NaN());
+    v.push_back(L::infinity());
+    v.push_back(-L::infinity());
+    v.push_back(C(-0.0));
+    v.push_back(L::denorm_min());
+    v.push_back(C(0.1));
+    v.push_back(C(-2.5e10));
+  }
+  return v;
+}
+
+// Everything an observer can see of a run after a scan.
+struct Seen {
+  bool ran = true;
+  std::vector<std::uint64_t> frame;
+  std::vector<std::string> faults;
+};
+
+Seen seen(StRun& r, bool ran) {
+  Seen s;
+  s.ran = ran;
+  const Cell* f = r.instance->frame();
+  for (std::uint32_t k = 0; k < r.instance->frame_cells(); ++k) s.frame.push_back(f[k].raw);
+  s.faults = r.fault_texts();
+  return s;
+}
+
+// Equal bits, or two NaNs (of LREAL, or of REAL in the low half): which
+// operand's NaN an operation on two NaNs passes on is the C++ compiler's
+// choice of operand order in the interpreter (IEEE 754 leaves it open), so
+// only there may the engines differ (docs/st.md, "How compiled ST runs").
+bool same_cell(std::uint64_t a, std::uint64_t b) {
+  if (a == b) return true;
+  double da, db;
+  std::memcpy(&da, &a, 8);
+  std::memcpy(&db, &b, 8);
+  if (std::isnan(da) && std::isnan(db)) return true;
+  if ((a >> 32) != 0 || (b >> 32) != 0) return false;
+  float fa, fb;
+  const auto la = static_cast<std::uint32_t>(a), lb = static_cast<std::uint32_t>(b);
+  std::memcpy(&fa, &la, 4);
+  std::memcpy(&fb, &lb, 4);
+  return std::isnan(fa) && std::isnan(fb);
+}
+
+void expect_same(const Seen& a, const Seen& b, const std::string& where) {
+  EXPECT_EQ(a.ran, b.ran) << where;
+  ASSERT_EQ(a.frame.size(), b.frame.size()) << where;
+  for (std::size_t k = 0; k < a.frame.size(); ++k)
+    ASSERT_TRUE(same_cell(a.frame[k], b.frame[k])) << where << ": cell " << k << " differs: " << a.frame[k] << " "
+                                                   << b.frame[k];
+  EXPECT_EQ(a.faults, b.faults) << where;
+}
+
+template <class C>
+void run_typed(const std::string& type, bool widen) {
+  const std::string src = typed_program(type, widen);
+  StRun native({src}, "P", 10'000'000, vm::Engine::Native);
+  StRun interp({src}, "P", 10'000'000, vm::Engine::Interpreter);
+  ASSERT_TRUE(native.ok()) << (native.errors.empty() ? "" : native.errors[0]);
+  ASSERT_TRUE(interp.ok());
+#if defined(__x86_64__)
+  EXPECT_GT(vm::native_pous(*native.module), 0u) << "x86-64 runs compiled ST as native code";
+#endif
+  EXPECT_EQ(vm::native_pous(*interp.module), 0u);
+  native.budget = interp.budget = 400;  // the WHILE of stop_at >= ~300 exhausts it
+  const std::vector<C> values = edge_values<C>();
+  std::mt19937_64 rng(20261129);
+  const std::int16_t stops[] = {0, 5, 7, 40, 399, 1000};
+  const std::int16_t starts[] = {0, 3, 6, 7, 9, -1, 12, -32768};
+  for (int scan = 0; scan < 400; ++scan) {
+    const C x = values[rng() % values.size()], y = values[rng() % values.size()];
+    const std::int16_t stop_at = stops[rng() % 6], n = starts[rng() % 8];
+    for (StRun* r : {&native, &interp}) {
+      r->set<C>("x", x);
+      r->set<C>("y", y);
+      r->set<std::int16_t>("stop_at", stop_at);
+      r->set<std::int16_t>("n", n);
+    }
+    const bool a = native.scan(), b = interp.scan();
+    expect_same(seen(native, a), seen(interp, b), type + " scan " + std::to_string(scan));
+    if (::testing::Test::HasFatalFailure()) return;
+  }
+  EXPECT_FALSE(native.fault_texts().empty()) << "the inputs reach the faults (bounds, division by zero)";
+}
+
+TEST(StVmNative, EveryTypesArithmeticComparisonsLoopsAndFaultsGiveTheInterpretersBits) {
+  run_typed<std::int8_t>("SINT", true);
+  run_typed<std::int16_t>("INT", true);
+  run_typed<std::int32_t>("DINT", true);
+  run_typed<std::int64_t>("LINT", false);
+  run_typed<std::uint8_t>("USINT", true);
+  run_typed<std::uint16_t>("UINT", true);
+  run_typed<std::uint32_t>("UDINT", true);
+  run_typed<std::uint64_t>("ULINT", false);
+  run_typed<float>("REAL", true);
+  run_typed<double>("LREAL", false);
+}
+
+TEST(StVmNative, ARunawayLoopStopsAtTheSameSiteWithTheSameBudgetLeft) {
+  const std::string src =
+      "PROGRAM P\nVAR\n  k : DINT;\n  a : ARRAY[1..4] OF LREAL;\n  s : LREAL;\nEND_VAR\n"
+      "WHILE TRUE DO\n  k := k + 1;\n  FOR k := 1 TO 4 DO s := s + a[k]; END_FOR;\nEND_WHILE;\nEND_PROGRAM\n";
+  StRun native({src}, "P", 10'000'000, vm::Engine::Native);
+  StRun interp({src}, "P", 10'000'000, vm::Engine::Interpreter);
+  ASSERT_TRUE(native.ok() && interp.ok());
+  for (std::int64_t budget : {0, 1, 2, 3, 4, 5, 99, 1000}) {
+    native.budget = interp.budget = budget;
+    const bool a = native.scan(), b = interp.scan();
+    EXPECT_FALSE(a);
+    expect_same(seen(native, a), seen(interp, b), "budget " + std::to_string(budget));
+    ASSERT_NE(native.instance->stopped(), nullptr);
+    ASSERT_NE(interp.instance->stopped(), nullptr);
+    EXPECT_STREQ(native.instance->stopped(), interp.instance->stopped());
+    EXPECT_EQ(native.instance->frame()[0].raw, interp.instance->frame()[0].raw);
+  }
+}
+
+// Every PROGRAM and FUNCTION_BLOCK of the valid corpus, 50 scans each from
+// their initial values. Only the cells that are values are compared: a
+// reference or an embedded built-in block holds an address, which differs
+// between the two instances.
+TEST(StVmNative, EveryProgramOfTheValidCorpusRunsAsTheInterpreterRunsIt) {
+  int compared = 0;
+  for (const auto& file : corpus::sources("valid")) {
+    const std::string src = corpus::read(file);
+    StRun probe({src}, "", 10'000'000, vm::Engine::Interpreter);
+    if (!probe.module) continue;  // a file of declarations only, or a FUNCTION's
+    for (const vm::CompiledPou& pou : probe.module->pous) {
+      if (pou.kind == PouKind::Function) continue;
+      // A VAR_IN_OUT or VAR_EXTERNAL is a reference its user binds: alone,
+      // the POU has nothing to point it at.
+      bool bound_elsewhere = false;
+      for (const vm::VarSlot& v : pou.vars) {
+        const auto scope = static_cast<VarScope>(v.scope);
+        bound_elsewhere = bound_elsewhere || scope == VarScope::InOut || scope == VarScope::External;
+      }
+      if (bound_elsewhere) continue;
+      StRun native({src}, pou.name, 10'000'000, vm::Engine::Native);
+      StRun interp({src}, pou.name, 10'000'000, vm::Engine::Interpreter);
+      ASSERT_TRUE(native.ok() && interp.ok()) << file;
+      std::vector<std::pair<std::uint32_t, std::uint32_t>> values;  // (at, cells)
+      for (const vm::VarSlot& v : pou.vars) {
+        if (!v.type) continue;
+        const VarScope scope = static_cast<VarScope>(v.scope);
+        if (scope == VarScope::InOut || scope == VarScope::External) continue;
+        const Type* t = v.type;
+        while (t->kind == Type::Kind::Array && t->element) t = t->element;
+        if (t->kind == Type::Kind::FunctionBlock || t->kind == Type::Kind::Struct) continue;
+        values.emplace_back(v.at, v.cells);
+      }
+      for (int scan = 0; scan < 50; ++scan) {
+        const bool a = native.scan(), b = interp.scan();
+        ASSERT_EQ(a, b) << file << " " << pou.name;
+        for (const auto& [at, cells] : values)
+          for (std::uint32_t k = 0; k < cells; ++k)
+            ASSERT_TRUE(same_cell(native.instance->frame()[at + k].raw, interp.instance->frame()[at + k].raw))
+                << file << " " << pou.name << " scan " << scan << " cell " << at + k;
+        ASSERT_EQ(native.fault_texts(), interp.fault_texts()) << file << " " << pou.name;
+      }
+      ++compared;
+    }
+  }
+  EXPECT_GE(compared, 12);
+}
+
+}  // namespace
+}  // namespace syncplc::st::testing
