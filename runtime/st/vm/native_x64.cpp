@@ -17,11 +17,17 @@
 //   r13  the loop budget (Vm::budget, written back around every step())
 //   r14  the CompiledPou
 //   r15  the table of each instruction's code address (the targets of step())
+// and, inside a loop native_loops.cpp picked, its cells: LREALs in xmm4 ..
+// xmm15, integers and bits in rsi, rdi, r8 .. r11, read at its head, written
+// back on every way out and around every call of step(). Templates use rax,
+// rcx, rdx, xmm0 and xmm1 as scratch.
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <map>
 #include <memory>
 
+#include "runtime/st/vm/native_loops.hpp"
 #include "runtime/st/vm/vm.hpp"
 
 #if defined(__x86_64__) && defined(SYNCPLC_HAVE_XBYAK)
@@ -57,6 +63,27 @@ bool in_family(Op op, Op first, int members, Num* n) {
   return true;
 }
 
+// Whether an instruction has a template (Emitter::insn emits one exactly
+// for these).
+bool templated(const Module&, const Insn& i) {
+  Num n{};
+  switch (i.op) {
+    case Op::HALT: case Op::JMP: case Op::JMPB: case Op::JZ: case Op::JNZ: case Op::MOV:
+    case Op::AND: case Op::OR: case Op::XOR: case Op::NOT_BOOL:
+      return true;
+    case Op::GETBIT: return i.c <= 63;
+    default: break;
+  }
+  for (Op first : {Op::ADD_I8, Op::SUB_I8, Op::MUL_I8, Op::EQ_I8, Op::NE_I8, Op::LT_I8, Op::LE_I8, Op::GT_I8,
+                   Op::GE_I8, Op::JNLT_I8, Op::JNLE_I8, Op::JNGT_I8, Op::JNGE_I8, Op::JNEQ_I8, Op::JNNE_I8,
+                   Op::MULADD_I8, Op::ADDMUL_I8, Op::MULSUB_I8, Op::SUBMUL_I8, Op::CLAMP_I8})
+    if (in_family(i.op, first, kNumCount, &n)) return true;
+  if (in_family(i.op, Op::FOR_INC_I8, 8, &n)) return true;
+  if (in_family(i.op, Op::LDX_I8, 8, &n) || in_family(i.op, Op::STX_I8, 8, &n)) return n != Num::U64;
+  if (in_family(i.op, Op::WIDEN_TO_F64_I8, kNumCount, &n)) return n != Num::U64 && n != Num::F64;
+  return false;
+}
+
 class Emitter : public CodeGenerator {
  public:
   Emitter(const Module& m, const CompiledPou& p, std::size_t bytes)
@@ -65,12 +92,23 @@ class Emitter : public CodeGenerator {
   void emit() {
     prologue();
     const auto n = static_cast<std::uint32_t>(p_.code.size());
+    loops_ = register_loops(m_, p_, &templated, std::size(kRealRegs), std::size(kWordRegs));
+    heads_ = std::vector<Label>(loops_.size());
+    std::vector<int> loop_at(n, -1);  // pc -> its loop's index in loops_
+    for (std::size_t k = 0; k < loops_.size(); ++k)
+      for (std::uint32_t pc = loops_[k].head; pc <= loops_[k].end; ++pc) loop_at[pc] = static_cast<int>(k);
     std::vector<bool> needs_slow(n, false);
     for (std::uint32_t pc = 0; pc < n; ++pc) {
       L(at_[pc]);
+      if (loop_at[pc] >= 0 && loops_[loop_at[pc]].head == pc) {
+        enter(loops_[loop_at[pc]]);
+        load_all();
+        L(*inner_head_);
+      }
       if (!insn(pc, p_.code[pc])) step_call(pc);
       else if (slow_used_) needs_slow[pc] = true;
       slow_used_ = false;
+      if (loop_ && pc == loop_->end) leave();
     }
     // The code never falls off its end (the generator ends every POU with
     // HALT); were it to, it returns as HALT does.
@@ -78,8 +116,23 @@ class Emitter : public CodeGenerator {
     for (std::uint32_t pc = 0; pc < n; ++pc)
       if (needs_slow[pc]) {
         L(slow_[pc]);
-        step_call(pc);
-        jmp(at_[pc + 1 < n ? pc + 1 : pc], T_NEAR);  // unreachable for the last (HALT)
+        if (loop_at[pc] < 0) {
+          step_call(pc);
+          jmp(at_[pc + 1 < n ? pc + 1 : pc], T_NEAR);  // unreachable for the last (HALT)
+          continue;
+        }
+        // In a loop: the frame gets the registers' values for step() and
+        // the registers what step() left in the frame.
+        enter(loops_[loop_at[pc]]);
+        store_all();
+        step_call(pc, false);
+        load_all();
+        cmp(eax, pc + 1);
+        jne(after_step_, T_NEAR);
+        jmp(at_[pc + 1], T_NEAR);
+        loop_ = nullptr;
+        reals_.clear();
+        words_.clear();
       }
     // Where step() did not go on to the next instruction.
     L(after_step_);
@@ -108,6 +161,78 @@ class Emitter : public CodeGenerator {
   Label after_step_, exit_ok_, exit_stop_, table_;
   bool slow_used_ = false;
 
+  // The loop being emitted, its cells' registers, and where its ways out
+  // write them back.
+  static constexpr int kRealRegs[] = {4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};  // xmm4 .. xmm15
+  static constexpr int kWordRegs[] = {Xbyak::Operand::RSI, Xbyak::Operand::RDI, Xbyak::Operand::R8,
+                                      Xbyak::Operand::R9,  Xbyak::Operand::R10, Xbyak::Operand::R11};
+  std::vector<RegisterLoop> loops_;
+  const RegisterLoop* loop_ = nullptr;
+  std::vector<std::pair<std::uint32_t, Xmm>> reals_;
+  std::vector<std::pair<std::uint32_t, Reg64>> words_;
+  std::vector<Label> heads_;  // per loop: its head past the loads
+  Label* inner_head_ = nullptr;
+  std::map<std::uint32_t, Label> exits_;
+
+  void enter(const RegisterLoop& l) {
+    loop_ = &l;
+    reals_.clear();
+    words_.clear();
+    for (std::size_t k = 0; k < l.reals.size(); ++k) reals_.emplace_back(l.reals[k], Xmm(kRealRegs[k]));
+    for (std::size_t k = 0; k < l.words.size(); ++k) words_.emplace_back(l.words[k], Reg64(kWordRegs[k]));
+    inner_head_ = &heads_[static_cast<std::size_t>(&l - loops_.data())];
+    exits_.clear();
+  }
+  // After the loop's last instruction (a jump back: nothing falls through).
+  void leave() {
+    for (auto& [to, label] : exits_) {
+      L(label);
+      store_all();
+      jmp(at_[to], T_NEAR);
+    }
+    exits_.clear();
+    loop_ = nullptr;
+    reals_.clear();
+    words_.clear();
+  }
+  void load_all() {
+    for (const auto& [k, x] : reals_) movsd(x, cell(k));
+    for (const auto& [k, g] : words_) mov(g, cell(k));
+  }
+  void store_all() {
+    for (const auto& [k, x] : reals_) movsd(cell(k), x);
+    for (const auto& [k, g] : words_) mov(cell(k), g);
+  }
+  const Xmm* real_reg(std::uint32_t k) const {
+    for (const auto& [c, x] : reals_)
+      if (c == k) return &x;
+    return nullptr;
+  }
+  const Reg64* word_reg(std::uint32_t k) const {
+    for (const auto& [c, g] : words_)
+      if (c == k) return &g;
+    return nullptr;
+  }
+  // Where a jump to pc `d` goes: inside the loop, to it (the head past its
+  // loads); out of it, through a stub that writes the registers back.
+  const Label& target(std::uint32_t d) {
+    if (!loop_) return at_[d];
+    if (d == loop_->head) return *inner_head_;
+    if (d > loop_->head && d <= loop_->end) return at_[d];
+    return exits_[d];
+  }
+  // A cell's 64 bits to or from a general register, wherever the cell is.
+  void raw_load(const Reg64& r, std::uint32_t k) {
+    if (const Reg64* g = word_reg(k)) mov(r, *g);
+    else if (const Xmm* x = real_reg(k)) movq(r, *x);
+    else mov(r, cell(k));
+  }
+  void raw_store(std::uint32_t k, const Reg64& r) {
+    if (const Reg64* g = word_reg(k)) mov(*g, r);
+    else if (const Xmm* x = real_reg(k)) movq(*x, r);
+    else mov(cell(k), r);
+  }
+
   Address cell(std::uint32_t k) const { return qword[rbx + static_cast<int>(k) * 8]; }
   static int disp(std::uint32_t k) { return static_cast<int>(k) * 8; }
 
@@ -134,7 +259,7 @@ class Emitter : public CodeGenerator {
 
   // The instruction at pc by the interpreter; on to pc + 1 when that is
   // where it goes.
-  void step_call(std::uint32_t pc) {
+  void step_call(std::uint32_t pc, bool go_on = true) {
     mov(qword[r12 + kBudget], r13);
     mov(rdi, r12);
     mov(rsi, r14);
@@ -143,6 +268,7 @@ class Emitter : public CodeGenerator {
     mov(rax, reinterpret_cast<std::uintptr_t>(&step));
     call(rax);
     mov(r13, qword[r12 + kBudget]);
+    if (!go_on) return;
     cmp(eax, pc + 1);
     jne(after_step_, T_NEAR);
   }
@@ -155,6 +281,18 @@ class Emitter : public CodeGenerator {
   // A cell of integer type n into r (sign- or zero-extended to 64 bits), as
   // Cell::get reads its low bytes.
   void load_int(const Reg64& r, std::uint32_t k, Num n) {
+    if (const Reg64* g = word_reg(k)) {
+      switch (n) {
+        case Num::I8: movsx(r, g->cvt8()); break;
+        case Num::I16: movsx(r, g->cvt16()); break;
+        case Num::I32: movsxd(r, g->cvt32()); break;
+        case Num::U8: movzx(r.cvt32(), g->cvt8()); break;
+        case Num::U16: movzx(r.cvt32(), g->cvt16()); break;
+        case Num::U32: mov(r.cvt32(), g->cvt32()); break;
+        default: mov(r, *g); break;
+      }
+      return;
+    }
     const int d = disp(k);
     switch (n) {
       case Num::I8: movsx(r, byte[rbx + d]); break;
@@ -174,14 +312,19 @@ class Emitter : public CodeGenerator {
       case 4: mov(r.cvt32(), r.cvt32()); break;
       default: break;
     }
-    mov(cell(k), r);
+    if (const Reg64* g = word_reg(k)) mov(*g, r);
+    else mov(cell(k), r);
   }
+  // A REAL cell never lives in a register (native_loops.cpp); an LREAL may.
   void load_real(const Xmm& x, std::uint32_t k, Num n) {
     if (n == Num::F32) movss(x, dword[rbx + disp(k)]);
+    else if (const Xmm* r = real_reg(k)) movapd(x, *r);
     else movsd(x, qword[rbx + disp(k)]);
   }
   void store_real(std::uint32_t k, const Xmm& x, Num n) {
-    if (n == Num::F32) {
+    if (const Xmm* r = n == Num::F64 ? real_reg(k) : nullptr) {
+      movapd(*r, x);
+    } else if (n == Num::F32) {
       movd(eax, x);  // zero-extended: the cell's high half is zero
       mov(cell(k), rax);
     } else {
@@ -189,6 +332,7 @@ class Emitter : public CodeGenerator {
     }
   }
   void real_op(char op, const Xmm& x, std::uint32_t k, Num n) {
+    if (const Xmm* r = n == Num::F64 ? real_reg(k) : nullptr) return real_op(op, x, *r, n);
     const bool f32 = n == Num::F32;
     const Address a = f32 ? dword[rbx + disp(k)] : qword[rbx + disp(k)];
     switch (op) {
@@ -206,7 +350,8 @@ class Emitter : public CodeGenerator {
     }
   }
   void ucomi(const Xmm& x, std::uint32_t k, Num n) {
-    if (n == Num::F32) ucomiss(x, dword[rbx + disp(k)]);
+    if (const Xmm* r = n == Num::F64 ? real_reg(k) : nullptr) ucomisd(x, *r);
+    else if (n == Num::F32) ucomiss(x, dword[rbx + disp(k)]);
     else ucomisd(x, qword[rbx + disp(k)]);
   }
 
@@ -270,12 +415,12 @@ class Emitter : public CodeGenerator {
       set_if(r, is_signed(n), al);
     }
     movzx(eax, al);
-    mov(cell(i.a), rax);
+    raw_store(i.a, rax);
   }
   void compare_jump(Rel r, const Insn& i, Num n) {  // if !(a rel b) goto d
     if (n == Num::F32 || n == Num::F64) {
       // Not above / below: taken also when unordered (CF = 1), as !(x > y).
-      const Label& to = at_[i.d];
+      const Label& to = target(i.d);
       switch (r) {
         case Rel::Gt: load_real(xmm0, i.a, n); ucomi(xmm0, i.b, n); jbe(to, T_NEAR); break;
         case Rel::Ge: load_real(xmm0, i.a, n); ucomi(xmm0, i.b, n); jb(to, T_NEAR); break;
@@ -297,7 +442,7 @@ class Emitter : public CodeGenerator {
       load_int(rax, i.a, n);
       load_int(rcx, i.b, n);
       cmp(rax, rcx);
-      jump_if(negated(r), is_signed(n), at_[i.d]);
+      jump_if(negated(r), is_signed(n), target(i.d));
     }
   }
 
@@ -349,19 +494,19 @@ class Emitter : public CodeGenerator {
     load_int(rax, i.a, n);
     load_int(rcx, i.b, n);
     cmp(rax, rcx);
-    jump_if(Rel::Ge, is_signed(n), at_[pc + 1]);
+    jump_if(Rel::Ge, is_signed(n), target(pc + 1));
     test(r13, r13);
     jle(slow(pc), T_NEAR);  // the budget is spent: step() stops the chain
     dec(r13);
     add(rax, 1);
     store_int(i.a, rax, n);
-    jmp(at_[i.d], T_NEAR);
+    jmp(target(i.d), T_NEAR);
   }
 
   // rcx := the checked element offset of index cell c (array index d); out
-  // of bounds to step(), which faults. U64 indices (saturated) go to step().
-  bool element(std::uint32_t pc, const Insn& i, Num n) {
-    if (n == Num::U64) return false;
+  // of bounds to step(), which faults. (U64 indices, saturated, have no
+  // template.)
+  void element(std::uint32_t pc, const Insn& i, Num n) {
     const IndexCheck& k = m_.indexes[i.d];
     load_int(rcx, i.c, n);
     if (k.low >= std::numeric_limits<std::int32_t>::min() && k.low <= std::numeric_limits<std::int32_t>::max()) {
@@ -377,7 +522,6 @@ class Emitter : public CodeGenerator {
       cmp(rcx, rdx);
     }
     jae(slow(pc), T_NEAR);
-    return true;
   }
 
   // The clamping IF: d = 0 tests the upper bound c first, d = 1 the lower b.
@@ -396,40 +540,43 @@ class Emitter : public CodeGenerator {
     else { under(); over(); }
     jmp(done, T_NEAR);
     L(to_c);
-    mov(rax, cell(i.c));
-    mov(cell(i.a), rax);
+    raw_load(rax, i.c);
+    raw_store(i.a, rax);
     jmp(done, T_NEAR);
     L(to_b);
-    mov(rax, cell(i.b));
-    mov(cell(i.a), rax);
+    raw_load(rax, i.b);
+    raw_store(i.a, rax);
     L(done);
   }
 
   // One instruction's template; false when it has none (step() runs it).
   bool insn(std::uint32_t pc, const Insn& i) {
+    if (!templated(m_, i)) return false;
     Num n{};
     switch (i.op) {
-      case Op::HALT: jmp(exit_ok_, T_NEAR); return true;
-      case Op::JMP: jmp(at_[i.d], T_NEAR); return true;
+      case Op::HALT:
+        store_all();
+        jmp(exit_ok_, T_NEAR);
+        return true;
+      case Op::JMP: jmp(target(i.d), T_NEAR); return true;
       case Op::JMPB:
         test(r13, r13);
         jle(slow(pc), T_NEAR);
         dec(r13);
-        jmp(at_[i.d], T_NEAR);
+        jmp(target(i.d), T_NEAR);
         return true;
-      case Op::JZ: cmp(cell(i.a), 0); je(at_[i.d], T_NEAR); return true;
-      case Op::JNZ: cmp(cell(i.a), 0); jne(at_[i.d], T_NEAR); return true;
-      case Op::MOV: mov(rax, cell(i.b)); mov(cell(i.a), rax); return true;
-      case Op::AND: mov(rax, cell(i.b)); and_(rax, cell(i.c)); mov(cell(i.a), rax); return true;
-      case Op::OR: mov(rax, cell(i.b)); or_(rax, cell(i.c)); mov(cell(i.a), rax); return true;
-      case Op::XOR: mov(rax, cell(i.b)); xor_(rax, cell(i.c)); mov(cell(i.a), rax); return true;
-      case Op::NOT_BOOL: mov(rax, cell(i.b)); xor_(rax, 1); mov(cell(i.a), rax); return true;
+      case Op::JZ: raw_load(rax, i.a); test(rax, rax); jz(target(i.d), T_NEAR); return true;
+      case Op::JNZ: raw_load(rax, i.a); test(rax, rax); jnz(target(i.d), T_NEAR); return true;
+      case Op::MOV: raw_load(rax, i.b); raw_store(i.a, rax); return true;
+      case Op::AND: raw_load(rax, i.b); raw_load(rcx, i.c); and_(rax, rcx); raw_store(i.a, rax); return true;
+      case Op::OR: raw_load(rax, i.b); raw_load(rcx, i.c); or_(rax, rcx); raw_store(i.a, rax); return true;
+      case Op::XOR: raw_load(rax, i.b); raw_load(rcx, i.c); xor_(rax, rcx); raw_store(i.a, rax); return true;
+      case Op::NOT_BOOL: raw_load(rax, i.b); xor_(rax, 1); raw_store(i.a, rax); return true;
       case Op::GETBIT:
-        if (i.c > 63) return false;
-        mov(rax, cell(i.b));
+        raw_load(rax, i.b);
         shr(rax, static_cast<int>(i.c));
         and_(eax, 1);
-        mov(cell(i.a), rax);
+        raw_store(i.a, rax);
         return true;
       default: break;
     }
@@ -450,25 +597,25 @@ class Emitter : public CodeGenerator {
       if (in_family(i.op, forms[k], kNum, &n)) return fused(k, i, n), true;
     if (in_family(i.op, Op::FOR_INC_I8, kInt, &n)) return for_inc(pc, i, n), true;
     if (in_family(i.op, Op::LDX_I8, kInt, &n)) {
-      if (!element(pc, i, n)) return false;
+      element(pc, i, n);
       mov(rax, qword[rbx + rcx * 8 + disp(i.b)]);
-      mov(cell(i.a), rax);
+      raw_store(i.a, rax);
       return true;
     }
     if (in_family(i.op, Op::STX_I8, kInt, &n)) {
-      if (!element(pc, i, n)) return false;
-      mov(rax, cell(i.b));
+      element(pc, i, n);
+      raw_load(rax, i.b);
       mov(qword[rbx + rcx * 8 + disp(i.a)], rax);
       return true;
     }
     if (in_family(i.op, Op::CLAMP_I8, kNum, &n)) return clamp(i, n), true;
-    if (in_family(i.op, Op::WIDEN_TO_F64_I8, kNum, &n) && n != Num::U64 && n != Num::F64) {
+    if (in_family(i.op, Op::WIDEN_TO_F64_I8, kNum, &n)) {
       if (n == Num::F32) cvtss2sd(xmm0, dword[rbx + disp(i.b)]);
       else { load_int(rax, i.b, n); cvtsi2sd(xmm0, rax); }
-      movsd(cell(i.a), xmm0);
+      store_real(i.a, xmm0, Num::F64);
       return true;
     }
-    return false;
+    return false;  // not reached: templated() said yes
   }
 };
 
