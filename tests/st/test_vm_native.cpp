@@ -193,6 +193,70 @@ TEST(StVmNative, EveryTypesArithmeticComparisonsLoopsAndFaultsGiveTheInterpreter
   run_typed<double>("LREAL", false);
 }
 
+// Loops whose cells native code keeps in registers, left every way there
+// is: to their end, by EXIT, by RETURN, by the budget running out inside
+// them, and through the interpreter's rare path in the middle of one (an
+// index out of bounds, which writes the element's cell while it is in a
+// register).
+TEST(StVmNative, LoopsInRegistersWriteTheirCellsBackOnEveryWayOut) {
+  const std::string src = R"(
+PROGRAM P
+VAR
+  x, y, acc, best, v : LREAL;
+  buf : ARRAY[0..15] OF LREAL;
+  i, j, n, mode, count : DINT;
+  flag : BOOL;
+END_VAR
+FOR i := 0 TO 15 DO
+  buf[i] := buf[i] * 0.5 + x;
+END_FOR;
+acc := 0.0;
+best := buf[0];
+FOR i := 0 TO n DO
+  v := buf[i] * y + acc;
+  acc := acc + v * 0.25;
+  IF v > best THEN best := v; j := i; END_IF;
+  IF mode = 1 AND i = 5 THEN EXIT; END_IF;
+  IF mode = 2 AND i = 7 THEN RETURN; END_IF;
+  count := count + 1;
+  flag := flag XOR (v < acc);
+END_FOR;
+i := 0;
+WHILE i < n DO
+  i := i + 1;
+  IF mode = 3 THEN CONTINUE; END_IF;
+  acc := acc - x * y;
+  IF acc < -1.0E6 THEN acc := -1.0E6; ELSIF acc > 1.0E6 THEN acc := 1.0E6; END_IF;
+END_WHILE;
+END_PROGRAM
+)";
+  StRun native({src}, "P", 10'000'000, vm::Engine::Native);
+  StRun interp({src}, "P", 10'000'000, vm::Engine::Interpreter);
+  ASSERT_TRUE(native.ok() && interp.ok()) << (native.errors.empty() ? "" : native.errors[0]);
+#if defined(__x86_64__)
+  EXPECT_GE(vm::native_register_loops(*native.module), 3u) << "the three loops keep their cells in registers";
+#endif
+  std::mt19937_64 rng(7);
+  const double xs[] = {0.0, 1.5, -2.25, 1e300, std::numeric_limits<double>::quiet_NaN(), -0.0};
+  const std::int32_t ns[] = {0, 3, 15, 16, 40, 5000, -1};
+  for (int scan = 0; scan < 300; ++scan) {
+    const double x = xs[rng() % 6], y = xs[rng() % 6];
+    const std::int32_t n = ns[rng() % 7], mode = static_cast<std::int32_t>(rng() % 4);
+    const std::int64_t budget = scan % 5 == 0 ? static_cast<std::int64_t>(rng() % 200) : 1'000'000;
+    for (StRun* r : {&native, &interp}) {
+      r->set<double>("x", x);
+      r->set<double>("y", y);
+      r->set<std::int32_t>("n", n);
+      r->set<std::int32_t>("mode", mode);
+      r->budget = budget;
+    }
+    const bool a = native.scan(), b = interp.scan();
+    expect_same(seen(native, a), seen(interp, b), "scan " + std::to_string(scan));
+    if (::testing::Test::HasFatalFailure()) return;
+  }
+  EXPECT_FALSE(native.fault_texts().empty()) << "n = 16 and 40 index past buf's end inside the loop";
+}
+
 TEST(StVmNative, ARunawayLoopStopsAtTheSameSiteWithTheSameBudgetLeft) {
   const std::string src =
       "PROGRAM P\nVAR\n  k : DINT;\n  a : ARRAY[1..4] OF LREAL;\n  s : LREAL;\nEND_VAR\n"

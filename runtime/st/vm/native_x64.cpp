@@ -641,8 +641,10 @@ void set_engine(Module& m, Engine engine) {
   for (CompiledPou& p : m.pous) {
     if (p.code.empty() || !fits(p)) continue;
     try {
-      // The largest template with its rare path is under 200 bytes.
-      auto e = std::make_unique<Emitter>(m, p, p.code.size() * 256 + 4096);
+      // The largest template with its rare path (which in a loop writes
+      // back and reads again 18 registers) is under 500 bytes; pages never
+      // written stay unbacked.
+      auto e = std::make_unique<Emitter>(m, p, p.code.size() * 512 + 4096);
       e->emit();
       e->setProtectModeRE();  // written, now executable and no longer writable
       p.native = e->getCode<int (*)(Vm*, Cell*) noexcept>();
@@ -668,6 +670,18 @@ void set_engine(Module& m, Engine) {
 }
 
 #endif
+
+std::size_t native_register_loops(const Module& m) {
+#if SYNCPLC_ST_NATIVE
+  std::size_t n = 0;
+  for (const CompiledPou& p : m.pous)
+    if (p.native) n += register_loops(m, p, &templated, 12, 6).size();
+  return n;
+#else
+  (void)m;
+  return 0;
+#endif
+}
 
 std::size_t native_pous(const Module& m) {
   std::size_t n = 0;

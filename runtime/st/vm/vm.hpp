@@ -49,8 +49,10 @@ void finalize(Module& m, Engine engine = Engine::Native);
 // Switches a finalized module's engine (tests and benchmarks compare them);
 // not while it runs. Native where it cannot be made stays interpreted.
 void set_engine(Module& m, Engine engine);
-// The POUs of `m` that run as native code.
+// The POUs of `m` that run as native code, and the loops in them that keep
+// cells in registers (native_loops.hpp).
 std::size_t native_pous(const Module& m);
+std::size_t native_register_loops(const Module& m);
 
 // One instruction of `pou` at `pc` run by the interpreter: the next pc, or
 // one of these. Native code's way into the interpreter.
