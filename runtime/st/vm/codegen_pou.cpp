@@ -204,7 +204,8 @@ void CodeGen::default_image(const Type* t, Cell* at, const std::string& spelt, s
       if (p == ~0u) break;
       compile_pou(p);
       const CompiledPou& fb = out_->pous[p];
-      std::memcpy(at, fb.image.data(), fb.frame_cells * sizeof(Cell));
+      // An FB of no variables has no image (memcpy from null is undefined, even of 0 bytes).
+      if (fb.frame_cells) std::memcpy(at, fb.image.data(), fb.frame_cells * sizeof(Cell));
       out_->nested[pou].push_back({off, p});
       break;
     }

@@ -60,7 +60,7 @@ Instance::Instance(std::shared_ptr<const Module> module, std::uint32_t pou, cons
   const CompiledPou& p = module_->pous[pou];
   const std::uint32_t frame = p.frame_cells;
   area_.assign(frame + module_->function_area + module_->scratch_cells, Cell{});
-  std::memcpy(area_.data(), p.image.data(), frame * sizeof(Cell));
+  if (frame) std::memcpy(area_.data(), p.image.data(), frame * sizeof(Cell));  // a POU of no variables has no image
   frame_ = area_.data();
   create_blocks(pou, 0, setup, setup.name);
   find_externals(pou, 0);
