@@ -39,6 +39,7 @@
 #include "runtime/st/vm/listing.hpp"
 #include "runtime/st/vm/st_string.hpp"
 #include "runtime/st/vm/var_path.hpp"
+#include "runtime/st/vm/vm.hpp"
 
 namespace {
 
@@ -65,7 +66,7 @@ struct StProgram {
   st::CheckedProgram checked;
   std::shared_ptr<const vm::Module> module;
 
-  explicit StProgram(const std::string& source) {
+  StProgram(const std::string& source, vm::Engine engine) {
     parsed.push_back(std::make_unique<st::ParseResult>(st::parse(source, SourceFile("bench.st"))));
     if (!parsed.back()->ok()) throw std::runtime_error("parse: " + parsed.back()->diagnostics.list().front().text());
     checked = st::check({&parsed.back()->unit}, vm::block_signatures(builtin_blocks()));
@@ -74,6 +75,11 @@ struct StProgram {
     auto m = vm::compile(checked, &builtin_blocks(), diags);
     if (!m || !diags.list().empty())
       throw std::runtime_error("compile: " + (diags.list().empty() ? std::string("failed") : diags.list().front().text()));
+    vm::set_engine(*m, engine);
+#if defined(__x86_64__)
+    if (engine == vm::Engine::Native && vm::native_pous(*m) != m->pous.size())
+      throw std::runtime_error("native code could not be made for every POU");
+#endif
     module = std::move(m);
   }
 };
@@ -81,7 +87,8 @@ struct StProgram {
 // An instance of an ST FUNCTION_BLOCK as a block of the task's graph.
 class StBlock final : public Block {
  public:
-  StBlock(const std::string& source, const std::string& fb) : program_(source) {
+  StBlock(const std::string& source, const std::string& fb, vm::Engine engine = vm::Engine::Native)
+      : program_(source, engine) {
     const int p = program_.module->find(fb);
     if (p < 0) throw std::runtime_error("no POU " + fb);
     pou_ = static_cast<std::uint32_t>(p);
@@ -839,6 +846,13 @@ struct Instances {
   StBlock alarm_st{kStringsSt, "AlarmText"};
   PinCells<AlarmTextCpp::kPins> alarm_pins;
   AlarmTextCpp alarm_cpp;
+  // The same ST on the interpreter alone (what runs where native code
+  // cannot be made: not x86-64, or no executable memory).
+  StBlock pass_interp{kCallSt, "Pass", vm::Engine::Interpreter};
+  StBlock pid_interp{kPidSt, "PidAw", vm::Engine::Interpreter};
+  StBlock station_interp{kStateMachineSt, "Station", vm::Engine::Interpreter};
+  StBlock window_interp{kArraySt, "Window", vm::Engine::Interpreter};
+  StBlock alarm_interp{kStringsSt, "AlarmText", vm::Engine::Interpreter};
   Instances() {
     pass_cpp.bind_pins(pass_pins.pins);
     pid_cpp.bind_pins(pid_pins.pins);
@@ -871,15 +885,34 @@ void BM_ArrayLoop_Cpp(benchmark::State& s) {
 void BM_Strings_St(benchmark::State& s) { run(s, instances().alarm_st, alarm_cells(instances().alarm_st), alarms()); }
 void BM_Strings_Cpp(benchmark::State& s) { run(s, instances().alarm_cpp, alarm_cells(instances().alarm_pins), alarms()); }
 
+void BM_Call_StInterp(benchmark::State& s) {
+  run(s, instances().pass_interp, pass_cells(instances().pass_interp), pass_inputs());
+}
+void BM_Pid_StInterp(benchmark::State& s) { run(s, instances().pid_interp, pid_cells(instances().pid_interp), pids()); }
+void BM_StateMachine_StInterp(benchmark::State& s) {
+  run(s, instances().station_interp, station_cells(instances().station_interp), stations());
+}
+void BM_ArrayLoop_StInterp(benchmark::State& s) {
+  run(s, instances().window_interp, window_cells(instances().window_interp), windows());
+}
+void BM_Strings_StInterp(benchmark::State& s) {
+  run(s, instances().alarm_interp, alarm_cells(instances().alarm_interp), alarms());
+}
+
 BENCHMARK(BM_Call_St);
+BENCHMARK(BM_Call_StInterp);
 BENCHMARK(BM_Call_Cpp);
 BENCHMARK(BM_Pid_St);
+BENCHMARK(BM_Pid_StInterp);
 BENCHMARK(BM_Pid_Cpp);
 BENCHMARK(BM_StateMachine_St);
+BENCHMARK(BM_StateMachine_StInterp);
 BENCHMARK(BM_StateMachine_Cpp);
 BENCHMARK(BM_ArrayLoop_St);
+BENCHMARK(BM_ArrayLoop_StInterp);
 BENCHMARK(BM_ArrayLoop_Cpp);
 BENCHMARK(BM_Strings_St);
+BENCHMARK(BM_Strings_StInterp);
 BENCHMARK(BM_Strings_Cpp);
 
 // Same inputs, same outputs, bit for bit, over kCheckScans scans of fresh
@@ -915,25 +948,40 @@ struct Out {
   int n;
 };
 
+std::string check_equal_of(Instances& fresh, bool interp);
+
+// Both engines against C++.
 std::string check_equal() {
-  Instances fresh;
+  Instances for_native, for_interp;  // each with C++ blocks from their start
+  std::string e = check_equal_of(for_native, false);
+  if (!e.empty()) return "native code: " + e;
+  e = check_equal_of(for_interp, true);
+  return e.empty() ? e : "interpreter: " + e;
+}
+
+std::string check_equal_of(Instances& fresh, bool interp) {
+  StBlock& pass_st = interp ? fresh.pass_interp : fresh.pass_st;
+  StBlock& pid_st = interp ? fresh.pid_interp : fresh.pid_st;
+  StBlock& station_st = interp ? fresh.station_interp : fresh.station_st;
+  StBlock& window_st = interp ? fresh.window_interp : fresh.window_st;
+  StBlock& alarm_st = interp ? fresh.alarm_interp : fresh.alarm_st;
   std::string e;
-  e = compare("call", fresh.pass_st, pass_cells(fresh.pass_st), fresh.pass_cpp, pass_cells(fresh.pass_pins),
+  e = compare("call", pass_st, pass_cells(pass_st), fresh.pass_cpp, pass_cells(fresh.pass_pins),
               pass_inputs(), [](const PassCells& a, const PassCells& b) { return std::vector<Out>{{"y", a.y, b.y, 1}}; });
   if (!e.empty()) return e;
-  e = compare("PID", fresh.pid_st, pid_cells(fresh.pid_st), fresh.pid_cpp, pid_cells(fresh.pid_pins), pids(),
+  e = compare("PID", pid_st, pid_cells(pid_st), fresh.pid_cpp, pid_cells(fresh.pid_pins), pids(),
               [](const PidCells& a, const PidCells& b) {
                 return std::vector<Out>{{"out", a.out, b.out, 1}, {"saturated", a.saturated, b.saturated, 1}};
               });
   if (!e.empty()) return e;
-  e = compare("state machine", fresh.station_st, station_cells(fresh.station_st), fresh.station_cpp,
+  e = compare("state machine", station_st, station_cells(station_st), fresh.station_cpp,
               station_cells(fresh.station_pins), stations(), [](const StationCells& a, const StationCells& b) {
                 std::vector<Out> v;
                 for (int k = 0; k < 8; ++k) v.push_back({kStationOutputs[k], a.out[k], b.out[k], 1});
                 return v;
               });
   if (!e.empty()) return e;
-  e = compare("array loop", fresh.window_st, window_cells(fresh.window_st), fresh.window_cpp,
+  e = compare("array loop", window_st, window_cells(window_st), fresh.window_cpp,
               window_cells(fresh.window_pins), windows(), [](const WindowCells& a, const WindowCells& b) {
                 return std::vector<Out>{{"sum", a.sum, b.sum, 1},
                                         {"mean", a.mean, b.mean, 1},
@@ -941,7 +989,7 @@ std::string check_equal() {
                                         {"peak_at", a.peak_at, b.peak_at, 1}};
               });
   if (!e.empty()) return e;
-  e = compare("strings", fresh.alarm_st, alarm_cells(fresh.alarm_st), fresh.alarm_cpp, alarm_cells(fresh.alarm_pins),
+  e = compare("strings", alarm_st, alarm_cells(alarm_st), fresh.alarm_cpp, alarm_cells(fresh.alarm_pins),
               alarms(), [](const AlarmCells& a, const AlarmCells& b) {
                 return std::vector<Out>{{"msg", a.msg, b.msg, kString80Cells},
                                         {"head", a.head, b.head, kString80Cells},
@@ -1066,7 +1114,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "ST and C++ differ: %s\n", e.c_str());
       return 1;
     }
-    std::fprintf(stderr, "ST and C++ agree on %d scans of each case\n", kCheckScans);
+    std::fprintf(stderr, "ST (native code and interpreter) and C++ agree on %d scans of each case\n", kCheckScans);
     instances();
   } catch (const std::exception& ex) {
     std::fprintf(stderr, "%s\n", ex.what());

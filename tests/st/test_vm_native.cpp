@@ -257,6 +257,92 @@ END_PROGRAM
   EXPECT_FALSE(native.fault_texts().empty()) << "n = 16 and 40 index past buf's end inside the loop";
 }
 
+// The templates that call the runtime (string functions, REAL functions,
+// FB calls) and the ones with a rare path into the interpreter (integer
+// division by 0 and by -1, CASE selectors outside every label).
+TEST(StVmNative, CallsCaseAndDivisionGiveTheInterpretersBits) {
+  const std::string src = R"(
+FUNCTION_BLOCK Spin
+VAR_INPUT
+  n : DINT;
+END_VAR
+VAR_OUTPUT
+  turns : DINT;
+END_VAR
+VAR
+  k : DINT;
+END_VAR
+FOR k := 1 TO n DO
+  turns := turns + 1;
+END_FOR;
+END_FUNCTION_BLOCK
+
+FUNCTION Half : LREAL
+VAR_INPUT
+  v : LREAL;
+END_VAR
+Half := v / 2.0;
+END_FUNCTION
+
+PROGRAM P
+VAR
+  sel, a, b, q, r : DINT;
+  s8 : SINT;
+  u : UDINT;
+  x, y, z : LREAL;
+  f : REAL;
+  text, part : STRING[20];
+  pos : INT;
+  spin : Spin;
+  state : (Idle, Run, Stop) := Idle;
+END_VAR
+CASE sel OF
+  -3..-1: a := a + 1;
+  0, 2: a := a + 2; state := Run;
+  5: a := a - 7; state := Stop;
+  7..9: a := a * 3;
+ELSE
+  a := a + 100;
+END_CASE;
+CASE state OF
+  Idle: b := b + 1;
+  Run: b := b * 2;
+  Stop: b := 0;
+END_CASE;
+q := a / sel;
+r := a MOD sel;
+s8 := DINT_TO_SINT(sel) / SINT#-1;
+u := DINT_TO_UDINT(a) / DINT_TO_UDINT(sel);
+z := x / y + SQRT(x) + LN(y) + EXPT(x, y) + Half(x) + ATAN2(y, x);
+f := LREAL_TO_REAL(z) / LREAL_TO_REAL(y);
+text := CONCAT('n=', DINT_TO_STRING(a));
+pos := FIND(text, '1');
+part := MID(text, 3, pos);
+spin(n := sel);
+END_PROGRAM
+)";
+  StRun native({src}, "P", 10'000'000, vm::Engine::Native);
+  StRun interp({src}, "P", 10'000'000, vm::Engine::Interpreter);
+  ASSERT_TRUE(native.ok() && interp.ok()) << (native.errors.empty() ? "" : native.errors[0]);
+  std::mt19937_64 rng(11);
+  const std::int32_t sels[] = {-4, -3, -1, 0, 1, 2, 5, 7, 9, 10, -2147483647 - 1, 2147483647, 300};
+  const double xs[] = {0.0, 2.0, -1.0, 1e308, std::numeric_limits<double>::infinity(), 0.5};
+  for (int scan = 0; scan < 300; ++scan) {
+    const std::int32_t sel = sels[rng() % 13];
+    const double x = xs[rng() % 6], y = xs[rng() % 6];
+    const std::int64_t budget = scan % 7 == 0 ? static_cast<std::int64_t>(rng() % 50) : 1'000'000;
+    for (StRun* r : {&native, &interp}) {
+      r->set<std::int32_t>("sel", sel);
+      r->set<double>("x", x);
+      r->set<double>("y", y);
+      r->budget = budget;
+    }
+    const bool a = native.scan(), b = interp.scan();
+    expect_same(seen(native, a), seen(interp, b), "scan " + std::to_string(scan));
+    if (::testing::Test::HasFatalFailure()) return;
+  }
+}
+
 TEST(StVmNative, ARunawayLoopStopsAtTheSameSiteWithTheSameBudgetLeft) {
   const std::string src =
       "PROGRAM P\nVAR\n  k : DINT;\n  a : ARRAY[1..4] OF LREAL;\n  s : LREAL;\nEND_VAR\n"

@@ -87,6 +87,17 @@ void operand_uses(const Module& m, const Insn& i, std::vector<UsedCell>* out,
     frame_only->emplace_back(i.a, m.indexes[i.d].count);
     return;
   }
+  for (Op first : {Op::DIV_I8, Op::MOD_I8})
+    if (family_member(i.op, first, kNumCount, &n)) {
+      for (std::uint32_t k : {i.a, i.b, i.c}) out->push_back({k, use_of(n)});
+      return;
+    }
+  for (Op first : {Op::WIDEN_TO_I16_I8, Op::WIDEN_TO_I32_I8, Op::WIDEN_TO_I64_I8})
+    if (family_member(i.op, first, kNumCount, &n)) {
+      out->push_back({i.a, Use::Word});
+      out->push_back({i.b, use_of(n)});
+      return;
+    }
   if (family_member(i.op, Op::WIDEN_TO_F64_I8, kNumCount, &n)) {
     out->push_back({i.a, Use::Real});
     out->push_back({i.b, use_of(n)});

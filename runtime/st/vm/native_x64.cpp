@@ -28,6 +28,7 @@
 #include <memory>
 
 #include "runtime/st/vm/native_loops.hpp"
+#include "runtime/st/vm/strings_op.hpp"
 #include "runtime/st/vm/vm.hpp"
 
 #if defined(__x86_64__) && defined(SYNCPLC_HAVE_XBYAK)
@@ -63,6 +64,8 @@ bool in_family(Op op, Op first, int members, Num* n) {
   return true;
 }
 
+bool calls_out(const Insn& i);
+
 // Whether an instruction has a template (Emitter::insn emits one exactly
 // for these).
 bool templated(const Module&, const Insn& i) {
@@ -81,8 +84,23 @@ bool templated(const Module&, const Insn& i) {
   if (in_family(i.op, Op::FOR_INC_I8, 8, &n)) return true;
   if (in_family(i.op, Op::LDX_I8, 8, &n) || in_family(i.op, Op::STX_I8, 8, &n)) return n != Num::U64;
   if (in_family(i.op, Op::WIDEN_TO_F64_I8, kNumCount, &n)) return n != Num::U64 && n != Num::F64;
-  return false;
+  for (Op first : {Op::WIDEN_TO_I16_I8, Op::WIDEN_TO_I32_I8, Op::WIDEN_TO_I64_I8})
+    if (in_family(i.op, first, kNumCount, &n)) return n != Num::F32 && n != Num::F64;
+  if (in_family(i.op, Op::DIV_I8, kNumCount, &n)) return true;
+  if (in_family(i.op, Op::MOD_I8, kNumCount, &n)) return n != Num::F32 && n != Num::F64;
+  return calls_out(i);
 }
+
+// Templates that call a function of the runtime (as the interpreter's
+// handler does) rather than compute in place: the call may clobber every
+// caller-saved register and reach any cell, so no loop around one keeps
+// cells in registers; and a SWITCH, whose targets the loop analysis leaves
+// alone.
+bool calls_out(const Insn& i) {
+  return i.op == Op::STRFN || i.op == Op::MATH1 || i.op == Op::MATH2 || i.op == Op::CALL_FB || i.op == Op::SWITCH;
+}
+
+bool loop_safe(const Module& m, const Insn& i) { return templated(m, i) && !calls_out(i); }
 
 class Emitter : public CodeGenerator {
  public:
@@ -92,7 +110,7 @@ class Emitter : public CodeGenerator {
   void emit() {
     prologue();
     const auto n = static_cast<std::uint32_t>(p_.code.size());
-    loops_ = register_loops(m_, p_, &templated, std::size(kRealRegs), std::size(kWordRegs));
+    loops_ = register_loops(m_, p_, &loop_safe, std::size(kRealRegs), std::size(kWordRegs));
     heads_ = std::vector<Label>(loops_.size());
     std::vector<int> loop_at(n, -1);  // pc -> its loop's index in loops_
     for (std::size_t k = 0; k < loops_.size(); ++k)
@@ -152,6 +170,10 @@ class Emitter : public CodeGenerator {
     align(8);
     L(table_);
     for (std::uint32_t pc = 0; pc < n; ++pc) putL(at_[pc]);
+    for (auto& [t, label] : switch_tables_) {
+      L(label);
+      for (std::uint32_t to : m_.tables[t].targets) putL(at_[to]);
+    }
   }
 
  private:
@@ -160,6 +182,7 @@ class Emitter : public CodeGenerator {
   std::vector<Label> at_, slow_;
   Label after_step_, exit_ok_, exit_stop_, table_;
   bool slow_used_ = false;
+  std::map<std::uint32_t, Label> switch_tables_;  // a SWITCH's jump table (Module::tables index) in the code
 
   // The loop being emitted, its cells' registers, and where its ways out
   // write them back.
@@ -337,6 +360,7 @@ class Emitter : public CodeGenerator {
     const Address a = f32 ? dword[rbx + disp(k)] : qword[rbx + disp(k)];
     switch (op) {
       case '+': f32 ? addss(x, a) : addsd(x, a); break;
+      case '/': f32 ? divss(x, a) : divsd(x, a); break;
       case '-': f32 ? subss(x, a) : subsd(x, a); break;
       default: f32 ? mulss(x, a) : mulsd(x, a); break;
     }
@@ -345,6 +369,7 @@ class Emitter : public CodeGenerator {
     const bool f32 = n == Num::F32;
     switch (op) {
       case '+': f32 ? addss(x, y) : addsd(x, y); break;
+      case '/': f32 ? divss(x, y) : divsd(x, y); break;
       case '-': f32 ? subss(x, y) : subsd(x, y); break;
       default: f32 ? mulss(x, y) : mulsd(x, y); break;
     }
@@ -549,6 +574,87 @@ class Emitter : public CodeGenerator {
     L(done);
   }
 
+  // DIV and MOD. Reals: IEEE division (MOD of reals has no template). An
+  // integer divisor of 0 (a fault) or -1 (the most negative value wraps)
+  // goes to step(); otherwise the hardware's division truncates toward zero
+  // and its remainder has the dividend's sign, as C++'s.
+  void divide(std::uint32_t pc, const Insn& i, Num n, bool remainder) {
+    if (n == Num::F32 || n == Num::F64) {
+      load_real(xmm0, i.b, n);
+      real_op('/', xmm0, i.c, n);
+      store_real(i.a, xmm0, n);
+      return;
+    }
+    load_int(rax, i.b, n);
+    load_int(rcx, i.c, n);
+    test(rcx, rcx);
+    jz(slow(pc), T_NEAR);
+    if (is_signed(n)) {
+      cmp(rcx, -1);
+      je(slow(pc), T_NEAR);
+      cqo();
+      idiv(rcx);
+    } else {
+      xor_(edx, edx);
+      div(rcx);
+    }
+    store_int(i.a, remainder ? rdx : rax, n);
+  }
+
+  // The templates that call the runtime function the interpreter's handler
+  // calls, directly.
+  bool call_out(const Insn& i) {
+    switch (i.op) {
+      case Op::STRFN:
+        mov(rdi, r12);
+        mov(rsi, rbx);
+        mov(rdx, reinterpret_cast<std::uintptr_t>(&m_.strings[i.d]));
+        mov(rax, reinterpret_cast<std::uintptr_t>(&string_op));
+        call(rax);
+        return true;
+      case Op::MATH1:
+        mov(rdi, cell(i.b));
+        mov(rax, reinterpret_cast<std::uintptr_t>(m_.math1[i.d]));
+        call(rax);
+        mov(cell(i.a), rax);
+        return true;
+      case Op::MATH2:
+        mov(rdi, cell(i.b));
+        mov(rsi, cell(i.c));
+        mov(rax, reinterpret_cast<std::uintptr_t>(m_.math2[i.d]));
+        call(rax);
+        mov(cell(i.a), rax);
+        return true;
+      case Op::CALL_FB: {
+        bool (*const run_pou)(Vm&, std::uint32_t, Cell*) noexcept = &run;
+        mov(qword[r12 + kBudget], r13);
+        mov(rdi, r12);
+        mov(esi, i.d);
+        lea(rdx, ptr[rbx + disp(i.a)]);
+        mov(rax, reinterpret_cast<std::uintptr_t>(run_pou));
+        call(rax);
+        mov(r13, qword[r12 + kBudget]);
+        test(al, al);
+        jz(exit_stop_, T_NEAR);  // the budget ran out in the callee (it left the Vm's)
+        return true;
+      }
+      case Op::SWITCH: {
+        const JumpTable& t = m_.tables[i.b];
+        Label& table = switch_tables_[i.b];
+        mov(rax, cell(i.a));
+        mov(rdx, static_cast<std::uint64_t>(t.low));
+        sub(rax, rdx);  // the selector from low, unsigned: below low is above every index
+        mov(rdx, static_cast<std::uint64_t>(t.targets.size()));
+        cmp(rax, rdx);
+        jae(at_[t.otherwise], T_NEAR);
+        lea(rcx, ptr[rip + table]);
+        jmp(qword[rcx + rax * 8]);
+        return true;
+      }
+      default: return false;
+    }
+  }
+
   // One instruction's template; false when it has none (step() runs it).
   bool insn(std::uint32_t pc, const Insn& i) {
     if (!templated(m_, i)) return false;
@@ -615,7 +721,15 @@ class Emitter : public CodeGenerator {
       store_real(i.a, xmm0, Num::F64);
       return true;
     }
-    return false;  // not reached: templated() said yes
+    for (Op first : {Op::WIDEN_TO_I16_I8, Op::WIDEN_TO_I32_I8, Op::WIDEN_TO_I64_I8})
+      if (in_family(i.op, first, kNum, &n)) {  // value-preserving: extended as n, cut to the target's width
+        load_int(rax, i.b, n);
+        store_int(i.a, rax, first == Op::WIDEN_TO_I16_I8 ? Num::I16 : first == Op::WIDEN_TO_I32_I8 ? Num::I32 : Num::I64);
+        return true;
+      }
+    if (in_family(i.op, Op::DIV_I8, kNum, &n)) return divide(pc, i, n, false), true;
+    if (in_family(i.op, Op::MOD_I8, kNum, &n)) return divide(pc, i, n, true), true;
+    return call_out(i);
   }
 };
 
@@ -675,7 +789,7 @@ std::size_t native_register_loops(const Module& m) {
 #if SYNCPLC_ST_NATIVE
   std::size_t n = 0;
   for (const CompiledPou& p : m.pous)
-    if (p.native) n += register_loops(m, p, &templated, 12, 6).size();
+    if (p.native) n += register_loops(m, p, &loop_safe, 12, 6).size();
   return n;
 #else
   (void)m;
