@@ -21,6 +21,23 @@ void print_modbus(const Program& p, const ModbusSettings& s) {
   for (const auto& n : notes) std::cout << "  not mapped: " << n << "\n";
 }
 
+// How the sources: run (docs/st.md, "How compiled ST runs").
+void print_st(const StSummary& st) {
+  if (st.files == 0) return;
+  std::cout << "\nStructured Text: " << st.pous << (st.pous == 1 ? " POU" : " POUs") << " from " << st.files
+            << (st.files == 1 ? " file" : " files") << ", ";
+  if (!st.native_asked) {
+    std::cout << "on the interpreter (project: st_engine: interpreter)\n";
+  } else if (st.native_pous == 0) {
+    std::cout << "on the interpreter: no native code here (it is made for x86-64, in memory the system lets a "
+                 "process execute)\n";
+  } else {
+    std::cout << "as native code (x86-64): " << st.native_pous << " of " << st.pous << " POUs, "
+              << st.register_loops
+              << (st.register_loops == 1 ? " loop keeps its cells in registers\n" : " loops keep their cells in registers\n");
+  }
+}
+
 }  // namespace
 
 int cmd_check(const std::string& project) {
@@ -47,6 +64,7 @@ int cmd_check(const std::string& project) {
     for (const auto& t : p.traces) std::cout << " " << t.label;
     std::cout << "\n";
   }
+  print_st(r.st);
   return kExitOk;
 }
 

@@ -165,6 +165,7 @@ struct Declarations {
   std::string name = "unnamed", version = "0";
   std::uint64_t seed = 1;
   std::size_t max_forces = kDefaultMaxForces;  // project: max_forces
+  bool st_native = true;  // project: st_engine (native, or interpreter)
   std::vector<TaskDecl> tasks;
   std::vector<TagDecl> tags;
   std::vector<InstanceDecl> instances;

@@ -28,10 +28,11 @@ Declarations read_declarations(ConfigNode& root, const std::string& path, const 
   for (const auto& [k, v] : root.map)
     if (!kTopKeys.count(k))
       diags.error(v.loc, "unknown top-level key '" + k + "' (project, include, tasks, tags, blocks, programs, sources, connections, drivers, traces, watch, metrics, modbus, store)");
-  // Structured Text first: its FUNCTION_BLOCKs are block types of blocks:.
-  p.st = read_st_sources(root.find("sources"), builtin, diags, &sources);
-  const BlockRegistry& blocks = *p.st->blocks;
+  // project: first (st_engine), then Structured Text: its FUNCTION_BLOCKs
+  // are block types of blocks:.
   if (auto* n = root.find("project")) read_project(*n, p, diags);
+  p.st = read_st_sources(root.find("sources"), builtin, p.st_native, diags, &sources);
+  const BlockRegistry& blocks = *p.st->blocks;
   if (opts.seed) p.seed = *opts.seed;
   if (auto* n = root.find("tasks")) read_tasks(*n, p, diags);
   if (p.tasks.empty()) diags.error(root.loc, "the project has no tasks");
@@ -107,6 +108,7 @@ LoadResult load_tree(ConfigNode root, const std::string& path, const LoadOptions
     r.store = build_store(p);
     r.store.content_hash = content_hash;
     store::build_trend_folds(*r.program, r.store);  // the tasks' historian buckets, sized before they run
+    r.st = summarize_st(*p.st, p.st_native);
   }
   r.diagnostics = std::move(diags);
   return r;

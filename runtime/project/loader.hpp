@@ -17,6 +17,7 @@
 #include "runtime/modbus/modbus_config.hpp"
 #include "runtime/project/diagnostics.hpp"
 #include "runtime/project/metrics.hpp"
+#include "runtime/project/st_summary.hpp"
 #include "runtime/store/source_file.hpp"
 #include "runtime/store/store_settings.hpp"
 
@@ -48,6 +49,7 @@ struct LoadResult {
   // Every file read, the project file first, then its include: files as
   // they were read (also when the load failed): what the project store keeps.
   std::vector<store::SourceFile> sources;
+  StSummary st;  // the sources: and how they run
   bool ok() const { return program != nullptr; }
 };
 

@@ -34,7 +34,11 @@ void read_project(const ConfigNode& n, Declarations& p, Diagnostics& diags) {
       if (!c || c->get<std::uint32_t>() < 1 || c->get<std::uint32_t>() > kMaxMaxForces)
         diags.error(v.loc, "max_forces: 1.." + std::to_string(kMaxMaxForces) + " forced elements at once");
       else p.max_forces = c->get<std::uint32_t>();
-    } else diags.error(v.loc, "unknown key '" + k + "' in project (name, version, description, seed, max_forces)");
+    } else if (k == "st_engine") {
+      if (v.scalar == "native") p.st_native = true;
+      else if (v.scalar == "interpreter") p.st_native = false;
+      else diags.error(v.loc, "st_engine: native or interpreter, not '" + v.scalar + "'");
+    } else diags.error(v.loc, "unknown key '" + k + "' in project (name, version, description, seed, max_forces, st_engine)");
   }
   if (p.name.empty()) diags.error(n.loc, "project name is empty");
 }

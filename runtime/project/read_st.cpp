@@ -12,6 +12,7 @@
 #include "runtime/st/vm/block_signatures.hpp"
 #include "runtime/st/vm/codegen.hpp"
 #include "runtime/st/vm/st_block.hpp"
+#include "runtime/st/vm/vm.hpp"
 
 namespace syncplc {
 
@@ -27,8 +28,8 @@ void report(const st::StDiagnostics& d, Diagnostics& diags) {
 
 }  // namespace
 
-std::shared_ptr<StProject> read_st_sources(const ConfigNode* sources, const BlockRegistry& base, Diagnostics& diags,
-                                           std::vector<store::SourceFile>* read) {
+std::shared_ptr<StProject> read_st_sources(const ConfigNode* sources, const BlockRegistry& base, bool native,
+                                           Diagnostics& diags, std::vector<store::SourceFile>* read) {
   auto out = std::make_shared<StProject>();
   out->blocks = std::make_unique<BlockRegistry>(&base);
   if (!sources) return out;
@@ -92,7 +93,11 @@ std::shared_ptr<StProject> read_st_sources(const ConfigNode* sources, const Bloc
                                     "tags: and reach it with VAR_EXTERNAL)",
                                     g->name));
   st::StDiagnostics gen;
-  unit->module = st::vm::compile(unit->checked, &base, gen);
+  {
+    std::unique_ptr<st::vm::Module> m = st::vm::compile(unit->checked, &base, gen);
+    if (m && !native) st::vm::set_engine(*m, st::vm::Engine::Interpreter);
+    unit->module = std::move(m);
+  }
   report(gen, diags);
   if (!unit->module) return out;
   out->unit = unit;
@@ -253,6 +258,17 @@ void wire_externals(const StProject& st, Declarations& p, Diagnostics& diags) {
       }
     }
   }
+}
+
+StSummary summarize_st(const StProject& st, bool native_asked) {
+  StSummary s;
+  s.native_asked = native_asked;
+  if (!st.unit || !st.unit->module) return s;
+  s.files = st.unit->parsed.size();
+  s.pous = st.unit->module->pous.size();
+  s.native_pous = st::vm::native_pous(*st.unit->module);
+  s.register_loops = st::vm::native_register_loops(*st.unit->module);
+  return s;
 }
 
 }  // namespace syncplc

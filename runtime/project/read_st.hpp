@@ -14,6 +14,7 @@
 #include "runtime/core/config_node.hpp"
 #include "runtime/project/declarations.hpp"
 #include "runtime/project/diagnostics.hpp"
+#include "runtime/project/st_summary.hpp"
 #include "runtime/store/source_file.hpp"
 
 namespace syncplc {
@@ -40,8 +41,13 @@ struct StProject {
 // each file to `read`; every lexical, syntax, type and code-generation error
 // goes to diags at its file:line:col. Always returns a registry (the base
 // one's types at least).
-std::shared_ptr<StProject> read_st_sources(const ConfigNode* sources, const BlockRegistry& base, Diagnostics& diags,
-                                           std::vector<store::SourceFile>* read);
+// `native`: the module runs as native code where the machine allows
+// (project: st_engine), else on the interpreter.
+std::shared_ptr<StProject> read_st_sources(const ConfigNode* sources, const BlockRegistry& base, bool native,
+                                           Diagnostics& diags, std::vector<store::SourceFile>* read);
+
+// How the project's ST runs, for `syncplc check` (LoadResult::st).
+StSummary summarize_st(const StProject& st, bool native_asked);
 
 // `programs:` [{name, type, task}]: PROGRAM instances, declared as block instances.
 void read_programs(const ConfigNode& n, const StProject& st, Declarations& p, Diagnostics& diags);

@@ -108,6 +108,75 @@ cases:
   EXPECT_EQ(why, "scale.hist[4]: 'hist[4]': index 4 is outside 1..3");
 }
 
+// project: st_engine chooses how the sources run; both engines pass the
+// same scan-cycle test, and `syncplc check` (LoadResult::st) says which ran.
+TEST(StSources, TheProjectChoosesTheEngineAndBothPassTheSameScanTest) {
+  temp_file("st_engine/window.st", R"(
+FUNCTION_BLOCK Window
+VAR_INPUT x : LREAL; END_VAR
+VAR_OUTPUT sum, peak : LREAL; END_VAR
+VAR buf : ARRAY[0..9] OF LREAL; head, i : INT; END_VAR
+buf[head] := x;
+head := (head + 1) MOD 10;
+sum := 0.0;
+peak := buf[0];
+FOR i := 0 TO 9 DO
+  sum := sum + buf[i];
+  IF buf[i] > peak THEN peak := buf[i]; END_IF;
+END_FOR;
+END_FUNCTION_BLOCK
+)");
+  const std::string body = R"(
+tasks: [{name: main, period: 10ms}]
+sources: [window.st]
+tags:
+  - {name: x, type: LREAL, init: 1.5}
+  - {name: sum, type: LREAL}
+  - {name: peak, type: LREAL}
+blocks:
+  - {name: w, type: Window}
+connections: [x -> w.x, w.sum -> sum, w.peak -> peak]
+)";
+  const std::string tests = temp_file("st_engine/t.yaml", yaml(R"(
+cases:
+  - name: a window of ten samples
+    steps:
+      - at: 0ms
+        expect: {sum: 1.5, peak: 1.5}
+      - at: 20ms
+        set: {x: 4.0}
+      - at: 30ms
+        expect: {sum: 11.0, peak: 4.0}
+      - at: 200ms
+        expect: {sum: 40.0, "w.buf[3]": 4.0}
+)"));
+  const std::string native = temp_file("st_engine/native.yaml", yaml(("project: {name: n}\n" + body).c_str()));
+  const std::string interp =
+      temp_file("st_engine/interp.yaml", yaml(("project: {name: i, st_engine: interpreter}\n" + body).c_str()));
+  for (const std::string& project : {native, interp}) {
+    const auto r = run_scan_tests(project, tests);
+    EXPECT_TRUE(r.ok()) << project << "\n" << report_text(r);
+  }
+  const auto n = load_project(native);
+  ASSERT_LOADS(n);
+  EXPECT_EQ(n.st.files, 1u);
+  EXPECT_EQ(n.st.pous, 1u);
+  EXPECT_TRUE(n.st.native_asked);
+#if defined(__x86_64__)
+  EXPECT_EQ(n.st.native_pous, 1u);
+  EXPECT_EQ(n.st.register_loops, 1u);
+#endif
+  const auto i = load_project(interp);
+  ASSERT_LOADS(i);
+  EXPECT_FALSE(i.st.native_asked);
+  EXPECT_EQ(i.st.pous, 1u);
+  EXPECT_EQ(i.st.native_pous, 0u);
+  EXPECT_EQ(i.st.register_loops, 0u);
+  const std::string bad = temp_file("st_engine/bad.yaml", yaml(("project: {name: b, st_engine: jit}\n" + body).c_str()));
+  const auto b = load_project(bad);
+  EXPECT_THAT(errors(b), has_error(bad + ":1:31", "st_engine: native or interpreter, not 'jit'")) << joined(b);
+}
+
 TEST(StSources, ErrorsOfEveryStageAtTheirPlaceInOneLoad) {
   const std::string st = temp_file("st_err/bad.st", yaml(R"(
 PROGRAM Main
