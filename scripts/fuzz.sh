@@ -11,18 +11,19 @@ cd "$(dirname "$0")/.."
 seconds=${1:-60}
 dir=${2:-build-fuzz}
 shift $(( $# < 2 ? $# : 2 ))
-SYNCPLC_TARGETS="fuzz_modbus_request fuzz_modbus_reply fuzz_http_request fuzz_st_parse" bash scripts/build.sh "$dir" -DCMAKE_CXX_COMPILER=clang++ \
+SYNCPLC_TARGETS="fuzz_modbus_request fuzz_modbus_reply fuzz_http_request fuzz_st_parse fuzz_st_engines" bash scripts/build.sh "$dir" -DCMAKE_CXX_COMPILER=clang++ \
   -DSYNCPLC_FUZZ=ON -DSYNCPLC_SANITIZE=address,undefined -DSYNCPLC_TESTS=OFF -DSYNCPLC_BENCH=OFF "$@"
 mkdir -p "$dir/fuzz-artifacts"
 # The Modbus server's request path, the client driver's reply path, the
-# HTTP server's request path and the Structured Text front end (parser and
-# type checker) side by side: a fuzzer is one process, four share two cores
-# (each gets half of one) in the same wall time as one target alone.
+# HTTP server's request path, the Structured Text front end (parser and
+# type checker) and compiled ST's two engines side by side: a fuzzer is one
+# process, five share two cores in the same wall time as one target alone.
 fuzz() {
   local target=$1 corpus status=0 dict=()
   corpus=$(mktemp -d)
   cp "fuzz/corpus/$target"/* "$corpus/"
   if [ -f "fuzz/$target.dict" ]; then dict=(-dict="fuzz/$target.dict"); fi
+  if [ "$target" = st_engines ]; then dict=(-dict=fuzz/st_parse.dict); fi  # the same language
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
     "$dir/fuzz/fuzz_$target" "${dict[@]}" -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=10 \
     -artifact_prefix="$dir/fuzz-artifacts/fuzz_$target-" -print_final_stats=1 "$corpus" \
@@ -30,7 +31,7 @@ fuzz() {
   rm -rf "$corpus"
   return "$status"
 }
-targets=(modbus_request modbus_reply http_request st_parse)
+targets=(modbus_request modbus_reply http_request st_parse st_engines)
 pids=()
 for target in "${targets[@]}"; do
   fuzz "$target" &
