@@ -210,8 +210,9 @@ TEST(StVmBuiltins, EveryBlockWithArrayPinsIsATypeAndEveryDefaultAValue) {
   for (const char* n : {"TRANSIENT_SYNC", "SYNC_CONTROLLER", "CIRCLE", "COSINE_TRAJECTORY"})
     EXPECT_NE(find(n), sigs.end()) << n;
   for (const BlockSignature& b : sigs) {
-    const BlockTypeInfo* t = ::syncplc::builtin_blocks().find(b.name);
-    ASSERT_TRUE(t);
+    IecType datatype{};
+    const BlockTypeInfo* t = vm::builtin_block(::syncplc::builtin_blocks(), b.name, &datatype);
+    ASSERT_TRUE(t) << b.name;
     ASSERT_EQ(b.params.size(), t->params.size()) << b.name;
     for (std::size_t k = 0; k < b.params.size(); ++k)
       EXPECT_EQ(b.params[k].value.has_value(), !t->params[k].default_value.empty()) << b.name << "." << b.params[k].name;
@@ -241,6 +242,39 @@ TEST(StVmBuiltins, EveryBuiltInBlockIsInstancedAndCalledFromSt) {
     ++blocks;
   }
   EXPECT_GT(blocks, 30);
+}
+
+// IEC 61131-3's typed counters (table 45): CTU_DINT counts past INT's
+// range, CTD_LINT below it, CTUD_UDINT stops at 0 and CTU_ULINT at ULINT's
+// largest value, each as the generic block at that type does; the plain
+// CTU stays at INT and saturates at 32767.
+TEST(StVmBuiltins, TypedCountersAreTheGenericCounterAtTheirType) {
+  auto r = run_program(
+      "up : CTU_DINT; down : CTD_LINT; both : CTUD_UDINT; big : CTUD_ULINT; small : CTU;\n"
+      "pulse : BOOL; first : BOOL := TRUE; load : BOOL;",
+      "pulse := NOT pulse;\n"
+      "up(CU := pulse, PV := 40000);\n"
+      "down(CD := pulse, LD := load, PV := LINT#-9000000000);\n"
+      "both(CD := pulse, PV := UDINT#7);\n"
+      "big(CU := pulse, LD := first, PV := ULINT#18446744073709551613);\n"
+      "small(CU := pulse, PV := 100);\n"
+      "first := FALSE;");
+  ASSERT_TRUE(r->ok()) << r->errors[0];
+  r->scan(2 * 40000);  // 40,000 rising edges
+  EXPECT_EQ(r->get<std::int32_t>("up.CV"), 40000);
+  EXPECT_TRUE(r->get<bool>("up.Q"));
+  EXPECT_EQ(r->get<std::int64_t>("down.CV"), -40000);
+  EXPECT_EQ(r->get<std::uint32_t>("both.CV"), 0u) << "an unsigned count stops at 0";
+  EXPECT_TRUE(r->get<bool>("both.QD"));
+  EXPECT_EQ(r->get<std::uint64_t>("big.CV"), 18446744073709551615ull) << "no wrap past the type's largest";
+  EXPECT_TRUE(r->get<bool>("big.QU"));
+  EXPECT_EQ(r->get<std::int16_t>("small.CV"), 32767) << "CTU is at INT";
+  r->set<bool>("load", true);
+  r->scan();
+  EXPECT_EQ(r->get<std::int64_t>("down.CV"), -9000000000);
+  StRun sint({"PROGRAM Main\nVAR c : CTU_SINT; END_VAR\nc();\nEND_PROGRAM\n"}, "Main");
+  ASSERT_FALSE(sint.errors.empty()) << "table 45 has no CTU_SINT";
+  EXPECT_EQ(sint.errors[0], "t0.st:2:9: unknown type 'CTU_SINT' (did you mean CTU_DINT?)");
 }
 
 }  // namespace vm_builtins

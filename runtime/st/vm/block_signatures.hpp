@@ -17,6 +17,13 @@ namespace syncplc::st::vm {
 
 std::vector<BlockSignature> block_signatures(const BlockRegistry& registry);
 
+// IEC 61131-3's typed counters (3rd edition, table 45): CTU_INT, CTU_DINT,
+// CTU_LINT, CTU_UDINT, CTU_ULINT, and the same of CTD and CTUD, are the
+// generic counter at that type; block_signatures lists them beside CTU.
+// The registered block of an ST FB type's name and the type its generic
+// pins have (the default type for the plain name); null when none.
+const BlockTypeInfo* builtin_block(const BlockRegistry& registry, std::string_view name, IecType* datatype);
+
 // A parameter's value between the checker's form (durations in
 // nanoseconds, BOOL 0/1) and a Cell of the parameter's type.
 Cell param_cell(IecType type, const ConstValue& v);

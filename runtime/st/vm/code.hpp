@@ -257,6 +257,7 @@ struct BlockSlot {
   std::uint32_t at = 0;
   const FbType* fb = nullptr;  // the checker's type: parameter values, pin types
   std::vector<std::uint32_t> pin_at;
+  IecType datatype = IecType::LREAL;  // a generic block's type (CTU_DINT: DINT; CTU: its default, INT)
 };
 
 // Everything compiled from a project's sources.

@@ -64,7 +64,8 @@ class CodeGen {
   void compile_pou(std::uint32_t pou);
   std::uint32_t cells_of(const Type* t);
   std::uint32_t fb_pou(const Type* fb_type);  // a user FB type's POU index
-  const BlockTypeInfo* builtin(const Type* fb_type);
+  // The registered block of a built-in FB type, and its generic pins' type.
+  const BlockTypeInfo* builtin(const Type* fb_type, IecType* datatype = nullptr);
   // The offset of pin `pin` of a built-in block instance from its cell (builtin_layout).
   std::uint32_t builtin_pin_at(const Type* fb_type, std::string_view pin);
   void default_image(const Type* t, Cell* at, const std::string& spelt, std::uint32_t pou);

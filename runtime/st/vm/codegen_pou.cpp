@@ -92,9 +92,12 @@ std::uint32_t CodeGen::fb_pou(const Type* fb_type) {
   return ~0u;
 }
 
-const BlockTypeInfo* CodeGen::builtin(const Type* fb_type) {
+const BlockTypeInfo* CodeGen::builtin(const Type* fb_type, IecType* datatype) {
   if (!fb_type->fb->builtin || !blocks_) return nullptr;
-  return blocks_->find(fb_type->fb->name);
+  IecType type = IecType::LREAL;
+  const BlockTypeInfo* b = builtin_block(*blocks_, fb_type->fb->name, &type);
+  if (datatype) *datatype = type;
+  return b;
 }
 
 std::uint32_t CodeGen::builtin_pin_at(const Type* fb_type, std::string_view pin) {
@@ -177,7 +180,8 @@ void CodeGen::default_image(const Type* t, Cell* at, const std::string& spelt, s
     case Type::Kind::FunctionBlock: {
       const std::uint32_t off = static_cast<std::uint32_t>(at - out_->pous[pou].image.data());
       if (t->fb->builtin) {
-        const BlockTypeInfo* b = builtin(t);
+        IecType datatype = IecType::LREAL;
+        const BlockTypeInfo* b = builtin(t, &datatype);
         if (!b || b->pins.size() != t->fb->pins.size() || b->params.size() != t->fb->params.size()) break;
         BuiltinLayout l = builtin_layout(*t->fb);
         for (std::size_t k = 0; k < b->pins.size(); ++k) {
@@ -190,14 +194,13 @@ void CodeGen::default_image(const Type* t, Cell* at, const std::string& spelt, s
             if (const auto& v = t->fb->params[q].value) c = param_cell(b->params[q].type, *v);
           } else if (!pin.init.empty()) {
             std::string why;
-            c = parse_value(pin.cls == TypeClass::Exact ? pin.type : b->default_datatype.value_or(pin.type), pin.init,
-                            &why);
+            c = parse_value(pin.cls == TypeClass::Exact ? pin.type : datatype, pin.init, &why);
           }
           if (!c) continue;
           const std::uint32_t end = k + 1 < b->pins.size() ? l.pin_at[k + 1] : l.cells;
           for (std::uint32_t i = l.pin_at[k]; i < end; ++i) at[i] = *c;  // an array pin: every element
         }
-        out_->block_slots[pou].push_back({b, off, t->fb, std::move(l.pin_at)});
+        out_->block_slots[pou].push_back({b, off, t->fb, std::move(l.pin_at), datatype});
         break;
       }
       const std::uint32_t p = fb_pou(t);

@@ -18,11 +18,11 @@ namespace {
 // pins' lengths are those of its FB type (its declaration's, checked).
 class EmbeddedSetup final : public BlockSetup {
  public:
-  EmbeddedSetup(std::string name, const BlockTypeInfo& type, const FbType& fb, const InstanceSetup& s)
-      : name_(std::move(name)), type_(type), fb_(fb), setup_(s) {}
+  EmbeddedSetup(std::string name, const BlockSlot& slot, const InstanceSetup& s)
+      : name_(std::move(name)), type_(*slot.type), fb_(*slot.fb), datatype_(slot.datatype), setup_(s) {}
   const std::string& instance_name() const override { return name_; }
   const BlockTypeInfo& type() const override { return type_; }
-  IecType datatype() const override { return type_.default_datatype.value_or(IecType::LREAL); }
+  IecType datatype() const override { return datatype_; }
   Cell param_cell(int index) const override {
     const auto k = static_cast<std::size_t>(index);
     const auto& v = fb_.params[k].value;
@@ -49,6 +49,7 @@ class EmbeddedSetup final : public BlockSetup {
   std::string name_;
   const BlockTypeInfo& type_;
   const FbType& fb_;
+  IecType datatype_;
   const InstanceSetup& setup_;
   std::vector<std::string> errors_;
 };
@@ -82,7 +83,7 @@ void Instance::create_blocks(std::uint32_t pou, std::uint32_t at, const Instance
     for (const auto& q : s.fb->params)
       if (!q.value)
         throw std::runtime_error(fmt::format("{} ({}): parameter '{}' has no value", name, s.type->name, q.name));
-    EmbeddedSetup b(name, *s.type, *s.fb, setup);
+    EmbeddedSetup b(name, s, setup);
     std::unique_ptr<Block> block = s.type->create(b);
     if (!b.errors().empty() || !block)
       throw std::runtime_error(fmt::format("{} ({}): {}", name, s.type->name,
