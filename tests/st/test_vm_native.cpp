@@ -276,6 +276,34 @@ TEST(StVmNative, ARunawayLoopStopsAtTheSameSiteWithTheSameBudgetLeft) {
   }
 }
 
+// A PROGRAM (or FB) instanced by the project has no caller to bind its
+// VAR_IN_OUTs: a call of an FB through one gets a null frame, which the
+// interpreter's run() takes as nothing to run. Native code must not load
+// cells from address 0 there (it crashed the process).
+TEST(StVmNative, AnFbCalledThroughAnUnboundVarInOutRunsAsInTheInterpreter) {
+  const std::string src = R"(
+FUNCTION_BLOCK Inner
+VAR x : LREAL; k : DINT; END_VAR
+FOR k := 1 TO 3 DO x := x + 1.0; END_FOR;
+END_FUNCTION_BLOCK
+PROGRAM P
+VAR_IN_OUT inner : Inner; END_VAR
+VAR n, m : DINT; END_VAR
+n := n + 1;
+inner();
+m := m + 2;
+END_PROGRAM
+)";
+  StRun native({src}, "P", 10'000'000, vm::Engine::Native);
+  StRun interp({src}, "P", 10'000'000, vm::Engine::Interpreter);
+  ASSERT_TRUE(native.ok() && interp.ok()) << (native.errors.empty() ? "" : native.errors[0]);
+  for (int scan = 0; scan < 3; ++scan) {
+    const bool b = interp.scan(), a = native.scan();
+    expect_same(seen(native, a), seen(interp, b), "scan " + std::to_string(scan));
+  }
+  EXPECT_EQ(native.get<std::int32_t>("m"), 6);
+}
+
 // Every PROGRAM and FUNCTION_BLOCK of the valid corpus, 50 scans each from
 // their initial values. Only the cells that are values are compared: a
 // reference or an embedded built-in block holds an address, which differs
