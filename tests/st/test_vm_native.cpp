@@ -368,7 +368,7 @@ END_PROGRAM
     const C v[] = {max, C(max - 1), C(max - 3), C(0), C(3), std::numeric_limits<C>::lowest()};
     return v[rng() % 6];
   };
-  for (int scan = 0; scan < 200; ++scan) {
+  for (int scan = 0; scan < 120; ++scan) {
     const auto hs = limit(std::numeric_limits<std::int8_t>::max());
     const auto hi = limit(std::numeric_limits<std::int16_t>::max());
     const auto hd = limit(std::numeric_limits<std::int32_t>::max());
@@ -396,7 +396,9 @@ END_PROGRAM
     expect_same(seen(native, a), seen(interp, b), "scan " + std::to_string(scan));
     if (::testing::Test::HasFatalFailure()) return;
     ASSERT_EQ(native.instance->stopped() == nullptr, interp.instance->stopped() == nullptr);
-    if (native.instance->stopped()) EXPECT_STREQ(native.instance->stopped(), interp.instance->stopped());
+    if (native.instance->stopped()) {
+      EXPECT_STREQ(native.instance->stopped(), interp.instance->stopped());
+    }
   }
   EXPECT_FALSE(native.fault_texts().empty()) << "the indices past the arrays' ends fault";
 }
