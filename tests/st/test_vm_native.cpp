@@ -362,6 +362,133 @@ TEST(StVmNative, ARunawayLoopStopsAtTheSameSiteWithTheSameBudgetLeft) {
   }
 }
 
+// A PROGRAM (or FB) instanced by the project has no caller to bind its
+// VAR_IN_OUTs: a call of an FB through one gets a null frame, which the
+// interpreter's run() takes as nothing to run. Native code must not load
+// cells from address 0 there (it crashed the process).
+TEST(StVmNative, AnFbCalledThroughAnUnboundVarInOutRunsAsInTheInterpreter) {
+  const std::string src = R"(
+FUNCTION_BLOCK Inner
+VAR x : LREAL; k : DINT; END_VAR
+FOR k := 1 TO 3 DO x := x + 1.0; END_FOR;
+END_FUNCTION_BLOCK
+PROGRAM P
+VAR_IN_OUT inner : Inner; END_VAR
+VAR n, m : DINT; END_VAR
+n := n + 1;
+inner();
+m := m + 2;
+END_PROGRAM
+)";
+  StRun native({src}, "P", 10'000'000, vm::Engine::Native);
+  StRun interp({src}, "P", 10'000'000, vm::Engine::Interpreter);
+  ASSERT_TRUE(native.ok() && interp.ok()) << (native.errors.empty() ? "" : native.errors[0]);
+  for (int scan = 0; scan < 3; ++scan) {
+    const bool b = interp.scan(), a = native.scan();
+    expect_same(seen(native, a), seen(interp, b), "scan " + std::to_string(scan));
+  }
+  EXPECT_EQ(native.get<std::int32_t>("m"), 6);
+}
+
+// The edges of loops in registers: FOR_INC up to each integer type's
+// largest value (a + 1 must not wrap past it), indices of arrays whose
+// bounds are beyond 32 bits or at INT32_MIN, an array of 400,001 cells (the
+// displacements of the cells after it), more cells than registers, and
+// loops entered at their head by a CASE's table and by the code before
+// them, one of them by a jump the generator threads into its body.
+TEST(StVmNative, RegisterLoopsAtTheLimitsOfTypesIndicesAndRegisters) {
+  const std::string src = R"(
+PROGRAM P
+VAR
+  s, hs : SINT; i, hi : INT; d, hd : DINT; l, hl : LINT;
+  us, hus : USINT; ui, hui : UINT; ud, hud : UDINT; ul, hul : ULINT;
+  ns : SINT; ni : INT; nd : DINT; nl : LINT; nus : USINT; nui : UINT; nud : UDINT; nul : ULINT;
+  far : ARRAY[3000000000..3000000009] OF LINT;
+  neg : ARRAY[-2147483648..-2147483639] OF DINT;
+  big : ARRAY[-200000..200000] OF LREAL;
+  x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13 : LREAL;
+  j0, j1, j2, j3, j4, j5, j6, j7, n, k : DINT;
+  ix : LINT; iu : UDINT; sel : INT; mode : DINT;
+  acc : LREAL;
+END_VAR
+FOR s := hs - 3 TO hs DO ns := ns + s; END_FOR;
+FOR i := hi - 3 TO hi DO ni := ni + i; END_FOR;
+FOR d := hd - 3 TO hd DO nd := nd + d; END_FOR;
+FOR l := hl - 3 TO hl DO nl := nl + l; END_FOR;
+FOR us := hus - 3 TO hus DO nus := nus + us; END_FOR;
+FOR ui := hui - 3 TO hui DO nui := nui + ui; END_FOR;
+FOR ud := hud - 3 TO hud DO nud := nud + ud; END_FOR;
+FOR ul := hul - 3 TO hul DO nul := nul + 1; END_FOR;
+FOR d := -2147483647 - 1 + k TO -2147483638 + k DO neg[d] := neg[d] + d; END_FOR;
+FOR ix := 2999999999 + nl MOD 3 TO 3000000010 DO far[ix] := far[ix] + ix; acc := acc + 0.5; END_FOR;
+FOR iu := 2999999999 TO 3000000010 + ud DO far[iu] := far[iu] - 1; END_FOR;
+FOR d := k - 1 TO k + 201 DO big[d * 1000] := big[d * 1000] + x0; x1 := x1 + big[d]; END_FOR;
+FOR j0 := 0 TO n DO
+  x0 := x0 * x1 + x2; x3 := x3 * x4 + x5; x6 := x6 * x7 + x8; x9 := x9 * x10 + x11; x12 := x12 + x13 * x0;
+  j1 := j1 + j0; j2 := j2 + j1; j3 := j3 - j2; j4 := j4 + j3; j5 := j5 + j4; j6 := j6 + j5; j7 := j7 + j6;
+  IF j7 > 100000 THEN EXIT; END_IF;
+  IF x12 > 1.0E6 THEN x12 := 1.0E6; ELSIF x12 < -1.0E6 THEN x12 := -1.0E6; END_IF;
+END_FOR;
+IF mode = 1 THEN acc := acc + 1.0; END_IF;
+REPEAT
+  CONTINUE;
+  acc := acc * 2.0;
+UNTIL j1 > mode END_REPEAT;
+CASE sel OF
+  0: WHILE j2 < 100 DO j2 := j2 + 7; acc := acc + 0.25; END_WHILE;
+  1: FOR i := 1 TO 5 DO acc := acc * 1.5; END_FOR;
+  2, 3: REPEAT j3 := j3 - 1; UNTIL j3 < 0 END_REPEAT;
+END_CASE;
+WHILE acc > 100.0 DO acc := acc - 99.0; END_WHILE;
+END_PROGRAM
+)";
+  StRun native({src}, "P", 10'000'000, vm::Engine::Native);
+  StRun interp({src}, "P", 10'000'000, vm::Engine::Interpreter);
+  ASSERT_TRUE(native.ok() && interp.ok()) << (native.errors.empty() ? "" : native.errors[0]);
+#if defined(__x86_64__)
+  EXPECT_GE(vm::native_register_loops(*native.module), 14u);
+#endif
+  std::mt19937_64 rng(11);
+  auto limit = [&](auto max) {
+    using C = decltype(max);
+    const C v[] = {max, C(max - 1), C(max - 3), C(0), C(3), std::numeric_limits<C>::lowest()};
+    return v[rng() % 6];
+  };
+  for (int scan = 0; scan < 120; ++scan) {
+    const auto hs = limit(std::numeric_limits<std::int8_t>::max());
+    const auto hi = limit(std::numeric_limits<std::int16_t>::max());
+    const auto hd = limit(std::numeric_limits<std::int32_t>::max());
+    const auto hl = limit(std::numeric_limits<std::int64_t>::max());
+    const auto hus = limit(std::numeric_limits<std::uint8_t>::max());
+    const auto hui = limit(std::numeric_limits<std::uint16_t>::max());
+    const auto hud = limit(std::numeric_limits<std::uint32_t>::max());
+    const auto hul = limit(std::numeric_limits<std::uint64_t>::max());
+    const std::int32_t ks[] = {0, 1, -1, 3, -200, 200, 2147483647};
+    const std::int32_t k = ks[rng() % 7], n = static_cast<std::int32_t>(rng() % 40) - 2;
+    const double xs[] = {0.5, -1.25, 2.0, std::numeric_limits<double>::quiet_NaN(), 1e300, -0.0};
+    const std::int64_t budget = scan % 4 == 0 ? static_cast<std::int64_t>(rng() % 300) : 1'000'000;
+    for (StRun* r : {&native, &interp}) {
+      r->set("hs", hs), r->set("hi", hi), r->set("hd", hd), r->set("hl", hl);
+      r->set("hus", hus), r->set("hui", hui), r->set("hud", hud), r->set("hul", hul);
+      r->set<std::int32_t>("k", k);
+      r->set<std::int32_t>("n", n);
+      r->set<std::int16_t>("sel", static_cast<std::int16_t>(scan % 5));
+      r->set<std::int32_t>("mode", scan % 7 - 1);
+      r->set<double>("x0", xs[scan % 6]);
+      r->set<double>("x13", xs[(scan / 6) % 6]);
+      r->budget = budget;
+    }
+    const bool a = native.scan(), b = interp.scan();
+    expect_same(seen(native, a), seen(interp, b), "scan " + std::to_string(scan));
+    if (::testing::Test::HasFatalFailure()) return;
+    ASSERT_EQ(native.instance->stopped() == nullptr, interp.instance->stopped() == nullptr);
+    if (native.instance->stopped()) {
+      EXPECT_STREQ(native.instance->stopped(), interp.instance->stopped());
+    }
+  }
+  EXPECT_FALSE(native.fault_texts().empty()) << "the indices past the arrays' ends fault";
+}
+
 // Every PROGRAM and FUNCTION_BLOCK of the valid corpus, 50 scans each from
 // their initial values. Only the cells that are values are compared: a
 // reference or an embedded built-in block holds an address, which differs

@@ -260,6 +260,16 @@ class Emitter : public CodeGenerator {
   static int disp(std::uint32_t k) { return static_cast<int>(k) * 8; }
 
   void prologue() {
+    // A null frame (an FB called through a VAR_IN_OUT nothing bound: a
+    // PROGRAM the project instances has no caller to bind it) runs nothing,
+    // as the interpreter's exec() does with one, instead of loading cells
+    // from address 0.
+    Label frame;
+    test(rsi, rsi);
+    jnz(frame);
+    mov(eax, 1);
+    ret();
+    L(frame);
     push(rbx);
     push(r12);
     push(r13);
