@@ -218,6 +218,9 @@ struct BlockTypeInfo {
   };
   int variables_pin = -1;
   std::function<std::optional<Variable>(std::string_view path, std::string* error)> variable{};
+  // Why a project may not make an instance of this type ("" when it may): an
+  // ST POU with a VAR_IN_OUT, which only a calling POU can bind.
+  std::string not_instanceable{};
   // Its variables as leaves (elementary values, strings, arrays of them),
   // for an online change that re-creates an instance to carry over those
   // whose path and type are unchanged (program_change.cpp).

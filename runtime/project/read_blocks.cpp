@@ -40,6 +40,10 @@ void read_blocks(ConfigNode& n, const BlockRegistry& blocks, Declarations& p, Di
         // A FUNCTION_BLOCK of a source with errors: those errors say what is wrong.
         if (!in.type && !(p.st && p.st->declares(v.scalar)))
           diags.error(v.loc, "unknown block type '" + v.scalar + "' (see `syncplc blocks`)");
+        if (in.type && !in.type->not_instanceable.empty()) {
+          diags.error(v.loc, in.type->not_instanceable);
+          in.type = nullptr;
+        }
         if (!in.type) ok = false;
       } else if (k == "task") task = &v;
       else if (k == "params") params = &v;

@@ -153,6 +153,10 @@ void read_programs(const ConfigNode& n, const StProject& st, Declarations& p, Di
         in.type = st.blocks->find(v.scalar);
         if (!in.type && st.declares(v.scalar)) {
           ok = false;  // its source has errors, reported there
+        } else if (in.type && in.type->category == "Structured Text programs" && !in.type->not_instanceable.empty()) {
+          diags.error(v.loc, in.type->not_instanceable);
+          in.type = nullptr;
+          ok = false;
         } else if (!in.type || in.type->category != "Structured Text programs") {
           std::vector<std::string_view> names;
           for (const auto* t : st.blocks->all())

@@ -177,6 +177,49 @@ cases:
   EXPECT_THAT(errors(b), has_error(bad + ":1:31", "st_engine: native or interpreter, not 'jit'")) << joined(b);
 }
 
+// A VAR_IN_OUT is bound by the POU that calls: a PROGRAM or FB the project
+// instances has no caller, so instancing one with a VAR_IN_OUT is a load
+// error at the instance (before, it loaded and its first access through the
+// reference crashed the runtime). The same FB called from ST, which binds
+// it, is fine.
+TEST(StSources, AProjectInstanceOfAPouWithVarInOutIsRefused) {
+  const std::string st = temp_file("st_inout/bump.st", R"(
+FUNCTION_BLOCK Bump
+VAR_IN_OUT v : LREAL; END_VAR
+v := v + 1.0;
+END_FUNCTION_BLOCK
+
+PROGRAM Main
+VAR x : LREAL; b : Bump; END_VAR
+b(v := x);
+END_PROGRAM
+
+PROGRAM Loose
+VAR_IN_OUT io : LREAL; END_VAR
+io := io + 1.0;
+END_PROGRAM
+)");
+  const std::string ok = temp_file("st_inout/ok.yaml", yaml(R"(
+tasks: [{name: main, period: 10ms}]
+sources: [bump.st]
+programs: [{name: main, type: Main}]
+)"));
+  const auto good = load_project(ok);
+  ASSERT_LOADS(good);
+  const std::string bad = temp_file("st_inout/bad.yaml", yaml(R"(
+tasks: [{name: main, period: 10ms}]
+sources: [bump.st]
+programs: [{name: loose, type: Loose}]
+blocks: [{name: b, type: Bump}]
+)"));
+  const auto r = load_project(bad);
+  const auto e = errors(r);
+  EXPECT_THAT(e, has_error(bad + ":3:32", "PROGRAM Loose has VAR_IN_OUT io: an instance the project makes has nothing to bind it"))
+      << joined(r);
+  EXPECT_THAT(e, has_error(bad + ":4:26", "FUNCTION_BLOCK Bump has VAR_IN_OUT v: an instance the project makes has nothing to bind it"))
+      << joined(r);
+}
+
 TEST(StSources, ErrorsOfEveryStageAtTheirPlaceInOneLoad) {
   const std::string st = temp_file("st_err/bad.st", yaml(R"(
 PROGRAM Main

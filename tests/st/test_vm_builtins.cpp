@@ -277,5 +277,48 @@ TEST(StVmBuiltins, TypedCountersAreTheGenericCounterAtTheirType) {
   EXPECT_EQ(sint.errors[0], "t0.st:2:9: unknown type 'CTU_SINT' (did you mean CTU_DINT?)");
 }
 
+// An element of an array of FBs by an index out of bounds is the zeroed
+// scratch area: a call of it does nothing (the index's fault is raised), on
+// both engines, whatever the FB holds (a built-in block's pointer there is
+// null; before, the call crashed the runtime).
+TEST(StVmBuiltins, CallingAnFbArrayElementOutOfBoundsDoesNothingButFault) {
+  const std::string src = R"(
+FUNCTION_BLOCK Cell
+VAR_INPUT go : BOOL; END_VAR
+VAR_OUTPUT done : BOOL; END_VAR
+VAR t : TON; n : DINT; END_VAR
+t(IN := go, PT := T#20ms);
+done := t.Q;
+n := n + 1;
+END_FUNCTION_BLOCK
+
+PROGRAM Main
+VAR
+  ts : ARRAY[1..3] OF TON;
+  cells : ARRAY[1..2] OF Cell;
+  k : INT := 5;
+  q, d : BOOL;
+END_VAR
+ts[k](IN := TRUE, PT := T#10ms);
+q := ts[k].Q;
+cells[k](go := TRUE);
+d := cells[k].done;
+cells[1](go := TRUE);
+END_PROGRAM
+)";
+  for (vm::Engine engine : {vm::Engine::Native, vm::Engine::Interpreter}) {
+    StRun r({src}, "Main", 10'000'000, engine);
+    ASSERT_TRUE(r.ok()) << r.errors[0];
+    r.scan(4);
+    EXPECT_FALSE(r.get<bool>("q"));
+    EXPECT_FALSE(r.get<bool>("d"));
+    EXPECT_EQ(r.get<std::int32_t>("cells[1].n"), 4) << "the element in bounds runs";
+    EXPECT_TRUE(r.get<bool>("cells[1].done"));
+    const auto faults = r.fault_texts();
+    ASSERT_FALSE(faults.empty());
+    EXPECT_NE(faults[0].find("out of bounds"), std::string::npos) << faults[0];
+  }
+}
+
 }  // namespace vm_builtins
 }  // namespace syncplc::st::testing

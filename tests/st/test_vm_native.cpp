@@ -16,10 +16,13 @@
 #include <vector>
 
 #include "tests/st/corpus_files.hpp"
+#include "runtime/st/vm/same_cell.hpp"
 #include "tests/st/vm_fixture.hpp"
 
 namespace syncplc::st::testing {
 namespace {
+
+using vm::same_cell;
 
 // The program for one type: `T` in it is replaced by the type's name.
 // `widen` adds the implicit widening to LREAL (not for 64-bit integers).
@@ -119,24 +122,6 @@ Seen seen(StRun& r, bool ran) {
   for (std::uint32_t k = 0; k < r.instance->frame_cells(); ++k) s.frame.push_back(f[k].raw);
   s.faults = r.fault_texts();
   return s;
-}
-
-// Equal bits, or two NaNs (of LREAL, or of REAL in the low half): which
-// operand's NaN an operation on two NaNs passes on is the C++ compiler's
-// choice of operand order in the interpreter (IEEE 754 leaves it open), so
-// only there may the engines differ (docs/st.md, "How compiled ST runs").
-bool same_cell(std::uint64_t a, std::uint64_t b) {
-  if (a == b) return true;
-  double da, db;
-  std::memcpy(&da, &a, 8);
-  std::memcpy(&db, &b, 8);
-  if (std::isnan(da) && std::isnan(db)) return true;
-  if ((a >> 32) != 0 || (b >> 32) != 0) return false;
-  float fa, fb;
-  const auto la = static_cast<std::uint32_t>(a), lb = static_cast<std::uint32_t>(b);
-  std::memcpy(&fa, &la, 4);
-  std::memcpy(&fb, &lb, 4);
-  return std::isnan(fa) && std::isnan(fb);
 }
 
 void expect_same(const Seen& a, const Seen& b, const std::string& where) {

@@ -18,10 +18,13 @@
 #include <string>
 #include <vector>
 
+#include "runtime/st/vm/same_cell.hpp"
 #include "tests/st/vm_fixture.hpp"
 
 namespace syncplc::st::testing {
 namespace {
+
+using vm::same_cell;
 
 struct TypeInfo {
   const char* name;
@@ -367,20 +370,6 @@ void set_random(StRun& a, StRun& b, std::mt19937_64& rng, const std::string& nam
     case 8: both(pick<float>(rng)); break;
     default: both(pick<double>(rng)); break;
   }
-}
-
-bool same_cell(std::uint64_t a, std::uint64_t b) {
-  if (a == b) return true;
-  double da, db;
-  std::memcpy(&da, &a, 8);
-  std::memcpy(&db, &b, 8);
-  if (std::isnan(da) && std::isnan(db)) return true;
-  if ((a >> 32) != 0 || (b >> 32) != 0) return false;
-  float fa, fb;
-  const auto la = static_cast<std::uint32_t>(a), lb = static_cast<std::uint32_t>(b);
-  std::memcpy(&fa, &la, 4);
-  std::memcpy(&fb, &lb, 4);
-  return std::isnan(fa) && std::isnan(fb);
 }
 
 TEST(StVmNativeRandom, RandomProgramsRunAsTheInterpreterRunsThem) {

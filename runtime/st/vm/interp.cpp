@@ -209,6 +209,13 @@ inline U ror(U v, std::int64_t n) noexcept {
   return static_cast<U>((static_cast<U64>(v) >> k) | (static_cast<U64>(v) << (w - k)));
 }
 
+// Whether a reference points into the scratch area, where an index out of
+// bounds sends its element.
+inline bool in_scratch(const Vm& vm, const Cell* p) noexcept {
+  const auto at = reinterpret_cast<std::uintptr_t>(p), from = reinterpret_cast<std::uintptr_t>(vm.scratch);
+  return at >= from && at < from + vm.module->scratch_cells * sizeof(Cell);
+}
+
 // The one function with the labels: run() with frame == nullptr hands out the
 // label table instead of running (how finalize() learns the addresses).
 //
@@ -345,6 +352,10 @@ L_CALL_FB:
   budget = vm.budget;
   NEXT();
 L_CALL_FB_REF:
+  // An element out of bounds (its index faulted) is the scratch area: no
+  // instance is there (a built-in block's pointer in it is null), so the
+  // call does nothing.
+  if (in_scratch(vm, ptr(f[ip->a]))) NEXT();
   vm.budget = budget;
   if (!run(vm, ip->d, ptr(f[ip->a]))) {
     *ok = false;
@@ -374,6 +385,7 @@ L_CALL_BLOCK: {
   NEXT();
 }
 L_CALL_BLOCK_REF: {
+  if (in_scratch(vm, ptr(f[ip->a]))) NEXT();  // as CALL_FB_REF
   Block* b = reinterpret_cast<Block*>(static_cast<std::uintptr_t>(ptr(f[ip->a])->raw));
   execute_guarded(*b, *vm.ctx);
   if (ip->c) end_of_scan_guarded(*b, *vm.ctx);

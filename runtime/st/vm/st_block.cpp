@@ -338,6 +338,16 @@ std::optional<BlockTypeInfo> st_block_type(std::shared_ptr<const StUnit> unit, s
   }
   while (!t.doc.empty() && t.doc.back() == ' ') t.doc.pop_back();
   t.reference = info && info->pou ? info->pou->loc.text() : "";
+  for (const VarSlot& v : p.vars)
+    if (v.scope == static_cast<int>(VarScope::InOut) && t.not_instanceable.empty())
+      t.not_instanceable =
+          p.kind == PouKind::Program
+              ? fmt::format("PROGRAM {} has VAR_IN_OUT {}: an instance the project makes has nothing to bind it "
+                            "(reach a tag with VAR_EXTERNAL instead)",
+                            p.name, v.name)
+              : fmt::format("FUNCTION_BLOCK {} has VAR_IN_OUT {}: an instance the project makes has nothing to bind "
+                            "it (call {} from a POU that passes {}, or make it a VAR_INPUT and a VAR_OUTPUT)",
+                            p.name, v.name, p.name, v.name);
   std::vector<PinCell> inputs, outputs;
   if (p.kind == PouKind::FunctionBlock) {
     for (const VarSlot& v : p.vars) {
