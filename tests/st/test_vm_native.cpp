@@ -108,6 +108,15 @@ std::vector<C> edge_values() {
   return v;
 }
 
+// One source compiled twice, for each engine.
+struct Engines {
+  StRun native, interp;
+  explicit Engines(const std::string& src, const std::string& pou = "P")
+      : native({src}, pou, 10'000'000, vm::Engine::Native), interp({src}, pou, 10'000'000, vm::Engine::Interpreter) {}
+  bool ok() const { return native.ok() && interp.ok(); }
+  std::string error() const { return native.errors.empty() ? (interp.errors.empty() ? "" : interp.errors[0]) : native.errors[0]; }
+};
+
 // Everything an observer can see of a run after a scan.
 struct Seen {
   bool ran = true;
@@ -215,9 +224,10 @@ WHILE i < n DO
 END_WHILE;
 END_PROGRAM
 )";
-  StRun native({src}, "P", 10'000'000, vm::Engine::Native);
-  StRun interp({src}, "P", 10'000'000, vm::Engine::Interpreter);
-  ASSERT_TRUE(native.ok() && interp.ok()) << (native.errors.empty() ? "" : native.errors[0]);
+  Engines both(src);
+  ASSERT_TRUE(both.ok()) << both.error();
+  StRun& native = both.native;
+  StRun& interp = both.interp;
 #if defined(__x86_64__)
   EXPECT_GE(vm::native_register_loops(*native.module), 3u) << "the three loops keep their cells in registers";
 #endif
@@ -306,9 +316,10 @@ part := MID(text, 3, pos);
 spin(n := sel);
 END_PROGRAM
 )";
-  StRun native({src}, "P", 10'000'000, vm::Engine::Native);
-  StRun interp({src}, "P", 10'000'000, vm::Engine::Interpreter);
-  ASSERT_TRUE(native.ok() && interp.ok()) << (native.errors.empty() ? "" : native.errors[0]);
+  Engines both(src);
+  ASSERT_TRUE(both.ok()) << both.error();
+  StRun& native = both.native;
+  StRun& interp = both.interp;
   std::mt19937_64 rng(11);
   const std::int32_t sels[] = {-4, -3, -1, 0, 1, 2, 5, 7, 9, 10, -2147483647 - 1, 2147483647, 300};
   const double xs[] = {0.0, 2.0, -1.0, 1e308, std::numeric_limits<double>::infinity(), 0.5};
@@ -332,9 +343,10 @@ TEST(StVmNative, ARunawayLoopStopsAtTheSameSiteWithTheSameBudgetLeft) {
   const std::string src =
       "PROGRAM P\nVAR\n  k : DINT;\n  a : ARRAY[1..4] OF LREAL;\n  s : LREAL;\nEND_VAR\n"
       "WHILE TRUE DO\n  k := k + 1;\n  FOR k := 1 TO 4 DO s := s + a[k]; END_FOR;\nEND_WHILE;\nEND_PROGRAM\n";
-  StRun native({src}, "P", 10'000'000, vm::Engine::Native);
-  StRun interp({src}, "P", 10'000'000, vm::Engine::Interpreter);
-  ASSERT_TRUE(native.ok() && interp.ok());
+  Engines both(src);
+  ASSERT_TRUE(both.ok()) << both.error();
+  StRun& native = both.native;
+  StRun& interp = both.interp;
   for (std::int64_t budget : {0, 1, 2, 3, 4, 5, 99, 1000}) {
     native.budget = interp.budget = budget;
     const bool a = native.scan(), b = interp.scan();
@@ -365,9 +377,10 @@ inner();
 m := m + 2;
 END_PROGRAM
 )";
-  StRun native({src}, "P", 10'000'000, vm::Engine::Native);
-  StRun interp({src}, "P", 10'000'000, vm::Engine::Interpreter);
-  ASSERT_TRUE(native.ok() && interp.ok()) << (native.errors.empty() ? "" : native.errors[0]);
+  Engines both(src);
+  ASSERT_TRUE(both.ok()) << both.error();
+  StRun& native = both.native;
+  StRun& interp = both.interp;
   for (int scan = 0; scan < 3; ++scan) {
     const bool b = interp.scan(), a = native.scan();
     expect_same(seen(native, a), seen(interp, b), "scan " + std::to_string(scan));
@@ -427,9 +440,10 @@ END_CASE;
 WHILE acc > 100.0 DO acc := acc - 99.0; END_WHILE;
 END_PROGRAM
 )";
-  StRun native({src}, "P", 10'000'000, vm::Engine::Native);
-  StRun interp({src}, "P", 10'000'000, vm::Engine::Interpreter);
-  ASSERT_TRUE(native.ok() && interp.ok()) << (native.errors.empty() ? "" : native.errors[0]);
+  Engines both(src);
+  ASSERT_TRUE(both.ok()) << both.error();
+  StRun& native = both.native;
+  StRun& interp = both.interp;
 #if defined(__x86_64__)
   EXPECT_GE(vm::native_register_loops(*native.module), 14u);
 #endif
