@@ -26,11 +26,13 @@
 #include "runtime/st/vm/block_signatures.hpp"
 #include "runtime/st/vm/codegen.hpp"
 #include "runtime/st/vm/instance.hpp"
+#include "runtime/st/vm/same_cell.hpp"
 #include "runtime/st/vm/vm.hpp"
 
 namespace {
 
 using namespace syncplc;
+using st::vm::same_cell;
 
 void check(bool ok) {
   if (!ok) std::abort();
@@ -43,21 +45,6 @@ class Faults final : public EventSink {
   }
   std::vector<std::string> texts;
 };
-
-// Equal bits, or two NaNs (an LREAL's, or a REAL's in the low half).
-bool same_cell(std::uint64_t a, std::uint64_t b) {
-  if (a == b) return true;
-  double da, db;
-  std::memcpy(&da, &a, 8);
-  std::memcpy(&db, &b, 8);
-  if (std::isnan(da) && std::isnan(db)) return true;
-  if ((a >> 32) != 0 || (b >> 32) != 0) return false;
-  float fa, fb;
-  const auto la = static_cast<std::uint32_t>(a), lb = static_cast<std::uint32_t>(b);
-  std::memcpy(&fa, &la, 4);
-  std::memcpy(&fb, &lb, 4);
-  return std::isnan(fa) && std::isnan(fb);
-}
 
 struct Side {
   std::unique_ptr<st::vm::Instance> instance;
