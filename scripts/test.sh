@@ -40,6 +40,6 @@ SYNCPLC_TARGETS="threaded_and_cli_tests" \
   bash scripts/build.sh build-tsan -DSYNCPLC_UNITY=ON -DSYNCPLC_SANITIZE=thread -DSYNCPLC_BENCH=OFF
 (cd build-tsan && TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
    ctest --output-on-failure -j "$jobs" -L 'threaded|cli|peers' -LE no_cxx)
-echo "== libFuzzer: the Modbus request and reply paths, the HTTP request path, the ST front end"
+echo "== libFuzzer: the Modbus request and reply paths, the HTTP request path, the ST front end, the ST engines"
 bash scripts/fuzz.sh 60 build-fuzz -DSYNCPLC_UNITY=ON
 echo "== all test runs passed"
