@@ -339,6 +339,25 @@ END_PROGRAM
   }
 }
 
+// A CASE whose jump table is far larger than its code (4,001 targets for
+// a handful of instructions) still gets native code: the table is in the
+// code's memory, and its size counts (before, the estimate left it out and
+// the POU fell back to the interpreter).
+TEST(StVmNative, APouWithAWideCaseTableIsNativeCode) {
+  const std::string src =
+      "PROGRAM P\nVAR k, a : INT; END_VAR\n"
+      "CASE k OF\n  0..3999: a := a + 1;\n  4000: a := 0;\nEND_CASE;\nk := (k + 997) MOD 4003;\nEND_PROGRAM\n";
+  Engines both(src);
+  ASSERT_TRUE(both.ok()) << both.error();
+#if defined(__x86_64__)
+  EXPECT_EQ(vm::native_pous(*both.native.module), 1u);
+#endif
+  for (int scan = 0; scan < 50; ++scan) {
+    const bool a = both.native.scan(), b = both.interp.scan();
+    expect_same(seen(both.native, a), seen(both.interp, b), "scan " + std::to_string(scan));
+  }
+}
+
 TEST(StVmNative, ARunawayLoopStopsAtTheSameSiteWithTheSameBudgetLeft) {
   const std::string src =
       "PROGRAM P\nVAR\n  k : DINT;\n  a : ARRAY[1..4] OF LREAL;\n  s : LREAL;\nEND_VAR\n"

@@ -766,9 +766,13 @@ void set_engine(Module& m, Engine engine) {
     if (p.code.empty() || !fits(p)) continue;
     try {
       // The largest template with its rare path (which in a loop writes
-      // back and reads again 18 registers) is under 500 bytes; pages never
-      // written stay unbacked.
-      auto e = std::make_unique<Emitter>(m, p, p.code.size() * 512 + 4096);
+      // back and reads again 18 registers) is under 500 bytes, and a CASE's
+      // table (up to 4096 targets) 8 bytes a target; pages never written
+      // stay unbacked.
+      std::size_t bytes = p.code.size() * 512 + 4096;
+      for (const Insn& i : p.code)
+        if (i.op == Op::SWITCH) bytes += m.tables[i.b].targets.size() * 8 + 8;
+      auto e = std::make_unique<Emitter>(m, p, bytes);
       e->emit();
       e->setProtectModeRE();  // written, now executable and no longer writable
       p.native = e->getCode<int (*)(Vm*, Cell*) noexcept>();
