@@ -236,8 +236,9 @@ class Emitter : public CodeGenerator {
       if (c == k) return &g;
     return nullptr;
   }
-  // Where a jump to pc `d` goes: inside the loop, to it (the head past its
-  // loads); out of it, through a stub that writes the registers back.
+  // Where a jump to pc `d` goes. Inside the loop it goes to d itself (to
+  // the head past the head's loads). Out of the loop it goes through a
+  // stub that first writes the registers back to the frame.
   const Label& target(std::uint32_t d) {
     if (!loop_) return at_[d];
     if (d == loop_->head) return *inner_head_;
