@@ -1,0 +1,298 @@
+// One PLCopen axis (PLCopen Motion Control Part 1 v2.0): the state diagram
+// (§2.1), the commands of the motion blocks with their BufferMode (§2.4.2),
+// error handling (§2.2), the set values the trajectory generator makes every
+// scan (§2.3) and the axis parameters of MC_ReadParameter/MC_WriteParameter
+// (§3.19, parameter numbers of its table). Plain data in and out, no
+// allocation, no I/O: the block MC_AXIS (axis_block.cpp) owns one and calls
+// cycle() once per scan; the MC_* blocks (mc_*.cpp) submit commands and read
+// their reports through the axis they are linked to.
+//
+// Units are the axis's user units u (mm, deg, rad): positions u, velocities
+// u/s, accelerations u/s^2, jerks u/s^3 (§2.4.4). Internally the position is
+// continuous; a modulo axis shows it wrapped into [0, modulo).
+//
+// Profiles (docs/motion/plcopen.md, "Profiles"): a discrete move is paper
+// 004's velocity/acceleration-limited nonlinear filter (nonlinear_filter_math.hpp,
+// eqs. 1-22) tracking the target as a constant reference, so it never
+// exceeds its bounds, arrives exactly and without overshoot from rest, and
+// its remaining time is known exactly (Table I, transient_steps). A velocity
+// move, MC_Halt and MC_Stop ramp the velocity with the acceleration limits.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "fblocks/motion/nonlinear_filter_math.hpp"
+
+namespace syncplc::plcopen {
+
+// The states of §2.1; the numbers are MC_ReadStatus's order and the `state`
+// output of MC_AXIS.
+enum class AxisState : std::uint8_t {
+  Disabled = 0,
+  Standstill = 1,
+  Homing = 2,
+  DiscreteMotion = 3,
+  ContinuousMotion = 4,
+  SynchronizedMotion = 5,
+  Stopping = 6,
+  ErrorStop = 7,
+};
+const char* axis_state_name(AxisState s) noexcept;
+
+// MC_BUFFER_MODE (§2.4.2), with the standard's numbers.
+enum class BufferMode : std::uint8_t {
+  Aborting = 0,
+  Buffered = 1,
+  BlendingLow = 2,
+  BlendingPrevious = 3,
+  BlendingNext = 4,
+  BlendingHigh = 5,
+};
+
+// MC_DIRECTION (§3.5), with the standard's numbers; only a modulo axis has a
+// choice (a linear axis has one way to each position).
+enum class Direction : std::uint8_t {
+  Positive = 1,
+  Shortest = 2,
+  Negative = 3,
+  Current = 4,
+};
+
+// ErrorID values (WORD). 0x01xx: the command is not allowed in this state;
+// 0x02xx: an input of the command is invalid; 0x03xx: the axis went to
+// ErrorStop (the axis error MC_ReadAxisError reports).
+enum class AxisError : std::uint16_t {
+  None = 0,
+  Disabled = 0x0101,          // a motion command to a Disabled axis
+  InErrorStop = 0x0102,       // any motion command, MC_Stop included, in ErrorStop
+  Stopping = 0x0103,          // a motion command while MC_Stop holds the axis
+  NotStandstill = 0x0104,     // MC_Home, MC_SetPosition outside Standstill (SetPosition: or Disabled)
+  NotSynchronized = 0x0105,   // MC_GearOut/MC_CamOut outside SynchronizedMotion
+  StillMoving = 0x0106,       // MC_Reset while ErrorStop still brakes the axis
+  BadVelocity = 0x0201,       // not finite, <= 0 where it must be positive, or above the axis maximum
+  BadAcceleration = 0x0202,   // not finite, <= 0, or above the axis maximum
+  BadDeceleration = 0x0203,
+  BadJerk = 0x0204,           // not finite or < 0, or above the axis maximum
+  BadPosition = 0x0205,       // not finite, or beyond an enabled software limit
+  BadBufferMode = 0x0206,     // not one of MC_BUFFER_MODE
+  BufferFull = 0x0207,        // kQueueCapacity buffered commands already wait
+  BadDirection = 0x0208,
+  BadParameter = 0x0209,      // MC_ReadParameter/MC_WriteParameter: unknown number, read-only, value out of range
+  DriveFault = 0x0301,        // the drive reports a fault (its code: drive_fault_code())
+  PowerLost = 0x0302,         // the power stage went off while MC_Power asked for it
+  FollowingError = 0x0303,    // |set - actual| beyond the axis's limit
+  FeedbackLost = 0x0304,      // the drive's actual values are not fresh (bad exchange)
+  SoftLimit = 0x0305,         // a continuous move reached an enabled software limit: braked before it
+};
+
+enum class CommandKind : std::uint8_t {
+  MoveAbsolute,
+  MoveRelative,
+  MoveAdditive,
+  MoveVelocity,
+  Halt,
+  Stop,
+  Home,  // "set here": the position becomes `position` (homing with a switch: MC_Home's own sequence)
+};
+
+// A command as its block sampled its inputs at Execute's rising edge (§2.4.1).
+// Distances for MoveRelative/MoveAdditive go in `position`. velocity is
+// signed only for MoveVelocity (direction by its sign); acceleration,
+// deceleration and jerk 0 mean "the axis's own maximum" (§2.4.1's
+// implementation choice, documented in docs/motion/plcopen.md).
+struct Command {
+  CommandKind kind = CommandKind::MoveAbsolute;
+  double position = 0;
+  double velocity = 0;
+  double acceleration = 0;
+  double deceleration = 0;
+  double jerk = 0;
+  BufferMode buffer = BufferMode::Aborting;
+  Direction direction = Direction::Positive;
+};
+
+// A submitted command's handle; 0 is "none". Never reused within an axis.
+using CommandId = std::uint32_t;
+
+// Where a command is, as its block shows it (§2.4.1's output rules).
+enum class CommandStatus : std::uint8_t {
+  Unknown,   // never submitted here, or so old it left the report table
+  Buffered,  // accepted, waits for the command before it (Busy, not Active)
+  Active,    // moves the axis (Busy and Active)
+  Done,      // reached its goal (Done); MC_Stop: stopped, the axis held while its Execute stays TRUE
+  Aborted,   // another command took over, or MC_Power disabled the axis (CommandAborted)
+  Error,     // rejected, or the axis went to ErrorStop while it was Active or Buffered (Error, ErrorID)
+};
+
+struct CommandReport {
+  CommandStatus status = CommandStatus::Unknown;
+  AxisError error = AxisError::None;
+  // MoveVelocity: the set velocity equals the commanded one (§2.4.1 "Inxxx":
+  // set, not actual values; FALSE again when it differs).
+  bool in_velocity = false;
+};
+
+// The axis's settings (MC_AXIS's parameters); the *_appl limits of
+// MC_WriteParameter change them while the axis runs.
+struct AxisLimits {
+  double v_max = 1;          // u/s, > 0: MaxVelocityAppl (and ...System)
+  double a_max = 10;         // u/s^2, > 0: MaxAccelerationAppl
+  double d_max = 10;         // u/s^2, > 0: MaxDecelerationAppl
+  double j_max = 0;          // u/s^3, 0 = not jerk-limited: MaxJerkAppl
+  double sw_limit_pos = 0;   // SWLimitPos, u
+  double sw_limit_neg = 0;   // SWLimitNeg, u
+  bool sw_limit_pos_on = false;  // EnableLimitPos
+  bool sw_limit_neg_on = false;  // EnableLimitNeg
+  double max_position_lag = 0;   // MaxPositionLag, u; 0 = not monitored (EnablePosLagMonitoring)
+  double modulo = 0;         // u; 0 = a linear axis
+};
+
+// What the drive reports, sampled by MC_AXIS: in user units (MC_AXIS divides
+// by its scale) and in the drive's coordinates, which MC_SetPosition and
+// MC_Home shift by the axis's offset (user position = drive position + offset).
+struct DriveFeedback {
+  double position = 0;       // actual position, continuous (not wrapped), drive coordinates
+  double velocity = 0;       // actual velocity
+  bool valid = true;         // the values come from a good exchange (else FeedbackLost)
+  bool power_on = false;     // the power stage is on (CiA 402: Operation enabled)
+  bool fault = false;        // the drive is in fault
+  std::uint16_t fault_code = 0;
+  bool home_switch = false;  // the reference switch (homing on simulated axes)
+};
+
+// What MC_AXIS sends the drive this scan.
+struct DriveCommand {
+  bool enable = false;       // power stage on
+  bool reset = false;        // fault reset request (held while MC_Reset asks)
+  double position = 0;       // set position, continuous, drive coordinates (set - offset)
+  double velocity = 0;       // set velocity (feed-forward)
+  double acceleration = 0;   // set acceleration over the coming scan
+};
+
+// MC_ReadParameter/MC_WriteParameter numbers (§3.19's table).
+enum class AxisParameter : std::int16_t {
+  CommandedPosition = 1,   // read only
+  SWLimitPos = 2,
+  SWLimitNeg = 3,
+  EnableLimitPos = 4,      // BOOL as 0/1
+  EnableLimitNeg = 5,
+  EnablePosLagMonitoring = 6,
+  MaxPositionLag = 7,
+  MaxVelocitySystem = 8,   // read only: the axis's configured maximum
+  MaxVelocityAppl = 9,
+  ActualVelocity = 10,     // read only
+  CommandedVelocity = 11,  // read only
+  MaxAccelerationSystem = 12,  // read only
+  MaxAccelerationAppl = 13,
+  MaxDecelerationSystem = 14,  // read only
+  MaxDecelerationAppl = 15,
+  MaxJerkSystem = 16,      // read only
+  MaxJerkAppl = 17,
+};
+
+class AxisMachine {
+ public:
+  // Buffered commands that may wait behind the active one.
+  static constexpr std::size_t kQueueCapacity = 8;
+  // Reports kept for commands that ended (a block reads its own within a scan
+  // or two; older ones read as Unknown).
+  static constexpr std::size_t kReportCapacity = 32;
+
+  // `system` are the configured limits (the *System parameters and the
+  // initial *Appl ones); period_s the scan period T > 0. Starts Disabled at
+  // position 0, velocity 0.
+  AxisMachine(const AxisLimits& system, double period_s) noexcept;
+
+  // ---- once per scan, by MC_AXIS, before its blocks run -----------------
+  // Takes the drive's feedback, moves through the state diagram (power,
+  // faults, following error, stale feedback, reset), advances the active
+  // command's profile by one period, starts buffered commands whose turn
+  // came, and updates every command's report.
+  void cycle(const DriveFeedback& fb) noexcept;
+  // What to send the drive after this cycle.
+  const DriveCommand& drive_command() const noexcept { return out_; }
+
+  // ---- from the blocks, after cycle() in the same scan ------------------
+  // MC_Power: its Enable (level), every scan it runs.
+  void request_power(bool enable) noexcept;
+  // MC_Reset at its Execute's rising edge: leaves ErrorStop (to Standstill
+  // when the power stage is on and MC_Power asks for it, else Disabled) once
+  // the drive's fault is gone and the axis stands; a pending drive fault is
+  // acknowledged by DriveCommand::reset. Returns None or the reason.
+  AxisError reset() noexcept;
+  // A motion command at its block's Execute edge: checked against the state
+  // and the limits now; 0 and *error set when rejected (nothing changes),
+  // else its id.
+  CommandId submit(const Command& c, AxisError* error) noexcept;
+  CommandReport report(CommandId id) const noexcept;
+  // MC_Stop's Execute fell: the axis leaves Stopping once that stop is Done.
+  void release_stop(CommandId id) noexcept;
+  // MC_SetPosition: in Standstill or Disabled, the position becomes p
+  // (relative: moves by p) without motion.
+  AxisError set_position(double p, bool relative) noexcept;
+  // MC_ReadParameter / MC_WriteParameter.
+  AxisError read_parameter(std::int16_t number, double* value) const noexcept;
+  AxisError write_parameter(std::int16_t number, double value) noexcept;
+
+  // ---- what the axis shows --------------------------------------------
+  AxisState state() const noexcept { return state_; }
+  AxisError axis_error() const noexcept { return error_; }
+  std::uint16_t drive_fault_code() const noexcept { return fault_code_; }
+  bool power_on() const noexcept { return fb_.power_on; }
+  bool powered_request() const noexcept { return power_request_; }
+  // Set values (§2.3): continuous position, velocity, acceleration.
+  double set_position() const noexcept { return set_.x; }
+  double set_velocity() const noexcept { return set_.v; }
+  double set_acceleration() const noexcept { return set_a_; }
+  // Actual values as the last feedback gave them (position wrapped on a
+  // modulo axis, as users see it) and the following error set - actual.
+  double actual_position() const noexcept;
+  double actual_velocity() const noexcept { return fb_.velocity; }
+  double following_error() const noexcept;
+  bool feedback_valid() const noexcept { return fb_.valid; }
+  // Wrapped into [0, modulo) on a modulo axis, else p.
+  double user_position(double continuous) const noexcept;
+  // The active command (0 none) and the scans its profile still needs to
+  // reach its goal (paper 004 Table I; -1 when it has no end: MoveVelocity).
+  CommandId active_command() const noexcept { return active_.id; }
+  CommandKind active_kind() const noexcept { return active_.cmd.kind; }
+  std::int64_t remaining_scans() const noexcept;
+  bool homed() const noexcept { return homed_; }
+  const AxisLimits& limits() const noexcept { return appl_; }
+  const AxisLimits& system_limits() const noexcept { return system_; }
+  double period() const noexcept { return T_; }
+
+ private:
+  struct Slot {
+    CommandId id = 0;
+    Command cmd{};
+    double goal = 0;  // continuous target position of a discrete move (resolved when it starts)
+  };
+  struct Report {
+    CommandId id = 0;
+    CommandReport report{};
+  };
+
+  AxisLimits system_, appl_;
+  double T_;
+  AxisState state_ = AxisState::Disabled;
+  AxisError error_ = AxisError::None;
+  std::uint16_t fault_code_ = 0;
+  bool power_request_ = false;
+  bool stop_held_ = false;  // the Done MC_Stop still holds the axis in Stopping
+  bool homed_ = false;
+  DriveFeedback fb_{};
+  DriveCommand out_{};
+  motion::FilterState set_{};  // set position and velocity
+  double set_a_ = 0;
+  double offset_ = 0;          // user position = drive position + offset_ (MC_SetPosition, MC_Home)
+  Slot active_{};
+  std::array<Slot, kQueueCapacity> queue_{};
+  std::size_t queued_ = 0;
+  std::array<Report, kReportCapacity> reports_{};
+  std::size_t next_report_ = 0;
+  CommandId next_id_ = 1;
+};
+
+}  // namespace syncplc::plcopen
