@@ -20,6 +20,12 @@ int BlockTypeInfo::param_index(std::string_view param) const {
   return -1;
 }
 
+int BlockTypeInfo::link_index(std::string_view link) const {
+  for (std::size_t i = 0; i < links.size(); ++i)
+    if (links[i].name == link) return static_cast<int>(i);
+  return -1;
+}
+
 bool BlockTypeInfo::is_generic() const {
   return std::any_of(pins.begin(), pins.end(), [](const PinDecl& p) { return p.cls != TypeClass::Exact; });
 }
@@ -110,6 +116,9 @@ void BlockRegistry::add(BlockTypeInfo info) {
     for (std::size_t j = i + 1; j < info.pins.size(); ++j)
       if (info.pins[i].name == info.pins[j].name)
         throw std::logic_error("block type " + info.name + " declares pin " + info.pins[i].name + " twice");
+  for (const auto& l : info.links)
+    if (info.pin_index(l.name) >= 0 || info.param_index(l.name) >= 0 || info.link_index(l.name) != &l - info.links.data())
+      throw std::logic_error("block type " + info.name + ": link " + l.name + " shadows a pin, a parameter or a link");
   for (const auto& p : info.params) {
     if (info.pin_index(p.name) >= 0)
       throw std::logic_error("block type " + info.name + ": parameter " + p.name + " shadows a pin");

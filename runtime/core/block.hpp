@@ -72,6 +72,17 @@ struct ParamDecl {
   bool tunable = false;
 };
 
+// A link: a parameter whose value names another block instance of the same
+// task, of type `target_type`, that this one works through (a PLCopen
+// motion block's AXIS_REF: `params: {axis: x}` names the MC_AXIS instance
+// x). The loader checks the name and the type and calls Block::link with
+// the target; the target executes before the blocks linked to it.
+struct LinkDecl {
+  std::string name;
+  std::string target_type;
+  std::string doc;
+};
+
 struct ScanContext;
 class BlockSetup;
 
@@ -132,6 +143,15 @@ class Block {
     (void)param;
     (void)value;
     return false;
+  }
+  // Link `link` (BlockTypeInfo::links index) reaches `target`, an instance
+  // of the declared target type: called before the first scan and again
+  // after every online change's switch of the task (the target may then be
+  // another object: re-created, or the kept instance swapped in). Runs
+  // between two scans on the task's thread: no allocation, no I/O.
+  virtual void link(int link, Block& target) noexcept {
+    (void)link;
+    (void)target;
   }
 
   // Retain (docs/store.md, "Retained block instances"): a block whose state
@@ -243,6 +263,11 @@ struct BlockTypeInfo {
   static constexpr std::size_t kMaxMonitored = 1024;
   std::vector<Monitored> monitored{};
   std::size_t monitored_left_out = 0;
+  // Parameters that name another instance (LinkDecl); given in a project's
+  // params: like a parameter, each one required.
+  std::vector<LinkDecl> links{};
+
+  int link_index(std::string_view link) const;
 
   int pin_index(std::string_view pin) const;
   // Whether instance.member names one of the type's variables rather than a

@@ -50,6 +50,9 @@ SignatureDiff compare_signatures(const InstanceSignature& o, const InstanceSigna
     return recreate("array sizes changed");
   }
   if (o.params.size() != n.params.size()) return recreate("parameters changed");
+  for (std::size_t k = 0; k < n.links.size() && k < o.links.size(); ++k)
+    if (o.links[k] != n.links[k]) return recreate(t.links[k].name + " " + o.links[k] + " -> " + n.links[k]);
+  if (o.links.size() != n.links.size()) return recreate("links changed");
 
   // Structure first: one structural parameter re-creates whatever else changed.
   std::string tuned;

@@ -3,9 +3,9 @@
 // share (issue 21). The loader computes it; nothing else builds one.
 //
 // A block instance's signature has four parts, compared in this order:
-//   structure  block type with its datatype ("CTU<INT>"), array pin sizes and
-//              the parameters that are not tunable: a difference re-creates
-//              the instance;
+//   structure  block type with its datatype ("CTU<INT>"), array pin sizes,
+//              the parameters that are not tunable and the instances it is
+//              linked to: a difference re-creates the instance;
 //   wiring     which pins are fed and from where, and the task period if the
 //              factory read it (a filter's sampling time). What the factory fixed
 //              from the wiring when it built the instance (a pin it asked
@@ -56,6 +56,7 @@ struct InstanceSignature {
   std::string type_name;                   // "CTU<INT>" for a generic type, else the type's name
   std::vector<std::uint32_t> pin_length;   // by pin index
   std::vector<Cell> params;                // by ParamDecl index
+  std::vector<std::string> links;          // by LinkDecl index: the target instance's name
   std::vector<PinFeed> feeds;              // by pin index (outputs: None)
   std::vector<WiringSeen> seen;            // by pin index
   // The task period the factory read (BlockSetup::task_period_ns: a filter's

@@ -116,6 +116,9 @@ void TaskHandover::perform() noexcept {
       to->drivers[d.to_slot] = kept.get();
       kept->bind(d.cells);  // same channels, same size: the vector's storage is reused
     }
+    // Links follow the swaps: a block linked to a kept instance reaches
+    // that one, not the fresh instance that went to the old program.
+    to->relink();
     to->stats.continue_from(from->stats);
     to->continue_scan_count(from->scan_count());
   }

@@ -121,6 +121,13 @@ struct BlockInstance {
   // Active forces at this block's points (force_table.hpp): 0 takes the
   // scan's plain path, so a program without forces pays one branch per block.
   std::uint32_t forces = 0;
+  // Its links (BlockTypeInfo::links): link index -> the target's position
+  // in the task's execution order (the target runs first).
+  struct Link {
+    std::int32_t link = 0;
+    std::uint32_t target = 0;
+  };
+  std::vector<Link> links;
 };
 
 // Values of other tasks' tags, taken from their snapshot channels at the
@@ -148,6 +155,9 @@ class Task : private EventSink {
   std::size_t image_cells() const noexcept { return image_.size(); }
   std::uint32_t owned_cells = 0;    // published range: image[0, owned_cells)
   std::vector<BlockInstance> blocks;  // execution order; unit delays first
+  // Every block's links given their targets (Block::link): after the load,
+  // and after an online change swapped instances. No allocation.
+  void relink() noexcept;
   std::size_t unit_delays = 0;      // blocks[0, unit_delays) are unit delays
   std::vector<std::uint32_t> retained_blocks;  // positions in blocks of instances declared retain
   std::vector<Inbound> inbound;

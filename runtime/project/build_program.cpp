@@ -264,6 +264,21 @@ std::unique_ptr<Program> build_program(Declarations& p, const Wiring& w, const B
     }
   }
 
+  // --- links: each target's position, and the first Block::link -----------------
+  for (std::size_t i = 0; i < p.instances.size(); ++i) {
+    const auto& in = p.instances[i];
+    if (in.links.empty()) continue;
+    auto& task = *prog->tasks[static_cast<std::size_t>(in.task)];
+    auto& bi = task.blocks[position[i]];
+    bi.signature.links.assign(in.type->links.size(), std::string{});
+    for (const auto& l : in.links) {
+      if (l.instance < 0) continue;  // reported by check_links; the program is not kept
+      bi.links.push_back({l.link, position[static_cast<std::size_t>(l.instance)]});
+      bi.signature.links[static_cast<std::size_t>(l.link)] = l.target;
+    }
+  }
+  for (auto& task : prog->tasks) task->relink();
+
   // --- connections as copies -----------------------------------------------------
   // A connection copies its length: 1 for scalars and elements, n for whole arrays.
   auto pin_at = [&](const Endpoint& e) {

@@ -96,6 +96,15 @@ struct InstanceDecl {
   std::vector<std::pair<int, ConfigNode>> params;
   std::vector<std::pair<int, std::string>> param_override;  // --set instance.param=value
   std::vector<std::pair<int, ConfigNode>> inputs;           // constant inputs
+  // Links as written (LinkDecl index, the target's name and where it is
+  // written); the target's instance index is found by check_links.
+  struct LinkRef {
+    int link = -1;
+    std::string target;
+    SourceLoc loc;
+    int instance = -1;
+  };
+  std::vector<LinkRef> links;
   const ConfigNode* param(std::size_t i) const { return find(params, i); }
   const ConfigNode* input(std::size_t pin) const { return find(inputs, pin); }
   const std::string* override_of(std::size_t i) const {

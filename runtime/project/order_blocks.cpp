@@ -1,6 +1,7 @@
 // Execution order of each task's blocks: a block runs after every block
 // whose output it reads in the same scan (directly or through a tag of the
-// task); unit delays first; a loop without a unit delay is an error.
+// task) and after the instances it is linked to; unit delays first; a loop
+// without a unit delay is an error.
 #include <algorithm>
 #include <functional>
 #include <queue>
@@ -53,6 +54,14 @@ BlockOrder order_blocks(const Declarations& p, const Wiring& w, Diagnostics& dia
       succ[static_cast<std::size_t>(f)].emplace_back(c.dst.instance, c.loc);
     }
   }
+  // A block linked to another (LinkDecl) runs after it: its target (an
+  // axis) has made this scan's state before the blocks that work on it
+  // read it or give it commands. A unit-delay target runs first anyway.
+  for (std::size_t i = 0; i < p.instances.size(); ++i)
+    for (const auto& l : p.instances[i].links)
+      if (l.instance >= 0 && !p.instances[static_cast<std::size_t>(l.instance)].type->unit_delay &&
+          !p.instances[i].type->unit_delay)
+        succ[static_cast<std::size_t>(l.instance)].emplace_back(static_cast<int>(i), l.loc);
   {
     std::vector<int> indeg(p.instances.size(), 0);
     for (const auto& s : succ)

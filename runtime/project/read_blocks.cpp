@@ -1,5 +1,6 @@
 // Reading the blocks: section: instances, their types, tasks, datatypes,
 // parameters and constant inputs as written (checked by check_params.cpp).
+#include <algorithm>
 #include <utility>
 
 #include "runtime/core/reference.hpp"
@@ -94,9 +95,14 @@ void read_blocks(ConfigNode& n, const BlockRegistry& blocks, Declarations& p, Di
       else
         for (auto& [k, v] : params->map) {
           int i = T.param_index(k);
-          if (i < 0) {
+          if (const int l = T.link_index(k); i < 0 && l >= 0) {
+            if (!v.is_scalar() || !is_identifier(v.scalar))
+              diags.error(v.loc, T.name + "." + k + ": expected the name of a " + T.links[static_cast<std::size_t>(l)].target_type + " instance");
+            else in.links.push_back({l, v.scalar, v.loc, -1});
+          } else if (i < 0) {
             std::string names;
             for (const auto& q : T.params) names += (names.empty() ? "" : ", ") + q.name;
+            for (const auto& q : T.links) names += (names.empty() ? "" : ", ") + q.name;
             diags.error(v.loc, T.name + " has no parameter '" + k + "'" + (names.empty() ? " (it has none)" : " (" + names + ")"));
           } else in.params.emplace_back(i, std::move(v));
         }
@@ -114,6 +120,10 @@ void read_blocks(ConfigNode& n, const BlockRegistry& blocks, Declarations& p, Di
     for (std::size_t i = 0; i < T.params.size(); ++i)
       if (T.params[i].default_value.empty() && !in.param(i))
         diags.error(b.loc, "block instance " + in.name + " needs parameter " + T.params[i].name);
+    for (std::size_t l = 0; l < T.links.size(); ++l)
+      if (std::none_of(in.links.begin(), in.links.end(), [&](const auto& r) { return r.link == static_cast<int>(l); }))
+        diags.error(b.loc, "block instance " + in.name + " needs parameter " + T.links[l].name + " (the " +
+                               T.links[l].target_type + " instance it works on)");
     p.instance_by_name.emplace(in.name, static_cast<int>(p.instances.size()));
     p.instances.push_back(std::move(in));
   }

@@ -58,6 +58,9 @@ std::vector<BlockSignature> block_signatures(const BlockRegistry& registry) {
   std::vector<BlockSignature> out;
   for (const BlockTypeInfo* t : registry.all()) {
     if (t->category == "IEC type conversion") continue;
+    // Blocks linked to another instance (PLCopen motion blocks and their
+    // MC_AXIS) are the project's blocks: an ST POU cannot name the instance.
+    if (!t->links.empty()) continue;
     // A generic block (CTU over ANY_INT) at its default type (CTU: INT, as IEC's CTU).
     bool ok = true;
     for (const PinDecl& p : t->pins)

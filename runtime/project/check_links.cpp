@@ -1,0 +1,46 @@
+// Links between block instances (LinkDecl: a PLCopen motion block's axis):
+// each names an instance of the declared type in the same task. The build
+// orders the target first and hands it to Block::link.
+#include <vector>
+
+#include "runtime/core/closest_name.hpp"
+#include "runtime/project/stages.hpp"
+
+namespace syncplc {
+
+void check_links(Declarations& p, Diagnostics& diags) {
+  std::vector<std::string> candidates;  // instance names of a target type, made when a name is unknown
+  for (auto& in : p.instances) {
+    if (!in.type) continue;
+    for (auto& l : in.links) {
+      const LinkDecl& decl = in.type->links[static_cast<std::size_t>(l.link)];
+      const int t = p.instance_index(l.target);
+      if (t < 0) {
+        if (p.failed_names.count(l.target)) continue;  // its own error says what is wrong
+        candidates.clear();
+        for (const auto& c : p.instances)
+          if (c.type && c.type->name == decl.target_type) candidates.push_back(c.name);
+        const std::string near = closest_name(l.target, candidates);
+        diags.error(l.loc, in.name + "." + decl.name + ": no " + decl.target_type + " instance '" + l.target + "'" +
+                               (near.empty() ? "" : " (did you mean '" + near + "'?)"));
+        continue;
+      }
+      const InstanceDecl& target = p.instances[static_cast<std::size_t>(t)];
+      if (!target.type || target.type->name != decl.target_type) {
+        diags.error(l.loc, in.name + "." + decl.name + ": " + l.target + " is a " +
+                               (target.type ? target.type->name : std::string("block")) + ", not a " + decl.target_type);
+        continue;
+      }
+      if (target.task != in.task) {
+        diags.error(l.loc, in.name + "." + decl.name + ": " + l.target + " runs in task " +
+                               p.tasks[static_cast<std::size_t>(target.task)].cfg.name + ", " + in.name + " in " +
+                               p.tasks[static_cast<std::size_t>(in.task)].cfg.name +
+                               ": a block works only on an instance of its own task");
+        continue;
+      }
+      l.instance = t;
+    }
+  }
+}
+
+}  // namespace syncplc
