@@ -8,6 +8,7 @@ const BlockRegistry& builtin_blocks() {
     register_iec_blocks(r);
     register_motion_blocks(r);
     register_drive_blocks(r);
+    register_plcopen_blocks(r);
     return r;
   }();
   return registry;

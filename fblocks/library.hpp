@@ -18,6 +18,10 @@ void register_motion_blocks(BlockRegistry& registry);
 // CiA 402 drive's state machine.
 void register_drive_blocks(BlockRegistry& registry);
 
+// PLCopen Motion Control Part 1 (fblocks/plcopen): the axis MC_AXIS, the
+// MC_* blocks that work on it, and SIM_SERVO, a simulated drive.
+void register_plcopen_blocks(BlockRegistry& registry);
+
 // Every block type that ships with syncplc, registered once.
 const BlockRegistry& builtin_blocks();
 

@@ -77,6 +77,13 @@ void describe(std::ostream& os, const BlockTypeInfo& t) {
                         p.default_value.empty() ? "(required)" : p.default_value, range(p).empty() ? "-" : range(p),
                         p.unit.empty() ? "-" : p.unit, p.doc + tunable_note(p));
   }
+  if (!t.links.empty()) {
+    os << "  Links (params: {name: instance}):
+";
+    for (const auto& l : t.links)
+      os << fmt::format("    {:<12} an instance of {} (required): {}
+", l.name, l.target_type, l.doc);
+  }
 }
 
 void markdown(std::ostream& os, const BlockRegistry& reg) {
@@ -114,6 +121,12 @@ void markdown(std::ostream& os, const BlockRegistry& reg) {
         os << fmt::format("| {} | {} | {} | {} | {} | {} |\n", p.name, type_name(p.type),
                           p.default_value.empty() ? "*(required)*" : p.default_value, range(p), p.unit,
                           p.doc + tunable_note(p));
+      os << "\n";
+    }
+    if (!t->links.empty()) {
+      os << "| link | instance of | description |\n|---|---|---|\n";
+      for (const auto& l : t->links)
+        os << fmt::format("| {} | {} | {} *(required; in `params:`)* |\n", l.name, l.target_type, l.doc);
       os << "\n";
     }
   }

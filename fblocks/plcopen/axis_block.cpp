@@ -1,0 +1,203 @@
+// MC_AXIS (axis_block.hpp): the scan of one axis and its declaration.
+#include "fblocks/plcopen/axis_block.hpp"
+
+#include <cmath>
+#include <memory>
+
+#include "fblocks/plcopen/plcopen.hpp"
+#include "runtime/core/pin_decl.hpp"
+
+namespace syncplc::plcopen {
+
+void AxisBlock::execute(ScanContext& ctx) noexcept {
+  (void)ctx;
+  DriveFeedback fb = next_;
+  // No sample since the last scan: the first scan, or a drive input was not
+  // finite (the guard skipped end_of_scan). Never acted on as if fresh.
+  if (!sampled_) fb.valid = false;
+  sampled_ = false;
+  machine_.cycle(fb);
+  const DriveCommand& d = machine_.drive_command();
+  out<bool>(kAxEnable, d.enable);
+  out<bool>(kAxReset, d.reset);
+  out<double>(kAxDrivePosition, d.position * scale_);
+  out<double>(kAxDriveVelocity, d.velocity * scale_);
+  out<double>(kAxDriveAcceleration, d.acceleration * scale_);
+  out<std::int16_t>(kAxState, static_cast<std::int16_t>(machine_.state()));
+  out<double>(kAxPosition, machine_.actual_position());
+  out<double>(kAxVelocity, machine_.actual_velocity());
+  out<double>(kAxSetPosition, machine_.user_position(machine_.set_position()));
+  out<double>(kAxSetVelocity, machine_.set_velocity());
+  out<double>(kAxFollowingError, machine_.following_error());
+  out<bool>(kAxError, machine_.state() == AxisState::ErrorStop);
+  out<std::uint16_t>(kAxErrorId, static_cast<std::uint16_t>(machine_.axis_error()));
+  out<std::uint16_t>(kAxDriveFaultCode, machine_.drive_fault_code());
+  out<bool>(kAxHomed, machine_.homed());
+  const CommandId active = machine_.active_command();
+  out<std::int16_t>(kAxCommand, active ? static_cast<std::int16_t>(static_cast<int>(machine_.active_kind()) + 1) : 0);
+  out<std::int32_t>(kAxCommandBlock, source_of(active));
+  out<std::int64_t>(kAxRemainingScans, machine_.remaining_scans());
+}
+
+void AxisBlock::end_of_scan() noexcept {
+  DriveFeedback fb;
+  fb.position = in<double>(kAxActualPosition) / scale_;
+  if (velocity_wired_) {
+    fb.velocity = in<double>(kAxActualVelocity) / scale_;
+  } else {
+    // The backward difference over one period: what a drive without a
+    // velocity object would report.
+    fb.velocity = have_position_ ? (fb.position - last_position_) / machine_.period() : 0.0;
+  }
+  last_position_ = fb.position;
+  have_position_ = true;
+  fb.valid = in<bool>(kAxFeedbackOk);
+  // Unwired, the power stage is an ideal drive's: on one scan after the
+  // enable output asked for it.
+  fb.power_on = power_wired_ ? in<bool>(kAxPowerOn) : machine_.drive_command().enable;
+  fb.fault = in<bool>(kAxFault);
+  fb.fault_code = in<std::uint16_t>(kAxFaultCode);
+  fb.home_switch = in<bool>(kAxHomeSwitch);
+  next_ = fb;
+  sampled_ = true;
+}
+
+CommandId AxisBlock::submit(const Command& c, std::int32_t block, AxisError* error) noexcept {
+  const CommandId id = machine_.submit(c, error);
+  // Remembered for the active one and those buffered behind it: the ring
+  // holds more entries than can wait at once.
+  if (id) sources_[next_source_++ % sources_.size()] = {id, block};
+  return id;
+}
+
+std::int32_t AxisBlock::source_of(CommandId id) const noexcept {
+  if (id)
+    for (const auto& [cid, block] : sources_)
+      if (cid == id) return block;
+  return -1;
+}
+
+namespace {
+
+enum AxisParam : int {
+  kApScale = 0,
+  kApVMax,
+  kApAMax,
+  kApDMax,
+  kApJMax,
+  kApLimitPos,
+  kApLimitNeg,
+  kApLimitPosOn,
+  kApLimitNegOn,
+  kApMaxLag,
+  kApModulo,
+};
+
+std::unique_ptr<Block> make_axis(BlockSetup& s) {
+  AxisLimits l;
+  const double scale = s.param_cell(kApScale).get<double>();
+  l.v_max = s.param_cell(kApVMax).get<double>();
+  l.a_max = s.param_cell(kApAMax).get<double>();
+  l.d_max = s.param_cell(kApDMax).get<double>();
+  l.j_max = s.param_cell(kApJMax).get<double>();
+  l.sw_limit_pos = s.param_cell(kApLimitPos).get<double>();
+  l.sw_limit_neg = s.param_cell(kApLimitNeg).get<double>();
+  l.sw_limit_pos_on = s.param_cell(kApLimitPosOn).get<bool>();
+  l.sw_limit_neg_on = s.param_cell(kApLimitNegOn).get<bool>();
+  l.max_position_lag = s.param_cell(kApMaxLag).get<double>();
+  l.modulo = s.param_cell(kApModulo).get<double>();
+  bool ok = true;
+  auto need = [&](bool cond, const char* what) {
+    if (!cond) {
+      s.error(std::string(kAxisType) + ": " + what);
+      ok = false;
+    }
+  };
+  need(std::isfinite(scale) && scale != 0, "scale must be finite and not 0");
+  need(std::isfinite(l.v_max) && l.v_max > 0, "v_max must be finite and > 0");
+  need(std::isfinite(l.a_max) && l.a_max > 0, "a_max must be finite and > 0");
+  need(std::isfinite(l.d_max) && l.d_max > 0, "d_max must be finite and > 0");
+  need(std::isfinite(l.j_max) && l.j_max >= 0, "j_max must be finite and >= 0");
+  need(std::isfinite(l.sw_limit_pos) && std::isfinite(l.sw_limit_neg), "software limits must be finite");
+  need(!(l.sw_limit_pos_on && l.sw_limit_neg_on) || l.sw_limit_neg < l.sw_limit_pos,
+       "sw_limit_neg must be below sw_limit_pos when both are on");
+  need(std::isfinite(l.max_position_lag) && l.max_position_lag >= 0, "max_position_lag must be finite and >= 0");
+  need(std::isfinite(l.modulo) && l.modulo >= 0, "modulo must be finite and >= 0");
+  need(l.modulo == 0 || !(l.sw_limit_pos_on || l.sw_limit_neg_on), "a modulo axis has no software limits");
+  if (!ok) return nullptr;
+  const double period_s = static_cast<double>(s.task_period_ns()) * 1e-9;
+  return std::make_unique<AxisBlock>(l, period_s, scale, s.connected(kAxActualVelocity), s.connected(kAxPowerOn));
+}
+
+}  // namespace
+
+void register_axis(BlockRegistry& r) {
+  BlockTypeInfo t;
+  t.name = kAxisType;
+  t.category = kCategory;
+  t.doc =
+      "One axis of PLCopen Motion Control (the AXIS_REF the MC_* blocks name with params: {Axis: <this instance>}): "
+      "the axis state diagram (Disabled, Standstill, Homing, DiscreteMotion, ContinuousMotion, "
+      "SynchronizedMotion, Stopping, ErrorStop), the commands of its MC_* blocks with their BufferMode, and the "
+      "set values of the active command every scan (discrete moves: paper 004's nonlinear filter, so velocity "
+      "and acceleration stay within their limits and the arrival is exact). Wire its drive side to a "
+      "CIA402_DRIVE, to a position controller of a sim_table axis, or to a SIM_SERVO: actual_position (and "
+      "optionally actual_velocity, power_on, fault, fault_code, feedback_ok, home_switch) in, enable, reset and "
+      "drive_position/velocity/acceleration out, in drive units (user units x scale). A unit delay: it runs "
+      "first in the scan, from the feedback sampled at the end of the scan before. Unwired power_on follows "
+      "enable one scan later (an ideal drive). See docs/motion/plcopen.md.";
+  t.reference = "PLCopen Motion Control Part 1 v2.0, sections 2.1-2.4; paper 004 (Guarino Lo Bianco), eqs. 1-22";
+  t.pins = {
+      input("actual_position", IecType::LREAL).unit("unit").required().doc("actual position from the drive, drive units"),
+      input("actual_velocity", IecType::LREAL).unit("unit/s")
+          .doc("actual velocity, drive units/s; unwired: the backward difference of actual_position"),
+      input("feedback_ok", IecType::BOOL).init("TRUE")
+          .doc("the actual values come from a good exchange (FALSE: ErrorStop FeedbackLost unless Disabled)"),
+      input("power_on", IecType::BOOL).doc("the power stage is on (CIA402_DRIVE.operation_enabled); unwired: enable one scan later"),
+      input("fault", IecType::BOOL).doc("the drive is in fault: ErrorStop DriveFault"),
+      input("fault_code", IecType::UINT).doc("the drive's error code (CiA 402 603Fh)"),
+      input("home_switch", IecType::BOOL).doc("reference switch"),
+      output("enable", IecType::BOOL).doc("power stage on (to CIA402_DRIVE.enable)"),
+      output("reset", IecType::BOOL).doc("fault reset request, held while MC_Reset waits for the drive"),
+      output("drive_position", IecType::LREAL).unit("unit").doc("set position in drive units"),
+      output("drive_velocity", IecType::LREAL).unit("unit/s").doc("set velocity in drive units/s (feed-forward)"),
+      output("drive_acceleration", IecType::LREAL).unit("unit/s^2").doc("set acceleration in drive units/s^2"),
+      output("state", IecType::INT)
+          .doc("0 Disabled, 1 Standstill, 2 Homing, 3 DiscreteMotion, 4 ContinuousMotion, 5 SynchronizedMotion, "
+               "6 Stopping, 7 ErrorStop"),
+      output("position", IecType::LREAL).doc("actual position, user units (wrapped on a modulo axis)"),
+      output("velocity", IecType::LREAL).doc("actual velocity, user units/s"),
+      output("set_position", IecType::LREAL).doc("set position, user units (wrapped on a modulo axis)"),
+      output("set_velocity", IecType::LREAL).doc("set velocity, user units/s"),
+      output("following_error", IecType::LREAL).doc("set position minus actual position, user units"),
+      output("error", IecType::BOOL).doc("the axis is in ErrorStop"),
+      output("error_id", IecType::WORD).doc("the axis error (docs/motion/plcopen.md, \"Error IDs\"), 0 none"),
+      output("drive_fault_code", IecType::WORD).doc("the drive's error code seen at its fault"),
+      output("homed", IecType::BOOL).doc("MC_Home completed since the axis was made"),
+      output("command", IecType::INT)
+          .doc("active command: 0 none, 1 MoveAbsolute, 2 MoveRelative, 3 MoveAdditive, 4 MoveVelocity, 5 Halt, "
+               "6 Stop, 7 Home"),
+      output("command_block", IecType::DINT).doc("the block that gave the active command (its place in the scan), -1 none"),
+      output("remaining_scans", IecType::LINT)
+          .doc("scans until the active discrete move arrives (paper 004 Table I), -1 without one"),
+  };
+  t.params = {
+      parameter("scale", IecType::LREAL).init("1").unit("unit/unit").doc("drive units per user unit (counts/mm, rad/rad)"),
+      parameter("v_max", IecType::LREAL).init("1").min(0.0).doc("MaxVelocitySystem, user units/s"),
+      parameter("a_max", IecType::LREAL).init("10").min(0.0).doc("MaxAccelerationSystem, user units/s^2"),
+      parameter("d_max", IecType::LREAL).init("10").min(0.0).doc("MaxDecelerationSystem, user units/s^2"),
+      parameter("j_max", IecType::LREAL).init("0").min(0.0).doc("MaxJerkSystem, user units/s^3 (0: none)"),
+      parameter("sw_limit_pos", IecType::LREAL).init("0").doc("SWLimitPos, user units"),
+      parameter("sw_limit_neg", IecType::LREAL).init("0").doc("SWLimitNeg, user units"),
+      parameter("limit_pos", IecType::BOOL).init("FALSE").doc("EnableLimitPos"),
+      parameter("limit_neg", IecType::BOOL).init("FALSE").doc("EnableLimitNeg"),
+      parameter("max_position_lag", IecType::LREAL).init("0").min(0.0)
+          .doc("MaxPositionLag, user units: a larger following error is ErrorStop (0: not monitored)"),
+      parameter("modulo", IecType::LREAL).init("0").min(0.0).doc("modulo of a rotary axis, user units (0: linear)"),
+  };
+  t.unit_delay = true;
+  t.create = make_axis;
+  r.add(std::move(t));
+}
+
+}  // namespace syncplc::plcopen

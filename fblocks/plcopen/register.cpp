@@ -1,0 +1,13 @@
+#include "fblocks/library.hpp"
+#include "fblocks/plcopen/plcopen.hpp"
+
+namespace syncplc {
+
+void register_plcopen_blocks(BlockRegistry& r) {
+  plcopen::register_axis(r);
+  plcopen::register_admin_blocks(r);
+  plcopen::register_move_blocks(r);
+  plcopen::register_sim_servo(r);
+}
+
+}  // namespace syncplc
