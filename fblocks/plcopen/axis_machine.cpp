@@ -117,7 +117,6 @@ void AxisMachine::enter_error(AxisError e) noexcept {
   error_ = e;
   held_stop_ = 0;
   stop_held_ = false;
-  homing_done_ = false;
   reset_pending_ = false;
 }
 
@@ -128,7 +127,6 @@ void AxisMachine::request_power(bool enable) noexcept {
     state_ = AxisState::Disabled;
     held_stop_ = 0;
     stop_held_ = false;
-    homing_done_ = false;
     set_a_ = 0;
   }
   update_output();
@@ -271,7 +269,6 @@ void AxisMachine::advance() noexcept {
   if (active_.id == 0) {
     // MC_Home's extra Homing cycle, a Done MC_Stop's hold.
     if (state_ == AxisState::Homing) {
-      homing_done_ = false;
       state_ = AxisState::Standstill;
     }
     set_.v = 0;
@@ -291,7 +288,6 @@ void AxisMachine::advance() noexcept {
       offset_ += done.cmd.position - set_.x;
       set_.x = done.cmd.position;
       homed_ = true;
-      homing_done_ = true;
       active_ = {};
       end_command(done.id, CommandStatus::Done, AxisError::None);
     } else if (done.cmd.kind == CommandKind::Stop) {
@@ -445,7 +441,6 @@ CommandId AxisMachine::submit(const Command& in, AxisError* error) noexcept {
     held_stop_ = 0;
     stop_held_ = false;
   }
-  homing_done_ = false;
   start(s, additive_base);
   update_output();
   return s.id;

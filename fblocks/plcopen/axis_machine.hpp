@@ -292,7 +292,6 @@ class AxisMachine {
   bool reset_pending_ = false;   // MC_Reset came while the drive was in fault
   bool stop_released_ = false;   // the active MC_Stop's Execute already fell
   CommandId held_stop_ = 0;      // the Done MC_Stop that holds the axis (stop_held_)
-  bool homing_done_ = false;     // MC_Home was Done this cycle: Homing one cycle more
   bool lag_on_ = false;          // EnablePosLagMonitoring
   double lag_value_ = 0;         // MaxPositionLag as written (appl_.max_position_lag is 0 while off)
   Slot active_{};
