@@ -77,7 +77,7 @@ std::int64_t AxisMachine::remaining_scans() const noexcept {
     case CommandKind::Halt:
     case CommandKind::Stop: return ramp_remaining(set_.v, c.deceleration, T_);
     case CommandKind::Home: return 1;
-    default: return discrete_remaining(set_, active_.goal, c.velocity, c.acceleration, c.deceleration, T_);
+    default: return discrete_remaining(set_, blend_target(), c.velocity, c.acceleration, c.deceleration, T_);
   }
 }
 
@@ -238,7 +238,10 @@ AxisMachine::Step AxisMachine::profile_step(const Slot& s, const FilterState& fr
     case CommandKind::Halt:
     case CommandKind::Stop: return {ramp_step(from, 0, c.deceleration, c.deceleration, T_), true};
     case CommandKind::Home: return {{from, 0, true}, true};
-    default: return {discrete_step(from, s.goal, c.velocity, c.acceleration, c.deceleration, T_), true};
+    default: {
+      const double target = s.id == active_.id ? blend_target() : s.goal;
+      return {discrete_step(from, target, c.velocity, c.acceleration, c.deceleration, T_), true};
+    }
   }
 }
 
@@ -282,7 +285,14 @@ void AxisMachine::advance() noexcept {
     return;
   }
   set_ = step.p.next;
-  if (step.p.done) {
+  bool done = step.p.done;
+  if (!done && is_move(active_.cmd.kind) && blend_target() != active_.goal) {
+    // Blending (§2.4.2): the move is Done where it passes its goal, the next one
+    // takes over from the set values there.
+    const double dir = active_.goal > active_.start ? 1 : -1;
+    done = dir * (set_.x - active_.goal) >= 0;
+  }
+  if (done) {
     const Slot done = active_;
     if (done.cmd.kind == CommandKind::Home) {
       offset_ += done.cmd.position - set_.x;
@@ -304,18 +314,20 @@ void AxisMachine::advance() noexcept {
       if (queued_ > 0) {  // in velocity: the buffered command takes over
         end_command(done.id, CommandStatus::Aborted, AxisError::None);
         active_ = {};
-        promote_or_stand();
+        promote_or_stand(set_.x);
       }
     } else {
       active_ = {};
       end_command(done.id, CommandStatus::Done, AxisError::None);
-      promote_or_stand();
+      // A relative or additive move buffered behind a move starts from its goal
+      // (where the set position is, unless blending passed it).
+      promote_or_stand(is_move(done.cmd.kind) ? done.goal : set_.x);
     }
   }
   set_a_ = active_.id != 0 ? profile_step(active_, set_).p.a : 0;
 }
 
-void AxisMachine::promote_or_stand() noexcept {
+void AxisMachine::promote_or_stand(double base) noexcept {
   if (queued_ == 0) {
     state_ = AxisState::Standstill;
     return;
@@ -323,20 +335,47 @@ void AxisMachine::promote_or_stand() noexcept {
   const Slot next = queue_[0];
   for (std::size_t i = 1; i < queued_; ++i) queue_[i - 1] = queue_[i];
   --queued_;
-  start(next, set_.x);
+  start(next, base);
+}
+
+// The position the active discrete move's filter tracks: its goal, or with a
+// blending move next in the same direction (§2.4.2) a point beyond it from
+// which braking with the move's deceleration leaves the blending velocity at
+// the goal (Low: the lower of the two velocities, High: the higher,
+// Previous: the first's, Next: the second's; never above the first's bound,
+// which limits the filter). The move hands over where it passes its goal.
+double AxisMachine::blend_target() const noexcept {
+  const double g = active_.goal;
+  if (!is_move(active_.cmd.kind) || queued_ == 0) return g;
+  const Slot& next = queue_[0];
+  const BufferMode bm = next.cmd.buffer;
+  if (bm == BufferMode::Aborting || bm == BufferMode::Buffered || !is_move(next.cmd.kind) || !next.goal_known)
+    return g;
+  const double dir = g > active_.start ? 1 : (g < active_.start ? -1 : 0);
+  if (dir == 0 || !(dir * (next.goal - g) > 0)) return g;  // a reversal stops at the goal
+  const double va = active_.cmd.velocity, vb = next.cmd.velocity;
+  double v = va;
+  switch (bm) {
+    case BufferMode::BlendingLow: v = va < vb ? va : vb; break;
+    case BufferMode::BlendingHigh: v = va > vb ? va : vb; break;
+    case BufferMode::BlendingNext: v = vb; break;
+    default: break;  // BlendingPrevious
+  }
+  return g + dir * v * v / (2 * active_.cmd.deceleration);
 }
 
 // The command becomes Active: its goal is resolved from the set values now
 // (its first sample is the next cycle's).
-void AxisMachine::start(const Slot& s, double additive_base) noexcept {
+void AxisMachine::start(const Slot& s, double base) noexcept {
   active_ = s;
+  active_.start = set_.x;
   const Command& c = s.cmd;
   switch (c.kind) {
     case CommandKind::MoveAbsolute:
       active_.goal = appl_.modulo > 0 ? modulo_goal(set_.x, set_.v, c.position, appl_.modulo, c.direction) : c.position;
       break;
-    case CommandKind::MoveRelative: active_.goal = set_.x + c.position; break;
-    case CommandKind::MoveAdditive: active_.goal = additive_base + c.position; break;
+    case CommandKind::MoveRelative:
+    case CommandKind::MoveAdditive: active_.goal = base + c.position; break;
     default: active_.goal = set_.x; break;
   }
   active_.goal_known = true;
@@ -366,7 +405,7 @@ AxisError AxisMachine::check_command(Command* c) const noexcept {
   if (!std::isfinite(c->jerk) || c->jerk != 0) return AxisError::BadJerk;
   if (k != CommandKind::Stop) {
     const auto bm = static_cast<unsigned>(c->buffer);
-    if (bm > static_cast<unsigned>(BufferMode::Buffered)) return AxisError::BadBufferMode;  // blending: not yet
+    if (bm > static_cast<unsigned>(BufferMode::BlendingHigh)) return AxisError::BadBufferMode;
   }
   if (k == CommandKind::MoveAbsolute) {
     const auto d = static_cast<unsigned>(c->direction);
@@ -394,7 +433,9 @@ CommandId AxisMachine::submit(const Command& in, AxisError* error) noexcept {
   *error = check_command(&c);
   if (*error != AxisError::None) return 0;
 
-  const bool buffered = c.buffer == BufferMode::Buffered && k != CommandKind::Stop && active_.id != 0;
+  // Buffered and the blending modes wait for the active command; with nothing
+  // active they start at once like Aborting.
+  const bool buffered = c.buffer != BufferMode::Aborting && k != CommandKind::Stop && active_.id != 0;
   if (buffered && queued_ == kQueueCapacity) {
     *error = AxisError::BufferFull;
     return 0;
@@ -411,7 +452,7 @@ CommandId AxisMachine::submit(const Command& in, AxisError* error) noexcept {
   } else if (state_ == AxisState::DiscreteMotion && is_move(active_.cmd.kind)) {
     additive_base = active_.goal;
   }
-  Slot s{0, c, 0, false};
+  Slot s{0, c, 0, false, 0};
   if (is_move(k)) {
     if (k == CommandKind::MoveAbsolute && appl_.modulo == 0) {
       s.goal = c.position;
@@ -441,7 +482,7 @@ CommandId AxisMachine::submit(const Command& in, AxisError* error) noexcept {
     held_stop_ = 0;
     stop_held_ = false;
   }
-  start(s, additive_base);
+  start(s, k == CommandKind::MoveAdditive ? additive_base : set_.x);
   update_output();
   return s.id;
 }

@@ -270,6 +270,7 @@ class AxisMachine {
     Command cmd{};    // acceleration/deceleration 0 already replaced by the axis's maximum at submit
     double goal = 0;  // continuous target position of a discrete move (resolved when it starts)
     bool goal_known = false;  // goal holds it (started, or predicted at submit)
+    double start = 0;         // set position when it started (a discrete move's direction)
   };
   struct Report {
     CommandId id = 0;
@@ -304,8 +305,9 @@ class AxisMachine {
   void enter_error(AxisError e) noexcept;
   void end_all(CommandStatus status, AxisError e) noexcept;
   void end_command(CommandId id, CommandStatus status, AxisError e) noexcept;
-  void start(const Slot& s, double additive_base) noexcept;
-  void promote_or_stand() noexcept;
+  void start(const Slot& s, double base) noexcept;
+  void promote_or_stand(double base) noexcept;
+  double blend_target() const noexcept;
   void advance() noexcept;
   void brake(double d) noexcept;
   bool passes_limit(const motion::FilterState& next) const noexcept;

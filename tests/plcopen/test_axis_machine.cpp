@@ -434,7 +434,7 @@ TEST(AxisSubmit, InputErrors) {
   EXPECT_EQ(r.reject(move_relative(6, 1)), AxisError::BadPosition);
   EXPECT_EQ(r.reject(move_additive(-6, 1)), AxisError::BadPosition);
   EXPECT_EQ(r.reject(home(nan)), AxisError::BadPosition);
-  for (int b : {2, 3, 4, 5, 6, 255})
+  for (int b : {6, 7, 255})
     EXPECT_EQ(r.reject(move_absolute(1, 1, static_cast<BufferMode>(b))), AxisError::BadBufferMode) << b;
   for (int d : {0, 5, 255}) {
     Command c = move_absolute(1, 1);
@@ -591,6 +591,75 @@ TEST(AxisBuffer, BufferedAfterVelocityStartsInVelocity) {
   EXPECT_EQ(r.m.set_velocity(), 1);
   ASSERT_GT(r.run_until_end(h), 0);
   EXPECT_EQ(r.m.state(), AxisState::Standstill);
+}
+
+// Blending (§2.4.2): the first move passes its goal with the blending
+// velocity (capped by its own bound) and is Done there; the second takes over
+// in the same cycle from the set values: position and velocity continuous.
+TEST(AxisBuffer, BlendingPassesTheGoalContinuously) {
+  struct Case {
+    BufferMode mode;
+    double v_blend;  // expected at the hand-over: A 1 u/s, B 0.5 u/s
+  };
+  for (const Case c : {Case{BufferMode::BlendingLow, 0.5}, Case{BufferMode::BlendingHigh, 1},
+                       Case{BufferMode::BlendingPrevious, 1}, Case{BufferMode::BlendingNext, 0.5}}) {
+    SCOPED_TRACE(static_cast<int>(c.mode));
+    Rig r;
+    r.power_up();
+    const double acc = 10, dec = 10;
+    const CommandId a = r.submit(move_absolute(1, 1, BufferMode::Aborting, acc, dec));
+    Command rel = move_absolute(1, 0.5, c.mode, acc, dec);
+    rel.kind = CommandKind::MoveRelative;
+    const CommandId b = r.submit(rel);  // from A's goal: to 2
+    EXPECT_EQ(r.status(b), CommandStatus::Buffered);
+    double x = r.m.set_position(), v = r.m.set_velocity();
+    int dones = 0;
+    for (int i = 0; i < 100000 && r.status(b) != CommandStatus::Done; ++i) {
+      const CommandStatus before = r.status(a);
+      r.scan();
+      const double xn = r.m.set_position(), vn = r.m.set_velocity();
+      EXPECT_LE(std::fabs(vn - v), std::max(acc, dec) * kT * (1 + 1e-9));
+      EXPECT_LE(std::fabs(xn - x), 1 * kT * (1 + 1e-12));
+      EXPECT_GE(vn, 0);  // never stops and turns
+      if (before == CommandStatus::Active && r.status(a) == CommandStatus::Done) {
+        ++dones;
+        EXPECT_GE(xn, 1);                // passed the goal
+        EXPECT_LT(xn, 1 + 1 * kT);       // within the sample
+        EXPECT_NEAR(vn, c.v_blend, 2 * dec * kT);
+        EXPECT_EQ(r.status(b), CommandStatus::Active);
+        EXPECT_EQ(r.m.state(), AxisState::DiscreteMotion);
+      }
+      x = xn;
+      v = vn;
+    }
+    EXPECT_EQ(dones, 1);
+    EXPECT_EQ(r.status(b), CommandStatus::Done);
+    EXPECT_EQ(r.m.set_position(), 2);
+    EXPECT_EQ(r.m.state(), AxisState::Standstill);
+  }
+}
+
+TEST(AxisBuffer, BlendingIntoAReversalStopsAtTheGoal) {
+  Rig r;
+  r.power_up();
+  const CommandId a = r.submit(move_absolute(1, 1));
+  const CommandId b = r.submit(move_absolute(0.5, 1, BufferMode::BlendingHigh));
+  for (int i = 0; i < 100000 && r.status(a) == CommandStatus::Active; ++i) r.scan();
+  ASSERT_EQ(r.status(a), CommandStatus::Done);
+  EXPECT_EQ(r.m.set_position(), 1);
+  EXPECT_EQ(r.m.set_velocity(), 0);
+  EXPECT_EQ(r.status(b), CommandStatus::Active);
+  ASSERT_GT(r.run_until_end(b), 0);
+  EXPECT_EQ(r.m.set_position(), 0.5);
+}
+
+TEST(AxisBuffer, BlendingAfterAVelocityMoveIsBuffered) {
+  Rig r;
+  r.power_up();
+  const CommandId mv = r.submit(move_velocity(1, BufferMode::Aborting, 10));
+  const CommandId b = r.submit(move_relative(0.5, 1, BufferMode::BlendingLow));
+  EXPECT_EQ(r.run_until_end(mv), 100);
+  EXPECT_EQ(r.status(b), CommandStatus::Active);
 }
 
 TEST(AxisBuffer, AdditiveAddsToThePreviousGoal) {
