@@ -343,7 +343,8 @@ void AxisMachine::promote_or_stand(double base) noexcept {
 // which braking with the move's deceleration leaves the blending velocity at
 // the goal (Low: the lower of the two velocities, High: the higher,
 // Previous: the first's, Next: the second's; never above the first's bound,
-// which limits the filter). The move hands over where it passes its goal.
+// which limits the filter, nor above what the second can brake from). The
+// move hands over where it passes its goal.
 double AxisMachine::blend_target() const noexcept {
   const double g = active_.goal;
   if (!is_move(active_.cmd.kind) || queued_ == 0) return g;
@@ -361,6 +362,13 @@ double AxisMachine::blend_target() const noexcept {
     case BufferMode::BlendingNext: v = vb; break;
     default: break;  // BlendingPrevious
   }
+  // Never faster than the second move can brake from before its own goal:
+  // v^2/(2 d) within its distance less the samples the hand-over may be late
+  // (3 v T), and 5 % below that for the filters' discrete approach.
+  const double dist = std::fabs(next.goal - g), d = next.cmd.deceleration;
+  double cap = std::sqrt(2 * d * dist);
+  cap = 0.95 * std::sqrt(2 * d * std::fmax(0, dist - 3 * cap * T_));
+  if (v > cap) v = cap;
   return g + dir * v * v / (2 * active_.cmd.deceleration);
 }
 

@@ -67,6 +67,52 @@ TEST(AxisProfiles, RandomMovesFromRest) {
   }
 }
 
+// Random pairs of moves in one direction, each blending mode: the set values
+// stay within the bounds of the two moves and continuous through the
+// hand-over, the first is Done once where it passes its goal, the second
+// arrives exactly.
+TEST(AxisProfiles, RandomBlendedPairs) {
+  std::mt19937_64 rng(424242);
+  std::uniform_real_distribution<double> U(0, 1);
+  AxisLimits l;
+  l.v_max = 3;
+  l.a_max = 50;
+  l.d_max = 50;
+  const double T = 0.001;
+  for (int k = 0; k < 200; ++k) {
+    Rig r(l, T);
+    r.power_up();
+    const double dir = k % 2 == 0 ? 1 : -1;
+    const double g1 = dir * std::pow(10, -3 + 3 * U(rng)), g2 = g1 + dir * std::pow(10, -3 + 3 * U(rng));
+    const double va = 0.05 + 2.95 * U(rng), vb = 0.05 + 2.95 * U(rng);
+    const double acc = 1 + 49 * U(rng), dec = 1 + 49 * U(rng);
+    const auto mode = static_cast<BufferMode>(2 + k % 4);
+    SCOPED_TRACE(testing::Message() << "k=" << k << " g1=" << g1 << " g2=" << g2 << " va=" << va << " vb=" << vb);
+    const CommandId a = r.submit(move_absolute(g1, va, BufferMode::Aborting, acc, dec));
+    const CommandId b = r.submit(move_absolute(g2, vb, mode, acc, dec));
+    double v = 0;
+    int dones = 0;
+    bool ok = true;
+    for (int i = 0; i < 10000000 && r.status(b) != CommandStatus::Done && ok; ++i) {
+      const bool a_active = r.status(a) == CommandStatus::Active;
+      r.scan();
+      const double xn = r.m.set_position(), vn = r.m.set_velocity();
+      ok &= std::fabs(vn - v) <= std::max(acc, dec) * T * (1 + 1e-9);
+      ok &= std::fabs(vn) <= std::max(va, vb) * (1 + 1e-12);
+      ok &= dir * vn >= 0 && dir * (xn - g2) <= 0;
+      if (a_active && r.status(a) == CommandStatus::Done) {
+        ++dones;
+        ok &= dir * (xn - g1) >= 0 && r.status(b) == CommandStatus::Active;
+      }
+      if (!ok) ADD_FAILURE() << "i=" << i << " x=" << xn << " v=" << vn;
+      v = vn;
+    }
+    EXPECT_EQ(dones, 1);
+    EXPECT_EQ(r.status(b), CommandStatus::Done);
+    EXPECT_EQ(r.m.set_position(), g2);
+  }
+}
+
 TEST(AxisProfiles, RemainingScansCountsDownByOne) {
   Rig r;
   r.power_up();
