@@ -20,6 +20,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 
 #include "fblocks/motion/nonlinear_filter_math.hpp"
@@ -266,8 +267,10 @@ class AxisMachine {
  private:
   struct Slot {
     CommandId id = 0;
-    Command cmd{};
+    Command cmd{};    // acceleration/deceleration 0 already replaced by the axis's maximum at submit
     double goal = 0;  // continuous target position of a discrete move (resolved when it starts)
+    bool goal_known = false;  // goal holds it (started, or predicted at submit)
+    double start = 0;         // set position when it started (a discrete move's direction)
   };
   struct Report {
     CommandId id = 0;
@@ -287,12 +290,31 @@ class AxisMachine {
   motion::FilterState set_{};  // set position and velocity
   double set_a_ = 0;
   double offset_ = 0;          // user position = drive position + offset_ (MC_SetPosition, MC_Home)
+  bool reset_pending_ = false;   // MC_Reset came while the drive was in fault
+  bool stop_released_ = false;   // the active MC_Stop's Execute already fell
+  CommandId held_stop_ = 0;      // the Done MC_Stop that holds the axis (stop_held_)
+  bool lag_on_ = false;          // EnablePosLagMonitoring
+  double lag_value_ = 0;         // MaxPositionLag as written (appl_.max_position_lag is 0 while off)
   Slot active_{};
   std::array<Slot, kQueueCapacity> queue_{};
   std::size_t queued_ = 0;
   std::array<Report, kReportCapacity> reports_{};
   std::size_t next_report_ = 0;
   CommandId next_id_ = 1;
+
+  void enter_error(AxisError e) noexcept;
+  void end_all(CommandStatus status, AxisError e) noexcept;
+  void end_command(CommandId id, CommandStatus status, AxisError e) noexcept;
+  void start(const Slot& s, double base) noexcept;
+  void promote_or_stand(double base) noexcept;
+  double blend_target() const noexcept;
+  void advance() noexcept;
+  void brake(double d) noexcept;
+  bool passes_limit(const motion::FilterState& next) const noexcept;
+  struct Step;
+  Step profile_step(const Slot& s, const motion::FilterState& from) const noexcept;
+  AxisError check_command(Command* c) const noexcept;
+  void update_output() noexcept;
 };
 
 }  // namespace syncplc::plcopen

@@ -1,0 +1,498 @@
+// The PLCopen axis's state diagram, command queue and reports (see
+// axis_machine.hpp; the profiles are in axis_profile.cpp, the parameters in
+// axis_parameters.cpp).
+#include "fblocks/plcopen/axis_machine.hpp"
+
+#include <cmath>
+
+#include "fblocks/plcopen/axis_profile.hpp"
+
+namespace syncplc::plcopen {
+
+using motion::FilterState;
+
+struct AxisMachine::Step {
+  ProfileStep p;
+  bool finite_end = true;  // false: MoveVelocity (its "done" is in_velocity)
+};
+
+const char* axis_state_name(AxisState s) noexcept {
+  switch (s) {
+    case AxisState::Disabled: return "Disabled";
+    case AxisState::Standstill: return "Standstill";
+    case AxisState::Homing: return "Homing";
+    case AxisState::DiscreteMotion: return "DiscreteMotion";
+    case AxisState::ContinuousMotion: return "ContinuousMotion";
+    case AxisState::SynchronizedMotion: return "SynchronizedMotion";
+    case AxisState::Stopping: return "Stopping";
+    case AxisState::ErrorStop: return "ErrorStop";
+  }
+  return "?";
+}
+
+namespace {
+
+bool is_move(CommandKind k) noexcept {
+  return k == CommandKind::MoveAbsolute || k == CommandKind::MoveRelative || k == CommandKind::MoveAdditive;
+}
+
+AxisState state_of(CommandKind k) noexcept {
+  switch (k) {
+    case CommandKind::MoveVelocity: return AxisState::ContinuousMotion;
+    case CommandKind::Stop: return AxisState::Stopping;
+    case CommandKind::Home: return AxisState::Homing;
+    default: return AxisState::DiscreteMotion;
+  }
+}
+
+// An acceleration-like input: finite, >= 0, 0 = the axis's maximum, above it an error.
+bool resolve_rate(double* v, double max) noexcept {
+  if (!std::isfinite(*v) || *v < 0 || *v > max) return false;
+  if (*v == 0) *v = max;
+  return true;
+}
+
+}  // namespace
+
+AxisMachine::AxisMachine(const AxisLimits& system, double period_s) noexcept
+    : system_(system), appl_(system), T_(period_s) {
+  lag_value_ = system.max_position_lag;
+  lag_on_ = lag_value_ > 0;
+  update_output();
+}
+
+double AxisMachine::user_position(double continuous) const noexcept {
+  return appl_.modulo > 0 ? wrap_modulo(continuous, appl_.modulo) : continuous;
+}
+
+double AxisMachine::actual_position() const noexcept { return user_position(fb_.position + offset_); }
+
+double AxisMachine::following_error() const noexcept { return set_.x - (fb_.position + offset_); }
+
+std::int64_t AxisMachine::remaining_scans() const noexcept {
+  if (active_.id == 0) return set_.v == 0 ? 0 : -1;
+  const Command& c = active_.cmd;
+  switch (c.kind) {
+    case CommandKind::MoveVelocity: return -1;
+    case CommandKind::Halt:
+    case CommandKind::Stop: return ramp_remaining(set_.v, c.deceleration, T_);
+    case CommandKind::Home: return 1;
+    default: return discrete_remaining(set_, blend_target(), c.velocity, c.acceleration, c.deceleration, T_);
+  }
+}
+
+// ---- reports ------------------------------------------------------------------
+
+void AxisMachine::end_command(CommandId id, CommandStatus status, AxisError e) noexcept {
+  reports_[next_report_ % kReportCapacity] = {id, {status, e, false}};
+  ++next_report_;
+}
+
+void AxisMachine::end_all(CommandStatus status, AxisError e) noexcept {
+  if (active_.id != 0) end_command(active_.id, status, e);
+  active_ = {};
+  for (std::size_t i = 0; i < queued_; ++i) end_command(queue_[i].id, status, e);
+  queued_ = 0;
+  stop_released_ = false;
+}
+
+CommandReport AxisMachine::report(CommandId id) const noexcept {
+  if (id == 0) return {};
+  if (id == active_.id) {
+    const bool in_v = active_.cmd.kind == CommandKind::MoveVelocity && set_.v == active_.cmd.velocity;
+    return {CommandStatus::Active, AxisError::None, in_v};
+  }
+  for (std::size_t i = 0; i < queued_; ++i)
+    if (queue_[i].id == id) return {CommandStatus::Buffered, AxisError::None, false};
+  for (const Report& r : reports_)
+    if (r.id == id) return r.report;
+  return {};
+}
+
+// ---- state diagram ------------------------------------------------------------
+
+void AxisMachine::enter_error(AxisError e) noexcept {
+  end_all(CommandStatus::Error, e);
+  state_ = AxisState::ErrorStop;
+  error_ = e;
+  held_stop_ = 0;
+  stop_held_ = false;
+  reset_pending_ = false;
+}
+
+void AxisMachine::request_power(bool enable) noexcept {
+  power_request_ = enable;
+  if (!enable && state_ != AxisState::Disabled && state_ != AxisState::ErrorStop) {
+    end_all(CommandStatus::Aborted, AxisError::None);
+    state_ = AxisState::Disabled;
+    held_stop_ = 0;
+    stop_held_ = false;
+    set_a_ = 0;
+  }
+  update_output();
+}
+
+AxisError AxisMachine::reset() noexcept {
+  if (state_ != AxisState::ErrorStop) return AxisError::None;
+  if (fb_.fault) {
+    reset_pending_ = true;  // completes in the cycle the fault clears
+    update_output();
+    return AxisError::None;
+  }
+  if (set_.v != 0) return AxisError::StillMoving;
+  reset_pending_ = false;
+  error_ = AxisError::None;
+  fault_code_ = 0;
+  set_a_ = 0;
+  state_ = fb_.power_on && power_request_ ? AxisState::Standstill : AxisState::Disabled;
+  update_output();
+  return AxisError::None;
+}
+
+void AxisMachine::release_stop(CommandId id) noexcept {
+  if (id == 0) return;
+  if (id == active_.id && active_.cmd.kind == CommandKind::Stop) {
+    stop_released_ = true;
+  } else if (id == held_stop_) {
+    held_stop_ = 0;
+    stop_held_ = false;
+    if (state_ == AxisState::Stopping) state_ = AxisState::Standstill;
+  }
+}
+
+AxisError AxisMachine::set_position(double p, bool relative) noexcept {
+  const bool standing = state_ == AxisState::Standstill || (state_ == AxisState::Homing && active_.id == 0);
+  if (!standing && state_ != AxisState::Disabled) return AxisError::NotStandstill;
+  if (!std::isfinite(p)) return AxisError::BadPosition;
+  const double target = relative ? set_.x + p : p;
+  offset_ += target - set_.x;
+  set_.x = target;
+  update_output();
+  return AxisError::None;
+}
+
+void AxisMachine::cycle(const DriveFeedback& fb) noexcept {
+  fb_ = fb;
+  const double actual = fb.position + offset_;
+
+  // Errors (§2.2): a drive fault from any state; the others while enabled.
+  if (fb.fault) {
+    fault_code_ = fb.fault_code;
+    if (state_ != AxisState::ErrorStop) enter_error(AxisError::DriveFault);
+    else error_ = AxisError::DriveFault;  // the fault outranks what led here: the power stage is off now
+  } else if (state_ != AxisState::Disabled && state_ != AxisState::ErrorStop) {
+    if (!fb.valid) enter_error(AxisError::FeedbackLost);
+    else if (power_request_ && !fb.power_on) enter_error(AxisError::PowerLost);
+    else if (lag_on_ && lag_value_ > 0 && std::fabs(set_.x - actual) > lag_value_)
+      enter_error(AxisError::FollowingError);
+  }
+
+  if (state_ == AxisState::Disabled && power_request_ && fb.power_on && fb.valid) {
+    state_ = AxisState::Standstill;
+    set_ = {actual, 0};
+  }
+
+  switch (state_) {
+    case AxisState::Disabled:
+      if (fb.valid) set_ = {actual, fb.velocity};  // nothing jumps when it powers up
+      set_a_ = 0;
+      break;
+    case AxisState::ErrorStop:
+      if (fb.power_on && !fb.fault) {
+        brake(system_.d_max);
+      } else {
+        if (fb.valid) set_ = {actual, fb.velocity};
+        set_a_ = 0;
+      }
+      if (reset_pending_ && !fb.fault && set_.v == 0) {
+        reset_pending_ = false;
+        reset();
+      }
+      break;
+    case AxisState::Standstill:
+      set_.v = 0;
+      set_a_ = 0;
+      break;
+    default:
+      advance();
+      break;
+  }
+  update_output();
+}
+
+void AxisMachine::update_output() noexcept {
+  const bool faulted = state_ == AxisState::ErrorStop && (error_ == AxisError::DriveFault || fb_.fault);
+  out_.enable = power_request_ && !faulted;
+  out_.reset = reset_pending_ && fb_.fault;
+  out_.position = set_.x - offset_;
+  out_.velocity = set_.v;
+  out_.acceleration = set_a_;
+}
+
+// ---- profiles -----------------------------------------------------------------
+
+AxisMachine::Step AxisMachine::profile_step(const Slot& s, const FilterState& from) const noexcept {
+  const Command& c = s.cmd;
+  switch (c.kind) {
+    case CommandKind::MoveVelocity: return {ramp_step(from, c.velocity, c.acceleration, c.deceleration, T_), false};
+    case CommandKind::Halt:
+    case CommandKind::Stop: return {ramp_step(from, 0, c.deceleration, c.deceleration, T_), true};
+    case CommandKind::Home: return {{from, 0, true}, true};
+    default: {
+      const double target = s.id == active_.id ? blend_target() : s.goal;
+      return {discrete_step(from, target, c.velocity, c.acceleration, c.deceleration, T_), true};
+    }
+  }
+}
+
+bool AxisMachine::passes_limit(const FilterState& next) const noexcept {
+  const double reach = next.x + braking_distance(next.v, system_.d_max, T_);
+  if (appl_.sw_limit_pos_on && next.x > set_.x && (reach > appl_.sw_limit_pos || next.x > appl_.sw_limit_pos))
+    return true;
+  if (appl_.sw_limit_neg_on && next.x < set_.x && (reach < appl_.sw_limit_neg || next.x < appl_.sw_limit_neg))
+    return true;
+  return false;
+}
+
+// One sample of the ramp to standstill; the set position never passes an
+// enabled software limit (the guard in advance() left room for this ramp;
+// the clamp only absorbs rounding).
+void AxisMachine::brake(double d) noexcept {
+  const ProfileStep p = ramp_step(set_, 0, d, d, T_);
+  FilterState next = p.next;
+  if (appl_.sw_limit_pos_on && next.v >= 0 && next.x > appl_.sw_limit_pos && set_.x <= appl_.sw_limit_pos)
+    next.x = appl_.sw_limit_pos;
+  if (appl_.sw_limit_neg_on && next.v <= 0 && next.x < appl_.sw_limit_neg && set_.x >= appl_.sw_limit_neg)
+    next.x = appl_.sw_limit_neg;
+  set_ = next;
+  set_a_ = next.v == 0 ? 0 : ramp_step(set_, 0, d, d, T_).a;
+}
+
+void AxisMachine::advance() noexcept {
+  if (active_.id == 0) {
+    // MC_Home's extra Homing cycle, a Done MC_Stop's hold.
+    if (state_ == AxisState::Homing) {
+      state_ = AxisState::Standstill;
+    }
+    set_.v = 0;
+    set_a_ = 0;
+    return;
+  }
+  const Step step = profile_step(active_, set_);
+  if (passes_limit(step.p.next)) {
+    enter_error(AxisError::SoftLimit);
+    brake(system_.d_max);
+    return;
+  }
+  set_ = step.p.next;
+  bool done = step.p.done;
+  if (!done && is_move(active_.cmd.kind) && blend_target() != active_.goal) {
+    // Blending (§2.4.2): the move is Done where it passes its goal, the next one
+    // takes over from the set values there.
+    const double dir = active_.goal > active_.start ? 1 : -1;
+    done = dir * (set_.x - active_.goal) >= 0;
+  }
+  if (done) {
+    const Slot done = active_;
+    if (done.cmd.kind == CommandKind::Home) {
+      offset_ += done.cmd.position - set_.x;
+      set_.x = done.cmd.position;
+      homed_ = true;
+      active_ = {};
+      end_command(done.id, CommandStatus::Done, AxisError::None);
+    } else if (done.cmd.kind == CommandKind::Stop) {
+      active_ = {};
+      end_command(done.id, CommandStatus::Done, AxisError::None);
+      if (stop_released_) {
+        state_ = AxisState::Standstill;
+      } else {
+        held_stop_ = done.id;
+        stop_held_ = true;
+      }
+      stop_released_ = false;
+    } else if (done.cmd.kind == CommandKind::MoveVelocity) {
+      if (queued_ > 0) {  // in velocity: the buffered command takes over
+        end_command(done.id, CommandStatus::Aborted, AxisError::None);
+        active_ = {};
+        promote_or_stand(set_.x);
+      }
+    } else {
+      active_ = {};
+      end_command(done.id, CommandStatus::Done, AxisError::None);
+      // A relative or additive move buffered behind a move starts from its goal
+      // (where the set position is, unless blending passed it).
+      promote_or_stand(is_move(done.cmd.kind) ? done.goal : set_.x);
+    }
+  }
+  set_a_ = active_.id != 0 ? profile_step(active_, set_).p.a : 0;
+}
+
+void AxisMachine::promote_or_stand(double base) noexcept {
+  if (queued_ == 0) {
+    state_ = AxisState::Standstill;
+    return;
+  }
+  const Slot next = queue_[0];
+  for (std::size_t i = 1; i < queued_; ++i) queue_[i - 1] = queue_[i];
+  --queued_;
+  start(next, base);
+}
+
+// The position the active discrete move's filter tracks: its goal, or with a
+// blending move next in the same direction (§2.4.2) a point beyond it from
+// which braking with the move's deceleration leaves the blending velocity at
+// the goal (Low: the lower of the two velocities, High: the higher,
+// Previous: the first's, Next: the second's; never above the first's bound,
+// which limits the filter, nor above what the second can brake from). The
+// move hands over where it passes its goal.
+double AxisMachine::blend_target() const noexcept {
+  const double g = active_.goal;
+  if (!is_move(active_.cmd.kind) || queued_ == 0) return g;
+  const Slot& next = queue_[0];
+  const BufferMode bm = next.cmd.buffer;
+  if (bm == BufferMode::Aborting || bm == BufferMode::Buffered || !is_move(next.cmd.kind) || !next.goal_known)
+    return g;
+  const double dir = g > active_.start ? 1 : (g < active_.start ? -1 : 0);
+  if (dir == 0 || !(dir * (next.goal - g) > 0)) return g;  // a reversal stops at the goal
+  const double va = active_.cmd.velocity, vb = next.cmd.velocity;
+  double v = va;
+  switch (bm) {
+    case BufferMode::BlendingLow: v = va < vb ? va : vb; break;
+    case BufferMode::BlendingHigh: v = va > vb ? va : vb; break;
+    case BufferMode::BlendingNext: v = vb; break;
+    default: break;  // BlendingPrevious
+  }
+  // Never faster than the second move can brake from before its own goal:
+  // v^2/(2 d) within its distance less the samples the hand-over may be late
+  // (3 v T), and 5 % below that for the filters' discrete approach.
+  const double dist = std::fabs(next.goal - g), d = next.cmd.deceleration;
+  double cap = std::sqrt(2 * d * dist);
+  cap = 0.95 * std::sqrt(2 * d * std::fmax(0, dist - 3 * cap * T_));
+  if (v > cap) v = cap;
+  return g + dir * v * v / (2 * active_.cmd.deceleration);
+}
+
+// The command becomes Active: its goal is resolved from the set values now
+// (its first sample is the next cycle's).
+void AxisMachine::start(const Slot& s, double base) noexcept {
+  active_ = s;
+  active_.start = set_.x;
+  const Command& c = s.cmd;
+  switch (c.kind) {
+    case CommandKind::MoveAbsolute:
+      active_.goal = appl_.modulo > 0 ? modulo_goal(set_.x, set_.v, c.position, appl_.modulo, c.direction) : c.position;
+      break;
+    case CommandKind::MoveRelative:
+    case CommandKind::MoveAdditive: active_.goal = base + c.position; break;
+    default: active_.goal = set_.x; break;
+  }
+  active_.goal_known = true;
+  state_ = state_of(c.kind);
+  stop_released_ = false;
+}
+
+// ---- commands -------------------------------------------------------------------
+
+AxisError AxisMachine::check_command(Command* c) const noexcept {
+  const CommandKind k = c->kind;
+  if (k != CommandKind::MoveAbsolute && k != CommandKind::MoveRelative && k != CommandKind::MoveAdditive &&
+      k != CommandKind::MoveVelocity && k != CommandKind::Halt && k != CommandKind::Stop && k != CommandKind::Home)
+    return AxisError::BadParameter;
+  if (k == CommandKind::Home) return std::isfinite(c->position) ? AxisError::None : AxisError::BadPosition;
+  if (is_move(k)) {
+    if (!std::isfinite(c->position)) return AxisError::BadPosition;
+    if (!std::isfinite(c->velocity) || !(c->velocity > 0) || c->velocity > appl_.v_max) return AxisError::BadVelocity;
+  }
+  if (k == CommandKind::MoveVelocity &&
+      (!std::isfinite(c->velocity) || std::fabs(c->velocity) > appl_.v_max))
+    return AxisError::BadVelocity;
+  if ((is_move(k) || k == CommandKind::MoveVelocity) && !resolve_rate(&c->acceleration, appl_.a_max))
+    return AxisError::BadAcceleration;
+  if (!resolve_rate(&c->deceleration, appl_.d_max)) return AxisError::BadDeceleration;
+  // Profiles are not jerk-limited yet: a jerk asked for is refused, not ignored.
+  if (!std::isfinite(c->jerk) || c->jerk != 0) return AxisError::BadJerk;
+  if (k != CommandKind::Stop) {
+    const auto bm = static_cast<unsigned>(c->buffer);
+    if (bm > static_cast<unsigned>(BufferMode::BlendingHigh)) return AxisError::BadBufferMode;
+  }
+  if (k == CommandKind::MoveAbsolute) {
+    const auto d = static_cast<unsigned>(c->direction);
+    if (d < 1 || d > 4) return AxisError::BadDirection;
+    if (appl_.modulo > 0 && !(c->position >= 0 && c->position < appl_.modulo)) return AxisError::BadPosition;
+  }
+  return AxisError::None;
+}
+
+CommandId AxisMachine::submit(const Command& in, AxisError* error) noexcept {
+  AxisError dummy;
+  if (error == nullptr) error = &dummy;
+  *error = AxisError::None;
+  const CommandKind k = in.kind;
+  // MC_Home's last Homing cycle counts as Standstill: a block chained on its Done may start.
+  const bool standing = state_ == AxisState::Standstill || (state_ == AxisState::Homing && active_.id == 0);
+  if (state_ == AxisState::Disabled) *error = AxisError::Disabled;
+  else if (state_ == AxisState::ErrorStop) *error = AxisError::InErrorStop;
+  else if (state_ == AxisState::Stopping && k != CommandKind::Stop) *error = AxisError::Stopping;
+  else if (k == CommandKind::Home && !standing) *error = AxisError::NotStandstill;
+  else if (state_ == AxisState::Homing && !standing && k != CommandKind::Stop) *error = AxisError::NotStandstill;
+  if (*error != AxisError::None) return 0;
+
+  Command c = in;
+  *error = check_command(&c);
+  if (*error != AxisError::None) return 0;
+
+  // Buffered and the blending modes wait for the active command; with nothing
+  // active they start at once like Aborting.
+  const bool buffered = c.buffer != BufferMode::Aborting && k != CommandKind::Stop && active_.id != 0;
+  if (buffered && queued_ == kQueueCapacity) {
+    *error = AxisError::BufferFull;
+    return 0;
+  }
+
+  // Where the chain of commands ends (the base of a relative/additive goal):
+  // the set position now, or the goal of the discrete move it buffers behind.
+  bool base_known = true;
+  double base = set_.x, additive_base = set_.x;
+  if (buffered) {
+    const Slot& last = queued_ > 0 ? queue_[queued_ - 1] : active_;
+    base_known = is_move(last.cmd.kind) && last.goal_known;
+    base = additive_base = last.goal;
+  } else if (state_ == AxisState::DiscreteMotion && is_move(active_.cmd.kind)) {
+    additive_base = active_.goal;
+  }
+  Slot s{0, c, 0, false, 0};
+  if (is_move(k)) {
+    if (k == CommandKind::MoveAbsolute && appl_.modulo == 0) {
+      s.goal = c.position;
+      s.goal_known = true;
+    } else if (k == CommandKind::MoveRelative && base_known) {
+      s.goal = base + c.position;
+      s.goal_known = true;
+    } else if (k == CommandKind::MoveAdditive && base_known) {
+      s.goal = additive_base + c.position;
+      s.goal_known = true;
+    }
+    if (s.goal_known && ((appl_.sw_limit_pos_on && s.goal > appl_.sw_limit_pos) ||
+                         (appl_.sw_limit_neg_on && s.goal < appl_.sw_limit_neg))) {
+      *error = AxisError::BadPosition;
+      return 0;
+    }
+  }
+
+  s.id = next_id_++;
+  if (buffered) {
+    queue_[queued_++] = s;
+    return s.id;
+  }
+  // Aborting (or nothing to buffer behind): every command in the axis ends Aborted.
+  end_all(CommandStatus::Aborted, AxisError::None);
+  if (held_stop_ != 0) {  // a Done MC_Stop's hold passes to the new MC_Stop
+    held_stop_ = 0;
+    stop_held_ = false;
+  }
+  start(s, k == CommandKind::MoveAdditive ? additive_base : set_.x);
+  update_output();
+  return s.id;
+}
+
+}  // namespace syncplc::plcopen
