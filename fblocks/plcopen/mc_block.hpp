@@ -42,6 +42,7 @@ class ExecuteTracker {
       if (axis) id_ = submit(&e);
       else e = AxisError::Disabled;
       if (!id_) end_with_error(e);
+      else follow(axis->report(id_));  // Busy (and Active unless buffered) from the edge on
     } else if (id_ && axis) {
       follow(axis->report(id_));
     }

@@ -87,7 +87,7 @@ void register_sim_servo(BlockRegistry& r) {
       "A simulated position-controlled servo drive for an MC_AXIS: the power stage comes on power_scans scans after "
       "enable (and goes off at once without it or in fault); with power the position follows target as a "
       "first-order lag with time constant tau (0: at once), x' = target + (x - target) exp(-T/tau); without it the "
-      "motor stands. A rising edge of inject_fault faults the drive (fault_code) until a rising edge of reset with "
+      "motor stands. A rising edge of inject_fault faults the drive (fault_code output = the parameter code) until a rising edge of reset with "
       "inject_fault FALSE. home_switch is TRUE at positions >= home_at.";
   t.reference = "a simulation model (docs/motion/plcopen.md, \"Simulated drive\")";
   t.pins = {
@@ -97,7 +97,7 @@ void register_sim_servo(BlockRegistry& r) {
       input("inject_fault", IecType::BOOL).doc("rising edge: the drive faults"),
       output("power_on", IecType::BOOL).doc("the power stage is on"),
       output("fault", IecType::BOOL).doc("in fault"),
-      output("fault_code", IecType::UINT).doc("fault_code while in fault, else 0"),
+      output("fault_code", IecType::UINT).doc("code while in fault, else 0"),
       output("position", IecType::LREAL).unit("unit").doc("actual position"),
       output("velocity", IecType::LREAL).unit("unit/s").doc("actual velocity over the last scan"),
       output("home_switch", IecType::BOOL).doc("position >= home_at"),
@@ -105,7 +105,7 @@ void register_sim_servo(BlockRegistry& r) {
   t.params = {
       parameter("tau", IecType::LREAL).init("0").min(0.0).unit("s").doc("time constant of the position loop"),
       parameter("power_scans", IecType::DINT).init("1").min(0.0).max(1e6).doc("scans from enable to power on"),
-      parameter("fault_code", IecType::UINT).init("16#7500").doc("the code reported in fault (CiA 402 603Fh)"),
+      parameter("code", IecType::UINT).init("16#7500").doc("the code reported in fault (CiA 402 603Fh)"),
       parameter("home_at", IecType::LREAL).init("0").unit("unit").doc("where the reference switch turns on"),
       parameter("position0", IecType::LREAL).init("0").unit("unit").doc("position at start"),
   };

@@ -78,11 +78,9 @@ void describe(std::ostream& os, const BlockTypeInfo& t) {
                         p.unit.empty() ? "-" : p.unit, p.doc + tunable_note(p));
   }
   if (!t.links.empty()) {
-    os << "  Links (params: {name: instance}):
-";
+    os << "  Links (params: {name: instance}):\n";
     for (const auto& l : t.links)
-      os << fmt::format("    {:<12} an instance of {} (required): {}
-", l.name, l.target_type, l.doc);
+      os << fmt::format("    {:<12} an instance of {} (required): {}\n", l.name, l.target_type, l.doc);
   }
 }
 

@@ -14,6 +14,7 @@ void check_links(Declarations& p, Diagnostics& diags) {
     if (!in.type) continue;
     for (auto& l : in.links) {
       const LinkDecl& decl = in.type->links[static_cast<std::size_t>(l.link)];
+      if (l.target.empty()) continue;  // written wrong: reported by read_blocks
       const int t = p.instance_index(l.target);
       if (t < 0) {
         if (p.failed_names.count(l.target)) continue;  // its own error says what is wrong
@@ -28,7 +29,8 @@ void check_links(Declarations& p, Diagnostics& diags) {
       const InstanceDecl& target = p.instances[static_cast<std::size_t>(t)];
       if (!target.type || target.type->name != decl.target_type) {
         diags.error(l.loc, in.name + "." + decl.name + ": " + l.target + " is a " +
-                               (target.type ? target.type->name : std::string("block")) + ", not a " + decl.target_type);
+                               (target.type ? target.type->name : std::string("block")) + ", not an instance of " +
+                               decl.target_type);
         continue;
       }
       if (target.task != in.task) {

@@ -96,9 +96,11 @@ void read_blocks(ConfigNode& n, const BlockRegistry& blocks, Declarations& p, Di
         for (auto& [k, v] : params->map) {
           int i = T.param_index(k);
           if (const int l = T.link_index(k); i < 0 && l >= 0) {
-            if (!v.is_scalar() || !is_identifier(v.scalar))
-              diags.error(v.loc, T.name + "." + k + ": expected the name of a " + T.links[static_cast<std::size_t>(l)].target_type + " instance");
-            else in.links.push_back({l, v.scalar, v.loc, -1});
+            const bool named = v.is_scalar() && is_identifier(v.scalar);
+            if (!named)
+              diags.error(v.loc, T.name + "." + k + ": expected the name of an instance of " +
+                                     T.links[static_cast<std::size_t>(l)].target_type);
+            in.links.push_back({l, named ? v.scalar : std::string{}, v.loc, -1});
           } else if (i < 0) {
             std::string names;
             for (const auto& q : T.params) names += (names.empty() ? "" : ", ") + q.name;

@@ -210,9 +210,13 @@ TEST(McProject, AnAbortingMoveTakesOverAndTheFirstReportsCommandAborted) {
   run.set_real("target2", -5.0);
   run.set("go2", true);
   run.scan();
+  EXPECT_TRUE(run.flag("mv2.Active"));
+  // mv runs before mv2 in the scan: it sees the take-over at its next call.
+  EXPECT_TRUE(run.flag("mv.Busy"));
+  run.scan();
   EXPECT_TRUE(run.flag("mv.CommandAborted"));
   EXPECT_FALSE(run.flag("mv.Busy"));
-  EXPECT_TRUE(run.flag("mv2.Active"));
+  EXPECT_FALSE(run.flag("mv.Active"));
   ASSERT_GT(run.until([&] { return run.flag("mv2.Done"); }), 0);
   EXPECT_EQ(run.real("x.set_position"), -5.0);
   EXPECT_TRUE(run.flag("mv.CommandAborted")) << "held while its Execute is TRUE";
@@ -253,7 +257,7 @@ TEST(McProject, StopHoldsTheAxisUntilItsExecuteFalls) {
   run.set("go", true);
   run.scans(100);
   run.set("stop", true);
-  run.scan();
+  run.scans(2);
   EXPECT_TRUE(run.flag("mv.CommandAborted"));
   ASSERT_GT(run.until([&] { return run.flag("stp.Done"); }), 0);
   EXPECT_EQ(run.state(), as_int(AxisState::Stopping));
@@ -289,7 +293,10 @@ TEST(McProject, ADriveFaultStopsTheAxisAndMcResetBringsItBack) {
   run.set("fault", false);
   run.set("reset", true);
   ASSERT_GT(run.until([&] { return run.flag("rst.Done"); }, 50), 0);
-  EXPECT_EQ(run.state(), as_int(AxisState::Standstill));
+  // The fault switched the power stage off: the reset leads to Disabled
+  // (§2.1 note 3), and MC_Power, still enabled, brings it to Standstill.
+  EXPECT_EQ(run.state(), as_int(AxisState::Disabled));
+  ASSERT_GT(run.until([&] { return run.state() == as_int(AxisState::Standstill); }, 20), 0);
   EXPECT_EQ(run.word("err.AxisErrorID"), 0);
   // Moves again.
   run.set("go", false);
@@ -310,10 +317,9 @@ TEST(McProject, PowerOffAbortsTheMoveAndDisablesTheAxis) {
   run.set("go", true);
   run.scans(20);
   run.set("power", false);
-  run.scan();
+  run.scans(2);  // pwr runs after mv and x: both see it at their next scan
   EXPECT_TRUE(run.flag("mv.CommandAborted"));
   EXPECT_EQ(run.state(), as_int(AxisState::Disabled));
-  run.scan();
   EXPECT_FALSE(run.flag("x.enable"));
 }
 
@@ -332,23 +338,24 @@ blocks:
   - {name: axis_x, type: MC_AXIS, inputs: {actual_position: 0}}
   - {name: p, type: MC_Power, params: {Axis: axis_y}}
 )"),
-              HasSubstr("p.yaml:4:43: p.Axis: no MC_AXIS instance 'axis_y' (did you mean 'axis_x'?)"));
+              HasSubstr("p.yaml:4:46: p.Axis: no MC_AXIS instance 'axis_y' (did you mean 'axis_x'?)"));
 }
 
 TEST(McProjectLinks, AnAxisOfAnotherTypeOrTaskOrNoneIsALoadError) {
   const std::string errs = load_errors(R"(tasks: [{name: a, period: 1ms}, {name: b, period: 2ms}]
 blocks:
   - {name: x, type: MC_AXIS, task: a, inputs: {actual_position: 0}}
-  - {name: n, type: UNIT_DELAY, task: a}
+  - {name: n, type: UNIT_DELAY, task: a, inputs: {IN: 0.0}}
   - {name: p1, type: MC_Power, task: a, params: {Axis: n}}
   - {name: p2, type: MC_Power, task: b, params: {Axis: x}}
   - {name: p3, type: MC_Power, task: a}
   - {name: p4, type: MC_Power, task: a, params: {Axis: [x]}}
 )");
-  EXPECT_THAT(errs, HasSubstr("p.yaml:5:53: p1.Axis: n is a UNIT_DELAY, not a MC_AXIS"));
-  EXPECT_THAT(errs, HasSubstr("p.yaml:6:53: p2.Axis: x runs in task a, p2 in b"));
+  EXPECT_THAT(errs, HasSubstr("p.yaml:5:56: p1.Axis: n is a UNIT_DELAY, not an instance of MC_AXIS"));
+  EXPECT_THAT(errs, HasSubstr("p.yaml:6:56: p2.Axis: x runs in task a, p2 in b"));
   EXPECT_THAT(errs, HasSubstr("p.yaml:7:5: block instance p3 needs parameter Axis (the MC_AXIS instance it works on)"));
-  EXPECT_THAT(errs, HasSubstr("p.yaml:8:53: MC_Power.Axis: expected the name of a MC_AXIS instance"));
+  EXPECT_THAT(errs, HasSubstr("p.yaml:8:56: MC_Power.Axis: expected the name of an instance of MC_AXIS"));
+  EXPECT_THAT(errs, ::testing::Not(HasSubstr("p4 needs"))) << "no follow-on error";
 }
 
 }  // namespace
