@@ -493,9 +493,8 @@ TEST(AxisReports, UnknownForNoneUnseenAndAgedOut) {
   EXPECT_EQ(r.status(0), CommandStatus::Unknown);
   EXPECT_EQ(r.status(12345), CommandStatus::Unknown);
   const CommandId first = r.submit(move_velocity(0.1));
-  for (std::size_t i = 0; i < AxisMachine::kReportCapacity - 1; ++i) r.submit(move_velocity(0.1));
-  EXPECT_EQ(r.status(first), CommandStatus::Aborted);  // 31 ended: still kept
-  r.submit(move_velocity(0.1));
+  for (std::size_t i = 0; i < AxisMachine::kReportCapacity; ++i) r.submit(move_velocity(0.1));
+  EXPECT_EQ(r.status(first), CommandStatus::Aborted);  // 32 ended: still kept
   r.submit(move_velocity(0.1));
   EXPECT_EQ(r.status(first), CommandStatus::Unknown);  // 33 ended: left the table
 }
