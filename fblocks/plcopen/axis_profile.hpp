@@ -12,6 +12,11 @@
 
 namespace syncplc::plcopen {
 
+// The commands whose profile is a discrete move to a goal (discrete_step).
+inline bool is_move(CommandKind k) noexcept {
+  return k == CommandKind::MoveAbsolute || k == CommandKind::MoveRelative || k == CommandKind::MoveAdditive;
+}
+
 // One sample of a profile: the state at the next sample, the acceleration
 // applied over it, and whether the profile reached its end there (discrete:
 // the goal, snapped; ramp: the target velocity, snapped).

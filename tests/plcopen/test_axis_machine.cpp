@@ -375,6 +375,28 @@ TEST(AxisReset, DriveFaultResetIsHeldUntilTheFaultClears) {
   EXPECT_EQ(r.m.state(), AxisState::Standstill);
 }
 
+// The fault clears while the drive still coasts: the reset request drops with
+// the fault, the reset completes once the axis stands.
+TEST(AxisReset, PendingResetWaitsForStandstill) {
+  Rig r;
+  r.power_up();
+  r.d.fault = true;
+  r.scan();
+  ASSERT_EQ(r.m.reset(), AxisError::None);
+  EXPECT_TRUE(r.m.drive_command().reset);
+  DriveFeedback f = r.d.feedback();
+  f.fault = false;
+  f.velocity = 0.3;  // coasting
+  r.m.cycle(f);
+  EXPECT_EQ(r.m.state(), AxisState::ErrorStop);
+  EXPECT_FALSE(r.m.drive_command().reset);
+  EXPECT_EQ(r.m.set_velocity(), 0.3);
+  f.velocity = 0;
+  r.m.cycle(f);
+  EXPECT_EQ(r.m.state(), AxisState::Disabled);
+  EXPECT_EQ(r.m.axis_error(), AxisError::None);
+}
+
 TEST(AxisReset, FaultClearedBeforeResetNeedsTheReset) {
   Rig r;
   r.power_up();
@@ -493,9 +515,8 @@ TEST(AxisReports, UnknownForNoneUnseenAndAgedOut) {
   EXPECT_EQ(r.status(0), CommandStatus::Unknown);
   EXPECT_EQ(r.status(12345), CommandStatus::Unknown);
   const CommandId first = r.submit(move_velocity(0.1));
-  for (std::size_t i = 0; i < AxisMachine::kReportCapacity - 1; ++i) r.submit(move_velocity(0.1));
-  EXPECT_EQ(r.status(first), CommandStatus::Aborted);  // 31 ended: still kept
-  r.submit(move_velocity(0.1));
+  for (std::size_t i = 0; i < AxisMachine::kReportCapacity; ++i) r.submit(move_velocity(0.1));
+  EXPECT_EQ(r.status(first), CommandStatus::Aborted);  // 32 ended: still kept
   r.submit(move_velocity(0.1));
   EXPECT_EQ(r.status(first), CommandStatus::Unknown);  // 33 ended: left the table
 }
