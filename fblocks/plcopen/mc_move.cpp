@@ -160,7 +160,7 @@ void add_move(BlockRegistry& r, const MoveType& m) {
                           .doc("MC_DIRECTION: 1 positive, 2 shortest way, 3 negative, 4 current"));
   if (m.buffer)
     p.buffer = add(input("BufferMode", IecType::INT).init("0")
-                       .doc("MC_BUFFER_MODE: 0 Aborting, 1 Buffered (2-5 blending: see docs/motion/plcopen.md)"));
+                       .doc("MC_BUFFER_MODE: 0 Aborting, 1 Buffered, 2 BlendingLow, 3 BlendingPrevious, 4 BlendingNext, 5 BlendingHigh"));
   p.done = add(m.kind == CommandKind::MoveVelocity
                    ? output("InVelocity", IecType::BOOL).doc("the set velocity equals Velocity (set, not actual)")
                    : output("Done", IecType::BOOL).doc("the command reached its goal"));
