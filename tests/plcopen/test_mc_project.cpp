@@ -75,6 +75,12 @@ class AxisRun {
     if (prog_) clock_ = std::make_unique<VirtualClock>(*prog_);
   }
   bool ok() const { return prog_ != nullptr; }
+  // Loaded, MC_Power enabled and the axis in Standstill within 20 scans.
+  bool powered() {
+    if (!ok()) return false;
+    set("power", true);
+    return until([&] { return state() == static_cast<int>(AxisState::Standstill); }, 20) > 0;
+  }
   Cell& cell(const std::string& ref) {
     auto r = prog_->resolve(ref);
     EXPECT_TRUE(r) << ref;
@@ -180,9 +186,7 @@ TEST(McProject, PowerMoveAndTheOutputRulesOfExecute) {
 
 TEST(McProject, DoneIsShownForOneScanWhenExecuteFellBeforeIt) {
   AxisRun run(kAxisProject);
-  ASSERT_TRUE(run.ok());
-  run.set("power", true);
-  ASSERT_GT(run.until([&] { return run.state() == as_int(AxisState::Standstill); }, 20), 0);
+  ASSERT_TRUE(run.powered());
   run.set_real("target", 1.0);
   run.set("go", true);
   run.scan();
@@ -200,9 +204,7 @@ TEST(McProject, DoneIsShownForOneScanWhenExecuteFellBeforeIt) {
 
 TEST(McProject, AnAbortingMoveTakesOverAndTheFirstReportsCommandAborted) {
   AxisRun run(kAxisProject);
-  ASSERT_TRUE(run.ok());
-  run.set("power", true);
-  ASSERT_GT(run.until([&] { return run.state() == as_int(AxisState::Standstill); }, 20), 0);
+  ASSERT_TRUE(run.powered());
   run.set_real("target", 100.0);
   run.set("go", true);
   run.scans(50);
@@ -224,9 +226,7 @@ TEST(McProject, AnAbortingMoveTakesOverAndTheFirstReportsCommandAborted) {
 
 TEST(McProject, ABufferedMoveStartsWhenTheOneBeforeIsDone) {
   AxisRun run(kAxisProject);
-  ASSERT_TRUE(run.ok());
-  run.set("power", true);
-  ASSERT_GT(run.until([&] { return run.state() == as_int(AxisState::Standstill); }, 20), 0);
+  ASSERT_TRUE(run.powered());
   run.set_real("target", 2.0);
   run.set("go", true);
   run.scans(3);
@@ -250,9 +250,7 @@ TEST(McProject, ABufferedMoveStartsWhenTheOneBeforeIsDone) {
 
 TEST(McProject, StopHoldsTheAxisUntilItsExecuteFalls) {
   AxisRun run(kAxisProject);
-  ASSERT_TRUE(run.ok());
-  run.set("power", true);
-  ASSERT_GT(run.until([&] { return run.state() == as_int(AxisState::Standstill); }, 20), 0);
+  ASSERT_TRUE(run.powered());
   run.set_real("target", 100.0);
   run.set("go", true);
   run.scans(100);
@@ -277,9 +275,7 @@ TEST(McProject, StopHoldsTheAxisUntilItsExecuteFalls) {
 
 TEST(McProject, ADriveFaultStopsTheAxisAndMcResetBringsItBack) {
   AxisRun run(kAxisProject);
-  ASSERT_TRUE(run.ok());
-  run.set("power", true);
-  ASSERT_GT(run.until([&] { return run.state() == as_int(AxisState::Standstill); }, 20), 0);
+  ASSERT_TRUE(run.powered());
   run.set_real("target", 100.0);
   run.set("go", true);
   run.scans(20);
@@ -310,9 +306,7 @@ TEST(McProject, ADriveFaultStopsTheAxisAndMcResetBringsItBack) {
 
 TEST(McProject, PowerOffAbortsTheMoveAndDisablesTheAxis) {
   AxisRun run(kAxisProject);
-  ASSERT_TRUE(run.ok());
-  run.set("power", true);
-  ASSERT_GT(run.until([&] { return run.state() == as_int(AxisState::Standstill); }, 20), 0);
+  ASSERT_TRUE(run.powered());
   run.set_real("target", 100.0);
   run.set("go", true);
   run.scans(20);
