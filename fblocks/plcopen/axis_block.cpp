@@ -77,6 +77,11 @@ std::int32_t AxisBlock::source_of(CommandId id) const noexcept {
   return -1;
 }
 
+void AxisBlock::retune_from(const Block& fresh) noexcept {
+  limits_ = static_cast<const AxisBlock&>(fresh).limits_;
+  machine_.retune(limits_);
+}
+
 namespace {
 
 enum AxisParam : int {
@@ -129,7 +134,31 @@ std::unique_ptr<Block> make_axis(BlockSetup& s) {
   return std::make_unique<AxisBlock>(l, period_s, scale, s.connected(kAxActualVelocity), s.connected(kAxPowerOn));
 }
 
+// The limits with parameter `param` set to v, or false when they would not
+// be valid (what make_axis checks).
+bool with_param(AxisLimits* l, int param, double v) noexcept {
+  switch (param) {
+    case kApVMax: if (!(v > 0)) return false; l->v_max = v; break;
+    case kApAMax: if (!(v > 0)) return false; l->a_max = v; break;
+    case kApDMax: if (!(v > 0)) return false; l->d_max = v; break;
+    case kApJMax: if (!(v >= 0)) return false; l->j_max = v; break;
+    case kApLimitPos: l->sw_limit_pos = v; break;
+    case kApLimitNeg: l->sw_limit_neg = v; break;
+    case kApMaxLag: if (!(v >= 0)) return false; l->max_position_lag = v; break;
+    default: return false;
+  }
+  return std::isfinite(v) && (!(l->sw_limit_pos_on && l->sw_limit_neg_on) || l->sw_limit_neg < l->sw_limit_pos);
+}
+
 }  // namespace
+
+bool AxisBlock::tune(int param, double value) noexcept {
+  AxisLimits next = limits_;
+  if (!with_param(&next, param, value)) return false;
+  limits_ = next;
+  machine_.retune(limits_);
+  return true;
+}
 
 void register_axis(BlockRegistry& r) {
   BlockTypeInfo t;
@@ -145,7 +174,9 @@ void register_axis(BlockRegistry& r) {
       "optionally actual_velocity, power_on, fault, fault_code, feedback_ok, home_switch) in, enable, reset and "
       "drive_position/velocity/acceleration out, in drive units (user units x scale). A unit delay: it runs "
       "first in the scan, from the feedback sampled at the end of the scan before. Unwired power_on follows "
-      "enable one scan later (an ideal drive). See docs/motion/plcopen.md.";
+      "enable one scan later (an ideal drive). The limits are tunable: an online change or a tuning input "
+      "changes them on the running axis, which keeps its state and its motion (the *Appl values return to the "
+      "new limits; commands already given act within them from the next scan). See docs/motion/plcopen.md.";
   t.reference = "PLCopen Motion Control Part 1 v2.0, sections 2.1-2.4; paper 004 (Guarino Lo Bianco), eqs. 1-22";
   t.pins = {
       input("actual_position", IecType::LREAL).unit("unit").required().doc("actual position from the drive, drive units"),
@@ -183,15 +214,15 @@ void register_axis(BlockRegistry& r) {
   };
   t.params = {
       parameter("scale", IecType::LREAL).init("1").unit("unit/unit").doc("drive units per user unit (counts/mm, rad/rad)"),
-      parameter("v_max", IecType::LREAL).init("1").min(0.0).doc("MaxVelocitySystem, user units/s"),
-      parameter("a_max", IecType::LREAL).init("10").min(0.0).doc("MaxAccelerationSystem, user units/s^2"),
-      parameter("d_max", IecType::LREAL).init("10").min(0.0).doc("MaxDecelerationSystem, user units/s^2"),
-      parameter("j_max", IecType::LREAL).init("0").min(0.0).doc("MaxJerkSystem, user units/s^3 (0: none)"),
-      parameter("sw_limit_pos", IecType::LREAL).init("0").doc("SWLimitPos, user units"),
-      parameter("sw_limit_neg", IecType::LREAL).init("0").doc("SWLimitNeg, user units"),
+      parameter("v_max", IecType::LREAL).init("1").min(0.0).tunable().doc("MaxVelocitySystem, user units/s"),
+      parameter("a_max", IecType::LREAL).init("10").min(0.0).tunable().doc("MaxAccelerationSystem, user units/s^2"),
+      parameter("d_max", IecType::LREAL).init("10").min(0.0).tunable().doc("MaxDecelerationSystem, user units/s^2"),
+      parameter("j_max", IecType::LREAL).init("0").min(0.0).tunable().doc("MaxJerkSystem, user units/s^3 (0: none)"),
+      parameter("sw_limit_pos", IecType::LREAL).init("0").tunable().doc("SWLimitPos, user units"),
+      parameter("sw_limit_neg", IecType::LREAL).init("0").tunable().doc("SWLimitNeg, user units"),
       parameter("limit_pos", IecType::BOOL).init("FALSE").doc("EnableLimitPos"),
       parameter("limit_neg", IecType::BOOL).init("FALSE").doc("EnableLimitNeg"),
-      parameter("max_position_lag", IecType::LREAL).init("0").min(0.0)
+      parameter("max_position_lag", IecType::LREAL).init("0").min(0.0).tunable()
           .doc("MaxPositionLag, user units: a larger following error is ErrorStop (0: not monitored)"),
       parameter("modulo", IecType::LREAL).init("0").min(0.0).doc("modulo of a rotary axis, user units (0: linear)"),
   };

@@ -56,13 +56,19 @@ enum AxisPin : int {
 class AxisBlock final : public Block {
  public:
   AxisBlock(const AxisLimits& limits, double period_s, double scale, bool velocity_wired, bool power_wired) noexcept
-      : machine_(limits, period_s),
+      : limits_(limits),
+        machine_(limits, period_s),
         scale_(scale),
         velocity_wired_(velocity_wired),
         power_wired_(power_wired) {}
 
   void execute(ScanContext& ctx) noexcept override;
   void end_of_scan() noexcept override;
+  // The limits are tunable: an online change or a tuning input <limit>_in
+  // changes them on the running axis (AxisMachine::retune), which keeps its
+  // state, its commands and its motion.
+  void retune_from(const Block& fresh) noexcept override;
+  bool tune(int param, double value) noexcept override;
 
   AxisMachine& machine() noexcept { return machine_; }
   const AxisMachine& machine() const noexcept { return machine_; }
@@ -72,6 +78,7 @@ class AxisBlock final : public Block {
   std::int32_t source_of(CommandId id) const noexcept;  // -1 when unknown
 
  private:
+  AxisLimits limits_;    // the system limits, as the parameters give them
   AxisMachine machine_;
   double scale_;          // drive units per user unit
   bool velocity_wired_;   // else the actual velocity is the actual position's backward difference

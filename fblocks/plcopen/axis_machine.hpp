@@ -235,6 +235,13 @@ class AxisMachine {
   // MC_ReadParameter / MC_WriteParameter.
   AxisError read_parameter(std::int16_t number, double* value) const noexcept;
   AxisError write_parameter(std::int16_t number, double value) noexcept;
+  // An online change of MC_AXIS's limits (its tunable parameters): the new
+  // system limits (the modulo stays), the *Appl ones and the lag monitoring
+  // set to them (a value MC_WriteParameter wrote was made for the old
+  // limits). A lower *Appl maximum, here or by MC_WriteParameter, also cuts
+  // the commands already given: their velocity, acceleration and deceleration
+  // act within it from the next sample on.
+  void retune(const AxisLimits& system) noexcept;
 
   // ---- what the axis shows --------------------------------------------
   AxisState state() const noexcept { return state_; }
@@ -315,6 +322,7 @@ class AxisMachine {
   Step profile_step(const Slot& s, const motion::FilterState& from) const noexcept;
   AxisError check_command(Command* c) const noexcept;
   void update_output() noexcept;
+  void limit_commands() noexcept;
 };
 
 }  // namespace syncplc::plcopen

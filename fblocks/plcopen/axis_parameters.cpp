@@ -83,7 +83,32 @@ AxisError AxisMachine::write_parameter(std::int16_t number, double value) noexce
   if (next.sw_limit_pos_on && next.sw_limit_neg_on && !(next.sw_limit_neg < next.sw_limit_pos))
     return AxisError::BadParameter;
   appl_ = next;
+  limit_commands();
   return AxisError::None;
+}
+
+void AxisMachine::retune(const AxisLimits& system) noexcept {
+  const double modulo = system_.modulo;
+  system_ = system;
+  system_.modulo = modulo;
+  appl_ = system_;
+  lag_value_ = system_.max_position_lag;
+  lag_on_ = lag_value_ > 0;
+  limit_commands();
+}
+
+void AxisMachine::limit_commands() noexcept {
+  auto cut = [this](Slot& s) {
+    Command& c = s.cmd;
+    if (c.kind == CommandKind::MoveVelocity)
+      c.velocity = std::fmax(-appl_.v_max, std::fmin(c.velocity, appl_.v_max));
+    else if (c.velocity > appl_.v_max)
+      c.velocity = appl_.v_max;
+    c.acceleration = std::fmin(c.acceleration, appl_.a_max);
+    c.deceleration = std::fmin(c.deceleration, appl_.d_max);
+  };
+  if (active_.id != 0) cut(active_);
+  for (std::size_t i = 0; i < queued_; ++i) cut(queue_[i]);
 }
 
 }  // namespace syncplc::plcopen

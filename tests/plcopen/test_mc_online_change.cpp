@@ -4,6 +4,8 @@
 // re-created reports its command aborted.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <string>
 
@@ -18,14 +20,14 @@ namespace {
 
 constexpr std::int64_t kChangeMs = 1'000'000;
 
-std::string axis_project(const std::string& v_max, const std::string& extra) {
+std::string axis_project(const std::string& v_max, const std::string& extra, const std::string& scale = "1") {
   return R"(
 tasks: [{name: motion, period: 1ms}]
 tags:
   - {name: power, type: BOOL}
   - {name: go, type: BOOL}
 blocks:
-  - {name: x, type: MC_AXIS, params: {v_max: )" + v_max + R"(, a_max: 100, d_max: 100}}
+  - {name: x, type: MC_AXIS, params: {v_max: )" + v_max + R"(, a_max: 100, d_max: 100, scale: )" + scale + R"(}}
   - {name: drv, type: SIM_SERVO}
   - {name: pwr, type: MC_Power, params: {Axis: x}}
   - {name: mv, type: MC_MoveAbsolute, params: {Axis: x}, inputs: {Position: 50, Velocity: 10}}
@@ -101,9 +103,32 @@ TEST(McOnlineChange, ABlockAddedBesideAKeptAxisReadsTheKeptAxis) {
   EXPECT_EQ(change_cell(p, "x.set_position").get<double>(), 50.0);
 }
 
+TEST(McOnlineChange, ALowerVelocityLimitActsOnTheRunningMove) {
+  // The limits are tunable: the axis is kept, mid-move, and its move goes on
+  // within the new limit.
+  Switched s = start_and_switch(axis_project("10", ""), axis_project("5", ""));
+  ASSERT_TRUE(s.b);
+  bool retuned = false;
+  for (const auto& c : s.change->instances) retuned |= c.name == "x" && c.fate == InstanceFate::Retuned;
+  EXPECT_TRUE(retuned) << "x is retuned, not re-created";
+  Program& p = s.clock->program();
+  EXPECT_TRUE(change_cell(p, "mv.Busy").get<bool>());
+  EXPECT_NE(change_cell(p, "x.state").get<std::int16_t>(), static_cast<std::int16_t>(plcopen::AxisState::Disabled));
+  double fastest_late = 0;
+  int scans = 0;
+  while (!change_cell(p, "mv.Done").get<bool>() && scans < 20000) {
+    s.scan();
+    if (++scans > 60) fastest_late = std::max(fastest_late, std::abs(change_cell(p, "x.set_velocity").get<double>()));
+  }
+  EXPECT_TRUE(change_cell(p, "mv.Done").get<bool>());
+  EXPECT_EQ(change_cell(p, "x.set_position").get<double>(), 50.0);
+  EXPECT_LE(fastest_late, 5.0) << "the running move keeps the new limit once braked to it (5 rad/s at 100 rad/s^2: 50 scans)";
+  EXPECT_GT(fastest_late, 4.9) << "...and cruises at it";
+}
+
 TEST(McOnlineChange, AMoveBlockWhoseAxisIsRecreatedReportsItsCommandAborted) {
-  // v_max is a structural parameter of MC_AXIS: the axis is re-created.
-  Switched s = start_and_switch(axis_project("10", ""), axis_project("20", ""));
+  // scale is a structural parameter of MC_AXIS: the axis is re-created.
+  Switched s = start_and_switch(axis_project("10", ""), axis_project("10", "", "2"));
   ASSERT_TRUE(s.b);
   Program& p = s.clock->program();
   EXPECT_TRUE(change_cell(p, "mv.CommandAborted").get<bool>());

@@ -5,6 +5,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <string>
 
@@ -36,6 +38,7 @@ tags:
   - {name: stop, type: BOOL}
   - {name: fault, type: BOOL}
   - {name: reset, type: BOOL}
+  - {name: vlim, type: LREAL, init: 100}
 blocks:
   - {name: mv, type: MC_MoveAbsolute, params: {Axis: x}, inputs: {Velocity: 50, Acceleration: 500, Deceleration: 500}}
   - {name: mv2, type: MC_MoveAbsolute, params: {Axis: x}, inputs: {Velocity: 50}}
@@ -64,6 +67,7 @@ connections:
   - stop -> stp.Execute
   - fault -> drv.inject_fault
   - reset -> rst.Execute
+  - vlim -> x.v_max_in
 )";
 
 class AxisRun {
@@ -315,6 +319,37 @@ TEST(McProject, PowerOffAbortsTheMoveAndDisablesTheAxis) {
   EXPECT_TRUE(run.flag("mv.CommandAborted"));
   EXPECT_EQ(run.state(), as_int(AxisState::Disabled));
   EXPECT_FALSE(run.flag("x.enable"));
+}
+
+TEST(McProject, ALowerVelocityLimitOnTheTuningInputActsOnTheRunningMove) {
+  AxisRun run(kAxisProject);
+  ASSERT_TRUE(run.powered());
+  run.set_real("target", 40.0);
+  run.set("go", true);
+  ASSERT_GT(run.until([&] { return run.real("x.set_velocity") == 50.0; }), 0) << "cruising at the move's 50";
+  run.set_real("vlim", 20.0);
+  run.scans(80);  // from 50 to 20 u/s with the move's deceleration 500 u/s^2: 60 scans
+  double fastest = 0;
+  const int left = run.until([&] {
+    fastest = std::max(fastest, run.real("x.set_velocity"));
+    return run.flag("mv.Done");
+  });
+  ASSERT_GT(left, 0);
+  EXPECT_LE(fastest, 20.0);
+  EXPECT_EQ(run.real("x.set_position"), 40.0);
+  EXPECT_EQ(run.state(), static_cast<int>(AxisState::Standstill)) << "kept its state: no re-creation";
+  // A limit the axis cannot take (0) is refused: ENO FALSE, the last one holds.
+  run.set_real("vlim", 0.0);
+  run.scans(2);
+  EXPECT_FALSE(run.flag("x.ENO"));
+  run.set_real("target", 0.0);
+  run.set("go", false);
+  run.scan();
+  run.set("go", true);
+  run.scan();
+  // The last valid limit, 20, holds: a move at 50 is refused.
+  EXPECT_TRUE(run.flag("mv.Error"));
+  EXPECT_EQ(run.word("mv.ErrorID"), static_cast<std::uint16_t>(AxisError::BadVelocity));
 }
 
 // ---- links: the load errors ----------------------------------------------------
