@@ -96,6 +96,9 @@ enum AxisParam : int {
   kApLimitNegOn,
   kApMaxLag,
   kApModulo,
+  kApHomeMode,
+  kApHomeVelocity,
+  kApHomeMaxDistance,
 };
 
 std::unique_ptr<Block> make_axis(BlockSetup& s) {
@@ -129,9 +132,20 @@ std::unique_ptr<Block> make_axis(BlockSetup& s) {
   need(std::isfinite(l.max_position_lag) && l.max_position_lag >= 0, "max_position_lag must be finite and >= 0");
   need(std::isfinite(l.modulo) && l.modulo >= 0, "modulo must be finite and >= 0");
   need(l.modulo == 0 || !(l.sw_limit_pos_on || l.sw_limit_neg_on), "a modulo axis has no software limits");
+  HomingConfig h;
+  const std::int16_t mode = s.param_cell(kApHomeMode).get<std::int16_t>();
+  h.mode = static_cast<HomingConfig::Mode>(mode);
+  h.velocity = s.param_cell(kApHomeVelocity).get<double>();
+  h.max_distance = s.param_cell(kApHomeMaxDistance).get<double>();
+  need(mode >= 0 && mode <= 2, "home_mode must be 0 (set here), 1 (switch, positive) or 2 (switch, negative)");
+  need(mode == 0 || (std::isfinite(h.velocity) && h.velocity > 0 && h.velocity <= l.v_max),
+       "home_velocity must be > 0 and <= v_max for a switch search (home_mode 1 or 2)");
+  need(std::isfinite(h.max_distance) && h.max_distance >= 0, "home_max_distance must be finite and >= 0");
   if (!ok) return nullptr;
   const double period_s = static_cast<double>(s.task_period_ns()) * 1e-9;
-  return std::make_unique<AxisBlock>(l, period_s, scale, s.connected(kAxActualVelocity), s.connected(kAxPowerOn));
+  auto axis = std::make_unique<AxisBlock>(l, period_s, scale, s.connected(kAxActualVelocity), s.connected(kAxPowerOn));
+  axis->machine().configure_homing(h);
+  return axis;
 }
 
 // The limits with parameter `param` set to v, or false when they would not
@@ -187,7 +201,7 @@ void register_axis(BlockRegistry& r) {
       input("power_on", IecType::BOOL).doc("the power stage is on (CIA402_DRIVE.operation_enabled); unwired: enable one scan later"),
       input("fault", IecType::BOOL).doc("the drive is in fault: ErrorStop DriveFault"),
       input("fault_code", IecType::UINT).doc("the drive's error code (CiA 402 603Fh)"),
-      input("home_switch", IecType::BOOL).doc("reference switch"),
+      input("home_switch", IecType::BOOL).doc("reference switch, for MC_Home with home_mode 1 or 2"),
       output("enable", IecType::BOOL).doc("power stage on (to CIA402_DRIVE.enable)"),
       output("reset", IecType::BOOL).doc("fault reset request, held while MC_Reset waits for the drive"),
       output("drive_position", IecType::LREAL).unit("unit").doc("set position in drive units"),
@@ -225,6 +239,11 @@ void register_axis(BlockRegistry& r) {
       parameter("max_position_lag", IecType::LREAL).init("0").min(0.0).tunable()
           .doc("MaxPositionLag, user units: a larger following error is ErrorStop (0: not monitored)"),
       parameter("modulo", IecType::LREAL).init("0").min(0.0).doc("modulo of a rotary axis, user units (0: linear)"),
+      parameter("home_mode", IecType::INT).init("0").min(0.0).max(2.0)
+          .doc("MC_Home's procedure: 0 set here, 1 search the home_switch's rising edge moving in +, 2 moving in -"),
+      parameter("home_velocity", IecType::LREAL).init("0").min(0.0).doc("search velocity, user units/s (home_mode 1, 2)"),
+      parameter("home_max_distance", IecType::LREAL).init("0").min(0.0)
+          .doc("a search longer than this is ErrorStop HomingFailed, user units (0: unbounded)"),
   };
   t.unit_delay = true;
   t.create = make_axis;

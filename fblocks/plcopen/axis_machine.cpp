@@ -66,7 +66,10 @@ std::int64_t AxisMachine::remaining_scans() const noexcept {
     case CommandKind::MoveVelocity: return -1;
     case CommandKind::Halt:
     case CommandKind::Stop: return ramp_remaining(set_.v, c.deceleration, T_);
-    case CommandKind::Home: return 1;
+    case CommandKind::Home:
+      // Set here: one cycle; a switch search has no known end until it brakes.
+      if (homing_.mode == HomingConfig::Mode::SetHere || active_.phase == 0) return 1;
+      return active_.phase == kHomeBrake ? ramp_remaining(set_.v, appl_.d_max, T_) : -1;
     default: return discrete_remaining(set_, blend_target(), c.velocity, c.acceleration, c.deceleration, T_);
   }
 }
@@ -227,7 +230,11 @@ AxisMachine::Step AxisMachine::profile_step(const Slot& s, const FilterState& fr
     case CommandKind::MoveVelocity: return {ramp_step(from, c.velocity, c.acceleration, c.deceleration, T_), false};
     case CommandKind::Halt:
     case CommandKind::Stop: return {ramp_step(from, 0, c.deceleration, c.deceleration, T_), true};
-    case CommandKind::Home: return {{from, 0, true}, true};
+    case CommandKind::Home: {
+      Step st;
+      st.p.next = home_step(s, from, &st.p.done, &st.p.a);
+      return st;
+    }
     default: {
       const double target = s.id == active_.id ? blend_target() : s.goal;
       return {discrete_step(from, target, c.velocity, c.acceleration, c.deceleration, T_), true};
@@ -268,6 +275,7 @@ void AxisMachine::advance() noexcept {
     set_a_ = 0;
     return;
   }
+  if (active_.cmd.kind == CommandKind::Home && !homing_phase()) return;
   const Step step = profile_step(active_, set_);
   if (passes_limit(step.p.next)) {
     enter_error(AxisError::SoftLimit);
@@ -285,9 +293,7 @@ void AxisMachine::advance() noexcept {
   if (done) {
     const Slot ended = active_;
     if (ended.cmd.kind == CommandKind::Home) {
-      offset_ += ended.cmd.position - set_.x;
-      set_.x = ended.cmd.position;
-      homed_ = true;
+      finish_homing(ended);
       active_ = {};
       end_command(ended.id, CommandStatus::Done, AxisError::None);
     } else if (ended.cmd.kind == CommandKind::Stop) {
@@ -379,6 +385,7 @@ void AxisMachine::start(const Slot& s, double base) noexcept {
   active_.goal_known = true;
   state_ = state_of(c.kind);
   stop_released_ = false;
+  if (c.kind == CommandKind::Home) start_homing();
 }
 
 }  // namespace syncplc::plcopen

@@ -85,6 +85,7 @@ enum class AxisError : std::uint16_t {
   FollowingError = 0x0303,    // |set - actual| beyond the axis's limit
   FeedbackLost = 0x0304,      // the drive's actual values are not fresh (bad exchange)
   SoftLimit = 0x0305,         // a continuous move reached an enabled software limit: braked before it
+  HomingFailed = 0x0306,      // MC_Home's search met no reference switch within the axis's home_max_distance
 };
 
 enum class CommandKind : std::uint8_t {
@@ -147,6 +148,19 @@ struct AxisLimits {
   bool sw_limit_neg_on = false;  // EnableLimitNeg
   double max_position_lag = 0;   // MaxPositionLag, u; 0 = not monitored (EnablePosLagMonitoring)
   double modulo = 0;         // u; 0 = a linear axis
+};
+
+// How MC_Home finds the reference (MC_AXIS's home_* parameters). §3.2
+// leaves the procedure to the implementation.
+struct HomingConfig {
+  enum class Mode : std::uint8_t {
+    SetHere = 0,         // the position becomes MC_Home's Position where the axis stands
+    SwitchPositive = 1,  // search the reference switch's rising edge moving in +
+    SwitchNegative = 2,  // ... moving in -
+  };
+  Mode mode = Mode::SetHere;
+  double velocity = 0;      // u/s, > 0 for a switch search
+  double max_distance = 0;  // u; a search longer than this is HomingFailed (0: unbounded)
 };
 
 // What the drive reports, sampled by MC_AXIS: in user units (MC_AXIS divides
@@ -242,6 +256,8 @@ class AxisMachine {
   // the commands already given: their velocity, acceleration and deceleration
   // act within it from the next sample on.
   void retune(const AxisLimits& system) noexcept;
+  // MC_Home's procedure (set once, before the first command; default "set here").
+  void configure_homing(const HomingConfig& h) noexcept { homing_ = h; }
 
   // ---- what the axis shows --------------------------------------------
   AxisState state() const noexcept { return state_; }
@@ -278,7 +294,12 @@ class AxisMachine {
     double goal = 0;  // continuous target position of a discrete move (resolved when it starts)
     bool goal_known = false;  // goal holds it (started, or predicted at submit)
     double start = 0;         // set position when it started (a discrete move's direction)
+    std::uint8_t phase = 0;   // MC_Home with a switch: HomePhase
+    double edge = 0;          // ... the actual position at the switch's rising edge
   };
+  // MC_Home with a reference switch (axis_homing.cpp).
+  enum HomePhase : std::uint8_t { kHomeLeave = 1, kHomeSearch = 2, kHomeBrake = 3 };
+  HomingConfig homing_{};
   struct Report {
     CommandId id = 0;
     CommandReport report{};
@@ -323,6 +344,10 @@ class AxisMachine {
   AxisError check_command(Command* c) const noexcept;
   void update_output() noexcept;
   void limit_commands() noexcept;
+  void start_homing() noexcept;
+  bool homing_phase() noexcept;  // false: the search failed (ErrorStop entered)
+  motion::FilterState home_step(const Slot& s, const motion::FilterState& from, bool* done, double* a) const noexcept;
+  void finish_homing(const Slot& s) noexcept;
 };
 
 }  // namespace syncplc::plcopen

@@ -203,8 +203,10 @@ void register_move_blocks(BlockRegistry& r) {
        "command, until this block's Execute is FALSE after Done.",
        nullptr, false, false, false, false},
       {"MC_Home", CommandKind::Home, "3.2",
-       "Homing in Standstill: the axis's position becomes Position where it stands (\"set here\"); Homing for one "
-       "scan, then Standstill, homed.",
+       "Homing from Standstill by the axis's home_mode: 0 \"set here\", the position becomes Position where the axis "
+       "stands (Homing for one scan); 1 or 2, a search at home_velocity for the rising edge of the axis's "
+       "home_switch moving in + or - (first away from the switch if it is on), then a stop: the position at the "
+       "edge becomes Position. Then Standstill, homed.",
        "Position", false, false, false, true},
   };
   for (const auto& m : types) add_move(r, m);
