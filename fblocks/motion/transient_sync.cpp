@@ -6,541 +6,97 @@
 // "unified" rule and the lock derived in docs/motion/transient-sync.md
 // (sections 1 and 2).
 //
-// The filters are those of NONLINEAR_FILTER (nonlinear_filter_math.hpp: the
-// controller C and the Table I transient-time prediction); the bound scaling is
-// in transient_sync_math.hpp. Per scan k, T = the task period (the filters'
-// sampling time), for every axis i:
-//   1. n_i = Table I steps from sample k with the nominal bounds (-1: never),
-//      or the count of sample k-1 minus one when the axis's inputs are those
-//      sample k-1 expected (reference continued as its ramp, same r_dot,
-//      bounds and T: Table I counts the filter's own samples; section 2 of the doc, "What carries");
-//      a locked axis counts its planned arrival. t_M = the largest finite n_i.
-//   2. nominal bounds if: rule off, tracking, cannot track, n_i = t_M (the
-//      slowest), or in the final approach of the reduced bound it ran on at
-//      scan k-1 with unchanged inputs (only reduced bounds count: a small
-//      transient that starts in the curved layer is still slowed down; and a
-//      changed reference or bound is a new transient, synchronized afresh);
-//   3./4. otherwise the velocity bound scaled by eq. (33) (ends behind the
-//      reference) or (34) (ends ahead) with tf = t_M T: unified rule, side
-//      from the discrete stopping point (transient_sync_math.hpp), or the
-//      paper's sign-of-rdot rule with zero-bound parking;
-//   5. lock (unified rule): if Table I with the reduced bound, held, ends the
-//      transient at exactly t_M (tf = t_M T, or once more with tf corrected
-//      by the miss), the bound is locked and held, with no rescaling, guard or
-//      prediction, until the axis's inputs change, t_M grows, or an axis that
-//      set t_M changes (then locked axes are predicted afresh);
-//   6. otherwise the look-ahead guard: the reduced bound is kept only if the
-//      nominal transient time of the resulting state k+1 is at most t_M - 1
-//      (that prediction is reused as n_i at scan k+1);
-//   7. outputs at sample k, then state_{k+1} = plant_step(state_k, u_k, T).
-// After skipped releases (an overrun) the scan first runs the missed samples
-// (filters and synchronizer) with its inputs, r taken as a ramp backwards, so
-// x stays on the time grid, as NONLINEAR_FILTER does. Values whose inputs are
-// the same bit for bit (nominal z-bounds, the guard's prediction, next state,
-// reduced z-bounds) are reused. execute() allocates nothing.
-#include <cmath>
+// The scan algorithm (steps 1-7, the catch-up after skipped releases, the
+// energy window) is TransientSyncCore (transient_sync_core.hpp), which other
+// blocks run on their own axes too; this block is its pins: it copies the
+// inputs into the core's arrays, runs one scan with T = the task period, and
+// copies the outputs back. execute() allocates nothing.
 #include <cstdint>
-#include <cstring>
-#include <limits>
 #include <memory>
-#include <string>
-#include <type_traits>
 #include <vector>
 
 #include "fblocks/motion/motion.hpp"
-#include "fblocks/motion/nonlinear_filter_math.hpp"
 #include "fblocks/motion/transient_sync_block.hpp"
-#include "fblocks/motion/transient_sync_math.hpp"
+#include "fblocks/motion/transient_sync_core.hpp"
 
 namespace syncplc::motion {
 namespace {
+
+static_assert(TransientSyncCore::kMaxCatchUp == kMaxCatchUp);
 
 class TransientSync final : public Block {
  public:
   explicit TransientSync(BlockSetup& s)
       : n_(static_cast<std::uint32_t>(s.param<std::int32_t>("n"))),
-        rule_(static_cast<SyncRule>(s.param<std::int32_t>("rule"))),
         derive_r_dot_(!s.connected(kRDot)),
-        start_at_r_(s.param<bool>("start_at_r")),
-        period_s_(static_cast<double>(s.task_period_ns()) * 1e-9),
-        x_(n_), v_(n_), r_prev_(n_), vmin_prev_(n_), vmax_prev_(n_), nom_(n_), last_(n_), rin_(n_), z_(n_),
-        pb_(n_), pb_key_(n_), zs_(n_), zs_key_(n_), ref_(n_), steps_(n_), count_(n_), arrival_(n_), flags_(n_),
-        next_(n_), pred_(n_) {}
+        core_(n_, static_cast<SyncRule>(s.param<std::int32_t>("rule")),
+              static_cast<double>(s.task_period_ns()) * 1e-9, s.param<bool>("start_at_r")),
+        in_(kInputArrays * static_cast<std::size_t>(n_)) {}
 
-  // r_prev_ is kept whichever way r_dot comes, so a derived r_dot is right
-  // from the first scan after an online change unwires it.
-  // And the sampling time of a re-timed task: counts and locks are in
-  // samples of the old period, so none carries (as after a reset); the
-  // prepared bounds are keyed with T and are computed again.
+  // An online change may connect or disconnect r_dot (the core keeps the
+  // previous r either way, so a derived r_dot is right from the first scan
+  // after), and re-time the task (the core's set_period: nothing carries).
   void rewire_from(const Block& fresh) noexcept override {
     const auto& f = static_cast<const TransientSync&>(fresh);
     derive_r_dot_ = f.derive_r_dot_;
-    if (period_s_ != f.period_s_) {
-      period_s_ = f.period_s_;
-      for (auto& fl : flags_) fl &= static_cast<std::uint16_t>(~(kSame | kCarry | kLocked | kPredicted));
-    }
+    core_.set_period(f.core_.period());
   }
 
   void execute(ScanContext& ctx) noexcept override {
-    const double T = period_s_;  // the filters' sampling time
-    const double dt = ctx.dt_ns > 0 ? static_cast<double>(ctx.dt_ns) * 1e-9 : T;
-    const bool first = first_;
-    first_ = false;
-    const bool hold = in<bool>(kReset);
-
-    // Inputs, validity, start.
-    int faults = 0;
-    for (std::uint32_t i = 0; i < n_; ++i) {
-      const double r = in<double>(kR, i);
-      double r_dot = 0;
-      if (!derive_r_dot_) r_dot = in<double>(kRDot, i);
-      else if (!first) r_dot = (r - r_prev_[i]) / dt;
-      r_prev_[i] = r;
-      const FilterBounds b{in<double>(kVMin, i), in<double>(kVMax, i), in<double>(kAMin, i), in<double>(kAMax, i)};
-      std::uint16_t f = flags_[i];
-      if (std::isfinite(r) && std::isfinite(r_dot) && bounds_valid(b)) {
-        f = static_cast<std::uint16_t>((f & ~kFaulting) | kValid | kHaveLast);
-        last_[i] = b;
-        if (first) {  // nothing was applied before: the nominal bounds
-          vmin_prev_[i] = b.v_min;
-          vmax_prev_[i] = b.v_max;
-        }
-      } else if (!(f & kFaulting)) {
-        f |= kFaulting;
-        ++faults;
-      }
-      if (first) {
-        if (start_at_r_ && std::isfinite(r) && std::isfinite(r_dot)) {
-          x_[i] = r;
-          v_[i] = r_dot;
-        } else {
-          start_from_inputs(i);
-        }
-      }
-      rin_[i] = Reference{r, r_dot};
-      nom_[i] = b;
-      flags_[i] = f;
+    // The array inputs, in pin order kR..kV0, each n values.
+    for (int p = kR; p <= kV0; ++p) {
+      double* d = column(p);
+      for (std::uint32_t i = 0; i < n_; ++i) d[i] = in<double>(p, i);
     }
+    TransientSyncCore::ScanInputs si;
+    si.r = column(kR);
+    si.r_dot = derive_r_dot_ ? nullptr : column(kRDot);
+    si.v_min = column(kVMin);
+    si.v_max = column(kVMax);
+    si.a_min = column(kAMin);
+    si.a_max = column(kAMax);
+    si.x0 = column(kX0);
+    si.v0 = column(kV0);
+    si.reset = in<bool>(kReset);
+    si.dt = ctx.dt_ns > 0 ? static_cast<double>(ctx.dt_ns) * 1e-9 : core_.period();
+    const int faults = core_.scan(si);
     if (faults > 0)
       ctx.fault("TRANSIENT_SYNC: invalid bounds or non-finite reference on an axis (count in value)",
                 static_cast<double>(faults));
-    if (!first && !hold) {
-      // Skipped releases (dt = n periods): run the n - 1 missed samples with
-      // this scan's inputs, r taken as a ramp backwards, so that x stays on the
-      // time grid (as NONLINEAR_FILTER does).
-      const double periods = std::round(dt / T);
-      const int missed = periods > 1 ? static_cast<int>(std::fmin(periods - 1, double{kMaxCatchUp})) : 0;
-      for (int j = missed; j >= 1; --j) sample(T, static_cast<double>(j), false, false);
+
+    const auto x = core_.x(), v = core_.x_dot(), a = core_.x_ddot();
+    const auto lo = core_.v_min_applied(), hi = core_.v_max_applied();
+    const auto tracking = core_.tracking(), error = core_.error();
+    const auto steps = core_.steps_to_go();
+    for (std::uint32_t i = 0; i < n_; ++i) {
+      out<double>(kX, i, x[i]);
+      out<double>(kXDot, i, v[i]);
+      out<double>(kXDDot, i, a[i]);
+      out<double>(kVMinApplied, i, lo[i]);
+      out<double>(kVMaxApplied, i, hi[i]);
+      out<bool>(kTracking, i, tracking[i]);
+      out<std::int64_t>(kStepsToGo, i, steps[i]);
+      out<bool>(kError, i, error[i]);
     }
-    if (hold)
-      for (std::uint32_t i = 0; i < n_; ++i) {
-        start_from_inputs(i);  // a state the previous sample did not hand over: nothing carries
-        flags_[i] &= static_cast<std::uint16_t>(~(kSame | kCarry | kLocked | kPredicted));
-      }
-    sample(T, 0, true, hold);
-    for (std::uint32_t i = 0; i < n_; ++i) flags_[i] &= static_cast<std::uint16_t>(~kValid);
+    const TransientSyncCore::Status& st = core_.status();
+    out<std::int64_t>(kArrival, st.arrival);
+    out<bool>(kSynchronized, st.synchronized);
+    out<std::int64_t>(kScaled, st.scaled);
+    out<double>(kEnergy, st.energy);
+    out<double>(kEnergyLast, st.energy_last);
+    out<std::int64_t>(kWindows, st.windows);
+    out<std::int64_t>(kWindowScans, st.window_scans);
+    out<std::int64_t>(kSpread, st.spread);
   }
 
  private:
-  enum : std::uint16_t {
-    kValid = 1,           // this scan: bounds and reference valid
-    kTrackingNow = 2,     // this sample: tracking
-    kWasTracking = 4,     // tracking at the previous sample
-    kParticipant = 8,     // not tracking at some sample of the open window
-    kFaulting = 16,       // inside a series of invalid scans (one fault per series)
-    kHaveLast = 32,       // last_ holds valid bounds
-    kPrevReduced = 64,    // a reduced (scaled, parked or locked) bound was applied at the previous sample
-    kReducedNow = 128,    // this sample: a reduced bound is applied
-    kPredicted = 256,     // pred_ holds the nominal transient time of the present state
-    kPredictedNow = 512,  // this sample: pred_ set for the next state
-    kSame = 1024,         // this sample's inputs are those the previous sample expected (next_)
-    kCarry = 2048,        // count_ holds this axis's count at the previous sample, to be carried
-    kLocked = 4096,       // on a locked bound: the reduced bound of the previous sample, held (vmin_prev_, vmax_prev_)
-  };
-
-  // The inputs a sample expects of the next one: the reference continued as a
-  // ramp over the sample (r + T r_dot, exactly as the filters extrapolate it),
-  // the same r_dot and bounds (T, the task period, is the instance's own).
-  // Compared bit for bit (same_bits).
-  struct Inputs {
-    double r = kNaN, r_dot = kNaN;
-    FilterBounds b{kNaN, kNaN, kNaN, kNaN};
-  };
-
-  // The look-ahead guard's nominal transient time of the next state, and that
-  // state with its z-coordinates. Reused by the next sample when its inputs
-  // are those expected (kSame) and the state is this one, bit for bit (the
-  // same function on the same inputs).
-  struct Prediction {
-    std::int64_t n = 0;
-    FilterState s{};
-    ZState z{};
-  };
-
-  // The inputs of z_bounds(b, r_dot, T); compared bit for bit (same_bits), so
-  // that a cached result is the one the computation would give (the
-  // default, all NaN, matches nothing).
-  struct BoundsKey {
-    FilterBounds b{kNaN, kNaN, kNaN, kNaN};
-    double r_dot = kNaN, T = kNaN;
-  };
-  template <class A>
-  static bool same_bits(const A& a, const A& b) noexcept {
-    static_assert(sizeof(A) % 8 == 0 && std::is_trivially_copyable_v<A>);
-    std::uint64_t wa[sizeof(A) / 8], wb[sizeof(A) / 8];
-    std::memcpy(wa, &a, sizeof(A));
-    std::memcpy(wb, &b, sizeof(A));
-    std::uint64_t diff = 0;
-    for (std::size_t k = 0; k < sizeof(A) / 8; ++k) diff |= wa[k] ^ wb[k];
-    return diff == 0;
-  }
-
-  // z_bounds of the velocity bounds applied at the previous sample (a reduced
-  // or locked bound) with this sample's acceleration bounds, r_dot and T: the
-  // cached ones when their inputs are the same bit for bit.
-  const ZBounds& previous_z_bounds(std::uint32_t i, const FilterBounds& b, double r_dot, double T) noexcept {
-    // On a locked bound with the inputs the previous sample expected, the key
-    // is the one that sample used (the bound it applied, the same b, r_dot, T).
-    if ((flags_[i] & (kLocked | kSame)) == (kLocked | kSame)) return zs_[i];
-    const BoundsKey key{FilterBounds{vmin_prev_[i], vmax_prev_[i], b.a_min, b.a_max}, r_dot, T};
-    if (!same_bits(zs_key_[i], key)) {
-      zs_[i] = z_bounds(key.b, r_dot, T);
-      zs_key_[i] = key;
-    }
-    return zs_[i];
-  }
-
-  // Pass 1 for one valid axis: z, tracking, and its count n_i (step 1 of the
-  // header): 0 tracking; the count of the previous sample minus one when it
-  // carries (docs/motion/transient-sync.md, section 2, "What carries"); the look-ahead
-  // guard's prediction of this very state; else Table I afresh. Returns n_i;
-  // `f` gets kTrackingNow and kSame, loses kLocked/kCarry where they no longer hold.
-  std::int64_t count_axis(std::uint32_t i, double T, double back, std::uint16_t& f) noexcept {
-    const Reference ref{rin_[i].r - back * T * rin_[i].v, rin_[i].v};
-    const FilterBounds& b = nom_[i];
-    if ((f & kSame) == 0 || !same_bits(next_[i], Inputs{ref.r, ref.v, b})) {
-      f &= static_cast<std::uint16_t>(~(kSame | kCarry | kLocked | kPredicted));
-      // z_bounds(b, rdot, T) and the prediction's constants, kept while their
-      // inputs stay the same bit for bit (with kSame they are those of the
-      // previous sample, which set them).
-      const BoundsKey key{b, ref.v, T};
-      if (!same_bits(pb_key_[i], key)) {
-        pb_[i] = prepare_bounds(z_bounds(b, ref.v, T));
-        pb_key_[i] = key;
-      }
-    }
-    const PreparedBounds& pb = pb_[i];
-    const FilterState s{x_[i], v_[i]};
-    const Prediction& p = pred_[i];
-    // The guard computed to_z of this very state for these very inputs.
-    const bool predicted = (f & kPredicted) && same_bits(p.s, s);
-    const ZState z = predicted ? p.z : to_z(s, ref, T);
-    ref_[i] = ref;
-    z_[i] = z;
-    if (is_tracking(z, pb.zb)) {
-      f = static_cast<std::uint16_t>((f | kTrackingNow) & ~kLocked);
-      return 0;
-    }
-    if ((f & kCarry) && count_[i] >= 2) return count_[i] - 1;
-    f &= static_cast<std::uint16_t>(~kLocked);  // a count that does not carry ends a lock
-    if (predicted) return p.n;  // the look-ahead guard of the previous sample computed it for this very state
-    return transient_steps(z, pb);
-  }
-
-  // One sample of all filters and of the synchronizer. `back`: the sample lies
-  // back * T before this scan (catch-up), r taken as a ramp backwards.
-  // publish: write the outputs. hold: reset is TRUE (u = 0, state kept).
-  void sample(double T, double back, bool publish, bool hold) {
-    // Pass 1: z, counts, t_M.
-    std::int64_t t_max = 0;
-    bool all_tracking = true;
-    bool release = false;  // an axis that set t_M at the previous sample on its nominal bounds changed
-    for (std::uint32_t i = 0; i < n_; ++i) {
-      std::uint16_t f = static_cast<std::uint16_t>(flags_[i] & ~kTrackingNow);
-      const bool was_slowest = (f & kCarry) && !(f & kLocked) && count_[i] == t_prev_;
-      std::int64_t n = kNever;
-      if (f & kValid) {
-        n = count_axis(i, T, back, f);
-      } else {
-        f &= static_cast<std::uint16_t>(~(kSame | kCarry | kLocked | kPredicted));
-      }
-      if (was_slowest && !(f & kSame)) release = true;
-      if (!(f & kTrackingNow)) all_tracking = false;
-      if (n > t_max) t_max = n;
-      steps_[i] = n;
-      flags_[i] = f;
-    }
-    if (release) {
-      // The common arrival was set by an axis whose inputs changed: it may come
-      // earlier now. A locked axis's count is its planned arrival, not its own
-      // time: it is predicted afresh, and t_M is again the largest own time.
-      t_max = 0;
-      for (std::uint32_t i = 0; i < n_; ++i) {
-        std::uint16_t& f = flags_[i];
-        if (f & kLocked) {
-          steps_[i] = transient_steps(z_[i], pb_[i]);
-          f &= static_cast<std::uint16_t>(~(kLocked | kCarry));
-        }
-        if (steps_[i] > t_max) t_max = steps_[i];
-      }
-    }
-
-    // Transient window bookkeeping (before this sample's contribution).
-    if (!all_tracking && !window_open_) {
-      window_open_ = true;
-      energy_ = 0;
-      window_scans_ = 0;
-      for (std::uint32_t i = 0; i < n_; ++i) {
-        arrival_[i] = -1;
-        flags_[i] &= static_cast<std::uint16_t>(~kParticipant);
-      }
-    }
-
-    // Pass 2: bounds, look-ahead guard, lock, control, outputs, state update.
-    const double tf = static_cast<double>(t_max) * T;
-    std::int64_t scaled = 0;
-    double e_sample = 0;
-    for (std::uint32_t i = 0; i < n_; ++i) {
-      std::uint16_t f = flags_[i];
-      const FilterState s{x_[i], v_[i]};
-      double u = 0, vmin_applied = 0, vmax_applied = 0;
-      bool reduced = false;
-      if (f & kValid) {
-        const FilterBounds& b = nom_[i];
-        const Reference& ref = ref_[i];
-        const std::int64_t n = steps_[i];
-        const ZState z = z_[i];
-        const PreparedBounds& pb = pb_[i];
-        const ZBounds& zb = pb.zb;
-        vmin_applied = b.v_min;
-        vmax_applied = b.v_max;
-        // Controller C's target, common to all bounds below (computed only
-        // where a clamp needs it).
-        ControllerTarget w(z.z1, zb);
-        bool nominal = rule_ == SyncRule::Off || (f & kTrackingNow) || n == kNever;
-        if (!nominal && (f & kLocked)) {
-          if (n == t_max) {
-            // On its plan: the locked bound, which ends the transient with
-            // the slowest axis's (doc section 2, "What carries").
-            u = w.control(z, previous_z_bounds(i, b, ref.v, T));
-            reduced = true;
-            vmin_applied = vmin_prev_[i];
-            vmax_applied = vmax_prev_[i];
-          } else {
-            f &= static_cast<std::uint16_t>(~kLocked);  // t_M grew: synchronized afresh
-          }
-        }
-        if (!reduced) {
-          f &= static_cast<std::uint16_t>(~kLocked);
-          nominal = nominal || n >= t_max;
-          // Final approach under the reduced bound applied at the previous
-          // sample, with the inputs that sample expected: the filter has
-          // committed to its arrival, leave it alone. (Not after nominal
-          // bounds: a small transient can start in the curved layer and must
-          // still be slowed down. Not after a change of its reference or
-          // bounds: that is a new transient, which arrives with the others.)
-          if (!nominal && (f & kPrevReduced) && (f & kSame))
-            nominal = w.final_approach(z, previous_z_bounds(i, b, ref.v, T));
-          if (!nominal) reduced = reduce(i, s, z, ref, b, pb, w, t_max, tf, T, f, u, vmin_applied, vmax_applied);
-          if (!reduced) u = w.control(z, zb);
-        }
-      } else {
-        // Invalid bounds or reference: controlled stop with the last valid
-        // acceleration bounds (at once if there never were any).
-        u = -s.v / T;
-        if (f & kHaveLast) u = u > last_[i].a_max ? last_[i].a_max : (u < last_[i].a_min ? last_[i].a_min : u);
-        vmin_applied = (f & kHaveLast) ? last_[i].v_min : 0;
-        vmax_applied = (f & kHaveLast) ? last_[i].v_max : 0;
-      }
-      if (reduced) {
-        f |= kReducedNow;
-        ++scaled;
-      }
-      // The count this sample hands to the next: the planned one on a locked
-      // bound, the own one on the nominal bounds; none on a scaled bound
-      // (pred_ then holds the next state's) or without valid inputs.
-      if ((f & kValid) && !hold && steps_[i] >= 1 && (!reduced || (f & kLocked))) {
-        count_[i] = (f & kLocked) ? t_max : steps_[i];
-        f |= kCarry;
-      } else {
-        f &= static_cast<std::uint16_t>(~kCarry);
-      }
-      if (hold) {
-        u = 0;
-        f &= static_cast<std::uint16_t>(~(kPredictedNow | kLocked));
-      }
-      const bool tracking = (f & kTrackingNow) != 0;
-      if (publish) {
-        out<double>(kX, i, s.x);
-        out<double>(kXDot, i, s.v);
-        out<double>(kXDDot, i, u);
-        out<double>(kVMinApplied, i, vmin_applied);
-        out<double>(kVMaxApplied, i, vmax_applied);
-        out<bool>(kTracking, i, tracking);
-        // Scans until the axis tracks: under the unified rule an axis on a
-        // reduced bound arrives with the slowest.
-        out<std::int64_t>(kStepsToGo, i, reduced && rule_ == SyncRule::Unified ? t_max : steps_[i]);
-        out<bool>(kError, i, !(f & kValid));
-      }
-      e_sample += s.v * s.v;
-      if (window_open_) {
-        if (!tracking) f |= kParticipant;
-        else if (!(f & kWasTracking)) arrival_[i] = window_scans_;  // (re)arrived at this sample
-      }
-      // The inputs the next sample is expected to have.
-      if ((f & kValid) && !hold) {
-        const Reference& ref = ref_[i];
-        next_[i] = Inputs{ref.r + T * ref.v, ref.v, nom_[i]};
-        f |= kSame;
-      } else {
-        f &= static_cast<std::uint16_t>(~kSame);
-      }
-      f = static_cast<std::uint16_t>(
-          (f & ~(kTrackingNow | kWasTracking | kPrevReduced | kReducedNow | kPredicted | kPredictedNow)) |
-          (tracking ? kWasTracking : 0) | ((f & kReducedNow) ? kPrevReduced : 0) |
-          ((f & kPredictedNow) ? kPredicted : 0));
-      flags_[i] = f;
-      vmin_prev_[i] = vmin_applied;
-      vmax_prev_[i] = vmax_applied;
-      if (!hold) {
-        const FilterState nx = plant_step(s, u, T);
-        x_[i] = nx.x;
-        v_[i] = nx.v;
-      }
-    }
-    t_prev_ = t_max;
-
-    if (window_open_) {
-      if (all_tracking) {  // the window closes at its first all-tracking sample
-        window_open_ = false;
-        energy_last_ = energy_;
-        window_scans_last_ = window_scans_;
-        ++windows_;
-        std::int64_t lo = std::numeric_limits<std::int64_t>::max(), hi = -1;
-        for (std::uint32_t i = 0; i < n_; ++i) {
-          if (!(flags_[i] & kParticipant)) continue;
-          if (arrival_[i] < lo) lo = arrival_[i];
-          if (arrival_[i] > hi) hi = arrival_[i];
-        }
-        spread_ = hi >= 0 ? hi - lo : 0;
-      } else {
-        energy_ += e_sample * T;
-        ++window_scans_;
-      }
-    }
-
-    if (!publish) return;
-    out<std::int64_t>(kArrival, t_max);
-    out<bool>(kSynchronized, all_tracking);
-    out<std::int64_t>(kScaled, scaled);
-    out<double>(kEnergy, energy_);
-    out<double>(kEnergyLast, energy_last_);
-    out<std::int64_t>(kWindows, windows_);
-    out<std::int64_t>(kWindowScans, window_open_ ? window_scans_ : window_scans_last_);
-    out<std::int64_t>(kSpread, spread_);
-  }
-
-  // Steps 3-5 and the lock for one axis that is neither tracking, nor the
-  // slowest, nor in its committed final approach: the scaled bound of
-  // eq. (33)/(34) (or the paper's parking); under the unified rule locked when
-  // holding it (or the one-correction bound, see lock()) ends the transient
-  // exactly at t_M, else kept for this sample only if the look-ahead guard
-  // passes. True when a reduced bound is applied (u and the applied bounds set).
-  bool reduce(std::uint32_t i, const FilterState& s, const ZState& z, const Reference& ref, const FilterBounds& b,
-              const PreparedBounds& pb, ControllerTarget& w, std::int64_t t_max, double tf, double T,
-              std::uint16_t& f, double& u, double& vmin_applied, double& vmax_applied) noexcept {
-    const ScaledBounds sb = scale_bounds(rule_, s.x, s.v, ref.r, ref.v, tf, b.v_min, b.v_max, b.a_min, b.a_max, T, z);
-    if (sb.action == BoundAction::Nominal) return false;
-    if (rule_ == SyncRule::Unified && lock(i, s, z, ref, b, w, sb, t_max, T, f, u, vmin_applied, vmax_applied))
-      return true;
-    const BoundsKey key{FilterBounds{sb.v_min, sb.v_max, b.a_min, b.a_max}, ref.v, T};
-    const ZBounds zs = z_bounds(key.b, ref.v, T);
-    const double us = w.control(z, zs);
-    // Look-ahead guard: the state after this sample must still make t_M - 1
-    // with the nominal bounds.
-    const Reference ref_next{ref.r + T * ref.v, ref.v};
-    const FilterState sn = plant_step(s, us, T);
-    const ZState zn = to_z(sn, ref_next, T);
-    const std::int64_t n_next = is_tracking(zn, pb.zb) ? 0 : transient_steps(zn, pb);
-    if (n_next == kNever || n_next > t_max - 1) return false;
-    zs_[i] = zs;  // the previous sample's bounds at the next sample
-    zs_key_[i] = key;
-    u = us;
-    vmin_applied = sb.v_min;
-    vmax_applied = sb.v_max;
-    pred_[i] = Prediction{n_next, sn, zn};
-    f |= kPredictedNow;
-    return true;
-  }
-
-  // The lock (docs/motion/transient-sync.md, section 2, "What carries"): a reduced bound that,
-  // held from this sample on, ends the transient exactly t_M samples from now
-  // by Table I with that bound. The scaled bound sb of eq. (33)/(34) with
-  // tf = t_M T is tried first; the continuous model usually misses the
-  // discrete count by a sample (the filter's output lags its input by one), so
-  // when Table I gives t_M + d instead, the bound for tf = (t_M - d) T of the
-  // same side is tried once. True and applied when one of them ends at t_M.
-  bool lock(std::uint32_t i, const FilterState& s, const ZState& z, const Reference& ref, const FilterBounds& b,
-            ControllerTarget& w, const ScaledBounds& sb, std::int64_t t_max, double T, std::uint16_t& f, double& u,
-            double& vmin_applied, double& vmax_applied) noexcept {
-    ScaledBounds cand = sb;
-    for (int attempt = 0; attempt < 2; ++attempt) {
-      const BoundsKey key{FilterBounds{cand.v_min, cand.v_max, b.a_min, b.a_max}, ref.v, T};
-      const ZBounds zs = z_bounds(key.b, ref.v, T);
-      const std::int64_t n_red = transient_steps(z, prepare_bounds(zs));
-      if (n_red == t_max) {
-        zs_[i] = zs;
-        zs_key_[i] = key;
-        u = w.control(z, zs);
-        vmin_applied = cand.v_min;
-        vmax_applied = cand.v_max;
-        f |= kLocked;
-        return true;
-      }
-      const std::int64_t aim = 2 * t_max - n_red;
-      if (n_red == kNever || attempt == 1 || aim < 1) return false;
-      cand = scale_bounds(rule_, s.x, s.v, ref.r, ref.v, static_cast<double>(aim) * T, b.v_min, b.v_max, b.a_min,
-                          b.a_max, T, z);
-      if (cand.action != sb.action) return false;
-    }
-    return false;
-  }
-
-  void start_from_inputs(std::uint32_t i) {
-    const double x0 = in<double>(kX0, i), v0 = in<double>(kV0, i);
-    if (std::isfinite(x0) && std::isfinite(v0)) {
-      x_[i] = x0;
-      v_[i] = v0;
-    }
-  }
+  static constexpr std::size_t kInputArrays = kV0 - kR + 1;
+  double* column(int pin) noexcept { return in_.data() + static_cast<std::size_t>(pin - kR) * n_; }
 
   const std::uint32_t n_;
-  const SyncRule rule_;
   bool derive_r_dot_;  // r_dot unconnected (rewire_from: an online change may connect it)
-  const bool start_at_r_;
-  double period_s_;  // the task period (rewire_from: a re-timed task)
-  // Per-axis state and per-scan scratch, sized once (structure of arrays).
-  std::vector<double> x_, v_, r_prev_, vmin_prev_, vmax_prev_;
-  std::vector<FilterBounds> nom_;   // nominal bounds of this scan
-  std::vector<FilterBounds> last_;  // last valid nominal bounds
-  std::vector<Reference> rin_;      // reference of this scan
-  std::vector<ZState> z_;
-  std::vector<PreparedBounds> pb_;  // nominal z-bounds (and the prediction's constants)
-  std::vector<BoundsKey> pb_key_;   // the inputs pb_ was computed from
-  std::vector<ZBounds> zs_;         // z-bounds of a reduced bound (the last one computed)
-  std::vector<BoundsKey> zs_key_;   // the inputs zs_ was computed from
-  std::vector<Reference> ref_;      // reference of this sample
-  std::vector<std::int64_t> steps_;    // n_i of this sample (kNever: cannot track or invalid)
-  std::vector<std::int64_t> count_;    // the count handed to the next sample (kCarry)
-  std::vector<std::int64_t> arrival_;  // sample of the window at which the axis last began tracking
-  std::vector<std::uint16_t> flags_;
-  std::vector<Inputs> next_;        // the inputs the next sample is expected to have (kSame)
-  std::vector<Prediction> pred_;
-  bool first_ = true;
-  bool window_open_ = false;
-  std::int64_t t_prev_ = -1;  // t_M of the previous sample
-  double energy_ = 0, energy_last_ = 0;
-  std::int64_t windows_ = 0, window_scans_ = 0, window_scans_last_ = 0, spread_ = 0;
+  TransientSyncCore core_;
+  std::vector<double> in_;  // the array inputs of this scan, pin after pin (sized once)
 };
 
 }  // namespace
