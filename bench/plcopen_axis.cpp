@@ -81,11 +81,11 @@ struct AxisRig {
     o.connected = std::set<std::string>{"actual_position"};  // an ideal drive: power on follows enable
     axis = std::make_unique<BlockHarness>(builtin_blocks(), "MC_AXIS", o);
     power = std::make_unique<BlockHarness>(builtin_blocks(), "MC_Power", opts({}));
-    power->block().link(0, axis->block());
+    power->block().link(0, 0, axis->block());
     power->set<bool>("Enable", true);
     for (int m = 0; m < 2; ++m) {
       move[m] = std::make_unique<BlockHarness>(builtin_blocks(), "MC_MoveAbsolute", opts({}));
-      move[m]->block().link(0, axis->block());
+      move[m]->block().link(0, 0, axis->block());
       move[m]->set<double>("Velocity", v);
       move[m]->set<double>("Acceleration", a);
       move[m]->set<double>("Deceleration", a);

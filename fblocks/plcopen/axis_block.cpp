@@ -221,7 +221,7 @@ void register_axis(BlockRegistry& r) {
       output("homed", IecType::BOOL).doc("MC_Home completed since the axis was made"),
       output("command", IecType::INT)
           .doc("active command: 0 none, 1 MoveAbsolute, 2 MoveRelative, 3 MoveAdditive, 4 MoveVelocity, 5 Halt, "
-               "6 Stop, 7 Home"),
+               "6 Stop, 7 Home, 8 a group move"),
       output("command_block", IecType::DINT).doc("the block that gave the active command (its place in the scan), -1 none"),
       output("remaining_scans", IecType::LINT)
           .doc("scans until the active discrete move arrives (paper 004 Table I), -1 without one"),

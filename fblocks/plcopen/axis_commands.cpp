@@ -22,8 +22,19 @@ bool resolve_rate(double* v, double max) noexcept {
 AxisError AxisMachine::check_command(Command* c) const noexcept {
   const CommandKind k = c->kind;
   if (k != CommandKind::MoveAbsolute && k != CommandKind::MoveRelative && k != CommandKind::MoveAdditive &&
-      k != CommandKind::MoveVelocity && k != CommandKind::Halt && k != CommandKind::Stop && k != CommandKind::Home)
+      k != CommandKind::MoveVelocity && k != CommandKind::Halt && k != CommandKind::Stop && k != CommandKind::Home &&
+      k != CommandKind::GroupMove)
     return AxisError::BadParameter;
+  if (k == CommandKind::GroupMove) {
+    // The group's synchronizer keeps the axis within its *Appl limits; only
+    // Aborting (a group move takes over), never on a modulo axis.
+    if (!std::isfinite(c->position) || appl_.modulo > 0) return AxisError::BadPosition;
+    if (c->buffer != BufferMode::Aborting) return AxisError::BadBufferMode;
+    if ((appl_.sw_limit_pos_on && c->position > appl_.sw_limit_pos) ||
+        (appl_.sw_limit_neg_on && c->position < appl_.sw_limit_neg))
+      return AxisError::BadPosition;
+    return AxisError::None;
+  }
   if (k == CommandKind::Home) return std::isfinite(c->position) ? AxisError::None : AxisError::BadPosition;
   if (is_move(k)) {
     if (!std::isfinite(c->position)) return AxisError::BadPosition;

@@ -66,6 +66,7 @@ std::int64_t AxisMachine::remaining_scans() const noexcept {
     case CommandKind::MoveVelocity: return -1;
     case CommandKind::Halt:
     case CommandKind::Stop: return ramp_remaining(set_.v, c.deceleration, T_);
+    case CommandKind::GroupMove: return active_.fed_remaining;
     case CommandKind::Home:
       // Set here: one cycle; a switch search has no known end until it brakes.
       if (homing_.mode == HomingConfig::Mode::SetHere || active_.phase == 0) return 1;
@@ -230,6 +231,7 @@ AxisMachine::Step AxisMachine::profile_step(const Slot& s, const FilterState& fr
     case CommandKind::MoveVelocity: return {ramp_step(from, c.velocity, c.acceleration, c.deceleration, T_), false};
     case CommandKind::Halt:
     case CommandKind::Stop: return {ramp_step(from, 0, c.deceleration, c.deceleration, T_), true};
+    case CommandKind::GroupMove: return {{s.fed, s.fed_a, s.fed_done}, true};
     case CommandKind::Home: {
       Step st;
       st.p.next = home_step(s, from, &st.p.done, &st.p.a);
@@ -276,6 +278,19 @@ void AxisMachine::advance() noexcept {
     return;
   }
   if (active_.cmd.kind == CommandKind::Home && !homing_phase()) return;
+  if (active_.cmd.kind == CommandKind::GroupMove) {
+    if (!active_.fed_now) {
+      // The group stopped feeding (it ended, or lost another of its axes):
+      // this axis brakes on its own.
+      end_command(active_.id, CommandStatus::Aborted, AxisError::None);
+      Slot halt{};
+      halt.id = next_id_++;
+      halt.cmd.kind = CommandKind::Halt;
+      halt.cmd.deceleration = appl_.d_max;
+      start(halt, set_.x);
+    }
+    active_.fed_now = false;
+  }
   const Step step = profile_step(active_, set_);
   if (passes_limit(step.p.next)) {
     enter_error(AxisError::SoftLimit);
@@ -386,6 +401,19 @@ void AxisMachine::start(const Slot& s, double base) noexcept {
   state_ = state_of(c.kind);
   stop_released_ = false;
   if (c.kind == CommandKind::Home) start_homing();
+  if (c.kind == CommandKind::GroupMove) active_.goal = c.position;
+}
+
+void AxisMachine::feed(CommandId id, const FilterState& next, double a, std::int64_t remaining, bool done) noexcept {
+  if (id == 0 || id != active_.id || active_.cmd.kind != CommandKind::GroupMove) return;
+  // Done: next is the goal, at rest (the group's target, which it may have
+  // moved in flight).
+  if (done) active_.goal = next.x;
+  active_.fed = done ? FilterState{next.x, 0} : next;
+  active_.fed_a = done ? 0 : a;
+  active_.fed_remaining = remaining;
+  active_.fed_done = done;
+  active_.fed_now = true;
 }
 
 }  // namespace syncplc::plcopen

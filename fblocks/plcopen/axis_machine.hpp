@@ -96,6 +96,9 @@ enum class CommandKind : std::uint8_t {
   Halt,
   Stop,
   Home,  // "set here": the position becomes `position` (homing with a switch: MC_Home's own sequence)
+  // One axis of a synchronized group move (MC_GroupMoveAbsolute): its goal
+  // is `position`; the group gives the set values of every sample (feed).
+  GroupMove,
 };
 
 // A command as its block sampled its inputs at Execute's rising edge (§2.4.1).
@@ -256,6 +259,13 @@ class AxisMachine {
   // the commands already given: their velocity, acceleration and deceleration
   // act within it from the next sample on.
   void retune(const AxisLimits& system) noexcept;
+  // A group move's next sample, given by its group block after this scan's
+  // cycle for the next one: the set position and velocity there, the
+  // acceleration that leads to it, the scans to the common arrival, and
+  // done when the group arrives (next is then the target, at rest). A GroupMove
+  // command not fed before a cycle has lost its group: it ends Aborted and
+  // the axis brakes to standstill with MaxDecelerationAppl.
+  void feed(CommandId id, const motion::FilterState& next, double a, std::int64_t remaining, bool done) noexcept;
   // MC_Home's procedure (set once, before the first command; default "set here").
   void configure_homing(const HomingConfig& h) noexcept { homing_ = h; }
 
@@ -296,6 +306,11 @@ class AxisMachine {
     double start = 0;         // set position when it started (a discrete move's direction)
     std::uint8_t phase = 0;   // MC_Home with a switch: HomePhase
     double edge = 0;          // ... the actual position at the switch's rising edge
+    // GroupMove: the sample its group fed for the next cycle.
+    motion::FilterState fed{};
+    double fed_a = 0;
+    std::int64_t fed_remaining = -1;
+    bool fed_now = false, fed_done = false;
   };
   // MC_Home with a reference switch (axis_homing.cpp).
   enum HomePhase : std::uint8_t { kHomeLeave = 1, kHomeSearch = 2, kHomeBrake = 3 };

@@ -126,8 +126,9 @@ class ExecuteTracker {
 // `Axis`).
 class McBlock : public Block {
  public:
-  void link(int link, Block& target) noexcept override {
+  void link(int link, std::uint32_t element, Block& target) noexcept override {
     (void)link;
+    (void)element;
     auto* axis = dynamic_cast<AxisBlock*>(&target);
     if (axis != axis_) {
       const bool had = axis_ != nullptr;

@@ -13,5 +13,6 @@ void register_axis(BlockRegistry& r);         // axis_block.cpp: MC_AXIS
 void register_admin_blocks(BlockRegistry& r); // mc_admin.cpp: MC_Power, MC_Reset, MC_Read*, MC_SetPosition, MC_*Parameter
 void register_move_blocks(BlockRegistry& r);  // mc_move.cpp: MC_Move*, MC_Halt, MC_Stop, MC_Home
 void register_sim_servo(BlockRegistry& r);    // sim_servo.cpp: SIM_SERVO
+void register_group_move(BlockRegistry& r);   // mc_group.cpp: MC_GroupMoveAbsolute
 
 }  // namespace syncplc::plcopen

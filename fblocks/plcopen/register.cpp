@@ -8,6 +8,7 @@ void register_plcopen_blocks(BlockRegistry& r) {
   plcopen::register_admin_blocks(r);
   plcopen::register_move_blocks(r);
   plcopen::register_sim_servo(r);
+  plcopen::register_group_move(r);
 }
 
 }  // namespace syncplc

@@ -80,7 +80,9 @@ void describe(std::ostream& os, const BlockTypeInfo& t) {
   if (!t.links.empty()) {
     os << "  Links (params: {name: instance}):\n";
     for (const auto& l : t.links)
-      os << fmt::format("    {:<12} an instance of {} (required): {}\n", l.name, l.target_type, l.doc);
+      os << fmt::format("    {:<12} {} {} (required): {}\n", l.name,
+                        l.length_param.empty() ? "an instance of" : "a list of " + l.length_param + " instances of",
+                        l.target_type, l.doc);
   }
 }
 
@@ -124,7 +126,8 @@ void markdown(std::ostream& os, const BlockRegistry& reg) {
     if (!t->links.empty()) {
       os << "| link | instance of | description |\n|---|---|---|\n";
       for (const auto& l : t->links)
-        os << fmt::format("| {} | {} | {} *(required; in `params:`)* |\n", l.name, l.target_type, l.doc);
+        os << fmt::format("| {} | {}{} | {} *(required; in `params:`)* |\n", l.name,
+                          l.length_param.empty() ? "" : "list of " + l.length_param + " × ", l.target_type, l.doc);
       os << "\n";
     }
   }

@@ -116,9 +116,15 @@ void BlockRegistry::add(BlockTypeInfo info) {
     for (std::size_t j = i + 1; j < info.pins.size(); ++j)
       if (info.pins[i].name == info.pins[j].name)
         throw std::logic_error("block type " + info.name + " declares pin " + info.pins[i].name + " twice");
-  for (const auto& l : info.links)
+  for (const auto& l : info.links) {
     if (info.pin_index(l.name) >= 0 || info.param_index(l.name) >= 0 || info.link_index(l.name) != &l - info.links.data())
       throw std::logic_error("block type " + info.name + ": link " + l.name + " shadows a pin, a parameter or a link");
+    if (!l.length_param.empty()) {
+      const int k = info.param_index(l.length_param);
+      if (k < 0 || info.params[static_cast<std::size_t>(k)].type != IecType::DINT)
+        throw std::logic_error("block type " + info.name + ": list link " + l.name + " needs DINT parameter " + l.length_param);
+    }
+  }
   for (const auto& p : info.params) {
     if (info.pin_index(p.name) >= 0)
       throw std::logic_error("block type " + info.name + ": parameter " + p.name + " shadows a pin");

@@ -77,10 +77,13 @@ struct ParamDecl {
 // motion block's AXIS_REF: `params: {axis: x}` names the MC_AXIS instance
 // x). The loader checks the name and the type and calls Block::link with
 // the target; the target executes before the blocks linked to it.
+// A list link (`length_param` set) names as many instances as that integer
+// parameter says: `params: {n: 3, Axes: [x, y, z]}`.
 struct LinkDecl {
   std::string name;
   std::string target_type;
   std::string doc;
+  std::string length_param{};  // "" = one instance
 };
 
 struct ScanContext;
@@ -144,13 +147,15 @@ class Block {
     (void)value;
     return false;
   }
-  // Link `link` (BlockTypeInfo::links index) reaches `target`, an instance
-  // of the declared target type: called before the first scan and again
+  // Link `link` (BlockTypeInfo::links index; `element`, 0-based, of a list
+  // link, else 0) reaches `target`, an instance of the declared target
+  // type: called before the first scan and again
   // after every online change's switch of the task (the target may then be
   // another object: re-created, or the kept instance swapped in). Runs
   // between two scans on the task's thread: no allocation, no I/O.
-  virtual void link(int link, Block& target) noexcept {
+  virtual void link(int link, std::uint32_t element, Block& target) noexcept {
     (void)link;
+    (void)element;
     (void)target;
   }
 

@@ -56,7 +56,7 @@ struct InstanceSignature {
   std::string type_name;                   // "CTU<INT>" for a generic type, else the type's name
   std::vector<std::uint32_t> pin_length;   // by pin index
   std::vector<Cell> params;                // by ParamDecl index
-  std::vector<std::string> links;          // by LinkDecl index: the target instance's name
+  std::vector<std::string> links;          // by LinkDecl index: the target instance's name (a list's names joined by ",")
   std::vector<PinFeed> feeds;              // by pin index (outputs: None)
   std::vector<WiringSeen> seen;            // by pin index
   // The task period the factory read (BlockSetup::task_period_ns: a filter's

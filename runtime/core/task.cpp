@@ -329,7 +329,7 @@ void Task::read_published(std::uint32_t first, std::uint32_t n, Cell* out) {
 
 void Task::relink() noexcept {
   for (auto& b : blocks)
-    for (const auto& l : b.links) b.block->link(l.link, *blocks[l.target].block);
+    for (const auto& l : b.links) b.block->link(l.link, l.element, *blocks[l.target].block);
 }
 
 }  // namespace syncplc

@@ -125,6 +125,7 @@ struct BlockInstance {
   // in the task's execution order (the target runs first).
   struct Link {
     std::int32_t link = 0;
+    std::uint32_t element = 0;  // of a list link
     std::uint32_t target = 0;
   };
   std::vector<Link> links;

@@ -273,8 +273,9 @@ std::unique_ptr<Program> build_program(Declarations& p, const Wiring& w, const B
     bi.signature.links.assign(in.type->links.size(), std::string{});
     for (const auto& l : in.links) {
       if (l.instance < 0) continue;  // reported by check_links; the program is not kept
-      bi.links.push_back({l.link, position[static_cast<std::size_t>(l.instance)]});
-      bi.signature.links[static_cast<std::size_t>(l.link)] = l.target;
+      bi.links.push_back({l.link, l.element, position[static_cast<std::size_t>(l.instance)]});
+      std::string& names = bi.signature.links[static_cast<std::size_t>(l.link)];
+      names += (l.element == 0 ? "" : ",") + l.target;
     }
   }
   for (auto& task : prog->tasks) task->relink();

@@ -12,6 +12,24 @@ void check_links(Declarations& p, Diagnostics& diags) {
   std::vector<std::string> candidates;  // instance names of a target type, made when a name is unknown
   for (auto& in : p.instances) {
     if (!in.type) continue;
+    // A list link names as many instances as its length parameter says.
+    for (std::size_t l = 0; l < in.type->links.size(); ++l) {
+      const LinkDecl& decl = in.type->links[l];
+      if (decl.length_param.empty() || !in.params_ok) continue;
+      const int k = in.type->param_index(decl.length_param);
+      if (k < 0 || static_cast<std::size_t>(k) >= in.param_cells.size()) continue;
+      std::size_t given = 0;
+      const SourceLoc* at = nullptr;
+      for (const auto& r : in.links)
+        if (r.link == static_cast<int>(l)) {
+          if (!at) at = &r.loc;
+          if (!r.target.empty()) ++given;
+        }
+      const std::int64_t want = in.param_cells[static_cast<std::size_t>(k)].get<std::int32_t>();
+      if (at && static_cast<std::int64_t>(given) != want)
+        diags.error(*at, in.name + "." + decl.name + ": " + std::to_string(given) + " instances for " +
+                             decl.length_param + " = " + std::to_string(want));
+    }
     for (auto& l : in.links) {
       const LinkDecl& decl = in.type->links[static_cast<std::size_t>(l.link)];
       if (l.target.empty()) continue;  // written wrong: reported by read_blocks
@@ -41,6 +59,12 @@ void check_links(Declarations& p, Diagnostics& diags) {
         continue;
       }
       l.instance = t;
+      for (const auto& other : in.links)
+        if (&other != &l && other.link == l.link && other.element < l.element && other.target == l.target) {
+          diags.error(l.loc, in.name + "." + decl.name + ": " + l.target + " is named twice");
+          l.instance = -1;
+          break;
+        }
     }
   }
 }

@@ -100,6 +100,7 @@ struct InstanceDecl {
   // written); the target's instance index is found by check_links.
   struct LinkRef {
     int link = -1;
+    std::uint32_t element = 0;  // of a list link
     std::string target;
     SourceLoc loc;
     int instance = -1;

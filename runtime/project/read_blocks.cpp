@@ -96,11 +96,25 @@ void read_blocks(ConfigNode& n, const BlockRegistry& blocks, Declarations& p, Di
         for (auto& [k, v] : params->map) {
           int i = T.param_index(k);
           if (const int l = T.link_index(k); i < 0 && l >= 0) {
-            const bool named = v.is_scalar() && is_identifier(v.scalar);
-            if (!named)
-              diags.error(v.loc, T.name + "." + k + ": expected the name of an instance of " +
-                                     T.links[static_cast<std::size_t>(l)].target_type);
-            in.links.push_back({l, named ? v.scalar : std::string{}, v.loc, -1});
+            const LinkDecl& decl = T.links[static_cast<std::size_t>(l)];
+            auto named = [](const ConfigNode& n) { return n.is_scalar() && is_identifier(n.scalar); };
+            if (!decl.length_param.empty()) {
+              if (!v.is_list()) {
+                diags.error(v.loc, T.name + "." + k + ": expected a list of names of instances of " + decl.target_type);
+                in.links.push_back({l, 0, std::string{}, v.loc, -1});
+              } else {
+                std::uint32_t e = 0;
+                for (const auto& item : v.items) {
+                  if (!named(item))
+                    diags.error(item.loc, T.name + "." + k + ": expected the name of an instance of " + decl.target_type);
+                  in.links.push_back({l, e++, named(item) ? item.scalar : std::string{}, item.loc, -1});
+                }
+                if (v.items.empty()) in.links.push_back({l, 0, std::string{}, v.loc, -1});  // "given": its length is checked
+              }
+            } else {
+              if (!named(v)) diags.error(v.loc, T.name + "." + k + ": expected the name of an instance of " + decl.target_type);
+              in.links.push_back({l, 0, named(v) ? v.scalar : std::string{}, v.loc, -1});
+            }
           } else if (i < 0) {
             std::string names;
             for (const auto& q : T.params) names += (names.empty() ? "" : ", ") + q.name;
