@@ -9,9 +9,11 @@
 //   BM_SyncTargets/n     TRANSIENT_SYNC with n filters on the same targets
 //                        (r_dot = 0), unified rule; rule 2 (unsynchronized)
 //   BM_AsyncTargets/n    as the second column of docs/benchmarks.md section 3
+//   BM_GroupMove/n       MC_GroupMoveAbsolute on n such axes (the axes' own
+//                        MC_Power and MC_MoveAbsolute blocks idle beside it),
+//                        the targets of all changed together, re-targeted in flight
 // Targets: steps held 0.1-0.5 s (seeded), per-axis limits |v| 4-6, |a| 20-40,
-// T = 20 ms as in section 3. The group move of n axes is the next step of
-// issue 24 and gets its row here when it exists.
+// T = 20 ms as in section 3.
 #include <benchmark/benchmark.h>
 
 #include <memory>
@@ -147,6 +149,45 @@ void BM_AxisMove(benchmark::State& state) { axis_bench(state, true); }
 void BM_AxisStandstill(benchmark::State& state) { axis_bench(state, false); }
 BENCHMARK(BM_AxisMove)->Arg(1)->Arg(6)->Arg(100);
 BENCHMARK(BM_AxisStandstill)->Arg(1)->Arg(100);
+
+// n axes moved together by MC_GroupMoveAbsolute (one block, its links set
+// by hand), new targets for all at every change of axis 1's sequence,
+// ContinuousUpdate: the synchronizer re-targets them in flight.
+void BM_GroupMove(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  Targets t = make_targets(n, 5);
+  std::vector<std::unique_ptr<AxisRig>> rigs;
+  BlockHarness group(builtin_blocks(), "MC_GroupMoveAbsolute", opts({{"n", std::to_string(n)}}));
+  if (!group.ok()) {
+    state.SkipWithError("MC_GroupMoveAbsolute did not build");
+    return;
+  }
+  for (int i = 0; i < n; ++i) {
+    rigs.push_back(std::make_unique<AxisRig>(t.v[static_cast<std::size_t>(i)], t.a[static_cast<std::size_t>(i)]));
+    group.block().link(0, static_cast<std::uint32_t>(i), rigs.back()->axis->block());
+  }
+  Cell* pos = &group.cell("Position", 0);
+  for (int i = 0; i < n; ++i) pos[i].set<double>(t.r[static_cast<std::size_t>(i)]);
+  group.set<bool>("ContinuousUpdate", true);
+  group.set<bool>("Execute", true);
+  std::size_t k = 0, moving_scans = 0, scans = 0;
+  for (auto _ : state) {
+    ++scans;
+    moving_scans += rigs[0]->state() == 3;
+    if (t.change[k * n]) {
+      // A new set of targets; a group that arrived starts again.
+      for (std::size_t i = 0; i < static_cast<std::size_t>(n); ++i) pos[i].set<double>(t.r[k * n + i]);
+      if (group.get<bool>("Done")) group.set<bool>("Execute", false);
+    } else {
+      group.set<bool>("Execute", true);
+    }
+    for (auto& r : rigs) r->scan();
+    group.scan();
+    if (++k == static_cast<std::size_t>(kSteps)) k = 0;
+  }
+  state.counters["moving"] = scans ? static_cast<double>(moving_scans) / static_cast<double>(scans) : 0.0;
+}
+BENCHMARK(BM_GroupMove)->Arg(6)->Arg(100);
 
 void sync_bench(benchmark::State& state, int rule) {
   const int n = static_cast<int>(state.range(0));
