@@ -264,6 +264,8 @@ void add(BlockRegistry& r, const char* name, const char* section, const char* do
   t.reference = std::string("PLCopen Motion Control Part 1 v2.0, ") + section + " and 2.4.1";
   t.pins = std::move(pins);
   t.links = {axis_link()};
+  // PLCopen 3.1: one MC_Power per axis (two would fight over its power stage).
+  if (std::string(name) == "MC_Power") t.links[0].exclusive = "one MC_Power per axis, PLCopen Part 1 section 3.1";
   t.create = std::move(create);
   r.add(std::move(t));
 }

@@ -84,6 +84,9 @@ struct LinkDecl {
   std::string target_type;
   std::string doc;
   std::string length_param{};  // "" = one instance
+  // At most one instance of the linking type may name a given target (one
+  // MC_Power per axis): `exclusive` says why, "" = any number may.
+  std::string exclusive{};
 };
 
 struct ScanContext;

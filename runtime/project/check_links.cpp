@@ -1,6 +1,8 @@
 // Links between block instances (LinkDecl: a PLCopen motion block's axis):
 // each names an instance of the declared type in the same task. The build
 // orders the target first and hands it to Block::link.
+#include <map>
+#include <tuple>
 #include <vector>
 
 #include "runtime/core/closest_name.hpp"
@@ -10,6 +12,8 @@ namespace syncplc {
 
 void check_links(Declarations& p, Diagnostics& diags) {
   std::vector<std::string> candidates;  // instance names of a target type, made when a name is unknown
+  // Exclusive links: (linking type, link, target) -> the first instance naming it.
+  std::map<std::tuple<const BlockTypeInfo*, int, int>, const InstanceDecl*> taken;
   for (auto& in : p.instances) {
     if (!in.type) continue;
     // A list link names as many instances as its length parameter says.
@@ -59,6 +63,12 @@ void check_links(Declarations& p, Diagnostics& diags) {
         continue;
       }
       l.instance = t;
+      if (!decl.exclusive.empty()) {
+        const auto [it, fresh] = taken.emplace(std::make_tuple(in.type, l.link, t), &in);
+        if (!fresh)
+          diags.error(l.loc, in.name + "." + decl.name + ": " + l.target + " is already named by " + it->second->name +
+                                 " (" + decl.exclusive + ")");
+      }
       for (const auto& other : in.links)
         if (&other != &l && other.link == l.link && other.element < l.element && other.target == l.target) {
           diags.error(l.loc, in.name + "." + decl.name + ": " + l.target + " is named twice");

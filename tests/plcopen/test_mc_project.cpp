@@ -379,12 +379,15 @@ blocks:
   - {name: p2, type: MC_Power, task: b, params: {Axis: x}}
   - {name: p3, type: MC_Power, task: a}
   - {name: p4, type: MC_Power, task: a, params: {Axis: [x]}}
+  - {name: p5, type: MC_Power, task: a, params: {Axis: x}}
+  - {name: p6, type: MC_Power, task: a, params: {Axis: x}}
 )");
   EXPECT_THAT(errs, HasSubstr("p.yaml:5:56: p1.Axis: n is a UNIT_DELAY, not an instance of MC_AXIS"));
   EXPECT_THAT(errs, HasSubstr("p.yaml:6:56: p2.Axis: x runs in task a, p2 in b"));
   EXPECT_THAT(errs, HasSubstr("p.yaml:7:5: block instance p3 needs parameter Axis (the MC_AXIS instance it works on)"));
   EXPECT_THAT(errs, HasSubstr("p.yaml:8:56: MC_Power.Axis: expected the name of an instance of MC_AXIS"));
   EXPECT_THAT(errs, ::testing::Not(HasSubstr("p4 needs"))) << "no follow-on error";
+  EXPECT_THAT(errs, HasSubstr("p.yaml:10:56: p6.Axis: x is already named by p5 (one MC_Power per axis, PLCopen Part 1 section 3.1)"));
 }
 
 }  // namespace
