@@ -72,7 +72,7 @@ class TransientSync final : public Block {
       ctx.fault("TRANSIENT_SYNC: invalid bounds or non-finite reference on an axis (count in value)",
                 static_cast<double>(faults));
 
-    // One pin at a time: plain copies the compiler vectorizes.
+    // The outputs, pin by pin.
     put(kX, core_.x());
     put(kXDot, core_.x_dot());
     put(kXDDot, core_.x_ddot());
