@@ -13,6 +13,7 @@
 // copies the outputs back. execute() allocates nothing.
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "fblocks/motion/motion.hpp"
@@ -43,10 +44,17 @@ class TransientSync final : public Block {
   }
 
   void execute(ScanContext& ctx) noexcept override {
-    // The array inputs, in pin order kR..kV0, each n values.
+    // The array inputs, each n values; r_dot only when connected, x0 and v0
+    // only when the core reads them (the first scan and a reset): the copies
+    // are what this block costs on top of the core.
+    const bool reset = in<bool>(kReset);
+    const bool starting = first_ || reset;
+    first_ = false;
     for (int p = kR; p <= kV0; ++p) {
+      if ((p == kRDot && derive_r_dot_) || ((p == kX0 || p == kV0) && !starting)) continue;
+      const Cell* c = pin_cell(p);
       double* d = column(p);
-      for (std::uint32_t i = 0; i < n_; ++i) d[i] = in<double>(p, i);
+      for (std::uint32_t i = 0; i < n_; ++i) d[i] = c[i].get<double>();
     }
     TransientSyncCore::ScanInputs si;
     si.r = column(kR);
@@ -57,27 +65,22 @@ class TransientSync final : public Block {
     si.a_max = column(kAMax);
     si.x0 = column(kX0);
     si.v0 = column(kV0);
-    si.reset = in<bool>(kReset);
+    si.reset = reset;
     si.dt = ctx.dt_ns > 0 ? static_cast<double>(ctx.dt_ns) * 1e-9 : core_.period();
     const int faults = core_.scan(si);
     if (faults > 0)
       ctx.fault("TRANSIENT_SYNC: invalid bounds or non-finite reference on an axis (count in value)",
                 static_cast<double>(faults));
 
-    const auto x = core_.x(), v = core_.x_dot(), a = core_.x_ddot();
-    const auto lo = core_.v_min_applied(), hi = core_.v_max_applied();
-    const auto tracking = core_.tracking(), error = core_.error();
-    const auto steps = core_.steps_to_go();
-    for (std::uint32_t i = 0; i < n_; ++i) {
-      out<double>(kX, i, x[i]);
-      out<double>(kXDot, i, v[i]);
-      out<double>(kXDDot, i, a[i]);
-      out<double>(kVMinApplied, i, lo[i]);
-      out<double>(kVMaxApplied, i, hi[i]);
-      out<bool>(kTracking, i, tracking[i]);
-      out<std::int64_t>(kStepsToGo, i, steps[i]);
-      out<bool>(kError, i, error[i]);
-    }
+    // The outputs, pin by pin.
+    put(kX, core_.x());
+    put(kXDot, core_.x_dot());
+    put(kXDDot, core_.x_ddot());
+    put(kVMinApplied, core_.v_min_applied());
+    put(kVMaxApplied, core_.v_max_applied());
+    put(kTracking, core_.tracking());
+    put(kStepsToGo, core_.steps_to_go());
+    put(kError, core_.error());
     const TransientSyncCore::Status& st = core_.status();
     out<std::int64_t>(kArrival, st.arrival);
     out<bool>(kSynchronized, st.synchronized);
@@ -92,11 +95,17 @@ class TransientSync final : public Block {
  private:
   static constexpr std::size_t kInputArrays = kV0 - kR + 1;
   double* column(int pin) noexcept { return in_.data() + static_cast<std::size_t>(pin - kR) * n_; }
+  template <class T>
+  void put(int pin, std::span<const T> values) noexcept {
+    Cell* c = pin_cell(pin);
+    for (std::uint32_t i = 0; i < n_; ++i) c[i].set<T>(values[i]);
+  }
 
   const std::uint32_t n_;
   bool derive_r_dot_;  // r_dot unconnected (rewire_from: an online change may connect it)
   TransientSyncCore core_;
   std::vector<double> in_;  // the array inputs of this scan, pin after pin (sized once)
+  bool first_ = true;
 };
 
 }  // namespace

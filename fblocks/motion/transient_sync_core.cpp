@@ -49,7 +49,7 @@ void TransientSyncCore::start(std::span<const double> x0, std::span<const double
   for (std::uint32_t i = 0; i < n_ && i < x0.size() && i < v0.size(); ++i) start(i, x0[i], v0[i]);
 }
 
-void TransientSyncCore::start_from(std::uint32_t i, const double* x0, const double* v0) noexcept {
+inline void TransientSyncCore::start_from(std::uint32_t i, const double* x0, const double* v0) noexcept {
   if (x0 == nullptr || v0 == nullptr) return;
   if (std::isfinite(x0[i]) && std::isfinite(v0[i])) {
     x_[i] = x0[i];
@@ -118,7 +118,7 @@ int TransientSyncCore::scan(const ScanInputs& in) noexcept {
 // z_bounds of the velocity bounds applied at the previous sample (a reduced
 // or locked bound) with this sample's acceleration bounds, r_dot and T: the
 // cached ones when their inputs are the same bit for bit.
-const ZBounds& TransientSyncCore::previous_z_bounds(std::uint32_t i, const FilterBounds& b, double r_dot, double T) noexcept {
+inline const ZBounds& TransientSyncCore::previous_z_bounds(std::uint32_t i, const FilterBounds& b, double r_dot, double T) noexcept {
   // On a locked bound with the inputs the previous sample expected, the key
   // is the one that sample used (the bound it applied, the same b, r_dot, T).
   if ((flags_[i] & (kLocked | kSame)) == (kLocked | kSame)) return zs_[i];
@@ -135,7 +135,10 @@ const ZBounds& TransientSyncCore::previous_z_bounds(std::uint32_t i, const Filte
 // carries (docs/motion/transient-sync.md, section 2, "What carries"); the look-ahead
 // guard's prediction of this very state; else Table I afresh. Returns n_i;
 // `f` gets kTrackingNow and kSame, loses kLocked/kCarry where they no longer hold.
-std::int64_t TransientSyncCore::count_axis(std::uint32_t i, double T, double back, std::uint16_t& f) noexcept {
+// Inlined into sample(), its only caller, as it was when the algorithm was a
+// class of internal linkage in transient_sync.cpp (GCC no longer inlines it on
+// its own: the block cost 8 % more per scan).
+[[gnu::always_inline]] inline std::int64_t TransientSyncCore::count_axis(std::uint32_t i, double T, double back, std::uint16_t& f) noexcept {
   const Reference ref{rin_[i].r - back * T * rin_[i].v, rin_[i].v};
   const FilterBounds& b = nom_[i];
   if ((f & kSame) == 0 || !same_bits(next_[i], Inputs{ref.r, ref.v, b})) {
@@ -170,7 +173,7 @@ std::int64_t TransientSyncCore::count_axis(std::uint32_t i, double T, double bac
 // One sample of all filters and of the synchronizer. `back`: the sample lies
 // back * T before this scan (catch-up), r taken as a ramp backwards.
 // publish: write the outputs. hold: reset is TRUE (u = 0, state kept).
-void TransientSyncCore::sample(double T, double back, bool publish, bool hold) noexcept {
+inline void TransientSyncCore::sample(double T, double back, bool publish, bool hold) noexcept {
   // Pass 1: z, counts, t_M.
   std::int64_t t_max = 0;
   bool all_tracking = true;
@@ -366,7 +369,7 @@ void TransientSyncCore::sample(double T, double back, bool publish, bool hold) n
 // holding it (or the one-correction bound, see lock()) ends the transient
 // exactly at t_M, else kept for this sample only if the look-ahead guard
 // passes. True when a reduced bound is applied (u and the applied bounds set).
-bool TransientSyncCore::reduce(std::uint32_t i, const FilterState& s, const ZState& z, const Reference& ref, const FilterBounds& b,
+inline bool TransientSyncCore::reduce(std::uint32_t i, const FilterState& s, const ZState& z, const Reference& ref, const FilterBounds& b,
             const PreparedBounds& pb, ControllerTarget& w, std::int64_t t_max, double tf, double T,
             std::uint16_t& f, double& u, double& vmin_applied, double& vmax_applied) noexcept {
   const ScaledBounds sb = scale_bounds(rule_, s.x, s.v, ref.r, ref.v, tf, b.v_min, b.v_max, b.a_min, b.a_max, T, z);
@@ -400,7 +403,7 @@ bool TransientSyncCore::reduce(std::uint32_t i, const FilterState& s, const ZSta
 // discrete count by a sample (the filter's output lags its input by one), so
 // when Table I gives t_M + d instead, the bound for tf = (t_M - d) T of the
 // same side is tried once. True and applied when one of them ends at t_M.
-bool TransientSyncCore::lock(std::uint32_t i, const FilterState& s, const ZState& z, const Reference& ref, const FilterBounds& b,
+inline bool TransientSyncCore::lock(std::uint32_t i, const FilterState& s, const ZState& z, const Reference& ref, const FilterBounds& b,
           ControllerTarget& w, const ScaledBounds& sb, std::int64_t t_max, double T, std::uint16_t& f, double& u,
           double& vmin_applied, double& vmax_applied) noexcept {
   ScaledBounds cand = sb;

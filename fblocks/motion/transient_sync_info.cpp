@@ -1,5 +1,6 @@
 // TRANSIENT_SYNC's declaration: documentation, pins and parameters (paper
-// 004, Section III). The scan algorithm is in transient_sync.cpp, its
+// 004, Section III). The scan algorithm is TransientSyncCore
+// (transient_sync_core.hpp) behind the pins of transient_sync.cpp, its
 // derivations in docs/motion/transient-sync.md.
 #include <memory>
 #include <string>

@@ -1,9 +1,10 @@
 // Velocity-bound scaling of the n-axis synchronizer, paper 004 Section III
 // (eqs. 23-34), with the corrections derived in docs/motion/transient-sync.md
 // (sections 1 and 2, "Every scan"). Pure functions, no state, no
-// allocation; the block TRANSIENT_SYNC (transient_sync.cpp) calls them every
-// scan for every filter that is neither tracking, nor the slowest, nor in its
-// final approach.
+// allocation; the synchronizer's scan algorithm (TransientSyncCore,
+// transient_sync_core.cpp, behind TRANSIENT_SYNC) calls them every scan for
+// every filter that is neither tracking, nor the slowest, nor in its final
+// approach.
 //
 // Continuous-time model (Fig. 6). A filter at x0 with velocity v0 must meet the
 // reference r(t) = r0 + rdot*t at t = tf with velocity rdot. With r0 > x0 it

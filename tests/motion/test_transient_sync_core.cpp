@@ -335,6 +335,131 @@ TEST(TransientSyncCore, AxesStartedFromGivenStatesArriveTogether) {
   EXPECT_EQ(failed, 0) << failed << " of " << cases << " group moves failed:\n" << report.str();
 }
 
+// Re-targeted in flight (issue 24's group move re-targets axes while they
+// move): a few axes get new targets at a random sample of a group move. The
+// last arrival is the t_M of the re-target sample, and every axis arrives on
+// it, except an axis whose target did not change and that is in the final
+// approach of its reduced bound: it keeps the sample it had committed to (it
+// brakes at full deceleration onto its target, so no velocity bound can
+// delay it; docs/motion/transient-sync.md, section 7). The cases with such
+// early axes are counted and printed.
+TEST(TransientSyncCore, RetargetedInFlightAxesArriveOnTheNewTmOrTheirCommittedSample) {
+  std::mt19937_64 pick(77);
+  int early_cases = 0, early_axes = 0;
+  std::int64_t worst = 0;
+  const int cases = 400;
+  for (int cs = 0; cs < cases; ++cs) {
+    std::mt19937_64 rng(5000 + static_cast<std::uint64_t>(cs));
+    auto uni = [&](double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); };
+    const int n = 2 + static_cast<int>(pick() % 99);
+    const double T = 1e-3 * static_cast<double>(1 + pick() % 4);
+    const auto N = static_cast<std::size_t>(n);
+    std::vector<double> r(N), rdot(N, 0.0), vmin(N), vmax(N), amin(N), amax(N), x0(N), v0(N);
+    for (std::size_t i = 0; i < N; ++i) {
+      vmax[i] = uni(0.5, 5);
+      vmin[i] = -uni(0.5, 5);
+      amax[i] = uni(1, 50);
+      amin[i] = -uni(1, 50);
+      x0[i] = uni(-1, 1);
+      v0[i] = uni(0, 1) < 0.5 ? 0 : uni(vmin[i], vmax[i]);
+      r[i] = uni(-1, 1);
+    }
+    TransientSyncCore core(static_cast<std::uint32_t>(n), SyncRule::Unified, T, true);
+    core.start(x0, v0);
+    TransientSyncCore::ScanInputs in;
+    in.r = r.data();
+    in.r_dot = rdot.data();
+    in.v_min = vmin.data();
+    in.v_max = vmax.data();
+    in.a_min = amin.data();
+    in.a_max = amax.data();
+    core.scan(in);
+    const std::int64_t t_before = core.status().arrival;
+    const auto when = 1 + static_cast<std::int64_t>(uni(0.05, 0.95) * static_cast<double>(t_before));
+    for (std::int64_t k = 1; k < when; ++k) core.scan(in);
+    std::vector<char> retargeted(N, 0);
+    const int m = 1 + static_cast<int>(uni(0, 3));
+    for (int j = 0; j < m; ++j) {
+      const auto i = static_cast<std::size_t>(pick() % N);
+      r[i] = uni(-1, 1);
+      retargeted[i] = 1;
+    }
+    std::vector<std::int64_t> began(N, -1);
+    std::vector<char> moved(N, 0), was(N, 0);
+    std::int64_t k = 0, t_after = -1;
+    for (; k < 200'000; ++k) {
+      core.scan(in);
+      if (k == 0) t_after = core.status().arrival;
+      bool all = true;
+      for (std::size_t i = 0; i < N; ++i) {
+        const bool t = core.tracking()[i];
+        if (!t) moved[i] = 1;
+        if (t && !was[i]) began[i] = k;
+        was[i] = t;
+        all = all && t;
+      }
+      if (all) break;
+    }
+    ASSERT_LT(k, 200'000) << "case " << cs;
+    const std::int64_t committed = t_before - when;  // the old common arrival, counted from the re-target sample
+    int early = 0;
+    for (std::size_t i = 0; i < N; ++i) {
+      if (!moved[i] || began[i] == t_after) continue;
+      EXPECT_TRUE(!retargeted[i] && began[i] == committed)
+          << "case " << cs << " n " << n << " T " << T << " axis " << i << " arrived at " << began[i] << ", t_M "
+          << t_after << ", committed " << committed << (retargeted[i] ? " (re-targeted)" : "");
+      ++early;
+      worst = std::max(worst, t_after - began[i]);
+    }
+    EXPECT_EQ(core.status().window_scans, when + k) << "case " << cs;
+    if (early) {
+      ++early_cases;
+      early_axes += early;
+    }
+  }
+  std::printf("[ retarget ] %d of %d re-targeted group moves with axes on their committed arrival (%d axes, up "
+              "to %lld samples before t_M)\n",
+              early_cases, cases, early_axes, static_cast<long long>(worst));
+}
+
+// The limit behind it, from the start: an axis started on its braking curve
+// (full deceleration ends exactly on its target) cannot be delayed by a
+// velocity bound (a lower bound means braking harder than U-), so it arrives
+// on its own time, before the others: 0.4 m, 1 m/s towards 0.5 m with
+// U- = -5 m/s^2 (braking distance 0.1 m) arrives after 200 samples while the
+// other axis needs 2200. (Its steps_to_go names t_M meanwhile: the unified
+// rule puts it on a reduced lower bound of about -1e-17 m/s, which passes the
+// look-ahead guard but does not bite.)
+TEST(TransientSyncCore, AxisStartedOnItsBrakingCurveArrivesOnItsOwnTime) {
+  const double T = 0.001;
+  TransientSyncCore core(2, SyncRule::Unified, T, true);
+  const double x0[2] = {0, 0.4}, v0[2] = {0, 1};
+  core.start(x0, v0);
+  const double r[2] = {2, 0.5}, rdot[2] = {0, 0}, vmin[2] = {-1, -1}, vmax[2] = {1, 1}, amin[2] = {-5, -5},
+               amax[2] = {5, 5};
+  TransientSyncCore::ScanInputs in;
+  in.r = r;
+  in.r_dot = rdot;
+  in.v_min = vmin;
+  in.v_max = vmax;
+  in.a_min = amin;
+  in.a_max = amax;
+  std::int64_t arrived[2] = {-1, -1};
+  core.scan(in);
+  const std::int64_t own = transient_steps(FilterState{0.4, 1}, Reference{0.5, 0}, FilterBounds{-1, 1, -5, 5}, T);
+  const std::int64_t t_m = core.status().arrival;
+  EXPECT_EQ(own, 200);
+  EXPECT_EQ(t_m, 2200);
+  for (std::int64_t k = 1; k < 10'000 && !core.status().synchronized; ++k) {
+    core.scan(in);
+    for (int i = 0; i < 2; ++i)
+      if (core.tracking()[i] && arrived[i] < 0) arrived[i] = k;
+  }
+  EXPECT_EQ(arrived[0], t_m);
+  EXPECT_EQ(arrived[1], own);
+  EXPECT_EQ(core.status().spread, t_m - own);
+}
+
 // ---- (3) start, state, set_period --------------------------------------------------
 
 TEST(TransientSyncCore, StartSetsTheStateAFilterRunsFrom) {
