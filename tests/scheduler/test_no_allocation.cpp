@@ -422,3 +422,121 @@ TEST(ScanPath, FourAxisDemoDoesNotAllocate) {
 
 }  // namespace
 }  // namespace syncplc
+
+namespace syncplc {
+namespace {
+
+// The PLCopen blocks on simulated drives: power, moves (aborting, buffered,
+// blended), a stop held and released, a drive fault and its reset, a homing
+// search, a group move re-targeted in flight. Nothing on their scan path
+// allocates.
+TEST(ScanPath, PlcopenAxesAndTheirBlocksDoNotAllocate) {
+  LoadOptions lo;
+  auto r = load_project_text(R"(
+tasks: [{name: motion, period: 1ms}]
+tags:
+  - {name: power, type: BOOL}
+  - {name: go, type: BOOL}
+  - {name: go2, type: BOOL}
+  - {name: mode2, type: INT}
+  - {name: stop, type: BOOL}
+  - {name: fault, type: BOOL}
+  - {name: reset, type: BOOL}
+  - {name: home, type: BOOL}
+  - {name: group, type: BOOL}
+  - {name: targets, type: "ARRAY[1..2] OF LREAL"}
+blocks:
+  - {name: x, type: MC_AXIS, params: {v_max: 50, a_max: 500, d_max: 500, home_mode: 1, home_velocity: 5}}
+  - {name: y, type: MC_AXIS, params: {v_max: 30, a_max: 300, d_max: 400}}
+  - {name: dx, type: SIM_SERVO, params: {home_at: 0.2}}
+  - {name: dy, type: SIM_SERVO}
+  - {name: px, type: MC_Power, params: {Axis: x}}
+  - {name: py, type: MC_Power, params: {Axis: y}, inputs: {Enable: TRUE}}
+  - {name: hm, type: MC_Home, params: {Axis: x}, inputs: {Position: 0}}
+  - {name: mv, type: MC_MoveAbsolute, params: {Axis: x}, inputs: {Position: 3, Velocity: 20}}
+  - {name: mv2, type: MC_MoveRelative, params: {Axis: x}, inputs: {Distance: 2, Velocity: 20}}
+  - {name: stp, type: MC_Stop, params: {Axis: x}}
+  - {name: rst, type: MC_Reset, params: {Axis: x}}
+  - {name: st, type: MC_ReadStatus, params: {Axis: x}, inputs: {Enable: TRUE}}
+  - {name: rp, type: MC_ReadParameter, params: {Axis: x}, inputs: {Enable: TRUE, ParameterNumber: 1}}
+  - {name: grp, type: MC_GroupMoveAbsolute, params: {n: 2, Axes: [x, y]}, inputs: {ContinuousUpdate: TRUE}}
+connections:
+  - x.enable -> dx.enable
+  - x.reset -> dx.reset
+  - x.drive_position -> dx.target
+  - dx.position -> x.actual_position
+  - dx.power_on -> x.power_on
+  - dx.fault -> x.fault
+  - dx.fault_code -> x.fault_code
+  - dx.home_switch -> x.home_switch
+  - y.enable -> dy.enable
+  - y.drive_position -> dy.target
+  - dy.position -> y.actual_position
+  - dy.power_on -> y.power_on
+  - power -> px.Enable
+  - home -> hm.Execute
+  - go -> mv.Execute
+  - go2 -> mv2.Execute
+  - mode2 -> mv2.BufferMode
+  - stop -> stp.Execute
+  - fault -> dx.inject_fault
+  - reset -> rst.Execute
+  - group -> grp.Execute
+  - targets -> grp.Position
+)", "plcopen_alloc.yaml", lo);
+  for (const auto& d : r.diagnostics.list()) ADD_FAILURE() << d.text();
+  ASSERT_TRUE(r.program);
+  Program& p = *r.program;
+  auto cell = [&](const char* name) -> Cell& { return *p.live_cell(*p.resolve(name), ::syncplc::testing::image_key()); };
+  VirtualClock clock(p);
+  clock.run_until(5'000'000);  // warm up, uncounted
+  std::int64_t t = 5'000'000;
+  long allocations = 0;
+  auto window = [&](std::int64_t ms) {
+    g_allocations = 0;
+    g_counting = true;
+    t += ms * 1'000'000;
+    clock.run_until(t);
+    g_counting = false;
+    allocations += g_allocations.load();
+  };
+  cell("power").set<bool>(true);
+  window(10);
+  cell("home").set<bool>(true);
+  window(300);  // the search, the edge, the stop
+  cell("home").set<bool>(false);
+  cell("go").set<bool>(true);
+  window(20);
+  cell("mode2").set<std::int16_t>(2);  // BlendingLow behind the move
+  cell("go2").set<bool>(true);
+  window(500);
+  cell("go").set<bool>(false);
+  cell("go2").set<bool>(false);
+  cell("targets[1]").set<double>(-1.0);
+  cell("targets[2]").set<double>(4.0);
+  cell("group").set<bool>(true);
+  window(50);
+  cell("targets[2]").set<double>(-2.0);  // re-targeted in flight
+  window(500);
+  cell("group").set<bool>(false);
+  cell("go").set<bool>(true);
+  window(20);
+  cell("stop").set<bool>(true);  // takes over, holds
+  window(100);
+  cell("stop").set<bool>(false);
+  cell("go").set<bool>(false);
+  window(10);
+  cell("fault").set<bool>(true);
+  window(10);
+  cell("fault").set<bool>(false);
+  cell("reset").set<bool>(true);
+  window(50);
+  cell("power").set<bool>(false);
+  window(10);
+  EXPECT_EQ(allocations, 0);
+  EXPECT_TRUE(cell("x.homed").get<bool>()) << "the homing search ran";
+  EXPECT_GT(p.tasks[0]->stats.summary().scans, 1000u);
+}
+
+}  // namespace
+}  // namespace syncplc
