@@ -61,8 +61,9 @@ AxisError AxisMachine::check_command(Command* c) const noexcept {
 }
 
 CommandId AxisMachine::submit(const Command& in, AxisError* error) noexcept {
-  AxisError dummy;
-  if (error == nullptr) error = &dummy;
+  // A caller that does not want the reason may pass nullptr.
+  AxisError reason_not_wanted;
+  if (error == nullptr) error = &reason_not_wanted;
   *error = AxisError::None;
   const CommandKind k = in.kind;
   // MC_Home's last Homing cycle counts as Standstill: a block chained on its Done may start.

@@ -238,7 +238,8 @@ class Emitter : public CodeGenerator {
   }
   // Where a jump to pc `d` goes. Inside the loop it goes to d itself (to
   // the head past the head's loads). Out of the loop it goes through a
-  // stub that first writes the registers back to the frame.
+  // trampoline of its own (exits_) that first writes the registers back to
+  // the frame, then jumps to d.
   const Label& target(std::uint32_t d) {
     if (!loop_) return at_[d];
     if (d == loop_->head) return *inner_head_;
