@@ -16,6 +16,7 @@
 #include <boost/beast/http.hpp>
 #include <boost/beast/ssl.hpp>
 #include <chrono>
+#include <thread>
 #include <future>
 #include <map>
 #include <mutex>
@@ -45,6 +46,11 @@ constexpr auto kDrainTime = std::chrono::seconds(1);
 constexpr auto kTlsShutdownTime = std::chrono::seconds(1);
 // accept() without a descriptor left (EMFILE): try again after a pause, not in a spin.
 constexpr auto kAcceptPause = std::chrono::milliseconds(50);
+// How long stop() lets the network threads run what it posted (the
+// acceptor's close, every connection's close) before it stops them: those
+// handlers take microseconds; the bound only keeps a stuck handler from
+// holding stop() up.
+constexpr auto kStopDrain = std::chrono::seconds(2);
 // HMI pages that all reconnect at once (after a restart) are queued, not dropped.
 constexpr int kListenBacklog = 128;
 
@@ -518,6 +524,14 @@ void HttpServer::stop() {
   // Workers first: what they hold writes through the network threads.
   s.workers->shutdown();
   s.work.reset();
+  // The closes above are posted, not done: stopping the io_context at once
+  // would leave them queued, and a connection the acceptor had just taken
+  // (or one only posted a close) open until the server is destroyed. With
+  // the work guard gone, the io_context runs dry once every socket is closed
+  // and every handler has seen `stopping`.
+  const auto drain_until = std::chrono::steady_clock::now() + kStopDrain;
+  while (!s.ioc.stopped() && std::chrono::steady_clock::now() < drain_until)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
   s.ioc.stop();
   s.network->shutdown();
   // What a network thread queued after the workers ended is dropped here,

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <string>
 #include <thread>
@@ -44,9 +45,13 @@ std::string read_until(int fd, const std::string& until) {
   return got;
 }
 
+// The server closed the connection: an orderly end (0) or a reset. The hang
+// guard's timeout (EAGAIN) is not a close: a connection left open for 30 s
+// must fail the test, not pass it.
 bool closed_by_peer(int fd) {
   char c;
-  return recv(fd, &c, 1, 0) <= 0;
+  const ssize_t n = recv(fd, &c, 1, 0);
+  return n == 0 || (n < 0 && errno != EAGAIN && errno != EWOULDBLOCK);
 }
 
 struct Fixture {
