@@ -1,6 +1,6 @@
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import { axisControls, axisQuality, confirmText, errorIdText, normalizeAxes, stateTone } from '../src/lib/axis_faceplate.js';
+import { ageText, axisControls, axisQuality, confirmText, errorIdText, normalizeAxes, stateTone } from '../src/lib/axis_faceplate.js';
 
 const answer = {
   now_ns: 5e9,
@@ -79,4 +79,10 @@ test('the confirmation says what the command does', () => {
   assert.match(confirmText('disable', x1), /Disabled at the next scan/);
   assert.match(confirmText('enable', x1), /never powers an axis the program does not/);
   assert.match(confirmText('reset', x1), /0x0301: the drive faulted/);
+});
+
+test('the age as the faceplate writes it', () => {
+  assert.equal(ageText(2.4), '2 ms old');
+  assert.equal(ageText(1234), '1.2 s old');
+  assert.equal(ageText(NaN), '');
 });

@@ -78,6 +78,8 @@ test('a faceplate per axis of the demo: state, values with units, the group move
   assert.equal(await plate(page, 'x1').locator('.axis-source').innerText(), 'group');
   assert.match(await plate(page, 'x1').innerText(), /Following error[\s\S]*rad/);
   assert.equal(await plate(page, 'x1').getAttribute('data-stale'), 'false');
+  assert.equal(await plate(page, 'x1').locator('.axis-quality').getAttribute('data-quality'), 'good');
+  assert.match(await plate(page, 'x1').locator('.axis-quality').innerText(), /^live, \d+(\.\d)? m?s old$/);
   assert.equal(await page.locator('.axis-actions button', { hasText: 'Reset' }).count(), 0, 'no reset without an engineer');
   assert.deepEqual(page.jsErrors, []);
   await page.close();

@@ -6,7 +6,7 @@
 // each after a confirmation in words.
 import { useState } from 'preact/hooks';
 import { axisCommand } from '../api/endpoints.js';
-import { axisControls, axisQuality, confirmText, errorIdText, stateTone } from '../lib/axis_faceplate.js';
+import { ageText, axisControls, axisQuality, confirmText, errorIdText, stateTone } from '../lib/axis_faceplate.js';
 import { formatScalar } from '../lib/format.js';
 import { ErrorNote, Modal, Stat } from './common.jsx';
 
@@ -65,8 +65,10 @@ export function AxisFaceplate({ axis, session, nowMs, onNotice }) {
         <span class={`pill axis-state state-${tone}`} title={`PLCopen state ${axis.state}`}>{axis.state}</span>
       </header>
       {q.stale ? (
-        <p class="stale-note"><span class="badge badge-stale">{q.text}</span> values {(q.ageMs / 1000).toFixed(1)} s old: not the axis's state now</p>
-      ) : null}
+        <p class="stale-note axis-quality" data-quality={axis.quality.q}><span class="badge badge-stale">{q.text}</span> values {ageText(q.ageMs)}: not the axis's state now</p>
+      ) : (
+        <p class="sub axis-quality" data-quality={axis.quality.q}>live{q.text ? ` (${q.text})` : ''}, {ageText(q.ageMs)}</p>
+      )}
       <dl class="stats">
         <Stat label="Position"><Num v={axis.position} unit={u} stale={q.stale} /></Stat>
         <Stat label="Velocity"><Num v={axis.velocity} unit={`${u}/s`} stale={q.stale} /></Stat>

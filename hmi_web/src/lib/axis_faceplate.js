@@ -74,6 +74,12 @@ export function axisQuality(axis, nowMs, pollMs = AXES_POLL_MS) {
   return { stale: false, text: q.q === 'forced' ? 'forced' : '', ageMs };
 }
 
+// "3 ms old", "1.2 s old": a value's age as the faceplate shows it.
+export function ageText(ageMs) {
+  if (!(ageMs >= 0)) return '';
+  return ageMs < 1000 ? `${Math.round(ageMs)} ms old` : `${(ageMs / 1000).toFixed(1)} s old`;
+}
+
 const atLeast = (session, role) => !!(session && rank(session.role) >= rank(role));
 
 // The faceplate's buttons: whether each is shown and may be pressed, and
