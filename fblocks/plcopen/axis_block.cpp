@@ -16,7 +16,9 @@ void AxisBlock::execute(ScanContext& ctx) noexcept {
   // finite (the guard skipped end_of_scan). Never acted on as if fresh.
   if (!sampled_) fb.valid = false;
   sampled_ = false;
+  hmi_permissive();
   machine_.cycle(fb);
+  hmi_reset();
   const DriveCommand& d = machine_.drive_command();
   out<bool>(kAxEnable, d.enable);
   out<bool>(kAxReset, d.reset);
@@ -37,6 +39,25 @@ void AxisBlock::execute(ScanContext& ctx) noexcept {
   out<std::int16_t>(kAxCommand, active ? static_cast<std::int16_t>(static_cast<int>(machine_.active_kind()) + 1) : 0);
   out<std::int32_t>(kAxCommandBlock, source_of(active));
   out<std::int64_t>(kAxRemainingScans, machine_.remaining_scans());
+  out<bool>(kAxPowered, machine_.power_on());
+}
+
+void AxisBlock::hmi_permissive() noexcept {
+  // ANDed with MC_Power.Enable: MC_Power asked for power in the scan before
+  // (after that scan's cycle); withdrawn here, this cycle takes the axis to
+  // Disabled exactly as MC_Power.Enable FALSE does. MC_Power asks again every
+  // scan, so the permissive holds the axis down while it is FALSE and never
+  // powers an axis whose MC_Power does not ask.
+  if (!in<bool>(kAxHmiEnable)) machine_.request_power(false);
+}
+
+void AxisBlock::hmi_reset() noexcept {
+  if (!in<bool>(kAxHmiReset)) return;
+  // MC_Reset's rising edge: outside ErrorStop nothing to do. While the axis
+  // still brakes (StillMoving) the request waits for it to stand, as the
+  // machine's own pending reset waits for a drive fault to clear.
+  if (machine_.reset() != AxisError::StillMoving || machine_.state() != AxisState::ErrorStop)
+    out<bool>(kAxHmiReset, false);
 }
 
 void AxisBlock::end_of_scan() noexcept {
@@ -53,8 +74,9 @@ void AxisBlock::end_of_scan() noexcept {
   have_position_ = true;
   fb.valid = in<bool>(kAxFeedbackOk);
   // Unwired, the power stage is an ideal drive's: on one scan after the
-  // enable output asked for it.
-  fb.power_on = power_wired_ ? in<bool>(kAxPowerOn) : machine_.drive_command().enable;
+  // enable output asked for it. The HMI's permissive holds the enable that
+  // went out FALSE, though MC_Power asked again after this scan's cycle.
+  fb.power_on = power_wired_ ? in<bool>(kAxPowerOn) : machine_.drive_command().enable && in<bool>(kAxHmiEnable);
   fb.fault = in<bool>(kAxFault);
   fb.fault_code = in<std::uint16_t>(kAxFaultCode);
   fb.home_switch = in<bool>(kAxHomeSwitch);
@@ -225,6 +247,13 @@ void register_axis(BlockRegistry& r) {
       output("command_block", IecType::DINT).doc("the block that gave the active command (its place in the scan), -1 none"),
       output("remaining_scans", IecType::LINT)
           .doc("scans until the active discrete move arrives (paper 004 Table I), -1 without one"),
+      input("hmi_enable", IecType::BOOL).init("TRUE")
+          .doc("the HMI's enable permissive, ANDed with MC_Power.Enable: FALSE takes the axis to Disabled as "
+               "MC_Power.Enable FALSE does; TRUE powers nothing by itself (POST /api/v1/axes/{name}/enable, /disable)"),
+      input("hmi_reset", IecType::BOOL)
+          .doc("the HMI's reset request: acknowledges the axis error as MC_Reset does, at the next scan; cleared by "
+               "the axis once done (POST /api/v1/axes/{name}/reset)"),
+      output("powered", IecType::BOOL).doc("the power stage reports on"),
   };
   t.params = {
       parameter("scale", IecType::LREAL).init("1").unit("unit/unit").doc("drive units per user unit (counts/mm, rad/rad)"),

@@ -51,6 +51,11 @@ enum AxisPin : int {
   kAxCommand,
   kAxCommandBlock,
   kAxRemainingScans,
+  // The HMI's door to the axis (POST /api/v1/axes/{name}/enable|disable|reset,
+  // written through the task's write queue; docs/http-api.md "Axes").
+  kAxHmiEnable,
+  kAxHmiReset,
+  kAxPowered,
 };
 
 class AxisBlock final : public Block {
@@ -90,6 +95,11 @@ class AxisBlock final : public Block {
   // Which block gave each recent command (the active one and those buffered).
   std::array<std::pair<CommandId, std::int32_t>, AxisMachine::kQueueCapacity + 2> sources_{};
   std::size_t next_source_ = 0;
+
+  // The HMI's permissive and reset request (hmi_enable, hmi_reset): before
+  // and after the machine's cycle (axis_block.cpp).
+  void hmi_permissive() noexcept;
+  void hmi_reset() noexcept;
 };
 
 }  // namespace syncplc::plcopen

@@ -9,6 +9,7 @@ import { LoginDialog } from './components/login.jsx';
 import { OverviewPage } from './pages/overview.jsx';
 import { TagsPage } from './pages/tags.jsx';
 import { AxesPage } from './pages/axes.jsx';
+import { MotionPage } from './pages/motion.jsx';
 import { TrendsPage } from './pages/trends.jsx';
 import { EventsPage } from './pages/events.jsx';
 import { ProjectPage } from './pages/project.jsx';
@@ -17,6 +18,7 @@ export const PAGES = [
   { id: 'overview', label: 'Overview', component: OverviewPage },
   { id: 'tags', label: 'Tags & pins', component: TagsPage },
   { id: 'axes', label: 'Axes', component: AxesPage },
+  { id: 'motion', label: 'Motion', component: MotionPage },
   { id: 'trends', label: 'Trends', component: TrendsPage },
   { id: 'events', label: 'Events', component: EventsPage },
   { id: 'project', label: 'Project', component: ProjectPage },

@@ -81,5 +81,6 @@ void add_read_routes(http::Router& s, ApiContext& c);
 void add_change_routes(http::Router& s, ApiContext& c);
 void add_project_routes(http::Router& s, ApiContext& c);
 void add_stream_routes(http::Router& s, ApiContext& c);
+void add_axis_routes(http::Router& s, ApiContext& c);  // api_axes.cpp
 
 }  // namespace syncplc::web

@@ -233,6 +233,7 @@ bool Server::start(std::string* error) {
   add_change_routes(impl.router, ctx);
   add_project_routes(impl.router, ctx);
   add_stream_routes(impl.router, ctx);
+  add_axis_routes(impl.router, ctx);
 
   const std::string dist = c.hmi_dir.empty() ? SYNCPLC_HMI_DIST : c.hmi_dir;
   if (!impl.files.open(dist))

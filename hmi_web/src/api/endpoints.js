@@ -32,6 +32,11 @@ export const force = (ref, value) => request('POST', '/forces', { body: { ref, v
 export const unforce = (ref) => request('DELETE', `/forces/${enc(ref)}`);
 export const getForces = () => request('GET', '/forces');
 
+// --- PLCopen axes (docs/http-api.md, "Axes"): every MC_AXIS with its live
+// state; enable/disable (operator) and reset (engineer) act at the next scan.
+export const getAxes = () => request('GET', '/axes');
+export const axisCommand = (name, command) => request('POST', `/axes/${enc(name)}/${command}`, { body: {} });
+
 // --- projects (engineer). A project is its main YAML file and its includes,
 // sent as text: {"main": "sync.yaml", "files": {"sync.yaml": "...", "table.yaml": "..."}}.
 // check: loads it beside the running program without changing anything and
