@@ -50,7 +50,7 @@ void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); 
 namespace syncplc::motion {
 namespace {
 
-std::vector<double> ar1_autocorrelation(double rho, int n) {
+std::vector<double> optimal_test_ar1(double rho, int n) {
   std::vector<double> r(static_cast<std::size_t>(n) + 1);
   for (int j = 0; j <= n; ++j) r[static_cast<std::size_t>(j)] = std::pow(rho, j);
   return r;
@@ -58,7 +58,7 @@ std::vector<double> ar1_autocorrelation(double rho, int n) {
 
 // x[k] = a1 x[k-1] + a2 x[k-2] + w[k]: normalised autocorrelation from its
 // Yule-Walker equations, rho1 = a1 / (1 - a2), rho_j = a1 rho_(j-1) + a2 rho_(j-2).
-std::vector<double> ar2_autocorrelation(double a1, double a2, int n) {
+std::vector<double> optimal_test_ar2(double a1, double a2, int n) {
   std::vector<double> r(static_cast<std::size_t>(n) + 1);
   r[0] = 1.0;
   r[1] = a1 / (1.0 - a2);
@@ -68,7 +68,7 @@ std::vector<double> ar2_autocorrelation(double a1, double a2, int n) {
 
 TEST(OptimalDropoutPredictor, Ar1OneStepCoefficientIsRhoAtEveryOrder) {
   for (int n = 1; n <= kOptimalMaxOrder; ++n) {
-    const auto r = ar1_autocorrelation(0.8, n);
+    const auto r = optimal_test_ar1(0.8, n);
     const OptimalDropoutPredictor p = optimal_dropout_predictor(r, n, 0.0);
     EXPECT_NEAR(p.a[0], 0.8, 1e-12) << n;
     for (int j = 1; j < n; ++j) EXPECT_NEAR(p.a[j], 0.0, 1e-12) << n << " " << j;
@@ -78,7 +78,7 @@ TEST(OptimalDropoutPredictor, Ar1OneStepCoefficientIsRhoAtEveryOrder) {
 }
 
 TEST(OptimalDropoutPredictor, Ar2RecoversItsOwnCoefficients) {
-  const auto r = ar2_autocorrelation(1.6, -0.8, 4);
+  const auto r = optimal_test_ar2(1.6, -0.8, 4);
   const OptimalDropoutPredictor p = optimal_dropout_predictor(r, 4, 0.0);
   EXPECT_NEAR(p.a[0], 1.6, 1e-10);
   EXPECT_NEAR(p.a[1], -0.8, 1e-10);
@@ -93,7 +93,7 @@ TEST(OptimalDropoutPredictor, Ar1WithDropoutsMatchesTheClosedForm) {
   for (double eps : {0.05, 0.2, 0.5, 0.9}) {
     const double rho = 0.9;
     const double lambda = (-(1 - eps) + std::sqrt((1 - eps) * (1 - eps) + 4 * eps * (1 - rho * rho))) / 2;
-    const OptimalDropoutPredictor p = optimal_dropout_predictor(ar1_autocorrelation(rho, 1), 1, eps);
+    const OptimalDropoutPredictor p = optimal_dropout_predictor(optimal_test_ar1(rho, 1), 1, eps);
     EXPECT_NEAR(p.loading, lambda, 1e-11) << eps;
     EXPECT_NEAR(p.a[0], rho / (1 + lambda), 1e-11) << eps;
     EXPECT_LT(p.a[0], rho);  // dropouts shrink the predictor toward the mean
@@ -119,7 +119,7 @@ TEST(OptimalDropoutPredictor, CoefficientsMinimiseTheModelCost) {
 }
 
 TEST(OptimalDropoutPredictor, RejectsWhatIsNotAnAutocorrelationOrOutOfRange) {
-  const auto r = ar1_autocorrelation(0.5, 8);
+  const auto r = optimal_test_ar1(0.5, 8);
   auto message = [](auto&& f) {
     try {
       f();
@@ -143,13 +143,13 @@ TEST(OptimalDropoutPredictor, RejectsWhatIsNotAnAutocorrelationOrOutOfRange) {
   EXPECT_NE(message([&] { optimal_dropout_predictor(short_r, 2, 0.1); }).find("lags 0..2"), std::string::npos);
 }
 
-BlockHarness make(std::map<std::string, std::string> params = {}) {
+BlockHarness make_optimal(std::map<std::string, std::string> params = {}) {
   BlockHarness::Options o;
   o.params = std::move(params);
   return BlockHarness(builtin_blocks(), "OPTIMAL_COMPENSATOR", o);
 }
 
-std::string errors_of(const BlockHarness& h) {
+std::string optimal_errors(const BlockHarness& h) {
   std::string s;
   for (const auto& e : h.errors()) s += e + "\n";
   return s;
@@ -165,20 +165,20 @@ TEST(OptimalCompensatorBlock, Declaration) {
 }
 
 TEST(OptimalCompensatorBlock, BadParametersAreLoadErrorsWithTheReason) {
-  EXPECT_NE(errors_of(make({{"order", "0"}})).find("order"), std::string::npos);
-  EXPECT_NE(errors_of(make({{"order", "5"}})).find("order"), std::string::npos);
-  EXPECT_NE(errors_of(make({{"dropout_rate", "0.99"}})).find("dropout_rate must be <="), std::string::npos);
-  EXPECT_NE(errors_of(make({{"rho1", "1.5"}})).find("rho1 must be <="), std::string::npos);
-  const std::string e = errors_of(make({{"order", "2"}, {"rho1", "0.9"}, {"rho2", "-0.9"}}));
+  EXPECT_NE(optimal_errors(make_optimal({{"order", "0"}})).find("order"), std::string::npos);
+  EXPECT_NE(optimal_errors(make_optimal({{"order", "5"}})).find("order"), std::string::npos);
+  EXPECT_NE(optimal_errors(make_optimal({{"dropout_rate", "0.99"}})).find("dropout_rate must be <="), std::string::npos);
+  EXPECT_NE(optimal_errors(make_optimal({{"rho1", "1.5"}})).find("rho1 must be <="), std::string::npos);
+  const std::string e = optimal_errors(make_optimal({{"order", "2"}, {"rho1", "0.9"}, {"rho2", "-0.9"}}));
   EXPECT_NE(e.find("OPTIMAL_COMPENSATOR: rho1..rho2"), std::string::npos) << e;
   EXPECT_NE(e.find("not an autocorrelation"), std::string::npos) << e;
-  EXPECT_TRUE(make({{"order", "2"}, {"rho1", "0.9"}, {"rho2", "0.81"}}).ok());
-  EXPECT_TRUE(make().ok()) << errors_of(make());  // defaults: white signal
+  EXPECT_TRUE(make_optimal({{"order", "2"}, {"rho1", "0.9"}, {"rho2", "0.81"}}).ok());
+  EXPECT_TRUE(make_optimal().ok()) << optimal_errors(make_optimal());  // defaults: white signal
 }
 
 TEST(OptimalCompensatorBlock, PassesSamplesAndFeedsItsEstimatesBack) {
-  auto h = make({{"order", "2"}, {"dropout_rate", "0"}, {"rho1", "0.5"}, {"rho2", "0.25"}});  // AR(1), a = [0.5, 0]
-  ASSERT_TRUE(h.ok()) << errors_of(h);
+  auto h = make_optimal({{"order", "2"}, {"dropout_rate", "0"}, {"rho1", "0.5"}, {"rho2", "0.25"}});  // AR(1), a = [0.5, 0]
+  ASSERT_TRUE(h.ok()) << optimal_errors(h);
   h.set<double>("in", 8.0);
   h.set<bool>("valid", true);
   h.scan();
@@ -206,10 +206,10 @@ TEST(OptimalCompensatorBlock, PassesSamplesAndFeedsItsEstimatesBack) {
 // samples is well below hold's (theory at eps = 0: innovation variance 0.076
 // of the signal's power against 2 (1 - rho1) = 0.22 for a single loss).
 TEST(OptimalCompensatorBlock, LossErrorBelowHoldOnItsDesignSpectrum) {
-  const auto r = ar2_autocorrelation(1.6, -0.8, 4);
-  auto h = make({{"order", "4"}, {"dropout_rate", "0.2"}, {"rho1", std::to_string(r[1])}, {"rho2", std::to_string(r[2])},
+  const auto r = optimal_test_ar2(1.6, -0.8, 4);
+  auto h = make_optimal({{"order", "4"}, {"dropout_rate", "0.2"}, {"rho1", std::to_string(r[1])}, {"rho2", std::to_string(r[2])},
                  {"rho3", std::to_string(r[3])}, {"rho4", std::to_string(r[4])}});
-  ASSERT_TRUE(h.ok()) << errors_of(h);
+  ASSERT_TRUE(h.ok()) << optimal_errors(h);
   MessageEstimator hold(0, EstimatorHistory::Recursive, 1'000'000);
   std::mt19937_64 gen(20261130);
   std::normal_distribution<double> w(0.0, 1.0);
@@ -242,9 +242,9 @@ TEST(OptimalCompensatorBlock, LossErrorBelowHoldOnItsDesignSpectrum) {
 }
 
 TEST(OptimalCompensatorBlock, ScanDoesNotAllocate) {
-  auto h = make({{"order", "4"}, {"dropout_rate", "0.3"}, {"rho1", "0.658608"}, {"rho2", "0.393834"},
+  auto h = make_optimal({{"order", "4"}, {"dropout_rate", "0.3"}, {"rho1", "0.658608"}, {"rho2", "0.393834"},
                  {"rho3", "0.018494"}, {"rho4", "-0.218310"}});
-  ASSERT_TRUE(h.ok()) << errors_of(h);
+  ASSERT_TRUE(h.ok()) << optimal_errors(h);
   h.scan();
   test_optimal_compensator_alloc::allocations = 0;
   test_optimal_compensator_alloc::counting = true;
