@@ -8,4 +8,6 @@ if ! /usr/bin/python3 -c 'import matplotlib' 2>/dev/null; then
   apt-get install -y -q python3-matplotlib >/dev/null
 fi
 [ -x build/syncplc ] || bash scripts/build.sh build
-exec /usr/bin/python3 scripts/results.py tables "${1:-/tmp/syncplc-results}"
+/usr/bin/python3 scripts/results.py tables "${1:-/tmp/syncplc-results}"
+# Paper 003 Figs. 7-8: the dropout compensators in the loop of its Fig. 3.
+exec /usr/bin/python3 scripts/results_dropout.py tables "${1:-/tmp/syncplc-results}"

@@ -22,5 +22,7 @@ void register_sync_controller(BlockRegistry& r);   // sync_controller.cpp: SYNC_
 void register_pid_controllers(BlockRegistry& r);   // pid.cpp: PD_CONTROLLER, PID
 // TRANSIENT_SYNC (transient_sync_info.cpp, transient_sync.cpp): paper 004, Section III.
 void register_transient_sync(BlockRegistry& r);
+// OPTIMAL_COMPENSATOR (optimal_compensator.cpp): the dropout compensator paper 003 compares against.
+void register_optimal_compensator(BlockRegistry& r);
 
 }  // namespace syncplc::motion

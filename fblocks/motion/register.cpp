@@ -10,6 +10,7 @@ void register_motion_blocks(BlockRegistry& r) {
   motion::register_sync_controller(r);
   motion::register_pid_controllers(r);
   motion::register_transient_sync(r);
+  motion::register_optimal_compensator(r);
 }
 
 }  // namespace syncplc
