@@ -33,6 +33,8 @@ enum AxisPin : int {
   kAxFault,
   kAxFaultCode,
   kAxHomeSwitch,
+  kAxHomingAttained,
+  kAxHomingError,
   kAxEnable,
   kAxReset,
   kAxDrivePosition,
@@ -51,6 +53,9 @@ enum AxisPin : int {
   kAxCommand,
   kAxCommandBlock,
   kAxRemainingScans,
+  kAxHome,
+  kAxDriveHomeMethod,
+  kAxDriveHomePosition,
 };
 
 class AxisBlock final : public Block {
