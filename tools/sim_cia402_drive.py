@@ -3,8 +3,9 @@
 
 One drive: the CiA 402 power drive system state machine (CiA 402-2 /
 IEC 61800-7-201, the PDS finite state automaton with transitions 0-16), the
-modes cyclic synchronous position (8), velocity (9), torque (10) and profile
-velocity (3), and the axis plant of syncplc's sim_table driver (paper 000
+modes cyclic synchronous position (8), velocity (9), torque (10), profile
+velocity (3) and homing (6: methods 35/37, and 17/18 with the limit switches
+of --negative-limit/--positive-limit), and the axis plant of syncplc's sim_table driver (paper 000
 eq. (25), P(s) = k/(s(tau s + 1)), exact zero-order-hold steps, the same
 tau, gain and saturation defaults), integrated at its own rate (1 kHz by
 default) on a thread of its own. The Modbus side is Debian's python3-pymodbus

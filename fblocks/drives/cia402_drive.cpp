@@ -3,14 +3,17 @@
 // and actual values between the program's units and the drive's counts,
 // computes the following error and raises the events. Every pin is a plain
 // tag, so the drive's objects (6040h, 6041h, 6060h, 6061h, 607Ah, 60FFh,
-// 60B1h, 6071h, 6064h, 606Ch, 603Fh) can come over any bus: the Modbus
+// 60B1h, 6071h, 6064h, 606Ch, 603Fh; for homing mode 6098h, 6099h, 609Ah,
+// 607Ch, cia402_homing.hpp) can come over any bus: the Modbus
 // client driver, a simulated drive, an EtherCAT master later.
 // See docs/drives.md.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <memory>
 
+#include "fblocks/drives/cia402_homing.hpp"
 #include "fblocks/drives/cia402_math.hpp"
 #include "fblocks/drives/drives.hpp"
 #include "fblocks/motion/param_read.hpp"
@@ -24,13 +27,16 @@ using namespace cia402;
 enum : int {
   // program side, in
   kEnable = 0, kQuickStop, kReset, kMode, kPositionSet, kVelocitySet, kTorqueSet,
+  kHome, kHomeMethod, kHomePosition,
   // drive side, in
   kLinkOk, kStatusword, kModesDisplay, kPositionActual, kVelocityActual, kErrorCode,
   // drive side, out
   kControlword, kModesOfOperation, kTargetPosition, kTargetVelocity, kVelocityOffset, kTargetTorque,
+  kHomingMethod, kHomeOffset, kHomingSpeedSwitch, kHomingSpeedZero, kHomingAcceleration,
   // program side, out
   kState, kOperationEnabled, kBusy, kFault, kFaultCode, kWarning, kTimeout, kInMode,
   kPosition, kVelocity, kFollowingError, kFollowingErrorExceeded,
+  kHoming, kHomingAttained, kHomingError,
 };
 
 // Parameter indices (declaration order below).
@@ -42,6 +48,7 @@ struct DriveConfig {
   double timeout_s = 1;
   double fe_window = 0;  // 0 = no following error supervision
   double fe_time_s = 0;
+  double home_speed_switch = 1, home_speed_zero = 0.1, home_acceleration = 10;  // units/s, units/s^2
   Goal idle = Goal::kSwitchOnDisabled;
   Stop disable = Stop::kQuickStop;
   Stop link_lost = Stop::kQuickStop;
@@ -94,7 +101,29 @@ class Cia402Drive final : public Block {
     mi.statusword = in<std::uint16_t>(kStatusword);
     mi.mode = read_mode(kMode);
     mi.mode_display = read_mode(kModesDisplay);
+    const int program_mode = mi.mode;
+
+    // Homing mode (cia402_homing.hpp): while the program asks for it the
+    // drive runs in mode 6 and bit 4 of the controlword starts it. The state
+    // the homing master sees is last scan's (the controlword goes out after).
+    HomingInputs hi;
+    hi.request = in<bool>(kHome);
+    hi.enabled = last_state_ == State::kOperationEnabled && last_run_;
+    hi.link_ok = mi.link_ok;
+    hi.statusword = mi.statusword;
+    hi.mode_display = mi.mode_display;
+    const HomingOutputs ho = h_.step(hi);
+    if (ho.active) mi.mode = mode::kHoming;
     const MasterOutputs mo = m_.step(mi, ctx.now_ns);
+    last_state_ = mo.state;
+    last_run_ = mo.run;
+    // Between homing mode and the program's mode the display shows one of
+    // the two for a scan or more: the drive is still enabled and holds its
+    // position (no target is taken from the program until it is in mode),
+    // so operation_enabled does not drop for the change.
+    if (ho.active || homing_mode_seen_) homing_mode_seen_ = ho.active || mi.mode_display == mode::kHoming;
+    const bool mode_changing =
+        homing_mode_seen_ && (mi.mode_display == mode::kHoming || mi.mode_display == program_mode);
 
     const std::uint16_t error_code = in<std::uint16_t>(kErrorCode);
     if (mo.fault && error_code != 0) fault_code_ = error_code;
@@ -123,13 +152,22 @@ class Cia402Drive final : public Block {
     const bool vel_mode = enabled && is_velocity_mode(mi.mode);
     const bool trq_mode = enabled && is_torque_mode(mi.mode);
     const double xs = in<double>(kPositionSet), vs = in<double>(kVelocitySet);
-    out<std::uint16_t>(kControlword, mo.controlword);
+    out<std::uint16_t>(kControlword, ho.start && mo.controlword == cw::kEnableOperationCmd
+                                         ? static_cast<std::uint16_t>(mo.controlword | cw::kHomingStart)
+                                         : mo.controlword);
     write_mode(kModesOfOperation, mi.mode);
     if (mi.link_ok) target_ = pos_mode ? saturate<std::int32_t>(xs * k) : actual;
     out<std::int32_t>(kTargetPosition, target_);
     out<std::int32_t>(kTargetVelocity, vel_mode ? saturate<std::int32_t>(vs * k) : 0);
     out<std::int32_t>(kVelocityOffset, pos_mode ? saturate<std::int32_t>(vs * k) : 0);
     out<std::int16_t>(kTargetTorque, trq_mode ? saturate<std::int16_t>(in<double>(kTorqueSet) * c_.torque_scale) : 0);
+    // Homing objects, written whenever the bus writes them: 6098h from the
+    // program (MC_AXIS's home_method), 607Ch the position the home point gets.
+    out<std::int16_t>(kHomingMethod, std::clamp(in<std::int16_t>(kHomeMethod), std::int16_t{-128}, std::int16_t{127}));
+    out<std::int32_t>(kHomeOffset, saturate<std::int32_t>(in<double>(kHomePosition) * k));
+    out<std::uint32_t>(kHomingSpeedSwitch, saturate<std::uint32_t>(c_.home_speed_switch * k));
+    out<std::uint32_t>(kHomingSpeedZero, saturate<std::uint32_t>(c_.home_speed_zero * k));
+    out<std::uint32_t>(kHomingAcceleration, saturate<std::uint32_t>(c_.home_acceleration * k));
 
     // Following error (the master's view of 60F4h / 6065h / 6066h).
     const double fe = pos_mode ? xs - position : 0.0;
@@ -145,7 +183,8 @@ class Cia402Drive final : public Block {
     fe_exceeded_ = exceeded;
 
     out<std::int8_t>(kState, static_cast<std::int8_t>(mo.state));
-    out<bool>(kOperationEnabled, mo.operation_enabled);
+    out<bool>(kOperationEnabled,
+              mo.operation_enabled || (mo.state == State::kOperationEnabled && mo.run && mode_changing));
     out<bool>(kBusy, mo.busy);
     out<bool>(kFault, mo.fault);
     out<std::uint16_t>(kFaultCode, fault_code_);
@@ -156,6 +195,13 @@ class Cia402Drive final : public Block {
     out<double>(kVelocity, in<std::int32_t>(kVelocityActual) / k);
     out<double>(kFollowingError, fe);
     out<bool>(kFollowingErrorExceeded, exceeded);
+    out<bool>(kHoming, ho.busy);
+    out<bool>(kHomingAttained, ho.attained);
+    out<bool>(kHomingError, ho.error);
+    if (ho.error && !homing_error_prev_)
+      raise(ctx, EventKind::DriverFault,
+            "CIA402_DRIVE: homing error (statusword bit 13, or the drive left Operation enabled)", mi.statusword);
+    homing_error_prev_ = ho.error;
   }
 
  private:
@@ -185,6 +231,11 @@ class Cia402Drive final : public Block {
   DriveConfig c_;
   IecType mode_type_;
   Master m_;
+  HomingMaster h_;
+  State last_state_ = State::kUnknown;
+  bool last_run_ = false;
+  bool homing_mode_seen_ = false;  // homing asked, and the display has not yet left 6 since
+  bool homing_error_prev_ = false;
   std::uint16_t fault_code_ = 0;
   std::int32_t target_ = 0;  // the target position last commanded (held while the link is down)
   bool fe_outside_ = false, fe_exceeded_ = false;
@@ -199,6 +250,9 @@ std::unique_ptr<Block> make_cia402(BlockSetup& s) {
   c.timeout_s = motion::ctl::real_param(s, "transition_timeout", &ok);
   c.fe_window = motion::ctl::real_param(s, "following_error_window", &ok);
   c.fe_time_s = motion::ctl::real_param(s, "following_error_time", &ok);
+  c.home_speed_switch = motion::ctl::real_param(s, "home_speed_switch", &ok);
+  c.home_speed_zero = motion::ctl::real_param(s, "home_speed_zero", &ok);
+  c.home_acceleration = motion::ctl::real_param(s, "home_acceleration", &ok);
   const long long idle = motion::ctl::int_param(s, "idle_state", &ok);
   c.idle = idle == 1 ? Goal::kReadyToSwitchOn : idle == 2 ? Goal::kSwitchedOn : Goal::kSwitchOnDisabled;
   const long long disable = motion::ctl::int_param(s, "disable_stop", &ok);
@@ -210,6 +264,11 @@ std::unique_ptr<Block> make_cia402(BlockSetup& s) {
   }
   if (ok && !(c.timeout_s > 0)) {
     s.error(s.type().name + ": transition_timeout must be greater than 0");
+    ok = false;
+  }
+  if (ok && !(c.home_speed_switch >= 0 && c.home_speed_zero >= 0 && c.home_acceleration >= 0 &&
+              std::isfinite(c.home_speed_switch + c.home_speed_zero + c.home_acceleration))) {
+    s.error(s.type().name + ": home_speed_switch, home_speed_zero and home_acceleration must be finite and >= 0");
     ok = false;
   }
   if (!ok) return nullptr;
@@ -247,8 +306,16 @@ void register_cia402_drive(BlockRegistry& r) {
       "velocity and torque targets 0, timers restart; after the link returns the drive is stopped the same way "
       "until enable has been FALSE with link_ok TRUE (a new enable); a drive found in Operation enabled at the "
       "first statusword is treated the same. "
+      "Homing mode (6): while home is TRUE the drive is switched to mode 6 and, once the display shows it, "
+      "controlword bit 4 (homing operation start) rises; homing_attained when the statusword shows bits 12 and 10 "
+      "(homing completed), homing_error on bit 13 or when the drive leaves Operation enabled, both only after a "
+      "statusword with bits 12 and 13 low was seen since home rose (an earlier homing's status is not believed); "
+      "home FALSE drops bit 4 (the drive interrupts a homing in progress) and returns to mode. operation_enabled "
+      "stays TRUE while the display changes between 6 and mode. homing_method (6098h) = home_method, home_offset "
+      "(607Ch) = home_position x counts_per_unit, homing speeds 6099h:1/2 and acceleration 609Ah from the home_* "
+      "parameters. "
       "Events: driver-fault on entering a fault (value: error code 603Fh), on a link loss, on a timeout and on "
-      "the following error window; info when the drive leaves Fault. The mode pins are ANY_INT (default SINT, "
+      "the following error window and on a homing error; info when the drive leaves Fault. The mode pins are ANY_INT (default SINT, "
       "as 6060h). "
       "See docs/drives.md.";
   t.reference =
@@ -264,6 +331,9 @@ void register_cia402_drive(BlockRegistry& r) {
       input("velocity_set", IecType::LREAL).unit("unit/s")
           .doc("velocity set point (velocity modes) or feed-forward (velocity_offset, position modes)"),
       input("torque_set", IecType::LREAL).doc("torque set point in torque modes (x torque_scale)"),
+      input("home", IecType::BOOL).doc("TRUE: home with the drive's homing mode 6 (FALSE interrupts it)"),
+      input("home_method", IecType::INT).init("37").doc("homing method 6098h (e.g. 37 current position, 17/18 limit switch)"),
+      input("home_position", IecType::LREAL).unit("unit").doc("the position the home point gets (home offset 607Ch)"),
       input("link_ok", IecType::BOOL).required()
           .doc("the bus's quality flag for the drive's values (e.g. a request group's _ok); FALSE: stale, the drive is stopped"),
       input("statusword", IecType::UINT).doc("statusword 6041h"),
@@ -277,6 +347,11 @@ void register_cia402_drive(BlockRegistry& r) {
       output("target_velocity", IecType::DINT).unit("count/s").doc("target velocity 60FFh"),
       output("velocity_offset", IecType::DINT).unit("count/s").doc("velocity offset 60B1h (CSP feed-forward)"),
       output("target_torque", IecType::INT).unit("0.1%").doc("target torque 6071h"),
+      output("homing_method", IecType::INT).doc("homing method 6098h"),
+      output("home_offset", IecType::DINT).unit("count").doc("home offset 607Ch"),
+      output("homing_speed_switch", IecType::UDINT).unit("count/s").doc("homing speed during search for switch 6099h:1"),
+      output("homing_speed_zero", IecType::UDINT).unit("count/s").doc("homing speed during search for zero 6099h:2"),
+      output("homing_acceleration", IecType::UDINT).unit("count/s^2").doc("homing acceleration 609Ah"),
       output("state", IecType::SINT).doc("-1 unknown, 0..7 the PDS state (see above)"),
       output("operation_enabled", IecType::BOOL).doc("Operation enabled in the requested mode"),
       output("busy", IecType::BOOL).doc("the drive is not yet where the inputs ask"),
@@ -290,6 +365,9 @@ void register_cia402_drive(BlockRegistry& r) {
       output("following_error", IecType::LREAL).unit("unit").doc("position_set - position in a position mode, else 0"),
       output("following_error_exceeded", IecType::BOOL)
           .doc("|following_error| > following_error_window for following_error_time"),
+      output("homing", IecType::BOOL).doc("home is TRUE and the homing has not ended"),
+      output("homing_attained", IecType::BOOL).doc("the homing asked by home completed (statusword bits 12 and 10)"),
+      output("homing_error", IecType::BOOL).doc("the homing asked by home failed (bit 13, or the drive left Operation enabled)"),
   };
   t.params = {
       parameter("counts_per_unit", IecType::LREAL).init("1").unit("count/unit")
@@ -310,6 +388,12 @@ void register_cia402_drive(BlockRegistry& r) {
       parameter("link_lost_stop", IecType::INT).init("0").min(0.0).max(1.0)
           .doc("the command while link_ok is FALSE and until a new enable: 0 Quick stop, 1 Disable voltage (coasts)"),
   };
+  t.params.push_back(parameter("home_speed_switch", IecType::LREAL).init("1").min(0.0).unit("unit/s")
+                         .doc("homing speed while searching for a switch (6099h:1)"));
+  t.params.push_back(parameter("home_speed_zero", IecType::LREAL).init("0.1").min(0.0).unit("unit/s")
+                         .doc("homing speed while searching for zero, the switch's edge (6099h:2)"));
+  t.params.push_back(parameter("home_acceleration", IecType::LREAL).init("10").min(0.0).unit("unit/s^2")
+                         .doc("homing acceleration (609Ah)"));
   t.create = make_cia402;
   r.add(std::move(t));
 }

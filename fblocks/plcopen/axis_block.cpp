@@ -39,6 +39,9 @@ void AxisBlock::execute(ScanContext& ctx) noexcept {
   out<std::int16_t>(kAxCommand, active ? static_cast<std::int16_t>(static_cast<int>(machine_.active_kind()) + 1) : 0);
   out<std::int32_t>(kAxCommandBlock, source_of(active));
   out<std::int64_t>(kAxRemainingScans, machine_.remaining_scans());
+  out<bool>(kAxHome, d.home);
+  out<std::int16_t>(kAxDriveHomeMethod, static_cast<std::int16_t>(machine_.homing().method));
+  out<double>(kAxDriveHomePosition, d.home_position * scale_);
   out<bool>(kAxPowered, machine_.power_on());
 }
 
@@ -80,6 +83,8 @@ void AxisBlock::end_of_scan() noexcept {
   fb.fault = in<bool>(kAxFault);
   fb.fault_code = in<std::uint16_t>(kAxFaultCode);
   fb.home_switch = in<bool>(kAxHomeSwitch);
+  fb.homing_attained = in<bool>(kAxHomingAttained);
+  fb.homing_error = in<bool>(kAxHomingError);
   next_ = fb;
   sampled_ = true;
 }
@@ -100,8 +105,12 @@ std::int32_t AxisBlock::source_of(CommandId id) const noexcept {
 }
 
 void AxisBlock::retune_from(const Block& fresh) noexcept {
-  limits_ = static_cast<const AxisBlock&>(fresh).limits_;
+  const auto& f = static_cast<const AxisBlock&>(fresh);
+  limits_ = f.limits_;
   machine_.retune(limits_);
+  HomingConfig h = machine_.homing();  // home_method is tunable too
+  h.method = f.machine_.homing().method;
+  machine_.configure_homing(h);
 }
 
 namespace {
@@ -121,6 +130,8 @@ enum AxisParam : int {
   kApHomeMode,
   kApHomeVelocity,
   kApHomeMaxDistance,
+  kApHomeMethod,
+  kApHomeTimeout,
 };
 
 std::unique_ptr<Block> make_axis(BlockSetup& s) {
@@ -159,8 +170,13 @@ std::unique_ptr<Block> make_axis(BlockSetup& s) {
   h.mode = static_cast<HomingConfig::Mode>(mode);
   h.velocity = s.param_cell(kApHomeVelocity).get<double>();
   h.max_distance = s.param_cell(kApHomeMaxDistance).get<double>();
-  need(mode >= 0 && mode <= 2, "home_mode must be 0 (set here), 1 (switch, positive) or 2 (switch, negative)");
-  need(mode == 0 || (std::isfinite(h.velocity) && h.velocity > 0 && h.velocity <= l.v_max),
+  h.method = s.param_cell(kApHomeMethod).get<std::int16_t>();
+  h.timeout_s = s.param_cell(kApHomeTimeout).get<double>();
+  need(mode >= 0 && mode <= 3,
+       "home_mode must be 0 (set here), 1 (switch, positive), 2 (switch, negative) or 3 (the drive homes)");
+  need(mode != 3 || (h.method >= -128 && h.method <= 127), "home_method must be -128..127 (6098h is an INTEGER8)");
+  need(mode != 3 || (std::isfinite(h.timeout_s) && h.timeout_s > 0), "home_timeout must be finite and > 0 for home_mode 3");
+  need(mode == 0 || mode == 3 || (std::isfinite(h.velocity) && h.velocity > 0 && h.velocity <= l.v_max),
        "home_velocity must be > 0 and <= v_max for a switch search (home_mode 1 or 2)");
   need(std::isfinite(h.max_distance) && h.max_distance >= 0, "home_max_distance must be finite and >= 0");
   if (!ok) return nullptr;
@@ -189,6 +205,15 @@ bool with_param(AxisLimits* l, int param, double v) noexcept {
 }  // namespace
 
 bool AxisBlock::tune(int param, double value) noexcept {
+  if (param == kApHomeMethod) {
+    // The drive's homing method, for the next MC_Home (a homing under way
+    // keeps the method its drive started with).
+    if (!(value >= -128 && value <= 127 && value == std::floor(value))) return false;
+    HomingConfig h = machine_.homing();
+    h.method = static_cast<int>(value);
+    machine_.configure_homing(h);
+    return true;
+  }
   AxisLimits next = limits_;
   if (!with_param(&next, param, value)) return false;
   limits_ = next;
@@ -207,8 +232,9 @@ void register_axis(BlockRegistry& r) {
       "set values of the active command every scan (discrete moves: paper 004's nonlinear filter, so velocity "
       "and acceleration stay within their limits and the arrival is exact). Wire its drive side to a "
       "CIA402_DRIVE, to a position controller of a sim_table axis, or to a SIM_SERVO: actual_position (and "
-      "optionally actual_velocity, power_on, fault, fault_code, feedback_ok, home_switch) in, enable, reset and "
-      "drive_position/velocity/acceleration out, in drive units (user units x scale). A unit delay: it runs "
+      "optionally actual_velocity, power_on, fault, fault_code, feedback_ok, home_switch, homing_attained, "
+      "homing_error) in, enable, reset, drive_position/velocity/acceleration (and home, drive_home_method, "
+      "drive_home_position for a drive that homes itself, home_mode 3) out, in drive units (user units x scale). A unit delay: it runs "
       "first in the scan, from the feedback sampled at the end of the scan before. Unwired power_on follows "
       "enable one scan later (an ideal drive). The limits are tunable: an online change or a tuning input "
       "changes them on the running axis, which keeps its state and its motion (the *Appl values return to the "
@@ -224,6 +250,8 @@ void register_axis(BlockRegistry& r) {
       input("fault", IecType::BOOL).doc("the drive is in fault: ErrorStop DriveFault"),
       input("fault_code", IecType::UINT).doc("the drive's error code (CiA 402 603Fh)"),
       input("home_switch", IecType::BOOL).doc("reference switch, for MC_Home with home_mode 1 or 2"),
+      input("homing_attained", IecType::BOOL).doc("the drive's homing completed (CIA402_DRIVE.homing_attained), home_mode 3"),
+      input("homing_error", IecType::BOOL).doc("the drive's homing failed (CIA402_DRIVE.homing_error): ErrorStop 0x0307"),
       output("enable", IecType::BOOL).doc("power stage on (to CIA402_DRIVE.enable)"),
       output("reset", IecType::BOOL).doc("fault reset request, held while MC_Reset waits for the drive"),
       output("drive_position", IecType::LREAL).unit("unit").doc("set position in drive units"),
@@ -254,6 +282,10 @@ void register_axis(BlockRegistry& r) {
           .doc("the HMI's reset request: acknowledges the axis error as MC_Reset does, at the next scan; cleared by "
                "the axis once done (POST /api/v1/axes/{name}/reset)"),
       output("powered", IecType::BOOL).doc("the power stage reports on"),
+      output("home", IecType::BOOL).doc("home_mode 3: TRUE while MC_Home waits for the drive's homing (to CIA402_DRIVE.home)"),
+      output("drive_home_method", IecType::INT).doc("the home_method parameter (to CIA402_DRIVE.home_method)"),
+      output("drive_home_position", IecType::LREAL).unit("unit")
+          .doc("MC_Home's Position in drive units, the home offset (to CIA402_DRIVE.home_position)"),
   };
   t.params = {
       parameter("scale", IecType::LREAL).init("1").unit("unit/unit").doc("drive units per user unit (counts/mm, rad/rad)"),
@@ -268,11 +300,16 @@ void register_axis(BlockRegistry& r) {
       parameter("max_position_lag", IecType::LREAL).init("0").min(0.0).tunable()
           .doc("MaxPositionLag, user units: a larger following error is ErrorStop (0: not monitored)"),
       parameter("modulo", IecType::LREAL).init("0").min(0.0).doc("modulo of a rotary axis, user units (0: linear)"),
-      parameter("home_mode", IecType::INT).init("0").min(0.0).max(2.0)
-          .doc("MC_Home's procedure: 0 set here, 1 search the home_switch's rising edge moving in +, 2 moving in -"),
+      parameter("home_mode", IecType::INT).init("0").min(0.0).max(3.0)
+          .doc("MC_Home's procedure: 0 set here, 1 search the home_switch's rising edge moving in +, 2 moving in -, "
+               "3 the drive homes itself (CiA 402 homing mode with home_method)"),
       parameter("home_velocity", IecType::LREAL).init("0").min(0.0).doc("search velocity, user units/s (home_mode 1, 2)"),
       parameter("home_max_distance", IecType::LREAL).init("0").min(0.0)
           .doc("a search longer than this is ErrorStop HomingFailed, user units (0: unbounded)"),
+      parameter("home_method", IecType::INT).init("37").min(-128.0).max(127.0).tunable()
+          .doc("home_mode 3: the drive's homing method 6098h (35/37 current position, 17/18 limit switch, ...)"),
+      parameter("home_timeout", IecType::LREAL).init("60").min(0.0).unit("s")
+          .doc("home_mode 3: longest wait for the drive's homing attained before ErrorStop 0x0308"),
   };
   t.unit_delay = true;
   t.create = make_axis;

@@ -33,6 +33,8 @@ enum AxisPin : int {
   kAxFault,
   kAxFaultCode,
   kAxHomeSwitch,
+  kAxHomingAttained,
+  kAxHomingError,
   kAxEnable,
   kAxReset,
   kAxDrivePosition,
@@ -56,6 +58,9 @@ enum AxisPin : int {
   kAxHmiEnable,
   kAxHmiReset,
   kAxPowered,
+  kAxHome,
+  kAxDriveHomeMethod,
+  kAxDriveHomePosition,
 };
 
 class AxisBlock final : public Block {

@@ -10,6 +10,16 @@
 // Ramps use MaxAccelerationAppl and MaxDecelerationAppl. A search (leave and
 // search together) longer than home_max_distance ends in ErrorStop
 // HomingFailed. "Set here" is the mode without a switch.
+//
+// home_mode 3, the drive homes itself (CiA 402 homing mode through
+// CIA402_DRIVE, docs/drives.md "Homing mode"): the axis raises its `home`
+// output and, until the drive reports "homing attained", its set values
+// follow the drive's actual ones (the drive moves on its own). Attained: the
+// drive's position is the axis's (the offset returns to 0; the drive gave
+// its home point MC_Home's Position as home offset 607Ch). A homing error is
+// ErrorStop DriveHomingError, no end within home_timeout ErrorStop
+// HomingTimeout; an abort (MC_Stop, MC_Power off) drops `home`, and the
+// drive interrupts its homing.
 #include <cmath>
 
 #include "fblocks/plcopen/axis_machine.hpp"
@@ -21,6 +31,11 @@ using motion::FilterState;
 
 void AxisMachine::start_homing() noexcept {
   if (homing_.mode == HomingConfig::Mode::SetHere) return;
+  if (homing_.mode == HomingConfig::Mode::Drive) {
+    active_.phase = kHomeDrive;
+    active_.waited = 0;
+    return;
+  }
   active_.phase = fb_.home_switch ? kHomeLeave : kHomeSearch;
 }
 
@@ -28,6 +43,17 @@ void AxisMachine::start_homing() noexcept {
 // search failed (the axis is then in ErrorStop).
 bool AxisMachine::homing_phase() noexcept {
   if (homing_.mode == HomingConfig::Mode::SetHere || active_.phase == 0) return true;
+  if (active_.phase == kHomeDrive) {
+    ++active_.waited;
+    const bool late = static_cast<double>(active_.waited) * T_ >= homing_.timeout_s && !fb_.homing_attained;
+    if (fb_.homing_error || late) {
+      // The drive stops on its own; the set values, which followed it, brake.
+      enter_error(fb_.homing_error ? AxisError::DriveHomingError : AxisError::HomingTimeout);
+      brake(system_.d_max);
+      return false;
+    }
+    return true;
+  }
   if (active_.phase == kHomeLeave && !fb_.home_switch) {
     active_.phase = kHomeSearch;
   } else if (active_.phase == kHomeSearch && fb_.home_switch) {
@@ -49,6 +75,11 @@ FilterState AxisMachine::home_step(const Slot& s, const FilterState& from, bool*
     *a = 0;
     return from;
   }
+  if (s.phase == kHomeDrive) {
+    *done = fb_.homing_attained;
+    *a = 0;
+    return {fb_.position + offset_, fb_.velocity};
+  }
   const double dir = homing_.mode == HomingConfig::Mode::SwitchPositive ? 1.0 : -1.0;
   ProfileStep p;
   switch (s.phase) {
@@ -62,6 +93,13 @@ FilterState AxisMachine::home_step(const Slot& s, const FilterState& from, bool*
 }
 
 void AxisMachine::finish_homing(const Slot& s) noexcept {
+  if (s.phase == kHomeDrive) {
+    // The drive's coordinates are the axis's now; it stands (bit 10).
+    offset_ = 0;
+    set_ = {fb_.position, 0};
+    homed_ = true;
+    return;
+  }
   // Set here: where the axis stands; with a switch: where the edge was.
   const double reference = homing_.mode == HomingConfig::Mode::SetHere || s.phase == 0 ? set_.x : s.edge;
   const double shift = s.cmd.position - reference;

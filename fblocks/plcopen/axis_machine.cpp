@@ -177,7 +177,9 @@ void AxisMachine::cycle(const DriveFeedback& fb) noexcept {
   } else if (state_ != AxisState::Disabled && state_ != AxisState::ErrorStop) {
     if (!fb.valid) enter_error(AxisError::FeedbackLost);
     else if (power_request_ && !fb.power_on) enter_error(AxisError::PowerLost);
-    else if (lag_on_ && lag_value_ > 0 && std::fabs(set_.x - actual) > lag_value_)
+    // While the drive homes itself it follows no set value of the axis (and
+    // its position may jump to the home offset): no lag to watch.
+    else if (!drive_homing() && lag_on_ && lag_value_ > 0 && std::fabs(set_.x - actual) > lag_value_)
       enter_error(AxisError::FollowingError);
   }
 
@@ -221,6 +223,8 @@ void AxisMachine::update_output() noexcept {
   out_.position = set_.x - offset_;
   out_.velocity = set_.v;
   out_.acceleration = set_a_;
+  out_.home = drive_homing();
+  out_.home_position = active_.cmd.position;
 }
 
 // ---- profiles -----------------------------------------------------------------
@@ -292,7 +296,9 @@ void AxisMachine::advance() noexcept {
     active_.fed_now = false;
   }
   const Step step = profile_step(active_, set_);
-  if (passes_limit(step.p.next)) {
+  // A drive homing itself may pass the software limits (they are not yet
+  // known to be right): the set values only follow it then.
+  if (!drive_homing() && passes_limit(step.p.next)) {
     enter_error(AxisError::SoftLimit);
     brake(system_.d_max);
     return;

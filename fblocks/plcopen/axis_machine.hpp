@@ -86,6 +86,8 @@ enum class AxisError : std::uint16_t {
   FeedbackLost = 0x0304,      // the drive's actual values are not fresh (bad exchange)
   SoftLimit = 0x0305,         // a continuous move reached an enabled software limit: braked before it
   HomingFailed = 0x0306,      // MC_Home's search met no reference switch within the axis's home_max_distance
+  DriveHomingError = 0x0307,  // MC_Home by the drive (home_mode 3): the drive reported a homing error
+  HomingTimeout = 0x0308,     // MC_Home by the drive: not attained within the axis's home_timeout
 };
 
 enum class CommandKind : std::uint8_t {
@@ -160,10 +162,16 @@ struct HomingConfig {
     SetHere = 0,         // the position becomes MC_Home's Position where the axis stands
     SwitchPositive = 1,  // search the reference switch's rising edge moving in +
     SwitchNegative = 2,  // ... moving in -
+    // The drive homes itself (CiA 402 homing mode, CIA402_DRIVE's home
+    // input): the axis asks, follows the drive's actual values meanwhile,
+    // and takes the drive's position as its own once "homing attained".
+    Drive = 3,
   };
   Mode mode = Mode::SetHere;
   double velocity = 0;      // u/s, > 0 for a switch search
   double max_distance = 0;  // u; a search longer than this is HomingFailed (0: unbounded)
+  int method = 37;          // Drive: the drive's homing method (6098h), passed on
+  double timeout_s = 60;    // Drive: longest wait for "homing attained" before HomingTimeout
 };
 
 // What the drive reports, sampled by MC_AXIS: in user units (MC_AXIS divides
@@ -177,6 +185,8 @@ struct DriveFeedback {
   bool fault = false;        // the drive is in fault
   std::uint16_t fault_code = 0;
   bool home_switch = false;  // the reference switch (homing on simulated axes)
+  bool homing_attained = false;  // the drive's homing (home_mode 3) completed
+  bool homing_error = false;     // ... failed
 };
 
 // What MC_AXIS sends the drive this scan.
@@ -186,6 +196,8 @@ struct DriveCommand {
   double position = 0;       // set position, continuous, drive coordinates (set - offset)
   double velocity = 0;       // set velocity (feed-forward)
   double acceleration = 0;   // set acceleration over the coming scan
+  bool home = false;         // home_mode 3: the drive is to home itself (held until it ends)
+  double home_position = 0;  // ... the position its home point gets (MC_Home's Position)
 };
 
 // MC_ReadParameter/MC_WriteParameter numbers (§3.19's table).
@@ -268,6 +280,7 @@ class AxisMachine {
   void feed(CommandId id, const motion::FilterState& next, double a, std::int64_t remaining, bool done) noexcept;
   // MC_Home's procedure (set once, before the first command; default "set here").
   void configure_homing(const HomingConfig& h) noexcept { homing_ = h; }
+  const HomingConfig& homing() const noexcept { return homing_; }
 
   // ---- what the axis shows --------------------------------------------
   AxisState state() const noexcept { return state_; }
@@ -306,6 +319,7 @@ class AxisMachine {
     double start = 0;         // set position when it started (a discrete move's direction)
     std::uint8_t phase = 0;   // MC_Home with a switch: HomePhase
     double edge = 0;          // ... the actual position at the switch's rising edge
+    std::int64_t waited = 0;  // MC_Home by the drive: cycles waited (home_timeout)
     // GroupMove: the sample its group fed for the next cycle.
     motion::FilterState fed{};
     double fed_a = 0;
@@ -313,7 +327,7 @@ class AxisMachine {
     bool fed_now = false, fed_done = false;
   };
   // MC_Home with a reference switch (axis_homing.cpp).
-  enum HomePhase : std::uint8_t { kHomeLeave = 1, kHomeSearch = 2, kHomeBrake = 3 };
+  enum HomePhase : std::uint8_t { kHomeLeave = 1, kHomeSearch = 2, kHomeBrake = 3, kHomeDrive = 4 };
   HomingConfig homing_{};
   struct Report {
     CommandId id = 0;
@@ -363,6 +377,7 @@ class AxisMachine {
   bool homing_phase() noexcept;  // false: the search failed (ErrorStop entered)
   motion::FilterState home_step(const Slot& s, const motion::FilterState& from, bool* done, double* a) const noexcept;
   void finish_homing(const Slot& s) noexcept;
+  bool drive_homing() const noexcept { return active_.id != 0 && active_.cmd.kind == CommandKind::Home && active_.phase == kHomeDrive; }
 };
 
 }  // namespace syncplc::plcopen

@@ -206,7 +206,9 @@ void register_move_blocks(BlockRegistry& r) {
        "Homing from Standstill by the axis's home_mode: 0 \"set here\", the position becomes Position where the axis "
        "stands (Homing for one scan); 1 or 2, a search at home_velocity for the rising edge of the axis's "
        "home_switch moving in + or - (first away from the switch if it is on), then a stop: the position at the "
-       "edge becomes Position. Then Standstill, homed.",
+       "edge becomes Position; 3, the drive homes itself (CiA 402 homing mode through CIA402_DRIVE, with the "
+       "axis's home_method): Position becomes the drive's home offset, Done when the drive reports homing "
+       "attained, ErrorStop 0x0307 on its homing error, 0x0308 after home_timeout. Then Standstill, homed.",
        "Position", false, false, false, true},
   };
   for (const auto& m : types) add_move(r, m);

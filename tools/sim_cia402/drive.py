@@ -1,10 +1,11 @@
 """One simulated drive: its objects in registers, the PDS state machine
 (state_machine.py), the modes cyclic synchronous position (8), velocity (9),
-torque (10) and profile velocity (3), and the axis plant (plant.py), one
-cycle() per drive period."""
+torque (10), profile velocity (3) and homing (6, homing.py), and the axis
+plant (plant.py), one cycle() per drive period."""
 
 import math
 
+from .homing import PHASE_NAMES, Homing
 from .plant import AxisPlant
 from .registers import (ERROR_FOLLOWING, HR_ABORT_CONNECTION, HR_COUNT, HR_FOLLOWING_ERROR_TIMEOUT,
                         HR_FOLLOWING_ERROR_WINDOW, HR_MODES, HR_PROFILE_ACCELERATION, HR_PROFILE_DECELERATION,
@@ -15,7 +16,7 @@ from .registers import (ERROR_FOLLOWING, HR_ABORT_CONNECTION, HR_COUNT, HR_FOLLO
 from .state_machine import (FAULT_REACTION, OPERATION_ENABLED, QUICK_STOP, STATE_BITS, STATE_NAMES, SWITCHED_ON,
                             PdsStateMachine)
 
-SUPPORTED_MODES = (3, 8, 9, 10)
+SUPPORTED_MODES = (3, 6, 8, 9, 10)
 
 
 class Drive(PdsStateMachine):
@@ -28,6 +29,10 @@ class Drive(PdsStateMachine):
         self.h = 1.0 / a.rate
         self.counts_per_rad = a.counts_per_rev / (2 * math.pi)
         self.plant = AxisPlant(a.tau, a.gain, self.h, a.position0)
+        # Homing moves the drive's coordinates against the machine's: the
+        # limit switches stand at machine positions (plant.position - origin).
+        self.origin = 0.0
+        self.homing = Homing(a.negative_limit, a.positive_limit, a.homing_max_travel)
         self.hr = LockedBlock(0, [0] * (MIRROR + IR_COUNT))
         self.ir = LockedBlock(0, [0] * IR_COUNT)
         defaults = [0] * HR_COUNT
@@ -62,6 +67,8 @@ class Drive(PdsStateMachine):
         if mode in SUPPORTED_MODES:
             self.mode_display = mode  # an unsupported mode is refused: the display keeps the last one
         self.fsa(cw, r)
+        if self.state != OPERATION_ENABLED or self.mode_display != 6:
+            self.homing.leave()
         self.watch_target(r)
         self.control(r)
         self.plant.step(self.u)
@@ -78,6 +85,15 @@ class Drive(PdsStateMachine):
             self.prev_target = xt
         else:
             self.prev_target = None
+
+    def machine_position(self):
+        return self.plant.position - self.origin
+
+    def set_position(self, counts):
+        """Homing: the position here becomes `counts` (the home offset)."""
+        delta = counts / self.counts_per_rad - self.plant.position
+        self.plant.position += delta
+        self.origin += delta
 
     def enter_operation(self):
         self.v_ref = self.plant.velocity
@@ -142,6 +158,10 @@ class Drive(PdsStateMachine):
                 else:
                     self.v_ref = vt  # CSV: the master's target is the reference, no acceleration feed-forward
                     u = self.velocity_loop(self.v_ref, 0.0)
+            elif m == 6:
+                acc = self.homing.acceleration(r, k)
+                self.ramp(self.homing.cycle(self, r, r[HR_CONTROLWORD]), acc, acc)
+                u = self.velocity_loop(self.v_ref, (self.v_ref - v_before) / self.h)
             elif m == 10:
                 u = s16(r[HR_TARGET_TORQUE]) / a.torque_scale
                 self.v_ref = self.plant.velocity  # a quick stop ramps down from here
@@ -170,6 +190,8 @@ class Drive(PdsStateMachine):
                     sw |= 0x0400
                 if abs(self.plant.velocity) < 0.01:
                     sw |= 0x1000  # PV: speed = 0
+            elif self.mode_display == 6:
+                sw |= self.homing.statusword_bits(self)
         elif s == QUICK_STOP and self.stopped():
             sw |= 0x0400
         return sw
@@ -202,4 +224,6 @@ class Drive(PdsStateMachine):
                 "cycles": self.cycles, "transitions": [n for _, n in self.transitions],
                 "comm_losses": self.comm_losses, "silent_for": self.liveness.silent_for(),
                 "target": s32(*self.hr.getValues(HR_TARGET_POSITION, 2)),
-                "max_target_step": self.max_target_step}
+                "max_target_step": self.max_target_step,
+                "homing": PHASE_NAMES[self.homing.phase], "homing_reason": self.homing.reason,
+                "homings": self.homing.homings, "machine_position": self.machine_position()}

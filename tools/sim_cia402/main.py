@@ -69,6 +69,12 @@ def parse_args(argv):
                         "(the master may write it, holding register 19)")
     p.add_argument("--comm-timeout", type=float, default=0.1,
                    help="s without a request that count as a lost master for 6007h (default 0.1; 0 = never)")
+    p.add_argument("--negative-limit", type=float, default=None,
+                   help="machine position (rad) at and below which the negative limit switch is on (homing method 17)")
+    p.add_argument("--positive-limit", type=float, default=None,
+                   help="machine position (rad) at and above which the positive limit switch is on (homing method 18)")
+    p.add_argument("--homing-max-travel", type=float, default=20.0,
+                   help="a switch search longer than this (rad) is a homing error (default 20)")
     p.add_argument("--max-time", type=float, default=0.0, help="stop after this many seconds (0 = never)")
     p.add_argument("--verbose", action="store_true", help="pymodbus's log on stderr")
     a = p.parse_args(argv)

@@ -20,7 +20,12 @@ HR_QUICK_STOP_DECELERATION = 14  # 6085h UINT32, counts/s^2
 HR_FOLLOWING_ERROR_WINDOW = 16   # 6065h UINT32, counts; FFFFFFFFh = off
 HR_FOLLOWING_ERROR_TIMEOUT = 18  # 6066h UINT16, ms
 HR_ABORT_CONNECTION = 19    # 6007h INT16, abort connection option code (state_machine.py)
-HR_COUNT = 20
+HR_HOMING_METHOD = 20       # 6098h INT8 (sign-extended), homing.py
+HR_HOME_OFFSET = 21         # 607Ch INT32, counts: the position the home point gets
+HR_HOMING_SPEED_SWITCH = 23  # 6099h:1 UINT32, counts/s (search for the switch)
+HR_HOMING_SPEED_ZERO = 25    # 6099h:2 UINT32, counts/s (search for its edge)
+HR_HOMING_ACCELERATION = 27  # 609Ah UINT32, counts/s^2 (0: 6083h)
+HR_COUNT = 29
 # Input registers (FC 4): what the drive reports; also mirrored read-only at
 # holding register MIRROR + i, so one FC 23 can write the commands and read
 # the actual values in one round trip.
