@@ -5,7 +5,7 @@
 #include <array>
 #include <cmath>
 
-namespace syncplc::contour {
+namespace syncplc::nurbs {
 
 const char* nurbs_fault_text(NurbsFault f) noexcept {
   switch (f) {
@@ -235,4 +235,4 @@ double nurbs_predicted_feed_error(double ds, const Vec3& d1, const Vec3& d2, con
   return ds * ds * (bracket / 6 - k * k / 24);
 }
 
-}  // namespace syncplc::contour
+}  // namespace syncplc::nurbs

@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace syncplc::contour {
+namespace syncplc::nurbs {
 
 // Highest order k (degree k - 1) the fixed-size basis tables hold.
 inline constexpr int kNurbsMaxOrder = 8;
@@ -103,4 +103,4 @@ double nurbs_advance(const NurbsCurve& curve, double u, double ds, int span, con
 //   e = ds^2/6 [(|C''|^2 + C'.C''') / |C'|^4 - 4 (C'.C'')^2 / |C'|^6] - K^2 ds^2 / 24.
 double nurbs_predicted_feed_error(double ds, const Vec3& d1, const Vec3& d2, const Vec3& d3) noexcept;
 
-}  // namespace syncplc::contour
+}  // namespace syncplc::nurbs

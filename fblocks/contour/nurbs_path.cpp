@@ -19,9 +19,9 @@
 namespace syncplc {
 namespace nurbs_path {
 
-using contour::NurbsCurve;
-using contour::NurbsFault;
-using contour::Vec3;
+using nurbs::NurbsCurve;
+using nurbs::NurbsFault;
+using nurbs::Vec3;
 
 constexpr const char* kCategoryName = "Contouring";
 
@@ -38,7 +38,7 @@ class NurbsPath final : public Block {
         k_(s.param<std::int16_t>("order")),
         dim_(s.param<std::int16_t>("axes")),
         feed_(s.param<double>("feed")),
-        curve_(std::clamp<std::int32_t>(n_, 1, kMaxPinLength), std::clamp<int>(k_, 1, contour::kNurbsMaxOrder)) {
+        curve_(std::clamp<std::int32_t>(n_, 1, kMaxPinLength), std::clamp<int>(k_, 1, nurbs::kNurbsMaxOrder)) {
     const auto knots = s.param<std::int32_t>("knots");
     if (n_ < k_)
       s.error("NURBS_PATH: points (" + std::to_string(n_) + ") must be at least the order k (" + std::to_string(k_) +
@@ -48,8 +48,8 @@ class NurbsPath final : public Block {
               std::to_string(knots) + ")");
     if (!(feed_ > 0)) s.error("NURBS_PATH: feed must be positive");
     // The loader checks the ranges too; a factory must not trust them (ST, the harness).
-    if (k_ < 2 || k_ > contour::kNurbsMaxOrder)
-      s.error("NURBS_PATH: order must be 2.." + std::to_string(contour::kNurbsMaxOrder) + " (is " +
+    if (k_ < 2 || k_ > nurbs::kNurbsMaxOrder)
+      s.error("NURBS_PATH: order must be 2.." + std::to_string(nurbs::kNurbsMaxOrder) + " (is " +
               std::to_string(k_) + ")");
     if (dim_ != 2 && dim_ != 3) s.error("NURBS_PATH: axes must be 2 or 3 (is " + std::to_string(dim_) + ")");
     if (n_ < 2 || n_ > static_cast<std::int32_t>(kMaxPinLength)) s.error("NURBS_PATH: points must be 2..4096");
@@ -103,7 +103,7 @@ class NurbsPath final : public Block {
       error_ = true;
       error_now_ = true;
       error_id_ = static_cast<std::uint16_t>(f);
-      ctx.fault(contour::nurbs_fault_text(f), where + 1);
+      ctx.fault(nurbs::nurbs_fault_text(f), where + 1);
       vel_ = acc_ = {};
       return;
     }
@@ -120,7 +120,7 @@ class NurbsPath final : public Block {
   bool advance(ScanContext& ctx) noexcept {
     const double v = speed();
     const double ds = v * static_cast<double>(ctx.dt_ns) * 1e-9;
-    const double u_next = contour::nurbs_advance(curve_, u_, ds, span_, d_[1], d_[2]);
+    const double u_next = nurbs::nurbs_advance(curve_, u_, ds, span_, d_[1], d_[2]);
     if (u_next >= curve_.u_end()) {  // the last step, shortened to end on the last point
       u_ = curve_.u_end();
       evaluate(v);
@@ -135,7 +135,7 @@ class NurbsPath final : public Block {
     evaluate(v);
     if (ds > 0) {
       const Vec3 step{pos_.x - before.x, pos_.y - before.y, pos_.z - before.z};
-      feed_error_ = contour::norm(step) / ds - 1;
+      feed_error_ = nurbs::norm(step) / ds - 1;
     }
     return false;
   }
@@ -146,17 +146,17 @@ class NurbsPath final : public Block {
   void evaluate(double v) noexcept {
     span_ = curve_.derivatives(u_, 2, d_, span_);
     pos_ = d_[0];
-    const double len = contour::norm(d_[1]);
+    const double len = nurbs::norm(d_[1]);
     if (len > 0) {
       tan_ = {d_[1].x / len, d_[1].y / len, d_[1].z / len};
-      const double along = contour::dot(d_[2], tan_);
+      const double along = nurbs::dot(d_[2], tan_);
       const double f = v * v / (len * len);
       acc_ = {f * (d_[2].x - along * tan_.x), f * (d_[2].y - along * tan_.y), f * (d_[2].z - along * tan_.z)};
     } else {
       acc_ = {};
     }
     vel_ = {v * tan_.x, v * tan_.y, v * tan_.z};
-    curvature_ = contour::nurbs_curvature(d_[1], d_[2]);
+    curvature_ = nurbs::nurbs_curvature(d_[1], d_[2]);
   }
 
   double speed() noexcept { return feed_ * std::max(in<double>(kOverride), 0.0); }
@@ -252,9 +252,9 @@ BlockTypeInfo nurbs_path_info() {
   t.params = {
       parameter("points", IecType::DINT).init("3").min(2).max(4096)
           .doc("number of control points n + 1 (array pin length)"),
-      parameter("order", IecType::INT).init("3").min(2).max(contour::kNurbsMaxOrder)
+      parameter("order", IecType::INT).init("3").min(2).max(nurbs::kNurbsMaxOrder)
           .doc("order k (degree k - 1): 3 quadratic, 4 cubic"),
-      parameter("knots", IecType::DINT).init("6").min(4).max(4096 + contour::kNurbsMaxOrder)
+      parameter("knots", IecType::DINT).init("6").min(4).max(4096 + nurbs::kNurbsMaxOrder)
           .doc("length of the knot vector: must equal points + order"),
       parameter("axes", IecType::INT).init("2").min(2).max(3).doc("2: x, y; 3: x, y, z"),
       parameter("feed", IecType::LREAL).min(1e-12).unit("m/s").tunable()

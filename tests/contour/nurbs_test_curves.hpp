@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-namespace syncplc::contour::nurbs_test {
+namespace syncplc::nurbs::nurbs_test {
 
 struct CurveData {
   std::vector<double> x, y, z, w, knots;
@@ -73,4 +73,4 @@ inline std::string number(double v) {
   return buf;
 }
 
-}  // namespace syncplc::contour::nurbs_test
+}  // namespace syncplc::nurbs::nurbs_test

@@ -18,7 +18,7 @@
 #include "runtime/core/block_harness.hpp"
 #include "tests/contour/nurbs_test_curves.hpp"
 
-namespace syncplc::contour::test_nurbs_block {
+namespace syncplc::nurbs::test_nurbs_block {
 namespace {
 
 using nurbs_test::CurveData;
@@ -299,4 +299,4 @@ TEST(NurbsPath, BadCurveIsRejectedAtExecute) {
 }
 
 }  // namespace
-}  // namespace syncplc::contour::test_nurbs_block
+}  // namespace syncplc::nurbs::test_nurbs_block

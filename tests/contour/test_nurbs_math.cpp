@@ -12,7 +12,7 @@
 #include "fblocks/contour/nurbs_math.hpp"
 #include "tests/contour/nurbs_test_curves.hpp"
 
-namespace syncplc::contour::test_nurbs_math {
+namespace syncplc::nurbs::test_nurbs_math {
 namespace {
 
 using nurbs_test::CurveData;
@@ -216,4 +216,4 @@ TEST(NurbsInterpolator, StepErrorIsTheStatedSecondOrderTerm) {
 }
 
 }  // namespace
-}  // namespace syncplc::contour::test_nurbs_math
+}  // namespace syncplc::nurbs::test_nurbs_math

@@ -17,7 +17,7 @@
 #include "runtime/project/loader.hpp"
 #include "tests/support/image_key.hpp"
 
-namespace syncplc::contour::test_nurbs_project {
+namespace syncplc::nurbs::test_nurbs_project {
 namespace {
 
 struct Loaded {
@@ -117,4 +117,4 @@ TEST(NurbsProject, ButterflyRunsItsLengthAtTheFeed) {
 }
 
 }  // namespace
-}  // namespace syncplc::contour::test_nurbs_project
+}  // namespace syncplc::nurbs::test_nurbs_project
