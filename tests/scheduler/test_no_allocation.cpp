@@ -540,3 +540,56 @@ connections:
 
 }  // namespace
 }  // namespace syncplc
+
+namespace syncplc {
+namespace {
+
+// NURBS_PATH (fblocks/contour): the shipped contours run to their end (the
+// last, shortened step and Done included), and an instance restarted every
+// other scan (Execute from a toggling bit: the arrays latched and checked
+// each time, a bad knot vector rejected with its event) allocate nothing.
+TEST(ScanPath, NurbsPathDoesNotAllocate) {
+  for (const char* file : {"circle.yaml", "butterfly.yaml"}) {
+    auto r = load_project(std::string(SYNCPLC_SOURCE_DIR) + "/projects/contouring/" + file, LoadOptions{});
+    for (const auto& d : r.diagnostics.list()) ADD_FAILURE() << d.text();
+    ASSERT_TRUE(r.program);
+    VirtualClock clock(*r.program);
+    EXPECT_EQ(allocations_while_running(clock, 10'000'000, 7'000'000'000), 0) << file;
+    EXPECT_GT(r.program->tasks[0]->stats.summary().scans, 6990u);
+  }
+  LoadOptions lo;
+  lo.blocks = &builtin_blocks();
+  auto r = load_project_text(R"(
+tasks:
+  - {name: servo, period: 1ms, priority: 80}
+tags:
+  - {name: go, type: BOOL}
+blocks:
+  - {name: flip, type: NOT, task: servo}
+  - {name: fb, type: UNIT_DELAY, task: servo, datatype: BOOL}
+  - name: good
+    type: NURBS_PATH
+    task: servo
+    params: {points: 4, order: 4, knots: 8, axes: 3, feed: 1}
+    inputs: {px: [0, 1, 2, 3], py: [0, 1, -1, 0], pz: [0, 0.5, 0.5, 1], w: [1, 2, 0.5, 1], knot: [0, 0, 0, 0, 1, 1, 1, 1]}
+  - name: bad
+    type: NURBS_PATH
+    task: servo
+    params: {points: 4, order: 2, knots: 6, feed: 1}
+    inputs: {px: [0, 1, 2, 3], py: [0, 1, -1, 0], knot: [0, 0, 0.5, 0.4, 1, 1]}
+connections:
+  - fb.OUT -> flip.IN
+  - flip.OUT -> fb.IN
+  - flip.OUT -> go
+  - go -> good.Execute
+  - go -> bad.Execute
+)", "nurbs_restart.yaml", lo);
+  for (const auto& d : r.diagnostics.list()) ADD_FAILURE() << d.text();
+  ASSERT_TRUE(r.program);
+  VirtualClock clock(*r.program);
+  EXPECT_EQ(allocations_while_running(clock, 10'000'000, 1'000'000'000), 0);
+  EXPECT_GT(r.program->tasks[0]->stats.summary().scans, 990u);
+}
+
+}  // namespace
+}  // namespace syncplc
