@@ -97,7 +97,17 @@ void Checker::bind_args(const Expr& e, const std::string& callee, const std::vec
       }
       const Type* t = target(a.value);
       // A VAR_IN_OUT is bound to the variable itself: the types must be the same.
-      if (!t->is_error() && !p->type->is_error() && t != p->type &&
+      // Arrays of the same bounds and element type are the same type (a
+      // block's ARRAY[1..n] OF AXIS_REF pin and the program's variable).
+      auto same_array = [](const Type* x, const Type* y) {
+        if (x->kind != Type::Kind::Array || y->kind != Type::Kind::Array || x->element != y->element ||
+            x->dims.size() != y->dims.size())
+          return false;
+        for (std::size_t k = 0; k < x->dims.size(); ++k)
+          if (x->dims[k].low != y->dims[k].low || x->dims[k].high != y->dims[k].high) return false;
+        return true;
+      };
+      if (!t->is_error() && !p->type->is_error() && t != p->type && !same_array(t, p->type) &&
           !(t->kind == Type::Kind::String && p->type->kind == Type::Kind::String && t->wide == p->type->wide))
         error(a.value.loc, fmt::format("VAR_IN_OUT '{}' of {}: expected a variable of type {}, found {}", p->name,
                                        callee, p->type->name, t->name));
