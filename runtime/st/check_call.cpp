@@ -1,6 +1,7 @@
 // The checker's calls: FB instances (named inputs :=, outputs =>, VAR_IN_OUT
 // bound to a variable), user FUNCTIONs (positional or named), the standard
 // functions of std_functions.hpp and the type conversions.
+#include <algorithm>
 #include <set>
 
 #include <fmt/format.h>
@@ -125,6 +126,21 @@ void Checker::fb_call(const Expr& e, const Type* fb_type, const std::string& ins
   for (const Pin& p : fb_type->fb->pins)
     if (p.dir == PinDir::Input || p.dir == PinDir::Output || p.dir == PinDir::InOut) params.push_back(&p);
   bind_args(e, instance + " (" + fb_type->name + ")", params);
+  // A built-in block's link given a VAR_EXTERNAL AXIS_REF by name: a claim
+  // the loader checks exclusive links with (once per instance and axis).
+  if (!fb_type->fb->builtin || !pou_ || e.name.empty()) return;
+  for (const Argument& a : e.args) {
+    const auto it = out_.args.find(&a);
+    if (it == out_.args.end() || it->second->dir != PinDir::InOut || it->second->type->ref_target.empty()) continue;
+    if (a.value.kind != ExprKind::Name) continue;
+    const ExprInfo* i = out_.info(a.value);
+    if (!i || !i->variable || i->variable->scope != VarScope::External) continue;
+    LinkClaim c{pou_->name, instance, fb_type->fb->name, it->second->name, i->variable->name, a.value.loc};
+    const bool seen = std::any_of(out_.link_claims.begin(), out_.link_claims.end(), [&](const LinkClaim& o) {
+      return o.pou == c.pou && same_name(o.instance, c.instance) && o.pin == c.pin && same_name(o.external, c.external);
+    });
+    if (!seen) out_.link_claims.push_back(std::move(c));
+  }
 }
 
 Val Checker::call(const Expr& e, bool as_statement, const Type* want) {

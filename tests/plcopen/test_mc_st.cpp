@@ -328,6 +328,25 @@ TEST(McSt, AWrongAxisIsALoadErrorAtItsDeclaration) {
               HasSubstr("prog.y: y runs in task slow, prog in motion: a block works only on an instance of its own task"));
 }
 
+TEST(McSt, OneMcPowerPerAxisAlsoAcrossStCalls) {
+  const std::string two = R"(PROGRAM Motion
+VAR_EXTERNAL x : AXIS_REF; END_VAR
+VAR pwr, pwr2 : MC_Power; END_VAR
+pwr(Axis := x, Enable := TRUE);
+pwr(Axis := x, Enable := TRUE);
+pwr2(Axis := x, Enable := FALSE);
+END_PROGRAM
+)";
+  const std::string errors = load_errors(st_project(two));
+  EXPECT_THAT(errors, HasSubstr("motion.st:6:14: prog.pwr2.Axis: x is already named by prog.pwr (one MC_Power per axis"));
+  EXPECT_THAT(errors, ::testing::Not(HasSubstr("motion.st:5:"))) << "one instance may be called twice";
+  // A YAML MC_Power and one called from ST.
+  const std::string one = "PROGRAM Motion\nVAR_EXTERNAL x : AXIS_REF; END_VAR\nVAR pwr : MC_Power; END_VAR\n"
+                          "pwr(Axis := x, Enable := TRUE);\nEND_PROGRAM\n";
+  EXPECT_THAT(load_errors(st_project(one, "1", "  - {name: yaml_pwr, type: MC_Power, task: motion, params: {Axis: x}}\n")),
+              HasSubstr("motion.st:4:13: prog.pwr.Axis: x is already named by yaml_pwr (one MC_Power per axis"));
+}
+
 TEST(McSt, AnAxisRefThatNamesNoAxisFaultsAndTheBlockReportsAnError) {
   // A variable never given an axis: the call faults at its place, and the
   // block, which has no axis, refuses the command (0x0101, as a Disabled axis).
