@@ -208,14 +208,22 @@ TEST(McSt, AProgramPowersMovesAndReadsTheStatusOfItsAxis) {
 }
 
 TEST(McSt, TheSameProgramFromYamlBlocksGivesBitIdenticalTraces) {
+  // The ST program on native code and on the interpreter (LINK_BLOCK is
+  // the interpreter's handler on both).
   McRun st(st_project(kMotionSt)), yaml(yaml_project());
+  McRun interp("project: {st_engine: interpreter}\n" + st_project(kMotionSt));
   ASSERT_TRUE(st.ok());
   ASSERT_TRUE(yaml.ok());
-  const std::vector<double> a = move_trace(st), b = move_trace(yaml);
+  ASSERT_TRUE(interp.ok());
+  const std::vector<double> a = move_trace(st), b = move_trace(yaml), c = move_trace(interp);
   ASSERT_EQ(a.size(), b.size());
-  for (std::size_t i = 0; i < a.size(); ++i)
+  ASSERT_EQ(c.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
     ASSERT_EQ(std::bit_cast<std::uint64_t>(a[i]), std::bit_cast<std::uint64_t>(b[i]))
         << "scan " << i / 6 << ", value " << i % 6 << ": " << a[i] << " vs " << b[i];
+    ASSERT_EQ(std::bit_cast<std::uint64_t>(c[i]), std::bit_cast<std::uint64_t>(b[i]))
+        << "interpreter, scan " << i / 6 << ", value " << i % 6;
+  }
   // The trace went somewhere: both moves were done.
   EXPECT_EQ(st.real("x.set_position"), -15.0);
 }
