@@ -84,6 +84,7 @@ LoadResult load_tree(ConfigNode root, const std::string& path, const LoadOptions
   check_modbus_places(p, diags);
   check_params(p, diags);  // before connections: parameters size the array pins
   check_links(p, diags);
+  check_st_exclusive_links(p, diags);
   Wiring w = wire_connections(p, diags);
   std::vector<ConnectionText>().swap(p.connections);  // resolved into w, not needed again (100,000 connections: 14 MB)
   infer_types(p, w, diags);

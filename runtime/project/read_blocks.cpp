@@ -136,6 +136,12 @@ void read_blocks(ConfigNode& n, const BlockRegistry& blocks, Declarations& p, Di
     for (std::size_t i = 0; i < T.params.size(); ++i)
       if (T.params[i].default_value.empty() && !in.param(i))
         diags.error(b.loc, "block instance " + in.name + " needs parameter " + T.params[i].name);
+    // An ST function block's VAR_EXTERNAL X : AXIS_REF names the MC_AXIS X
+    // unless params: names another.
+    if (T.category.rfind("Structured Text", 0) == 0)
+      for (std::size_t l = 0; l < T.links.size(); ++l)
+        if (std::none_of(in.links.begin(), in.links.end(), [&](const auto& r) { return r.link == static_cast<int>(l); }))
+          in.links.push_back({static_cast<int>(l), 0, T.links[l].name, b.loc, -1});
     for (std::size_t l = 0; l < T.links.size(); ++l)
       if (std::none_of(in.links.begin(), in.links.end(), [&](const auto& r) { return r.link == static_cast<int>(l); }))
         diags.error(b.loc, "block instance " + in.name + " needs parameter " + T.links[l].name + " (the " +

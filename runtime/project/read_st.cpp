@@ -198,6 +198,12 @@ void read_programs(const ConfigNode& n, const StProject& st, Declarations& p, Di
     }
     in.source.assign(in.type->pins.size(), -1);
     in.pin_length.assign(in.type->pins.size(), 1);
+    // VAR_EXTERNAL X : AXIS_REF names the MC_AXIS instance X (check_links
+    // checks it, at the declaration).
+    if (!in.type->links.empty() && st.unit)
+      if (const int pou = st.unit->module->find(in.type->name); pou >= 0)
+        for (const st::vm::StExternal& e : st::vm::st_externals(*st.unit, static_cast<std::uint32_t>(pou)))
+          if (const int l = in.type->link_index(e.name); l >= 0) in.links.push_back({l, 0, e.name, e.loc, -1});
     mark_st_retain(in);
     p.instance_by_name.emplace(in.name, static_cast<int>(p.instances.size()));
     p.instances.push_back(std::move(in));
@@ -223,6 +229,7 @@ void wire_externals(const StProject& st, Declarations& p, Diagnostics& diags) {
     const int pou = m.find(in.type->name);
     if (pou < 0) continue;
     for (const st::vm::StExternal& e : st::vm::st_externals(*st.unit, static_cast<std::uint32_t>(pou))) {
+      if (!e.type->ref_target.empty()) continue;  // an AXIS_REF: a link, not a tag
       const int tag = p.tag_index(e.name);
       if (tag < 0) {
         std::vector<std::string_view> names;

@@ -55,6 +55,7 @@ void apply_overrides(const LoadOptions& opts, const std::set<std::string>& drive
 // --- 2. check ----------------------------------------------------------------------
 void check_params(Declarations& p, Diagnostics& diags);  // check_params.cpp; sizes array pins
 void check_links(Declarations& p, Diagnostics& diags);   // check_links.cpp; finds each link's target
+void check_st_exclusive_links(Declarations& p, Diagnostics& diags);  // check_st_links.cpp; after check_links
 void check_values(Declarations& p, Diagnostics& diags);
 // check_connections.cpp
 bool resolve_endpoint(const std::string& text, const SourceLoc& loc, const Declarations& p, Endpoint& e,

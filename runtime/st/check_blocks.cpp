@@ -39,7 +39,7 @@ std::vector<Pin> Checker::block_pins(const FbType& fb) {
   std::vector<Pin> pins;
   for (const auto& p : block_specs_.at(fb.name)) {
     const auto e = parse_elem(p.type);
-    const Type* t = e ? elem(*e) : err();
+    const Type* t = !p.ref_target.empty() ? ref_type(p.type, p.ref_target) : e ? elem(*e) : err();
     if (!p.length_param.empty()) {
       // Sized by its parameter; a parameter without a value (no default, not
       // given) leaves it unknown: such a type is never instanced.
@@ -61,9 +61,24 @@ std::vector<Pin> Checker::block_pins(const FbType& fb) {
         t = a;
       }
     }
-    pins.push_back({p.name, p.output ? PinDir::Output : PinDir::Input, t, {}});
+    // A link is IEC's VAR_IN_OUT Axis : AXIS_REF: given a variable at every call.
+    pins.push_back({p.name, !p.ref_target.empty() ? PinDir::InOut : p.output ? PinDir::Output : PinDir::Input, t, {}});
   }
   return pins;
+}
+
+const Type* Checker::ref_type(const std::string& name, const std::string& target) {
+  const Type*& r = out_.named_types[name_key(name)];
+  if (r && r->ref_target == target) return r;
+  // A structure of one cell whose field ST cannot name: passed, assigned
+  // and held in arrays as a structure is, never computed with.
+  Type t;
+  t.kind = Type::Kind::Struct;
+  t.name = name;
+  t.ref_target = target;
+  t.fields.push_back({"(instance)", elem(Elem::UDINT), {}, nullptr, nullptr});
+  r = types_.add(std::move(t));
+  return r;
 }
 
 void Checker::add_builtin(const BlockSignature& b) {

@@ -1,6 +1,7 @@
 // The checker's calls: FB instances (named inputs :=, outputs =>, VAR_IN_OUT
 // bound to a variable), user FUNCTIONs (positional or named), the standard
 // functions of std_functions.hpp and the type conversions.
+#include <algorithm>
 #include <set>
 
 #include <fmt/format.h>
@@ -97,7 +98,17 @@ void Checker::bind_args(const Expr& e, const std::string& callee, const std::vec
       }
       const Type* t = target(a.value);
       // A VAR_IN_OUT is bound to the variable itself: the types must be the same.
-      if (!t->is_error() && !p->type->is_error() && t != p->type &&
+      // Arrays of the same bounds and element type are the same type (a
+      // block's ARRAY[1..n] OF AXIS_REF pin and the program's variable).
+      auto same_array = [](const Type* x, const Type* y) {
+        if (x->kind != Type::Kind::Array || y->kind != Type::Kind::Array || x->element != y->element ||
+            x->dims.size() != y->dims.size())
+          return false;
+        for (std::size_t k = 0; k < x->dims.size(); ++k)
+          if (x->dims[k].low != y->dims[k].low || x->dims[k].high != y->dims[k].high) return false;
+        return true;
+      };
+      if (!t->is_error() && !p->type->is_error() && t != p->type && !same_array(t, p->type) &&
           !(t->kind == Type::Kind::String && p->type->kind == Type::Kind::String && t->wide == p->type->wide))
         error(a.value.loc, fmt::format("VAR_IN_OUT '{}' of {}: expected a variable of type {}, found {}", p->name,
                                        callee, p->type->name, t->name));
@@ -115,6 +126,21 @@ void Checker::fb_call(const Expr& e, const Type* fb_type, const std::string& ins
   for (const Pin& p : fb_type->fb->pins)
     if (p.dir == PinDir::Input || p.dir == PinDir::Output || p.dir == PinDir::InOut) params.push_back(&p);
   bind_args(e, instance + " (" + fb_type->name + ")", params);
+  // A built-in block's link given a VAR_EXTERNAL AXIS_REF by name: a claim
+  // the loader checks exclusive links with (once per instance and axis).
+  if (!fb_type->fb->builtin || !pou_ || e.name.empty()) return;
+  for (const Argument& a : e.args) {
+    const auto it = out_.args.find(&a);
+    if (it == out_.args.end() || it->second->dir != PinDir::InOut || it->second->type->ref_target.empty()) continue;
+    if (a.value.kind != ExprKind::Name) continue;
+    const ExprInfo* i = out_.info(a.value);
+    if (!i || !i->variable || i->variable->scope != VarScope::External) continue;
+    LinkClaim c{pou_->name, instance, fb_type->fb->name, it->second->name, i->variable->name, a.value.loc};
+    const bool seen = std::any_of(out_.link_claims.begin(), out_.link_claims.end(), [&](const LinkClaim& o) {
+      return o.pou == c.pou && same_name(o.instance, c.instance) && o.pin == c.pin && same_name(o.external, c.external);
+    });
+    if (!seen) out_.link_claims.push_back(std::move(c));
+  }
 }
 
 Val Checker::call(const Expr& e, bool as_statement, const Type* want) {

@@ -45,6 +45,8 @@ class Checker {
   // ---- built-in blocks (check_blocks.cpp) ----
   void add_builtin(const BlockSignature& b);
   std::vector<Pin> block_pins(const FbType& fb);  // array pins sized by fb's parameter values
+  // The reference type `name` (AXIS_REF) of instances of block type `target` (MC_AXIS), made once.
+  const Type* ref_type(const std::string& name, const std::string& target);
   // The type of `var`, a declared instance of built-in block `base`, with
   // the parameters its initializer gives (error type when one is wrong or
   // a parameter without a default is left out, each reported at its place).

@@ -87,12 +87,26 @@ struct ExternalRef {
   SourceLoc loc;
 };
 
+// A call that gives a built-in block's link a VAR_EXTERNAL AXIS_REF by name
+// (`pwr(Axis := x)` in POU `pou`, instance `pwr` of `block`, pin `Axis`): the
+// axis is known at load, so the loader checks exclusive links (one MC_Power
+// per axis) with it.
+struct LinkClaim {
+  std::string pou;
+  std::string instance;
+  std::string block;
+  std::string pin;
+  std::string external;
+  SourceLoc loc;
+};
+
 struct CheckedProgram {
   std::unique_ptr<TypeTable> types = std::make_unique<TypeTable>();
   std::unordered_map<const Expr*, ExprInfo> exprs;
   std::vector<std::unique_ptr<PouInfo>> pous;
   std::vector<std::unique_ptr<Variable>> globals;  // top-level VAR_GLOBAL
   std::vector<ExternalRef> externals;
+  std::vector<LinkClaim> link_claims;
   std::unordered_map<const Argument*, const Pin*> args;  // FB and user function calls: each argument's parameter
   // Standard function calls: each argument with its parameter, in the call's order.
   std::unordered_map<const Expr*, std::vector<std::pair<const Argument*, const StdParam*>>> std_args;

@@ -110,6 +110,9 @@ struct BlockSignature {
     // An array pin: ARRAY[1..n] OF type, n the value of this parameter ("": a scalar pin).
     std::string length_param{};
     std::uint32_t max_length = 0;
+    // A link (LinkDecl): the pin is a VAR_IN_OUT reference to an instance of
+    // block type `ref_target` (MC_AXIS), whose ST type is `type` (AXIS_REF).
+    std::string ref_target{};
   };
   struct ParamSpec {
     std::string name;
@@ -158,6 +161,11 @@ struct Type {
   std::vector<EnumValue> values;  // Enum
   std::int64_t low = 0, high = 0;  // Subrange
   const FbType* fb = nullptr;      // FunctionBlock
+  // Struct: a reference to a block instance of the project (AXIS_REF: an
+  // MC_AXIS), the block type it names; "" for every other type. Its one
+  // field, which ST cannot name, holds the instance's link number
+  // (docs/st.md, "Motion control blocks").
+  std::string ref_target{};
   SourceLoc loc;                   // declared types
 
   bool is_error() const { return kind == Kind::Error; }

@@ -234,9 +234,17 @@ TEST(StVmBuiltins, EveryBuiltInBlockIsInstancedAndCalledFromSt) {
       if (p.min && *p.min > 1) v = std::to_string(static_cast<long long>(*p.min));
       params += (params.empty() ? "" : ", ") + p.name + " := " + v;
     }
-    const std::string decl = "b : " + b.name + (params.empty() ? "" : " := (" + params + ")") + ";";
-    auto r = std::make_unique<StRun>(std::vector<std::string>{"PROGRAM Main\nVAR\n" + decl + "\nEND_VAR\nb();\nEND_PROGRAM\n"},
-                                     "Main");
+    std::string decl = "b : " + b.name + (params.empty() ? "" : " := (" + params + ")") + ";";
+    // A link (an MC block's Axis) is a VAR_IN_OUT every call gives: an
+    // AXIS_REF here names no axis (the call faults, the block has none).
+    std::string args;
+    for (const auto& p : b.pins)
+      if (!p.ref_target.empty()) {
+        decl += "\nref_" + p.name + " : " + (p.length_param.empty() ? "" : "ARRAY[1..1] OF ") + p.type + ";";
+        args += (args.empty() ? "" : ", ") + p.name + " := ref_" + p.name;
+      }
+    auto r = std::make_unique<StRun>(
+        std::vector<std::string>{"PROGRAM Main\nVAR\n" + decl + "\nEND_VAR\nb(" + args + ");\nEND_PROGRAM\n"}, "Main");
     EXPECT_TRUE(r->ok()) << decl << ": " << (r->errors.empty() ? "not instanced" : r->errors[0]);
     if (r->ok()) r->scan(3);
     ++blocks;

@@ -49,6 +49,13 @@ BlockSignature signature(const BlockTypeInfo* t, const std::string& name, IecTyp
     p.unit = d.unit;
     s.params.push_back(std::move(p));
   }
+  // Links after the pins (an index into the registry's pins stays one into
+  // these): VAR_IN_OUT Axis : AXIS_REF, a list link ARRAY[1..n] OF AXIS_REF.
+  for (const LinkDecl& l : t->links) {
+    BlockSignature::PinSpec p{l.name, false, ref_type_name(l.target_type), l.length_param, kMaxPinLength};
+    p.ref_target = l.target_type;
+    s.pins.push_back(std::move(p));
+  }
   return s;
 }
 
@@ -58,9 +65,6 @@ std::vector<BlockSignature> block_signatures(const BlockRegistry& registry) {
   std::vector<BlockSignature> out;
   for (const BlockTypeInfo* t : registry.all()) {
     if (t->category == "IEC type conversion") continue;
-    // Blocks linked to another instance (PLCopen motion blocks and their
-    // MC_AXIS) are the project's blocks: an ST POU cannot name the instance.
-    if (!t->links.empty()) continue;
     // A generic block (CTU over ANY_INT) at its default type (CTU: INT, as IEC's CTU).
     bool ok = true;
     for (const PinDecl& p : t->pins)
@@ -74,6 +78,11 @@ std::vector<BlockSignature> block_signatures(const BlockRegistry& registry) {
     }
   }
   return out;
+}
+
+std::string ref_type_name(std::string_view target_type) {
+  if (target_type == "MC_AXIS") return "AXIS_REF";  // PLCopen's name
+  return std::string(target_type) + "_REF";
 }
 
 const BlockTypeInfo* builtin_block(const BlockRegistry& registry, std::string_view name, IecType* datatype) {

@@ -79,6 +79,9 @@ inline constexpr int kNumCount = 10;
   X(CALL_FN)     /* call FUNCTION by descriptor d (arguments in, results out) */                     \
   X(CALL_BLOCK)  /* execute the built-in block whose Block* is in cell a (pins follow it) */          \
   X(CALL_BLOCK_REF) /* the same through ref a */                                                     \
+  X(LINK_BLOCK)  /* link c of the built-in block at cell a: its pin at a + b refers to d AXIS_REF      \
+                    cells; each names a link target (Vm::targets), linked when it changed (site) */  \
+  X(LINK_BLOCK_REF) /* the same through ref a */                                                     \
   X(CONV)        /* a := conversion d of b (a function; faults at site c when out of range) */       \
   X(DT_TO_DATE)  /* a := the day of DT b, at its midnight (floored; before DATE's range: its first day, \
                     fault at its site) */                                                              \

@@ -102,6 +102,20 @@ void CodeGen::fb_call(const Expr& e) {
     const Operand v = convert(expr(a.value), pin->type, a.value.loc);
     write(member(inst, pin_cell(pin), pin->type), v, a.loc);
   }
+  // Links (Axis := X): the block is linked to what the AXIS_REFs name
+  // before it runs; the checker made every call give them.
+  if (b)
+    for (std::size_t k = b->pins.size(); k < t->fb->pins.size(); ++k) {
+      const Pin& pin = t->fb->pins[k];
+      const auto n = static_cast<std::uint32_t>(pin.type->element_count());
+      const Type* ref = pin.type->kind == Type::Kind::Array ? pin.type->element : pin.type;
+      const std::uint32_t s =
+          site(e.loc, fmt::format("{}: the {} passed names no {}", pin.name, ref->name,
+                                  ref->ref_target));
+      const auto link = static_cast<std::uint32_t>(k - b->pins.size());
+      if (inst.kind == Place::Kind::Direct) emit(Op::LINK_BLOCK, inst.at, pin_cell(&pin), link, n, s);
+      else emit(Op::LINK_BLOCK_REF, ref_of(inst), pin_cell(&pin), link, n, s);
+    }
   if (inst.kind == Place::Kind::Direct) {
     if (b) emit(Op::CALL_BLOCK, inst.at, 0, b->unit_delay ? 1 : 0);
     else emit(Op::CALL_FB, inst.at, 0, 0, fp);

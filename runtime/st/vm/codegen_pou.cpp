@@ -182,7 +182,9 @@ void CodeGen::default_image(const Type* t, Cell* at, const std::string& spelt, s
       if (t->fb->builtin) {
         IecType datatype = IecType::LREAL;
         const BlockTypeInfo* b = builtin(t, &datatype);
-        if (!b || b->pins.size() != t->fb->pins.size() || b->params.size() != t->fb->params.size()) break;
+        // Its links (VAR_IN_OUT AXIS_REF) follow the registry's pins.
+        if (!b || b->pins.size() + b->links.size() != t->fb->pins.size() || b->params.size() != t->fb->params.size())
+          break;
         BuiltinLayout l = builtin_layout(*t->fb);
         for (std::size_t k = 0; k < b->pins.size(); ++k) {
           const PinDecl& pin = b->pins[k];
@@ -197,7 +199,7 @@ void CodeGen::default_image(const Type* t, Cell* at, const std::string& spelt, s
             c = parse_value(pin.cls == TypeClass::Exact ? pin.type : datatype, pin.init, &why);
           }
           if (!c) continue;
-          const std::uint32_t end = k + 1 < b->pins.size() ? l.pin_at[k + 1] : l.cells;
+          const std::uint32_t end = k + 1 < l.pin_at.size() ? l.pin_at[k + 1] : l.cells;
           for (std::uint32_t i = l.pin_at[k]; i < end; ++i) at[i] = *c;  // an array pin: every element
         }
         out_->block_slots[pou].push_back({b, off, t->fb, std::move(l.pin_at), datatype});

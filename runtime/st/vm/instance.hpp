@@ -48,6 +48,16 @@ class Instance {
   const char* last_fault() const noexcept { return vm_.last_fault; }
   // Binds VAR_EXTERNAL `name` of the instance's POU to a cell outside (a tag).
   bool bind_external(std::string_view name, Cell* cell) noexcept;
+  // The block instances its AXIS_REFs name (Vm::targets): `n` of them,
+  // sized at load; set_target runs between scans (StBlock::link).
+  void set_target_count(std::uint32_t n) {
+    targets_.assign(n, nullptr);
+    vm_.targets = targets_.data();
+    vm_.target_count = n;
+  }
+  void set_target(std::uint32_t k, Block* target) noexcept {
+    if (k < targets_.size()) targets_[k] = target;
+  }
   // Every VAR_EXTERNAL reference cell of the frame, nested FB instances' too:
   // (cell, name), for the owner to bind.
   const std::vector<std::pair<std::uint32_t, std::string>>& externals() const noexcept { return externals_; }
@@ -66,6 +76,7 @@ class Instance {
   std::vector<std::unique_ptr<Block>> blocks_;
   std::vector<std::unique_ptr<Cell*[]>> pins_;
   std::vector<std::pair<std::uint32_t, std::string>> externals_;
+  std::vector<Block*> targets_;
   Vm vm_;
 };
 

@@ -216,6 +216,33 @@ inline bool in_scratch(const Vm& vm, const Cell* p) noexcept {
   return at >= from && at < from + vm.module->scratch_cells * sizeof(Cell);
 }
 
+// Links `link` of the built-in block at `base` to the targets its AXIS_REF
+// pin (at base + pin: a reference, then per element the Block* last linked)
+// names. Only a changed target calls Block::link: a compare per scan. An
+// AXIS_REF naming no target (a variable never given an axis) faults at
+// `site`; the block keeps the target it had.
+inline void link_block(Vm& vm, Cell* base, std::uint32_t pin, std::uint32_t link, std::uint32_t n,
+                       std::uint32_t site) noexcept {
+  Block* b = reinterpret_cast<Block*>(static_cast<std::uintptr_t>(base[0].raw));
+  const Cell* refs = ptr(base[pin]);
+  Cell* linked = base + pin + 1;
+  for (std::uint32_t e = 0; e < n; ++e) {
+    const std::uint64_t k = refs[e].raw;
+    if (k == 0 || k > vm.target_count) {
+      vm.fault(site, static_cast<double>(e + 1));
+      continue;
+    }
+    Block* target = vm.targets[k - 1];
+    if (!target) {  // not linked by the owner (a VM without a project)
+      vm.fault(site, static_cast<double>(e + 1));
+      continue;
+    }
+    if (linked[e].raw == reinterpret_cast<std::uintptr_t>(target)) continue;
+    linked[e].raw = reinterpret_cast<std::uintptr_t>(target);
+    b->link(static_cast<int>(link), e, *target);
+  }
+}
+
 // The one function with the labels: run() with frame == nullptr hands out the
 // label table instead of running (how finalize() learns the addresses).
 //
@@ -391,6 +418,13 @@ L_CALL_BLOCK_REF: {
   if (ip->c) end_of_scan_guarded(*b, *vm.ctx);
   NEXT();
 }
+L_LINK_BLOCK:
+  link_block(vm, f + ip->a, ip->b, ip->c, ip->d, ip->site);
+  NEXT();
+L_LINK_BLOCK_REF:
+  if (in_scratch(vm, ptr(f[ip->a]))) NEXT();  // as CALL_BLOCK_REF
+  link_block(vm, ptr(f[ip->a]), ip->b, ip->c, ip->d, ip->site);
+  NEXT();
 L_CONV: {
   bool out_of_range = false;
   f[ip->a] = m.conversions[ip->d](f[ip->b], &out_of_range);

@@ -47,13 +47,27 @@ class StBlock final : public Block {
     for (const auto& [cell, name] : instance_.externals()) {
       const int pin = t.pin_index(name + kExternalReadSuffix);
       if (pin >= 0) externals_.push_back({pin, cell});
+      // An AXIS_REF (VAR_EXTERNAL X : AXIS_REF) refers to the cell holding its link's number.
+      if (const int l = t.link_index(name); l >= 0) refs_.push_back({l, cell});
     }
+    ref_values_.assign(t.links.size(), Cell{});
+    instance_.set_target_count(static_cast<std::uint32_t>(t.links.size()));
+  }
+
+  // VAR_EXTERNAL X : AXIS_REF reaches the instance the loader linked as X.
+  void link(int link, std::uint32_t element, Block& target) noexcept override {
+    (void)element;
+    instance_.set_target(static_cast<std::uint32_t>(link), &target);
   }
 
   void execute(ScanContext& ctx) noexcept override {
     Cell* frame = instance_.frame();
     // The references follow the pins (bound again when an online change moves the block).
     for (const PinCell& e : externals_) frame[e.cell].raw = reinterpret_cast<std::uintptr_t>(pin_cell(e.pin));
+    // Each AXIS_REF's number, set again (the POU may have assigned to it).
+    for (std::size_t k = 0; k < ref_values_.size(); ++k) ref_values_[k].raw = k + 1;
+    for (const PinCell& r : refs_)
+      frame[r.cell].raw = reinterpret_cast<std::uintptr_t>(&ref_values_[static_cast<std::size_t>(r.pin)]);
     for (const PinCell& in : inputs_) frame[in.cell] = *pin_cell(in.pin);
     if (!instance_.scan(ctx, budget_)) ctx.fault(instance_.stopped());
     for (const PinCell& out : outputs_) *pin_cell(out.pin) = frame[out.cell];
@@ -88,6 +102,8 @@ class StBlock final : public Block {
   std::shared_ptr<const StUnit> unit_;  // the module, its checked program and sources live as long as the block
   Instance instance_;
   std::vector<PinCell> inputs_, outputs_, externals_;
+  std::vector<PinCell> refs_;     // (link, reference cell) of each AXIS_REF VAR_EXTERNAL
+  std::vector<Cell> ref_values_;  // link k's AXIS_REF value: k + 1
 
   // The frame lives in its pin: published, monitored and forced like pins.
   // Bound at the load, it moves there with its initial values; bound again
@@ -136,6 +152,7 @@ void type_leaves(const Module& m, const Type* t, std::uint32_t at, const std::st
         const BuiltinLayout l = builtin_layout(*t->fb);
         for (std::size_t k = 0; k < t->fb->pins.size(); ++k) {
           const Pin& pin = t->fb->pins[k];
+          if (pin.dir == PinDir::InOut) continue;  // a link: a reference, and the target last linked
           out.push_back({path + "." + pin.name, pin.type->name, at + l.pin_at[k], frame_cells_of(m, pin.type), retain,
                          persistent});
         }
@@ -277,7 +294,8 @@ struct MonitorWalk {
         if (ty->fb->builtin) {
           const BuiltinLayout l = builtin_layout(*ty->fb);
           for (std::size_t k = 0; k < ty->fb->pins.size(); ++k)
-            type(ty->fb->pins[k].type, at + l.pin_at[k], path + "." + ty->fb->pins[k].name, depth + 1);
+            if (ty->fb->pins[k].dir != PinDir::InOut)  // a link: a reference
+              type(ty->fb->pins[k].type, at + l.pin_at[k], path + "." + ty->fb->pins[k].name, depth + 1);
         } else if (const int fp = m.find(ty->fb->name); fp >= 0) {
           pou_vars(static_cast<std::uint32_t>(fp), at, path + ".", depth + 1, nullptr);
         }
@@ -368,6 +386,20 @@ std::optional<BlockTypeInfo> st_block_type(std::shared_ptr<const StUnit> unit, s
   }
   std::vector<Written> written;
   for (const StExternal& e : st_externals(*unit, pou)) {
+    // VAR_EXTERNAL X : AXIS_REF: a link to the MC_AXIS instance X of the
+    // project (docs/st.md, "Motion control blocks"), ordered before this one.
+    if (!e.type->ref_target.empty()) {
+      t.links.push_back({e.name, e.type->ref_target,
+                         fmt::format("VAR_EXTERNAL {} : {}: the {} instance {} ({})", e.name, e.type->name,
+                                     e.type->ref_target, e.name, e.loc.text())});
+      continue;
+    }
+    if (e.type->kind == Type::Kind::Array && !e.type->element->ref_target.empty()) {
+      *why = fmt::format("{}: VAR_EXTERNAL {} : {}: an {} is declared one by one (VAR_EXTERNAL X : {}), an array "
+                         "of them is a variable of the POU",
+                         e.loc.text(), e.name, e.type->name, e.type->element->name, e.type->element->name);
+      return std::nullopt;
+    }
     // An elementary tag, or an array tag as ARRAY[lo..hi] OF an elementary type.
     const Type* element = e.type;
     std::uint32_t count = 1;

@@ -29,7 +29,8 @@ BuiltinLayout builtin_layout(const FbType& fb) {
   l.pin_at.reserve(fb.pins.size());
   for (const Pin& p : fb.pins) {
     l.pin_at.push_back(l.cells);
-    l.cells += p.type->kind == Type::Kind::Array ? static_cast<std::uint32_t>(p.type->element_count()) : 1;
+    const std::uint32_t n = p.type->kind == Type::Kind::Array ? static_cast<std::uint32_t>(p.type->element_count()) : 1;
+    l.cells += p.dir == PinDir::InOut ? 1 + n : n;
   }
   return l;
 }

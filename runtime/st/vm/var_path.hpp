@@ -37,7 +37,9 @@ std::uint32_t frame_cells_of(const Module& m, const Type* t);
 // Block*, at 0): the one layout the code generator, var_path and the
 // instance's binding share. Each pin takes its cells in declaration order,
 // an array pin one per element (pin_at[k] its first, the cell
-// Block::bind_pins points pin k at).
+// Block::bind_pins points pin k at). A link pin (a VAR_IN_OUT AXIS_REF, or
+// ARRAY OF AXIS_REF) takes one reference cell, then per element a cell
+// holding the Block* it was last linked to (LINK_BLOCK compares it).
 struct BuiltinLayout {
   std::vector<std::uint32_t> pin_at;
   std::uint32_t cells = 1;  // the Block* cell and every pin's

@@ -25,6 +25,12 @@ struct Vm {
   std::uint64_t faults = 0;
   const char* last_fault = nullptr;
 
+  // The block instances of the project the POU's AXIS_REFs name: an
+  // AXIS_REF holds k + 1 for targets[k] (0: none). Set by the owner
+  // (StBlock::link) before the first scan and after every online change.
+  Block* const* targets = nullptr;
+  std::uint32_t target_count = 0;
+
   void fault(std::uint32_t site, double value = 0) noexcept;
 };
 
