@@ -1,6 +1,10 @@
 // The axis's numbers in words (axis_texts.hpp).
 #include "fblocks/plcopen/axis_texts.hpp"
 
+// A command kind or error the axis gains without its words here fails the
+// build, not the operator's faceplate (which would show "unknown").
+#pragma GCC diagnostic error "-Wswitch"
+
 namespace syncplc::plcopen {
 
 const char* command_kind_name(CommandKind k) noexcept {
@@ -41,6 +45,8 @@ const char* axis_error_text(AxisError e) noexcept {
     case AxisError::FeedbackLost: return "the drive's feedback is stale";
     case AxisError::SoftLimit: return "a continuous move reached a software limit";
     case AxisError::HomingFailed: return "MC_Home found no reference switch within home_max_distance";
+    case AxisError::DriveHomingError: return "the drive reported a homing error (MC_Home, home_mode 3)";
+    case AxisError::HomingTimeout: return "the drive's homing not attained within home_timeout";
   }
   return "unknown error";
 }
