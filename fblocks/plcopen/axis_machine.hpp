@@ -24,6 +24,7 @@
 #include <cstdint>
 
 #include "fblocks/motion/nonlinear_filter_math.hpp"
+#include "fblocks/plcopen/axis_jerk.hpp"
 
 namespace syncplc::plcopen {
 
@@ -332,6 +333,10 @@ class AxisMachine {
   DriveCommand out_{};
   motion::FilterState set_{};  // set position and velocity
   double set_a_ = 0;
+  double last_a_ = 0;          // the set acceleration over the last sample (set_.v's change / T)
+  // A jerk-limited command's set values: the average of its inner profile
+  // over the window (axis_jerk.hpp); length 1 for the others.
+  JerkWindow window_{};
   double offset_ = 0;          // user position = drive position + offset_ (MC_SetPosition, MC_Home)
   bool reset_pending_ = false;   // MC_Reset came while the drive was in fault
   bool stop_released_ = false;   // the active MC_Stop's Execute already fell
@@ -357,6 +362,8 @@ class AxisMachine {
   struct Step;
   Step profile_step(const Slot& s, const motion::FilterState& from) const noexcept;
   AxisError check_command(Command* c) const noexcept;
+  void begin_window(const Command& c) noexcept;
+  double lookahead_accel() const noexcept;
   void update_output() noexcept;
   void limit_commands() noexcept;
   void start_homing() noexcept;

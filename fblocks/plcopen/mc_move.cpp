@@ -154,7 +154,7 @@ void add_move(BlockRegistry& r, const MoveType& m) {
     p.deceleration = add(input("Deceleration", IecType::LREAL).doc("user units/s^2; 0: the axis's MaxDecelerationAppl"));
   }
   if (m.kind != CommandKind::Home)
-    p.jerk = add(input("Jerk", IecType::LREAL).doc("user units/s^3; 0: not jerk-limited (jerk-limited profiles: not yet)"));
+    p.jerk = add(input("Jerk", IecType::LREAL).doc("user units/s^3, > 0: a jerk-limited profile; 0: the axis's MaxJerkAppl (0 there too: not jerk-limited)"));
   if (m.direction)
     p.direction = add(input("Direction", IecType::INT).init("1")
                           .doc("MC_DIRECTION: 1 positive, 2 shortest way, 3 negative, 4 current"));
