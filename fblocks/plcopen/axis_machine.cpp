@@ -415,6 +415,7 @@ double AxisMachine::blend_target() const noexcept {
 void AxisMachine::start(const Slot& s, double base) noexcept {
   active_ = s;
   active_.start = set_.x;
+  active_.base = base;
   const Command& c = s.cmd;
   switch (c.kind) {
     case CommandKind::MoveAbsolute:

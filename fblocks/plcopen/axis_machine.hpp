@@ -245,6 +245,14 @@ class AxisMachine {
   // else its id.
   CommandId submit(const Command& c, AxisError* error) noexcept;
   CommandReport report(CommandId id) const noexcept;
+  // ContinuousUpdate (§2.4.1, axis_update.cpp): new inputs for a discrete
+  // move that is still Active or Buffered, checked as at submit (its
+  // BufferMode stays). The active move re-targets in flight from its set
+  // values: MoveAbsolute to the new position, MoveRelative to the distance
+  // from where it started, MoveAdditive from the goal it was added to.
+  // Returns None (also when the command has ended: nothing to update) or
+  // the reason the new inputs are refused (the command goes on unchanged).
+  AxisError update(CommandId id, const Command& c) noexcept;
   // MC_Stop's Execute fell: the axis leaves Stopping once that stop is Done.
   void release_stop(CommandId id) noexcept;
   // MC_SetPosition: in Standstill or Disabled, the position becomes p
@@ -305,6 +313,7 @@ class AxisMachine {
     double goal = 0;  // continuous target position of a discrete move (resolved when it starts)
     bool goal_known = false;  // goal holds it (started, or predicted at submit)
     double start = 0;         // set position when it started (a discrete move's direction)
+    double base = 0;          // MoveRelative/MoveAdditive: what the distance is added to (at its start)
     std::uint8_t phase = 0;   // MC_Home with a switch: HomePhase
     double edge = 0;          // ... the actual position at the switch's rising edge
     // GroupMove: the sample its group fed for the next cycle.
