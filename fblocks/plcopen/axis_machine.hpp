@@ -246,7 +246,7 @@ class AxisMachine {
   CommandId submit(const Command& c, AxisError* error) noexcept;
   CommandReport report(CommandId id) const noexcept;
   // ContinuousUpdate (§2.4.1, axis_update.cpp): new inputs for a discrete
-  // move that is still Active or Buffered, checked as at submit (its
+  // move or MoveVelocity still Active or Buffered, checked as at submit (its
   // BufferMode stays). The active move re-targets in flight from its set
   // values: MoveAbsolute to the new position, MoveRelative to the distance
   // from where it started, MoveAdditive from the goal it was added to.

@@ -1,6 +1,6 @@
-// ContinuousUpdate of the discrete moves (PLCopen Part 1 v2.0 §2.4.1, the
-// input ContinuousUpdate): new inputs for a command that is still Active or
-// Buffered. The profile needs no re-planning: the filter (and the jerk
+// ContinuousUpdate of the discrete moves and MC_MoveVelocity (PLCopen Part 1
+// v2.0 §2.4.1, the input ContinuousUpdate): new inputs for a command that is
+// still Active or Buffered. The profile needs no re-planning: the filter (and the jerk
 // window) is memoryless in its goal, so the active move simply tracks the new
 // goal from the state it is in, and its remaining scans are those of the new
 // goal from there.
@@ -21,7 +21,8 @@ AxisError AxisMachine::update(CommandId id, const Command& in) noexcept {
       if (queue_[i].id == id) s = &queue_[i];
   }
   if (s == nullptr) return AxisError::None;  // ended: nothing left to update
-  if (!is_move(s->cmd.kind) || in.kind != s->cmd.kind) return AxisError::BadParameter;
+  const bool velocity_move = s->cmd.kind == CommandKind::MoveVelocity;
+  if ((!is_move(s->cmd.kind) && !velocity_move) || in.kind != s->cmd.kind) return AxisError::BadParameter;
   Command c = in;
   c.buffer = s->cmd.buffer;  // how it joined the queue is history
   const AxisError e = check_command(&c);
@@ -29,18 +30,19 @@ AxisError AxisMachine::update(CommandId id, const Command& in) noexcept {
 
   double goal = s->goal;
   bool known = s->goal_known;
-  if (s == &active_) {
+  // MC_MoveVelocity has no goal: its ramp goes on from the set velocity to the new one.
+  if (!velocity_move && s == &active_) {
     if (c.kind == CommandKind::MoveAbsolute)
       goal = appl_.modulo > 0 ? modulo_goal(set_.x, set_.v, c.position, appl_.modulo, c.direction) : c.position;
     else
       goal = s->base + c.position;  // Relative: from where it started; Additive: from the goal it was added to
     known = true;
-  } else if (known) {
+  } else if (!velocity_move && known) {
     // Waiting: its goal is resolved again when it starts; the prediction
     // (for blending and the limit check) moves with the input.
     goal = c.kind == CommandKind::MoveAbsolute ? c.position : s->goal - s->cmd.position + c.position;
   }
-  if (known && ((appl_.sw_limit_pos_on && goal > appl_.sw_limit_pos) ||
+  if (!velocity_move && known && ((appl_.sw_limit_pos_on && goal > appl_.sw_limit_pos) ||
                 (appl_.sw_limit_neg_on && goal < appl_.sw_limit_neg)))
     return AxisError::BadPosition;
   s->cmd = c;

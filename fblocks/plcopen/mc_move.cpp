@@ -159,10 +159,14 @@ void add_move(BlockRegistry& r, const MoveType& m) {
     return static_cast<int>(t.pins.size() - 1);
   };
   p.execute = add(input("Execute", IecType::BOOL).doc("rising edge: the command starts, with the inputs sampled now"));
-  if (m.kind == CommandKind::MoveAbsolute || m.kind == CommandKind::MoveRelative || m.kind == CommandKind::MoveAdditive)
+  if (m.kind == CommandKind::MoveAbsolute || m.kind == CommandKind::MoveRelative || m.kind == CommandKind::MoveAdditive ||
+      m.kind == CommandKind::MoveVelocity)
     p.continuous_update = add(input("ContinuousUpdate", IecType::BOOL)
-                                  .doc("TRUE at the edge: changes of the inputs while Busy re-target the move in flight "
-                                       "(Distance from where the move started; BufferMode stays)"));
+                                  .doc(m.kind == CommandKind::MoveVelocity
+                                           ? "TRUE at the edge: changes of the inputs while Busy change the velocity to reach "
+                                             "in flight (BufferMode stays)"
+                                           : "TRUE at the edge: changes of the inputs while Busy re-target the move in flight "
+                                             "(Distance from where the move started; BufferMode stays)"));
   if (m.position)
     p.position = add(input(m.position, IecType::LREAL)
                          .doc(std::string(m.position) == "Position" ? "target position, user units"

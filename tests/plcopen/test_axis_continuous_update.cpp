@@ -1,4 +1,4 @@
-// ContinuousUpdate of the discrete moves (AxisMachine::update,
+// ContinuousUpdate of the discrete moves and MC_MoveVelocity (AxisMachine::update,
 // fblocks/plcopen/axis_update.cpp; PLCopen Part 1 v2.0 §2.4.1): a move
 // re-targeted in flight, on the axis alone, scan by scan.
 #include <cmath>
@@ -99,6 +99,39 @@ TEST(AxisContinuousUpdate, ABufferedMoveTakesItsNewInputsWhenItStarts) {
   r.run_until_end(b);
   EXPECT_EQ(r.status(b), CommandStatus::Done);
   EXPECT_EQ(r.m.set_position(), -1);
+}
+
+TEST(AxisContinuousUpdate, AVelocityMoveRampsToItsNewVelocity) {
+  for (double jerk : {0.0, 4000.0}) {
+    const double T = 0.001;
+    Rig r(default_limits(), T);  // v 2, a 20, d 40
+    r.power_up();
+    Command c = move_velocity(1);
+    c.jerk = jerk;
+    const CommandId id = r.submit(c);
+    int guard = 0;
+    while (!r.m.report(id).in_velocity && ++guard < 10000) r.scan();
+    ASSERT_TRUE(r.m.report(id).in_velocity);
+    c.velocity = -0.5;
+    ASSERT_EQ(r.m.update(id, c), AxisError::None);
+    EXPECT_FALSE(r.m.report(id).in_velocity);
+    double v_prev = r.m.set_velocity(), a_prev = 0, worst_jerk = 0;
+    guard = 0;
+    while (!r.m.report(id).in_velocity && ++guard < 10000) {
+      r.scan();
+      const double a = (r.m.set_velocity() - v_prev) / T;
+      ASSERT_GE(a, -40 * (1 + 1e-9));  // slowing down from +1 with d, then speeding up in - with a
+      ASSERT_LE(std::fabs(a), 40 * (1 + 1e-9));
+      worst_jerk = std::fmax(worst_jerk, std::fabs(a - a_prev) / T);
+      a_prev = a;
+      v_prev = r.m.set_velocity();
+    }
+    SCOPED_TRACE(::testing::Message() << "jerk " << jerk);
+    ASSERT_TRUE(r.m.report(id).in_velocity);
+    EXPECT_EQ(r.m.set_velocity(), -0.5);
+    EXPECT_EQ(r.status(id), CommandStatus::Active);  // a velocity move is never Done
+    if (jerk > 0) EXPECT_LE(worst_jerk, jerk * (1 + 1e-6));
+  }
 }
 
 TEST(AxisContinuousUpdate, RefusedInputsLeaveTheMoveAsItWas) {
