@@ -218,7 +218,10 @@ void AxisMachine::cycle(const DriveFeedback& fb) noexcept {
       advance();
       break;
   }
-  last_a_ = (set_.v - v_before) / T_;
+  // The acceleration a jerk-limited command continues from: none at rest
+  // (entering Standstill drops the velocity the set values took from the
+  // drive while Disabled; that step is not a profile's acceleration).
+  last_a_ = state_ == AxisState::Standstill || state_ == AxisState::Disabled ? 0 : (set_.v - v_before) / T_;
   update_output();
 }
 

@@ -265,6 +265,31 @@ TEST(AxisJerk, VelocityRampIsJerkLimitedAndReachesTheVelocityExactly) {
   EXPECT_EQ(r.m.set_velocity(), 0);
 }
 
+TEST(AxisJerk, AMoveRightAfterPowerUpStartsFromRestWhateverTheDriveDidWhileDisabled) {
+  // While Disabled the set values follow the drive (here still turning at
+  // 0.5 u/s); Standstill sets the velocity to 0. That step is no acceleration
+  // of a profile: a jerk-limited move given in the first Standstill scan starts
+  // from rest, forward only.
+  const double T = 0.001;
+  Rig r(jerk_limits(2, 20, 20, 4000), T);
+  r.d.velocity = 0.5;
+  r.power = true;
+  r.scan();  // Disabled: the set values take the drive's velocity
+  r.scan();  // Standstill
+  ASSERT_EQ(r.m.state(), AxisState::Standstill);
+  const double x0 = r.m.set_position();
+  const CommandId id = r.submit(move_absolute(x0 + 1, 1));
+  double x_prev = x0;
+  int guard = 0;
+  while (r.status(id) == CommandStatus::Active && ++guard < 100000) {
+    r.scan();
+    ASSERT_GE(r.m.set_position(), x_prev) << "moves back at scan " << guard;
+    x_prev = r.m.set_position();
+  }
+  EXPECT_EQ(r.status(id), CommandStatus::Done);
+  EXPECT_EQ(r.m.set_position(), x0 + 1);
+}
+
 TEST(AxisJerk, JerkInputErrors) {
   Rig r(jerk_limits(2, 20, 40, 5000));
   r.power_up();
