@@ -5,6 +5,8 @@
 //                        blocks taking turns (every new target is a rising
 //                        Execute edge, BufferMode Aborting), on an ideal drive
 //                        (actual = set); one iteration is one scan of all of them
+//   BM_AxisMoveJerk/n    BM_AxisMove with Jerk 400 on every move (jerk-limited:
+//                        a window of 5-10 samples, docs/motion/jerk-profile.md)
 //   BM_AxisStandstill/n  the same axes powered and standing: the floor
 //   BM_SyncTargets/n     TRANSIENT_SYNC with n filters on the same targets
 //                        (r_dot = 0), unified rule; rule 2 (unsynchronized)
@@ -78,7 +80,7 @@ struct AxisRig {
   Cell *actual, *set, *exec[2], *pos[2];
   int turn = 0;
 
-  AxisRig(double v, double a) {
+  AxisRig(double v, double a, double jerk = 0) {
     BlockHarness::Options o = opts({{"v_max", "6"}, {"a_max", "40"}, {"d_max", "40"}});
     o.connected = std::set<std::string>{"actual_position"};  // an ideal drive: power on follows enable
     axis = std::make_unique<BlockHarness>(builtin_blocks(), "MC_AXIS", o);
@@ -91,6 +93,7 @@ struct AxisRig {
       move[m]->set<double>("Velocity", v);
       move[m]->set<double>("Acceleration", a);
       move[m]->set<double>("Deceleration", a);
+      move[m]->set<double>("Jerk", jerk);
       exec[m] = &move[m]->cell("Execute");
       pos[m] = &move[m]->cell("Position");
     }
@@ -117,12 +120,12 @@ struct AxisRig {
   }
 };
 
-void axis_bench(benchmark::State& state, bool moving) {
+void axis_bench(benchmark::State& state, bool moving, double jerk = 0) {
   const int n = static_cast<int>(state.range(0));
   Targets t = make_targets(n, 5);
   std::vector<std::unique_ptr<AxisRig>> rigs;
   for (int i = 0; i < n; ++i) {
-    rigs.push_back(std::make_unique<AxisRig>(t.v[static_cast<std::size_t>(i)], t.a[static_cast<std::size_t>(i)]));
+    rigs.push_back(std::make_unique<AxisRig>(t.v[static_cast<std::size_t>(i)], t.a[static_cast<std::size_t>(i)], jerk));
     if (!rigs.back()->axis->ok()) {
       state.SkipWithError("MC_AXIS did not build");
       return;
@@ -147,7 +150,9 @@ void axis_bench(benchmark::State& state, bool moving) {
 }
 void BM_AxisMove(benchmark::State& state) { axis_bench(state, true); }
 void BM_AxisStandstill(benchmark::State& state) { axis_bench(state, false); }
+void BM_AxisMoveJerk(benchmark::State& state) { axis_bench(state, true, 400); }
 BENCHMARK(BM_AxisMove)->Arg(1)->Arg(6)->Arg(100);
+BENCHMARK(BM_AxisMoveJerk)->Arg(1)->Arg(6)->Arg(100);
 BENCHMARK(BM_AxisStandstill)->Arg(1)->Arg(100);
 
 // n axes moved together by MC_GroupMoveAbsolute (one block, its links set

@@ -13,6 +13,7 @@ PACKAGES=(
   libxbyak-dev  # native code for compiled ST on x86-64 (runtime/st/vm/native_x64.cpp)
   libgtest-dev libgmock-dev libbenchmark-dev
   python3-pymodbus python3-serial-asyncio mbpoll  # Modbus peer tests; pymodbus's client needs serial-asyncio
+  python3-cvxopt  # tests/plcopen/test_jerk_lp.py: the jerk-limited profiles against GLPK's LP (python3-scipy would pull libboost1.74-dev, which conflicts with 1.81)
   rt-tests
   openssl  # tests/peers/test_http_tls.py makes a certificate
   curl  # the HTTP API's examples (docs/http-api.md) run as written

@@ -46,8 +46,15 @@ AxisError AxisMachine::check_command(Command* c) const noexcept {
   if ((is_move(k) || k == CommandKind::MoveVelocity) && !resolve_rate(&c->acceleration, appl_.a_max))
     return AxisError::BadAcceleration;
   if (!resolve_rate(&c->deceleration, appl_.d_max)) return AxisError::BadDeceleration;
-  // Profiles are not jerk-limited yet: a jerk asked for is refused, not ignored.
-  if (!std::isfinite(c->jerk) || c->jerk != 0) return AxisError::BadJerk;
+  // Jerk: finite, >= 0, at most MaxJerkAppl when the axis has one; 0 = the
+  // axis's MaxJerkAppl (0 there too: not jerk-limited). The window the
+  // profile needs must fit (JerkWindow::kCapacity samples).
+  if (!std::isfinite(c->jerk) || c->jerk < 0 || (appl_.j_max > 0 && c->jerk > appl_.j_max)) return AxisError::BadJerk;
+  if (c->jerk == 0) c->jerk = appl_.j_max;
+  if (c->jerk > 0) {
+    const double U = std::fmax(c->acceleration, c->deceleration);
+    if (JerkWindow::length_for(U, U, c->jerk, T_) > JerkWindow::kCapacity) return AxisError::BadJerk;
+  }
   if (k != CommandKind::Stop) {
     const auto bm = static_cast<unsigned>(c->buffer);
     if (bm > static_cast<unsigned>(BufferMode::BlendingHigh)) return AxisError::BadBufferMode;

@@ -65,13 +65,19 @@ std::int64_t AxisMachine::remaining_scans() const noexcept {
   switch (c.kind) {
     case CommandKind::MoveVelocity: return -1;
     case CommandKind::Halt:
-    case CommandKind::Stop: return ramp_remaining(set_.v, c.deceleration, T_);
+    case CommandKind::Stop:
+      if (window_.averaging()) return window_.remaining(ramp_remaining(window_.inner().v, c.deceleration, T_));
+      return ramp_remaining(set_.v, c.deceleration, T_);
     case CommandKind::GroupMove: return active_.fed_remaining;
     case CommandKind::Home:
       // Set here: one cycle; a switch search has no known end until it brakes.
       if (homing_.mode == HomingConfig::Mode::SetHere || active_.phase == 0) return 1;
       return active_.phase == kHomeBrake ? ramp_remaining(set_.v, appl_.d_max, T_) : -1;
-    default: return discrete_remaining(set_, blend_target(), c.velocity, c.acceleration, c.deceleration, T_);
+    default:
+      if (window_.averaging())
+        return window_.remaining(
+            discrete_remaining(window_.inner(), blend_target(), c.velocity, c.acceleration, c.deceleration, T_));
+      return discrete_remaining(set_, blend_target(), c.velocity, c.acceleration, c.deceleration, T_);
   }
 }
 
@@ -167,6 +173,7 @@ AxisError AxisMachine::set_position(double p, bool relative) noexcept {
 
 void AxisMachine::cycle(const DriveFeedback& fb) noexcept {
   fb_ = fb;
+  const double v_before = set_.v;
   const double actual = fb.position + offset_;
 
   // Errors (§2.2): a drive fault from any state; the others while enabled.
@@ -213,6 +220,10 @@ void AxisMachine::cycle(const DriveFeedback& fb) noexcept {
       advance();
       break;
   }
+  // The acceleration a jerk-limited command continues from: none at rest
+  // (entering Standstill drops the velocity the set values took from the
+  // drive while Disabled; that step is not a profile's acceleration).
+  last_a_ = state_ == AxisState::Standstill || state_ == AxisState::Disabled ? 0 : (set_.v - v_before) / T_;
   update_output();
 }
 
@@ -295,16 +306,26 @@ void AxisMachine::advance() noexcept {
     }
     active_.fed_now = false;
   }
-  const Step step = profile_step(active_, set_);
+  // A jerk-limited command steps its inner profile; the set values are the
+  // window's average (axis_jerk.hpp).
+  const bool averaged = window_.averaging();
+  const Step step = profile_step(active_, averaged ? window_.inner() : set_);
   // A drive homing itself may pass the software limits (they are not yet
   // known to be right): the set values only follow it then.
-  if (!drive_homing() && passes_limit(step.p.next)) {
+  if (!drive_homing() && passes_limit(averaged ? window_.peek(step.p.next) : step.p.next)) {
     enter_error(AxisError::SoftLimit);
     brake(system_.d_max);
     return;
   }
-  set_ = step.p.next;
+  const double v_prev = set_.v;
   bool done = step.p.done;
+  if (averaged) {
+    set_ = window_.push(step.p.next, step.p.done);
+    done = window_.settled();
+  } else {
+    set_ = step.p.next;
+  }
+  last_a_ = (set_.v - v_prev) / T_;  // a command started below continues from it
   if (!done && is_move(active_.cmd.kind) && blend_target() != active_.goal) {
     // Blending (§2.4.2): the move is Done where it passes its goal, the next one
     // takes over from the set values there.
@@ -341,7 +362,16 @@ void AxisMachine::advance() noexcept {
       promote_or_stand(is_move(ended.cmd.kind) ? ended.goal : set_.x);
     }
   }
-  set_a_ = active_.id != 0 ? profile_step(active_, set_).p.a : 0;
+  set_a_ = lookahead_accel();
+}
+
+// The set acceleration over the coming sample (the active profile's next step, not taken).
+double AxisMachine::lookahead_accel() const noexcept {
+  if (active_.id == 0) return 0;
+  if (!window_.averaging()) return profile_step(active_, set_).p.a;
+  const Step ahead = profile_step(active_, window_.inner());
+  if (window_.settled() && ahead.p.done) return 0;
+  return (window_.peek(ahead.p.next).v - set_.v) / T_;
 }
 
 void AxisMachine::promote_or_stand(double base) noexcept {
@@ -394,6 +424,7 @@ double AxisMachine::blend_target() const noexcept {
 void AxisMachine::start(const Slot& s, double base) noexcept {
   active_ = s;
   active_.start = set_.x;
+  active_.base = base;
   const Command& c = s.cmd;
   switch (c.kind) {
     case CommandKind::MoveAbsolute:
@@ -404,10 +435,22 @@ void AxisMachine::start(const Slot& s, double base) noexcept {
     default: active_.goal = set_.x; break;
   }
   active_.goal_known = true;
+  begin_window(c);
   state_ = state_of(c.kind);
   stop_released_ = false;
   if (c.kind == CommandKind::Home) start_homing();
   if (c.kind == CommandKind::GroupMove) active_.goal = c.position;
+}
+
+// The window of the command that starts: its jerk (resolved at submit; 0 for
+// MC_Home, group moves and the axis's own halts) and its acceleration bound.
+void AxisMachine::begin_window(const Command& c) noexcept {
+  const bool jerk_limited = c.jerk > 0 && c.kind != CommandKind::Home && c.kind != CommandKind::GroupMove;
+  const double U = c.kind == CommandKind::Halt || c.kind == CommandKind::Stop ? c.deceleration
+                                                                                : std::fmax(c.acceleration, c.deceleration);
+  const double U_old = window_.in_step_with(set_) ? window_.accel_bound() : std::fabs(last_a_);
+  const std::int64_t m = jerk_limited ? JerkWindow::length_for(U, U_old, c.jerk, T_) : 1;
+  window_.begin(m, U, set_, last_a_, T_);
 }
 
 void AxisMachine::feed(CommandId id, const FilterState& next, double a, std::int64_t remaining, bool done) noexcept {

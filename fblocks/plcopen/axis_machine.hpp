@@ -24,6 +24,7 @@
 #include <cstdint>
 
 #include "fblocks/motion/nonlinear_filter_math.hpp"
+#include "fblocks/plcopen/axis_jerk.hpp"
 
 namespace syncplc::plcopen {
 
@@ -256,6 +257,14 @@ class AxisMachine {
   // else its id.
   CommandId submit(const Command& c, AxisError* error) noexcept;
   CommandReport report(CommandId id) const noexcept;
+  // ContinuousUpdate (§2.4.1, axis_update.cpp): new inputs for a discrete
+  // move or MoveVelocity still Active or Buffered, checked as at submit (its
+  // BufferMode stays). The active move re-targets in flight from its set
+  // values: MoveAbsolute to the new position, MoveRelative to the distance
+  // from where it started, MoveAdditive from the goal it was added to.
+  // Returns None (also when the command has ended: nothing to update) or
+  // the reason the new inputs are refused (the command goes on unchanged).
+  AxisError update(CommandId id, const Command& c) noexcept;
   // MC_Stop's Execute fell: the axis leaves Stopping once that stop is Done.
   void release_stop(CommandId id) noexcept;
   // MC_SetPosition: in Standstill or Disabled, the position becomes p
@@ -317,6 +326,7 @@ class AxisMachine {
     double goal = 0;  // continuous target position of a discrete move (resolved when it starts)
     bool goal_known = false;  // goal holds it (started, or predicted at submit)
     double start = 0;         // set position when it started (a discrete move's direction)
+    double base = 0;          // MoveRelative/MoveAdditive: what the distance is added to (at its start)
     std::uint8_t phase = 0;   // MC_Home with a switch: HomePhase
     double edge = 0;          // ... the actual position at the switch's rising edge
     std::int64_t waited = 0;  // MC_Home by the drive: cycles waited (home_timeout)
@@ -346,6 +356,10 @@ class AxisMachine {
   DriveCommand out_{};
   motion::FilterState set_{};  // set position and velocity
   double set_a_ = 0;
+  double last_a_ = 0;          // the set acceleration over the last sample (set_.v's change / T)
+  // A jerk-limited command's set values: the average of its inner profile
+  // over the window (axis_jerk.hpp); length 1 for the others.
+  JerkWindow window_{};
   double offset_ = 0;          // user position = drive position + offset_ (MC_SetPosition, MC_Home)
   bool reset_pending_ = false;   // MC_Reset came while the drive was in fault
   bool stop_released_ = false;   // the active MC_Stop's Execute already fell
@@ -371,6 +385,8 @@ class AxisMachine {
   struct Step;
   Step profile_step(const Slot& s, const motion::FilterState& from) const noexcept;
   AxisError check_command(Command* c) const noexcept;
+  void begin_window(const Command& c) noexcept;
+  double lookahead_accel() const noexcept;
   void update_output() noexcept;
   void limit_commands() noexcept;
   void start_homing() noexcept;

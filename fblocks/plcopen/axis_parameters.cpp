@@ -73,7 +73,7 @@ AxisError AxisMachine::write_parameter(std::int16_t number, double value) noexce
     case AxisParameter::MaxVelocityAppl: ok = positive_upto(value, system_.v_max, &next.v_max); break;
     case AxisParameter::MaxAccelerationAppl: ok = positive_upto(value, system_.a_max, &next.a_max); break;
     case AxisParameter::MaxDecelerationAppl: ok = positive_upto(value, system_.d_max, &next.d_max); break;
-    case AxisParameter::MaxJerkAppl:  // 0 = not jerk-limited (stored only: profiles are not jerk-limited yet)
+    case AxisParameter::MaxJerkAppl:  // 0 = not jerk-limited; a command with Jerk 0 takes it when it starts
       ok = value >= 0 && value <= system_.j_max;
       next.j_max = value;
       break;

@@ -24,6 +24,7 @@ namespace {
 // Where a move block's pins are (-1: the type has no such pin).
 struct MovePins {
   int execute = 0;
+  int continuous_update = -1;  // the discrete moves (§2.4.1)
   int position = -1;  // Position or Distance
   int velocity = -1;
   int acceleration = -1;
@@ -44,8 +45,11 @@ class MoveBlock final : public McBlock {
     tracker_.update(in<bool>(p_.execute), m, [&](AxisError* e) -> CommandId {
       Command c;
       if (!sample(&c, e)) return 0;
+      follow_inputs_ = p_.continuous_update >= 0 && in<bool>(p_.continuous_update);
+      sampled_ = c;
       return axis_->submit(c, ctx.block, e);
     });
+    if (follow_inputs_ && tracker_.command() && tracker_.outputs().busy) continuous_update();
     if (kind_ == CommandKind::Stop && axis_) {
       // §3.3: the axis leaves Stopping once the stop is Done and its
       // Execute is FALSE.
@@ -69,6 +73,21 @@ class MoveBlock final : public McBlock {
 
  private:
   double real(int pin) const noexcept { return pin >= 0 ? in<double>(pin) : 0.0; }
+
+  // ContinuousUpdate TRUE at the edge (§2.4.1): while the command is Busy,
+  // inputs that changed go to the axis, which re-targets the move in flight.
+  // New inputs the axis refuses leave the command going on as it was.
+  void continuous_update() noexcept {
+    Command c;
+    AxisError e = AxisError::None;
+    if (!sample(&c, &e)) return;
+    if (c.position == sampled_.position && c.velocity == sampled_.velocity &&
+        c.acceleration == sampled_.acceleration && c.deceleration == sampled_.deceleration &&
+        c.jerk == sampled_.jerk && c.direction == sampled_.direction)
+      return;
+    sampled_ = c;  // a refused change is not offered again every scan
+    axis_->machine().update(tracker_.command(), c);
+  }
 
   // The inputs at the edge, as the axis's command; false with *e set for
   // an enumeration out of range.
@@ -114,6 +133,8 @@ class MoveBlock final : public McBlock {
   MovePins p_;
   ExecuteTracker tracker_;
   CommandId released_ = 0;
+  bool follow_inputs_ = false;  // ContinuousUpdate was TRUE at the edge
+  Command sampled_{};           // the inputs the axis has
 };
 
 // The pins in the standard's order: inputs, then outputs.
@@ -138,6 +159,14 @@ void add_move(BlockRegistry& r, const MoveType& m) {
     return static_cast<int>(t.pins.size() - 1);
   };
   p.execute = add(input("Execute", IecType::BOOL).doc("rising edge: the command starts, with the inputs sampled now"));
+  if (m.kind == CommandKind::MoveAbsolute || m.kind == CommandKind::MoveRelative || m.kind == CommandKind::MoveAdditive ||
+      m.kind == CommandKind::MoveVelocity)
+    p.continuous_update = add(input("ContinuousUpdate", IecType::BOOL)
+                                  .doc(m.kind == CommandKind::MoveVelocity
+                                           ? "TRUE at the edge: changes of the inputs while Busy change the velocity to reach "
+                                             "in flight (BufferMode stays)"
+                                           : "TRUE at the edge: changes of the inputs while Busy re-target the move in flight "
+                                             "(Distance from where the move started; BufferMode stays)"));
   if (m.position)
     p.position = add(input(m.position, IecType::LREAL)
                          .doc(std::string(m.position) == "Position" ? "target position, user units"
@@ -154,7 +183,7 @@ void add_move(BlockRegistry& r, const MoveType& m) {
     p.deceleration = add(input("Deceleration", IecType::LREAL).doc("user units/s^2; 0: the axis's MaxDecelerationAppl"));
   }
   if (m.kind != CommandKind::Home)
-    p.jerk = add(input("Jerk", IecType::LREAL).doc("user units/s^3; 0: not jerk-limited (jerk-limited profiles: not yet)"));
+    p.jerk = add(input("Jerk", IecType::LREAL).doc("user units/s^3, > 0: a jerk-limited profile; 0: the axis's MaxJerkAppl (0 there too: not jerk-limited)"));
   if (m.direction)
     p.direction = add(input("Direction", IecType::INT).init("1")
                           .doc("MC_DIRECTION: 1 positive, 2 shortest way, 3 negative, 4 current"));
