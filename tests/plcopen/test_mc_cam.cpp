@@ -48,7 +48,8 @@ std::string cam_project() {
   const std::string tags =
       "  - {name: vx, type: BOOL}\n  - {name: vslow, type: BOOL}\n  - {name: cam, type: BOOL}\n"
       "  - {name: cam2, type: BOOL}\n  - {name: shot, type: BOOL}\n  - {name: lin, type: BOOL}\n"
-      "  - {name: bad, type: BOOL}\n  - {name: cout, type: BOOL}\n";
+      "  - {name: bad, type: BOOL}\n  - {name: cout, type: BOOL}\n"
+      "  - {name: scaled, type: BOOL}\n  - {name: vhalf, type: BOOL}\n";
   const std::string blocks =
       "  - {name: mvx, type: MC_MoveVelocity, params: {Axis: x}, inputs: {Velocity: 10, Acceleration: 100}}\n"
       "  - {name: mvs, type: MC_MoveVelocity, params: {Axis: x}, inputs: {Velocity: 2, Acceleration: 100}}\n"
@@ -67,10 +68,15 @@ std::string cam_project() {
       "MasterPositions: [0, 1, 2], SlavePositions: [0, 0, 2]}}\n"
       "  - {name: cb, type: MC_CamIn, params: {n: 3, Master: x, Slave: y}, inputs: {"
       "MasterPositions: [0, 2, 1], SlavePositions: [0, 0, 2]}}\n"
-      "  - {name: co, type: MC_CamOut, params: {Slave: y}}\n";
+      "  - {name: co, type: MC_CamOut, params: {Slave: y}}\n"
+      "  - {name: mslow, type: MC_MoveVelocity, params: {Axis: x}, inputs: {Velocity: 0.5, Acceleration: 100}}\n"
+      "  - {name: cz, type: MC_CamIn, params: {n: 2, Master: x, Slave: y}, inputs: {Periodic: FALSE, "
+      "MasterOffset: 2, MasterScaling: 2, SlaveScaling: 3, SlaveOffset: -3, MasterPositions: [0, 4], "
+      "SlavePositions: [1, 3]}}\n";
   const std::string connections =
       "  - vx -> mvx.Execute\n  - vslow -> mvs.Execute\n  - cam -> ci.Execute\n  - cam2 -> ci2.Execute\n"
-      "  - shot -> cs.Execute\n  - lin -> cl.Execute\n  - bad -> cb.Execute\n  - cout -> co.Execute\n";
+      "  - shot -> cs.Execute\n  - lin -> cl.Execute\n  - bad -> cb.Execute\n  - cout -> co.Execute\n"
+      "  - scaled -> cz.Execute\n  - vhalf -> mslow.Execute\n";
   return sync_project(tags, blocks, connections);
 }
 
@@ -191,6 +197,31 @@ TEST(McCam, CamOutKeepsTheSlaveVelocity) {
   EXPECT_EQ(r.state("y"), kContinuous);
   r.scans(50);
   EXPECT_EQ(r.d("y.set_velocity"), v);
+}
+
+// Absolute: u = (x - 2) / 2, y = 3 f(u) - 3 with f(u) = 1 + u / 2 on the
+// table [0, 4]: y = 0.75 (x - 2) for x in [2, 10], 0 before (f holds 1), 6
+// after (f holds 3). The master starts at 0, so the slave starts where it is.
+TEST(McCam, OffsetsAndScalingsPlaceTheProfile) {
+  SyncRun r(cam_project());
+  ASSERT_TRUE(r.ok());
+  r.scans(5);
+  r.set("scaled", true);
+  r.scan();
+  r.set("vhalf", true);
+  Cell& ys = r.cell("y.set_position");
+  Cell& xs = r.cell("x.set_position");
+  int on_profile = 0;
+  for (int k = 0; k < 25000; ++k) {
+    r.scan();
+    const double x = xs.get<double>(), y = ys.get<double>();
+    const double want = x <= 2 ? 0 : (x >= 10 ? 6 : 0.75 * (x - 2));
+    ASSERT_NEAR(y, want, 1e-9) << "scan " << k << " x " << x;
+    if (x > 2 && x < 10) ++on_profile;
+  }
+  EXPECT_GT(on_profile, 15000);
+  EXPECT_EQ(ys.get<double>(), 6.0);
+  EXPECT_EQ(r.state("y"), kSynchronized);
 }
 
 TEST(McCam, ATableNotIncreasingIsRefused) {

@@ -17,7 +17,7 @@ namespace {
 const std::string kGearTags =
     "  - {name: vx1, type: BOOL}\n  - {name: vx2, type: BOOL}\n  - {name: vx3, type: BOOL}\n"
     "  - {name: gear, type: BOOL}\n  - {name: gout, type: BOOL}\n  - {name: cout, type: BOOL}\n"
-    "  - {name: mabs, type: BOOL}\n  - {name: fault, type: BOOL}\n"
+    "  - {name: mabs, type: BOOL}\n  - {name: fault, type: BOOL}\n  - {name: gact, type: BOOL}\n"
     "  - {name: num, type: INT, init: 3}\n  - {name: den, type: UINT, init: 2}\n"
     "  - {name: acc, type: LREAL, init: 200}\n  - {name: jerk, type: LREAL}\n  - {name: bm, type: INT}\n";
 
@@ -26,6 +26,8 @@ const std::string kGearBlocks =
     "  - {name: mvx2, type: MC_MoveVelocity, params: {Axis: x}, inputs: {Velocity: -20, Acceleration: 100, Deceleration: 100}}\n"
     "  - {name: mvx3, type: MC_MoveVelocity, params: {Axis: x}, inputs: {Velocity: 60, Acceleration: 1000}}\n"
     "  - {name: gi, type: MC_GearIn, params: {Master: x, Slave: y}}\n"
+    "  - {name: ga, type: MC_GearIn, params: {Master: x, Slave: y}, inputs: {RatioNumerator: -1, "
+    "RatioDenominator: 4, MasterValueSource: 1}}\n"
     "  - {name: go, type: MC_GearOut, params: {Slave: y}}\n"
     "  - {name: co, type: MC_CamOut, params: {Slave: y}}\n"
     "  - {name: ma, type: MC_MoveAbsolute, params: {Axis: y}, inputs: {Position: 0, Velocity: 10}}\n";
@@ -34,7 +36,7 @@ const std::string kGearConnections =
     "  - vx1 -> mvx1.Execute\n  - vx2 -> mvx2.Execute\n  - vx3 -> mvx3.Execute\n  - gear -> gi.Execute\n"
     "  - gout -> go.Execute\n  - cout -> co.Execute\n  - mabs -> ma.Execute\n  - fault -> dx.inject_fault\n"
     "  - num -> gi.RatioNumerator\n  - den -> gi.RatioDenominator\n  - acc -> gi.Acceleration\n"
-    "  - jerk -> gi.Jerk\n  - bm -> gi.BufferMode\n";
+    "  - jerk -> gi.Jerk\n  - bm -> gi.BufferMode\n  - gact -> ga.Execute\n";
 
 constexpr int kStandstill = 1, kDiscrete = 3, kContinuous = 4, kSynchronized = 5, kErrorStop = 7;
 
@@ -98,6 +100,29 @@ TEST(McGear, RampsToTheRatioThenFollowsTheMasterExactlyWithoutDrift) {
   }
   EXPECT_LT(worst, 1e-9) << "position coupling error after 200 s";
   EXPECT_LT(xs.get<double>() - x0, -900);  // the master went back ~1000 u
+}
+
+// MasterValueSource 1: the master's actual position (SIM_SERVO with tau 0
+// reports the set position it was given; the actual velocity is its backward
+// difference), extrapolated by one scan: at a constant master velocity the
+// slave's set position follows -1/4 of the master's actual one exactly.
+TEST(McGear, ActualValueSourceFollowsTheMasterActualPosition) {
+  SyncRun r(gear_project());
+  ASSERT_TRUE(r.ok());
+  r.scans(3);
+  r.set("vx1", true);
+  r.scans(150);
+  r.set("gact", true);
+  ASSERT_TRUE(r.until("ga.InGear", 2000));
+  r.scans(5);
+  Cell& ys = r.cell("y.set_position");
+  Cell& xa = r.cell("x.position");
+  const double x0 = xa.get<double>(), y0 = ys.get<double>();
+  for (int k = 0; k < 5000; ++k) {
+    r.scan();
+    ASSERT_NEAR(ys.get<double>() - y0, -0.25 * (xa.get<double>() - x0), 1e-9) << "scan " << k;
+  }
+  EXPECT_NEAR(r.d("y.set_velocity"), -2.5, 1e-9);  // the actual velocity is a difference of positions
 }
 
 TEST(McGear, GearOutKeepsTheSlaveVelocityInContinuousMotion) {
