@@ -17,7 +17,7 @@ namespace {
 const std::string kGearTags =
     "  - {name: vx1, type: BOOL}\n  - {name: vx2, type: BOOL}\n  - {name: vx3, type: BOOL}\n"
     "  - {name: gear, type: BOOL}\n  - {name: gout, type: BOOL}\n  - {name: cout, type: BOOL}\n"
-    "  - {name: mabs, type: BOOL}\n  - {name: fault, type: BOOL}\n  - {name: gact, type: BOOL}\n"
+    "  - {name: mabs, type: BOOL}\n  - {name: fault, type: BOOL}\n  - {name: gact, type: BOOL}\n  - {name: mabs2, type: BOOL}\n"
     "  - {name: num, type: INT, init: 3}\n  - {name: den, type: UINT, init: 2}\n"
     "  - {name: acc, type: LREAL, init: 200}\n  - {name: jerk, type: LREAL}\n  - {name: bm, type: INT}\n";
 
@@ -30,13 +30,14 @@ const std::string kGearBlocks =
     "RatioDenominator: 4, MasterValueSource: 1}}\n"
     "  - {name: go, type: MC_GearOut, params: {Slave: y}}\n"
     "  - {name: co, type: MC_CamOut, params: {Slave: y}}\n"
-    "  - {name: ma, type: MC_MoveAbsolute, params: {Axis: y}, inputs: {Position: 0, Velocity: 10}}\n";
+    "  - {name: ma, type: MC_MoveAbsolute, params: {Axis: y}, inputs: {Position: 0, Velocity: 10}}\n"
+    "  - {name: ma2, type: MC_MoveAbsolute, params: {Axis: y}, inputs: {Position: 2, Velocity: 10}}\n";
 
 const std::string kGearConnections =
     "  - vx1 -> mvx1.Execute\n  - vx2 -> mvx2.Execute\n  - vx3 -> mvx3.Execute\n  - gear -> gi.Execute\n"
     "  - gout -> go.Execute\n  - cout -> co.Execute\n  - mabs -> ma.Execute\n  - fault -> dx.inject_fault\n"
     "  - num -> gi.RatioNumerator\n  - den -> gi.RatioDenominator\n  - acc -> gi.Acceleration\n"
-    "  - jerk -> gi.Jerk\n  - bm -> gi.BufferMode\n  - gact -> ga.Execute\n";
+    "  - jerk -> gi.Jerk\n  - bm -> gi.BufferMode\n  - gact -> ga.Execute\n  - mabs2 -> ma2.Execute\n";
 
 constexpr int kStandstill = 1, kDiscrete = 3, kContinuous = 4, kSynchronized = 5, kErrorStop = 7;
 
@@ -123,6 +124,33 @@ TEST(McGear, ActualValueSourceFollowsTheMasterActualPosition) {
     ASSERT_NEAR(ys.get<double>() - y0, -0.25 * (xa.get<double>() - x0), 1e-9) << "scan " << k;
   }
   EXPECT_NEAR(r.d("y.set_velocity"), -2.5, 1e-9);  // the actual velocity is a difference of positions
+}
+
+// BufferMode Buffered: the gear waits (Busy, not Active) behind the slave's
+// move and starts in the scan the move is Done.
+TEST(McGear, ABufferedGearStartsWhenTheMoveBeforeIsDone) {
+  SyncRun r(gear_project());
+  ASSERT_TRUE(r.ok());
+  r.scans(3);
+  r.set("vx1", true);
+  r.scans(150);
+  r.set("mabs2", true);
+  r.scan();
+  r.cell("bm").set<std::int16_t>(1);
+  r.set("gear", true);
+  r.scan();
+  EXPECT_TRUE(r.b("gi.Busy"));
+  EXPECT_FALSE(r.b("gi.Active"));
+  int k = 0;
+  for (; k < 5000 && !r.b("ma2.Done"); ++k) {
+    EXPECT_FALSE(r.b("gi.Active")) << "scan " << k;
+    r.scan();
+  }
+  ASSERT_TRUE(r.b("ma2.Done"));
+  EXPECT_TRUE(r.b("gi.Active"));  // the same scan
+  EXPECT_EQ(r.d("y.set_position"), 2.0);
+  ASSERT_TRUE(r.until("gi.InGear", 2000));
+  EXPECT_EQ(r.state("y"), kSynchronized);
 }
 
 TEST(McGear, GearOutKeepsTheSlaveVelocityInContinuousMotion) {
