@@ -23,8 +23,15 @@ AxisError AxisMachine::check_command(Command* c) const noexcept {
   const CommandKind k = c->kind;
   if (k != CommandKind::MoveAbsolute && k != CommandKind::MoveRelative && k != CommandKind::MoveAdditive &&
       k != CommandKind::MoveVelocity && k != CommandKind::Halt && k != CommandKind::Stop && k != CommandKind::Home &&
-      k != CommandKind::GroupMove)
+      k != CommandKind::GroupMove && k != CommandKind::Synchronized && k != CommandKind::SyncOut)
     return AxisError::BadParameter;
+  if (k == CommandKind::SyncOut) return AxisError::None;
+  if (k == CommandKind::Synchronized) {
+    // The coupling block checks its own inputs; the axis checks every sample
+    // against its limits. Blending has no goal to blend at.
+    if (c->buffer != BufferMode::Aborting && c->buffer != BufferMode::Buffered) return AxisError::BadBufferMode;
+    return AxisError::None;
+  }
   if (k == CommandKind::GroupMove) {
     // The group's synchronizer keeps the axis within its *Appl limits; only
     // Aborting (a group move takes over), never on a modulo axis.
@@ -75,7 +82,9 @@ CommandId AxisMachine::submit(const Command& in, AxisError* error) noexcept {
   const CommandKind k = in.kind;
   // MC_Home's last Homing cycle counts as Standstill: a block chained on its Done may start.
   const bool standing = state_ == AxisState::Standstill || (state_ == AxisState::Homing && active_.id == 0);
-  if (state_ == AxisState::Disabled) *error = AxisError::Disabled;
+  // MC_GearOut/MC_CamOut: only a synchronized slave can leave its coupling (§4.3, §4.5).
+  if (k == CommandKind::SyncOut && state_ != AxisState::SynchronizedMotion) *error = AxisError::NotSynchronized;
+  else if (state_ == AxisState::Disabled) *error = AxisError::Disabled;
   else if (state_ == AxisState::ErrorStop) *error = AxisError::InErrorStop;
   else if (state_ == AxisState::Stopping && k != CommandKind::Stop) *error = AxisError::Stopping;
   else if (k == CommandKind::Home && !standing) *error = AxisError::NotStandstill;
@@ -88,7 +97,8 @@ CommandId AxisMachine::submit(const Command& in, AxisError* error) noexcept {
 
   // Buffered and the blending modes wait for the active command; with nothing
   // active they start at once like Aborting.
-  const bool buffered = c.buffer != BufferMode::Aborting && k != CommandKind::Stop && active_.id != 0;
+  const bool buffered =
+      c.buffer != BufferMode::Aborting && k != CommandKind::Stop && k != CommandKind::SyncOut && active_.id != 0;
   if (buffered && queued_ == kQueueCapacity) {
     *error = AxisError::BufferFull;
     return 0;

@@ -38,6 +38,7 @@ AxisState state_of(CommandKind k) noexcept {
     case CommandKind::MoveVelocity: return AxisState::ContinuousMotion;
     case CommandKind::Stop: return AxisState::Stopping;
     case CommandKind::Home: return AxisState::Homing;
+    case CommandKind::Synchronized: return AxisState::SynchronizedMotion;
     default: return AxisState::DiscreteMotion;
   }
 }
@@ -68,7 +69,8 @@ std::int64_t AxisMachine::remaining_scans() const noexcept {
     case CommandKind::Stop:
       if (window_.averaging()) return window_.remaining(ramp_remaining(window_.inner().v, c.deceleration, T_));
       return ramp_remaining(set_.v, c.deceleration, T_);
-    case CommandKind::GroupMove: return active_.fed_remaining;
+    case CommandKind::GroupMove:
+    case CommandKind::Synchronized: return active_.fed_remaining;
     case CommandKind::Home:
       // Set here: one cycle; a switch search has no known end until it brakes.
       if (homing_.mode == HomingConfig::Mode::SetHere || active_.phase == 0) return 1;
@@ -246,7 +248,8 @@ AxisMachine::Step AxisMachine::profile_step(const Slot& s, const FilterState& fr
     case CommandKind::MoveVelocity: return {ramp_step(from, c.velocity, c.acceleration, c.deceleration, T_), false};
     case CommandKind::Halt:
     case CommandKind::Stop: return {ramp_step(from, 0, c.deceleration, c.deceleration, T_), true};
-    case CommandKind::GroupMove: return {{s.fed, s.fed_a, s.fed_done}, true};
+    case CommandKind::GroupMove:
+    case CommandKind::Synchronized: return {{s.fed, s.fed_a, s.fed_done}, true};
     case CommandKind::Home: {
       Step st;
       st.p.next = home_step(s, from, &st.p.done, &st.p.a);
@@ -293,10 +296,12 @@ void AxisMachine::advance() noexcept {
     return;
   }
   if (active_.cmd.kind == CommandKind::Home && !homing_phase()) return;
-  if (active_.cmd.kind == CommandKind::GroupMove) {
+  const bool fed_kind = active_.cmd.kind == CommandKind::GroupMove || active_.cmd.kind == CommandKind::Synchronized;
+  if (fed_kind) {
     if (!active_.fed_now) {
-      // The group stopped feeding (it ended, or lost another of its axes):
-      // this axis brakes on its own.
+      // The group stopped feeding (it ended, or lost another of its axes),
+      // or a gear/cam block let its slave go (its master failed): this axis
+      // brakes on its own.
       end_command(active_.id, CommandStatus::Aborted, AxisError::None);
       Slot halt{};
       halt.id = next_id_++;
@@ -310,6 +315,13 @@ void AxisMachine::advance() noexcept {
   // window's average (axis_jerk.hpp).
   const bool averaged = window_.averaging();
   const Step step = profile_step(active_, averaged ? window_.inner() : set_);
+  if (active_.cmd.kind == CommandKind::Synchronized && beyond_sync_limits(step.p.next)) {
+    // The master demands more than this slave can do: it does not follow
+    // beyond its limits (docs/motion/plcopen.md, "Limits of the slave").
+    enter_error(AxisError::SyncLimit);
+    brake(system_.d_max);
+    return;
+  }
   // A drive homing itself may pass the software limits (they are not yet
   // known to be right): the set values only follow it then.
   if (!drive_homing() && passes_limit(averaged ? window_.peek(step.p.next) : step.p.next)) {
@@ -422,6 +434,7 @@ double AxisMachine::blend_target() const noexcept {
 // The command becomes Active: its goal is resolved from the set values now
 // (its first sample is the next cycle's).
 void AxisMachine::start(const Slot& s, double base) noexcept {
+  if (s.cmd.kind == CommandKind::SyncOut) return leave_sync(s);
   active_ = s;
   active_.start = set_.x;
   active_.base = base;
@@ -440,6 +453,11 @@ void AxisMachine::start(const Slot& s, double base) noexcept {
   stop_released_ = false;
   if (c.kind == CommandKind::Home) start_homing();
   if (c.kind == CommandKind::GroupMove) active_.goal = c.position;
+  // The acceleration of the coming sample is the new command's: a gear or cam
+  // block later in this scan predicts this axis's next set values from it
+  // (mc_coupling.hpp). A fed command's sample comes with its feed.
+  if (c.kind != CommandKind::GroupMove && c.kind != CommandKind::Synchronized && c.kind != CommandKind::Home)
+    set_a_ = profile_step(active_, set_).p.a;
 }
 
 // The window of the command that starts: its jerk (resolved at submit; 0 for
@@ -454,12 +472,16 @@ void AxisMachine::begin_window(const Command& c) noexcept {
 }
 
 void AxisMachine::feed(CommandId id, const FilterState& next, double a, std::int64_t remaining, bool done) noexcept {
-  if (id == 0 || id != active_.id || active_.cmd.kind != CommandKind::GroupMove) return;
-  // Done: next is the goal, at rest (the group's target, which it may have
-  // moved in flight).
+  if (id == 0 || id != active_.id) return;
+  const bool group = active_.cmd.kind == CommandKind::GroupMove;
+  if (!group && active_.cmd.kind != CommandKind::Synchronized) return;
+  // A group's done: next is the goal, at rest (the group's target, which it
+  // may have moved in flight). A slave's done (a cam handing over) keeps its
+  // velocity for the command after it.
+  const bool at_rest = group && done;
   if (done) active_.goal = next.x;
-  active_.fed = done ? FilterState{next.x, 0} : next;
-  active_.fed_a = done ? 0 : a;
+  active_.fed = at_rest ? FilterState{next.x, 0} : next;
+  active_.fed_a = at_rest ? 0 : a;
   active_.fed_remaining = remaining;
   active_.fed_done = done;
   active_.fed_now = true;

@@ -72,6 +72,7 @@ enum class AxisError : std::uint16_t {
   NotStandstill = 0x0104,     // MC_Home, MC_SetPosition outside Standstill (SetPosition: or Disabled)
   NotSynchronized = 0x0105,   // MC_GearOut/MC_CamOut outside SynchronizedMotion
   StillMoving = 0x0106,       // MC_Reset while ErrorStop still brakes the axis
+  MasterFailed = 0x0107,      // MC_GearIn/MC_CamIn: the master is Disabled or in ErrorStop
   BadVelocity = 0x0201,       // not finite, <= 0 where it must be positive, or above the axis maximum
   BadAcceleration = 0x0202,   // not finite, <= 0, or above the axis maximum
   BadDeceleration = 0x0203,
@@ -81,6 +82,7 @@ enum class AxisError : std::uint16_t {
   BufferFull = 0x0207,        // kQueueCapacity buffered commands already wait
   BadDirection = 0x0208,
   BadParameter = 0x0209,      // MC_ReadParameter/MC_WriteParameter: unknown number, read-only, value out of range
+  BadSyncInput = 0x020A,      // MC_GearIn/MC_CamIn: ratio, cam table, scaling, StartMode or MasterValueSource invalid
   DriveFault = 0x0301,        // the drive reports a fault (its code: drive_fault_code())
   PowerLost = 0x0302,         // the power stage went off while MC_Power asked for it
   FollowingError = 0x0303,    // |set - actual| beyond the axis's limit
@@ -89,6 +91,7 @@ enum class AxisError : std::uint16_t {
   HomingFailed = 0x0306,      // MC_Home's search met no reference switch within the axis's home_max_distance
   DriveHomingError = 0x0307,  // MC_Home by the drive (home_mode 3): the drive reported a homing error
   HomingTimeout = 0x0308,     // MC_Home by the drive: not attained within the axis's home_timeout
+  SyncLimit = 0x0309,         // a synchronized slave was fed a sample beyond its velocity/acceleration limits
 };
 
 enum class CommandKind : std::uint8_t {
@@ -102,6 +105,14 @@ enum class CommandKind : std::uint8_t {
   // One axis of a synchronized group move (MC_GroupMoveAbsolute): its goal
   // is `position`; the group gives the set values of every sample (feed).
   GroupMove,
+  // The slave of MC_GearIn/MC_CamIn (SynchronizedMotion): its coupling block
+  // gives the set values of every sample (feed), checked against the axis's
+  // *Appl limits (SyncLimit beyond them). Aborting or Buffered only.
+  Synchronized,
+  // MC_GearOut/MC_CamOut: only in SynchronizedMotion; the coupling ends and
+  // the axis keeps its set velocity (ContinuousMotion, an MC_MoveVelocity with
+  // the axis's *Appl ramps). Done at once.
+  SyncOut,
 };
 
 // A command as its block sampled its inputs at Execute's rising edge (§2.4.1).
@@ -286,7 +297,13 @@ class AxisMachine {
   // done when the group arrives (next is then the target, at rest). A GroupMove
   // command not fed before a cycle has lost its group: it ends Aborted and
   // the axis brakes to standstill with MaxDecelerationAppl.
+  // The slave of a gear or cam (Synchronized) is fed the same way; its
+  // samples are checked against the *Appl limits (SyncLimit, ErrorStop), and
+  // done ends it Done (a single-shot cam's end, for a buffered command).
   void feed(CommandId id, const motion::FilterState& next, double a, std::int64_t remaining, bool done) noexcept;
+  // Commands wait behind the active one (a periodic cam hands over at the end
+  // of its profile).
+  bool has_buffered() const noexcept { return queued_ > 0; }
   // MC_Home's procedure (set once, before the first command; default "set here").
   void configure_homing(const HomingConfig& h) noexcept { homing_ = h; }
   const HomingConfig& homing() const noexcept { return homing_; }
@@ -382,6 +399,8 @@ class AxisMachine {
   void advance() noexcept;
   void brake(double d) noexcept;
   bool passes_limit(const motion::FilterState& next) const noexcept;
+  bool beyond_sync_limits(const motion::FilterState& next) const noexcept;  // axis_sync.cpp
+  void leave_sync(const Slot& s) noexcept;                                  // axis_sync.cpp
   struct Step;
   Step profile_step(const Slot& s, const motion::FilterState& from) const noexcept;
   AxisError check_command(Command* c) const noexcept;

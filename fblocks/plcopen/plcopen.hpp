@@ -14,5 +14,7 @@ void register_admin_blocks(BlockRegistry& r); // mc_admin.cpp: MC_Power, MC_Rese
 void register_move_blocks(BlockRegistry& r);  // mc_move.cpp: MC_Move*, MC_Halt, MC_Stop, MC_Home
 void register_sim_servo(BlockRegistry& r);    // sim_servo.cpp: SIM_SERVO
 void register_group_move(BlockRegistry& r);   // mc_group.cpp: MC_GroupMoveAbsolute
+void register_gear_blocks(BlockRegistry& r);  // mc_gear.cpp: MC_GearIn, MC_GearOut, MC_CamOut
+void register_cam_blocks(BlockRegistry& r);   // mc_cam.cpp: MC_CamIn
 
 }  // namespace syncplc::plcopen

@@ -9,6 +9,8 @@ void register_plcopen_blocks(BlockRegistry& r) {
   plcopen::register_move_blocks(r);
   plcopen::register_sim_servo(r);
   plcopen::register_group_move(r);
+  plcopen::register_gear_blocks(r);
+  plcopen::register_cam_blocks(r);
 }
 
 }  // namespace syncplc

@@ -538,6 +538,84 @@ connections:
   EXPECT_GT(p.tasks[0]->stats.summary().scans, 1000u);
 }
 
+// Synchronized motion (mc_gear.cpp, mc_cam.cpp): gearing in, locked, out;
+// a periodic spline cam taking the table at its edge, wrapping, a buffered
+// cam taking over at the end of the profile, camming out.
+TEST(ScanPath, GearAndCamBlocksDoNotAllocate) {
+  LoadOptions lo;
+  auto r = load_project_text(R"(
+tasks: [{name: motion, period: 1ms}]
+tags:
+  - {name: run, type: BOOL}
+  - {name: gear, type: BOOL}
+  - {name: gout, type: BOOL}
+  - {name: cam, type: BOOL}
+  - {name: cam2, type: BOOL}
+  - {name: cout, type: BOOL}
+blocks:
+  - {name: x, type: MC_AXIS, params: {v_max: 100, a_max: 1000, d_max: 1000}}
+  - {name: y, type: MC_AXIS, params: {v_max: 50, a_max: 500, d_max: 800}}
+  - {name: dx, type: SIM_SERVO}
+  - {name: dy, type: SIM_SERVO}
+  - {name: px, type: MC_Power, params: {Axis: x}, inputs: {Enable: TRUE}}
+  - {name: py, type: MC_Power, params: {Axis: y}, inputs: {Enable: TRUE}}
+  - {name: mv, type: MC_MoveVelocity, params: {Axis: x}, inputs: {Velocity: 10, Acceleration: 100}}
+  - {name: gi, type: MC_GearIn, params: {Master: x, Slave: y}, inputs: {RatioNumerator: 3, RatioDenominator: 2}}
+  - {name: go, type: MC_GearOut, params: {Slave: y}}
+  - {name: ci, type: MC_CamIn, params: {n: 5, Master: x, Slave: y}, inputs: {StartMode: 1, Interpolation: 1, MasterPositions: [0, 1, 2, 3, 4], SlavePositions: [0, 1.5, 3, 4.5, 6]}}
+  - {name: ci2, type: MC_CamIn, params: {n: 5, Master: x, Slave: y}, inputs: {StartMode: 1, BufferMode: 1, Interpolation: 1, MasterPositions: [0, 1, 2, 3, 4], SlavePositions: [0, 1.5, 3, 4.5, 6]}}
+  - {name: co, type: MC_CamOut, params: {Slave: y}}
+connections:
+  - x.enable -> dx.enable
+  - x.drive_position -> dx.target
+  - dx.position -> x.actual_position
+  - dx.power_on -> x.power_on
+  - y.enable -> dy.enable
+  - y.drive_position -> dy.target
+  - dy.position -> y.actual_position
+  - dy.power_on -> y.power_on
+  - run -> mv.Execute
+  - gear -> gi.Execute
+  - gout -> go.Execute
+  - cam -> ci.Execute
+  - cam2 -> ci2.Execute
+  - cout -> co.Execute
+)", "sync_alloc.yaml", lo);
+  for (const auto& d : r.diagnostics.list()) ADD_FAILURE() << d.text();
+  ASSERT_TRUE(r.program);
+  Program& p = *r.program;
+  auto cell = [&](const char* name) -> Cell& { return *p.live_cell(*p.resolve(name), ::syncplc::testing::image_key()); };
+  VirtualClock clock(p);
+  clock.run_until(5'000'000);  // warm up, uncounted
+  std::int64_t t = 5'000'000;
+  long allocations = 0;
+  auto window = [&](std::int64_t ms) {
+    g_allocations = 0;
+    g_counting = true;
+    t += ms * 1'000'000;
+    clock.run_until(t);
+    g_counting = false;
+    allocations += g_allocations.load();
+  };
+  cell("run").set<bool>(true);
+  window(50);
+  cell("gear").set<bool>(true);
+  window(300);  // the ramp, the lock
+  EXPECT_TRUE(cell("gi.InGear").get<bool>());
+  cell("gout").set<bool>(true);
+  window(10);
+  EXPECT_TRUE(cell("go.Done").get<bool>());
+  cell("cam").set<bool>(true);
+  window(100);
+  cell("cam2").set<bool>(true);
+  window(600);  // wraps; the buffered cam takes over
+  EXPECT_TRUE(cell("ci2.InSync").get<bool>());
+  cell("cout").set<bool>(true);
+  window(10);
+  EXPECT_TRUE(cell("co.Done").get<bool>());
+  EXPECT_EQ(allocations, 0);
+}
+
 }  // namespace
 }  // namespace syncplc
 
