@@ -17,6 +17,8 @@ const char* command_kind_name(CommandKind k) noexcept {
     case CommandKind::Stop: return "Stop";
     case CommandKind::Home: return "Home";
     case CommandKind::GroupMove: return "GroupMove";
+    case CommandKind::Synchronized: return "Synchronized";
+    case CommandKind::SyncOut: return "SyncOut";
   }
   return "unknown";
 }
@@ -30,6 +32,7 @@ const char* axis_error_text(AxisError e) noexcept {
     case AxisError::NotStandstill: return "MC_Home or MC_SetPosition outside Standstill";
     case AxisError::NotSynchronized: return "MC_GearOut/MC_CamOut outside SynchronizedMotion";
     case AxisError::StillMoving: return "MC_Reset while ErrorStop still brakes the axis";
+    case AxisError::MasterFailed: return "MC_GearIn/MC_CamIn: the master is Disabled or in ErrorStop";
     case AxisError::BadVelocity: return "velocity not finite, not positive or above the axis maximum";
     case AxisError::BadAcceleration: return "acceleration not finite, negative or above the axis maximum";
     case AxisError::BadDeceleration: return "deceleration not finite, negative or above the axis maximum";
@@ -39,6 +42,7 @@ const char* axis_error_text(AxisError e) noexcept {
     case AxisError::BufferFull: return "too many buffered commands";
     case AxisError::BadDirection: return "Direction not allowed";
     case AxisError::BadParameter: return "unknown, read-only or out-of-range parameter";
+    case AxisError::BadSyncInput: return "gear ratio, cam table, scaling, StartMode or MasterValueSource invalid";
     case AxisError::DriveFault: return "the drive faulted";
     case AxisError::PowerLost: return "the power stage went off while MC_Power asked for it";
     case AxisError::FollowingError: return "following error beyond MaxPositionLag";
@@ -47,6 +51,7 @@ const char* axis_error_text(AxisError e) noexcept {
     case AxisError::HomingFailed: return "MC_Home found no reference switch within home_max_distance";
     case AxisError::DriveHomingError: return "the drive reported a homing error (MC_Home, home_mode 3)";
     case AxisError::HomingTimeout: return "the drive's homing not attained within home_timeout";
+    case AxisError::SyncLimit: return "a synchronized slave was given a sample beyond its velocity or acceleration limits";
   }
   return "unknown error";
 }
