@@ -11,7 +11,7 @@
 #include "fblocks/plcopen/axis_machine.hpp"
 
 namespace syncplc::plcopen::test {
-namespace {
+namespace mc_drive_homing {
 
 constexpr double kT = 0.001;
 
