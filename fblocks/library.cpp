@@ -1,5 +1,7 @@
 #include "fblocks/library.hpp"
 
+#include "fblocks/contour/ccc.hpp"
+
 namespace syncplc {
 
 const BlockRegistry& builtin_blocks() {
@@ -9,6 +11,7 @@ const BlockRegistry& builtin_blocks() {
     register_motion_blocks(r);
     register_drive_blocks(r);
     register_plcopen_blocks(r);
+    register_ccc_blocks(r);
     return r;
   }();
   return registry;
