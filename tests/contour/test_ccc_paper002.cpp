@@ -1,0 +1,63 @@
+// The shipped paper-002 servo test (projects/paper002_servo) gives the
+// numbers docs/results.md section 5 prints: the rows are checked here to
+// the table's four digits (the simulation is deterministic for a seed).
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "fblocks/library.hpp"
+#include "runtime/core/virtual_clock.hpp"
+#include "runtime/project/loader.hpp"
+#include "runtime/project/metrics.hpp"
+
+namespace syncplc {
+namespace {
+
+struct Contour {
+  double mean_mm = 0, max_mm = 0, rms_mm = 0;
+};
+
+Contour simulate(const std::string& file, std::int64_t duration_ns, std::vector<ParamOverride> sets) {
+  LoadOptions o;
+  o.blocks = &builtin_blocks();
+  o.overrides = std::move(sets);
+  auto r = load_project(std::string(SYNCPLC_SOURCE_DIR) + "/projects/paper002_servo/" + file, o);
+  for (const auto& d : r.diagnostics.list()) ADD_FAILURE() << d.text();
+  if (!r.program || !r.metrics.contour) return {};
+  Program& p = *r.program;
+  std::string err;
+  EXPECT_TRUE(p.open_drivers(&err)) << err;
+  VirtualClock clock(p);
+  MotionMetrics m(r.metrics);
+  clock.on_time_point([&](std::int64_t t) { m.sample(p, clock.image_access(), t, clock.scans(m.task())); });
+  clock.run_until(duration_ns, false);  // as `sim -d`: the scans before the end
+  p.stop_drivers();
+  const ContourMetric* c = m.contour();
+  return {c->mean_abs() * 1e3, c->max_abs() * 1e3, c->rms() * 1e3};
+}
+
+void expect_row(const Contour& c, double mean, double max, double rms) {
+  EXPECT_NEAR(c.mean_mm, mean, 0.00005);
+  EXPECT_NEAR(c.max_mm, max, 0.00005);
+  EXPECT_NEAR(c.rms_mm, rms, 0.00005);
+}
+
+TEST(CccPaper002, OneMillisecondRowsWithoutAndWithCcc) {
+  expect_row(simulate("servo_1ms.yaml", 12'500'000'000, {}), 0.0139, 0.0307, 0.0172);
+  expect_row(simulate("servo_1ms.yaml", 12'500'000'000, {{"ccc", "gain", "20000"}}), 0.0021, 0.0050, 0.0024);
+}
+
+TEST(CccPaper002, FourMillisecondRow) {
+  expect_row(simulate("servo_4ms.yaml", 49'000'000'000, {}), 0.0011, 0.0029, 0.0014);
+}
+
+TEST(CccPaper002, FrameLossWithHoldAtHighGain) {
+  std::vector<ParamOverride> sets = {{"ring", "loss.p", "0.1997"}, {"ccc", "gain", "20000"}};
+  expect_row(simulate("servo_1ms_network.yaml", 12'500'000'000, sets), 0.0021, 0.0052, 0.0024);
+  for (const char* e : {"est_x", "est_vx", "est_ax", "est_y", "est_vy", "est_ay"}) sets.push_back({e, "order", "0"});
+  expect_row(simulate("servo_1ms_network.yaml", 12'500'000'000, sets), 0.0022, 0.0082, 0.0025);
+}
+
+}  // namespace
+}  // namespace syncplc
