@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "fblocks/library.hpp"
@@ -57,6 +58,33 @@ TEST(CccPaper002, FrameLossWithHoldAtHighGain) {
   expect_row(simulate("servo_1ms_network.yaml", 12'500'000'000, sets), 0.0021, 0.0052, 0.0024);
   for (const char* e : {"est_x", "est_vx", "est_ax", "est_y", "est_vy", "est_ay"}) sets.push_back({e, "order", "0"});
   expect_row(simulate("servo_1ms_network.yaml", 12'500'000'000, sets), 0.0022, 0.0082, 0.0025);
+}
+
+// ellipse_robust.yaml: the metric is the estimated contour error (axis_errors: [eps]).
+TEST(CccPaper002, RobustCccOnTheEllipseLiesBetweenTheFixedGains) {
+  auto run = [](std::vector<ParamOverride> sets) {
+    LoadOptions o;
+    o.blocks = &builtin_blocks();
+    o.overrides = std::move(sets);
+    auto r = load_project(std::string(SYNCPLC_SOURCE_DIR) + "/projects/paper002_servo/ellipse_robust.yaml", o);
+    for (const auto& d : r.diagnostics.list()) ADD_FAILURE() << d.text();
+    std::pair<double, double> out{0, 0};
+    if (!r.program) return out;
+    Program& p = *r.program;
+    VirtualClock clock(p);
+    MotionMetrics m(r.metrics);
+    clock.on_time_point([&](std::int64_t t) { m.sample(p, clock.image_access(), t, clock.scans(m.task())); });
+    clock.run_until(8'000'000'000, false);
+    return std::pair{m.max_abs_error(0) * 1e3, m.rms_error(0) * 1e3};
+  };
+  const auto low = run({{"ccc", "gain", "4000"}}), high = run({{"ccc", "gain", "20000"}});
+  const auto robust = run({{"ccc", "robust", "TRUE"}, {"ccc", "gain_low", "4000"}, {"ccc", "gain", "20000"}});
+  EXPECT_NEAR(low.first, 0.0082, 0.00005);
+  EXPECT_NEAR(low.second, 0.0032, 0.00005);
+  EXPECT_NEAR(high.first, 0.0032, 0.00005);
+  EXPECT_NEAR(high.second, 0.0009, 0.00005);
+  EXPECT_NEAR(robust.first, 0.0054, 0.00005);
+  EXPECT_NEAR(robust.second, 0.0020, 0.00005);
 }
 
 }  // namespace
