@@ -1,5 +1,6 @@
 #include "fblocks/library.hpp"
 
+#include "fblocks/contour/ccc.hpp"
 #include "fblocks/contour/nurbs.hpp"
 
 namespace syncplc {
@@ -11,6 +12,7 @@ const BlockRegistry& builtin_blocks() {
     register_motion_blocks(r);
     register_drive_blocks(r);
     register_plcopen_blocks(r);
+    register_ccc_blocks(r);
     register_nurbs_blocks(r);
     return r;
   }();

@@ -95,6 +95,9 @@ int cmd_sim(const std::string& project, const std::string& duration, std::option
   if (metrics.enabled())
     std::cout << fmt::format("Track-RSME {:.6g}  Sync-RSME {:.6g}  ({} samples, paper 000 eqs. 26-27)\n",
                              metrics.track_rsme(), metrics.sync_rsme(), metrics.samples());
+  if (const ContourMetric* c = metrics.contour())
+    std::cout << fmt::format("Contour error  mean {:.6g}  max {:.6g}  RMS {:.6g}  (|distance| from the path)\n",
+                             c->mean_abs(), c->max_abs(), c->rms());
   if (metrics_out.is_open()) {
     metrics_out << metrics.json(p, *d, wall);
     metrics_out.flush();

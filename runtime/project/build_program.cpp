@@ -393,6 +393,7 @@ MetricsSettings build_metrics(const Declarations& p, const Program& prog, Diagno
       m.axis_errors.push_back({label, one});
     }
   }
+  if (!m.axis_errors.empty()) m.contour = resolve_contour_metric(p.metrics_contour, prog, m.axis_errors.front().ref.task, diags);
   return m;
 }
 

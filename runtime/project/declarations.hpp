@@ -24,6 +24,7 @@
 #include "runtime/modbus/modbus_config.hpp"
 #include "runtime/store/store_settings.hpp"
 #include "runtime/core/program.hpp"
+#include "runtime/project/contour_metric.hpp"
 
 namespace syncplc {
 
@@ -184,6 +185,7 @@ struct Declarations {
   RefList traces, watch;
   RefList axis_errors;  // metrics: axis_errors
   std::int64_t metrics_from_ns = 0;
+  ContourDecl metrics_contour;  // metrics: contour (contour_metric.hpp)
   ModbusConfig modbus;  // the modbus: section
   store::StoreSettings store;  // the store: section (trends gathered from the tags at the build)
   // Tag initial values given on the command line (--set tag=value), checked with the owners.

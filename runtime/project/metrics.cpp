@@ -5,7 +5,7 @@
 
 namespace syncplc {
 
-MotionMetrics::MotionMetrics(const MetricsSettings& m) : from_ns_(m.from_ns) {
+MotionMetrics::MotionMetrics(const MetricsSettings& m) : from_ns_(m.from_ns), contour_(m.contour) {
   for (const auto& c : m.axis_errors) {
     errors_.push_back(c.ref);
     labels_.push_back(c.label);
@@ -43,6 +43,13 @@ void MotionMetrics::sample(const Program& p, ImageAccess a, std::int64_t t, std:
   sum_track_ += track;
   sum_sync_ += sync;
   ++n_;
+  if (contour_) {
+    auto value = [&](const CellRef& r) {
+      Cell c = p.tasks[r.task]->image(a)[r.cell];
+      return r.type == IecType::REAL ? static_cast<double>(c.get<float>()) : c.get<double>();
+    };
+    contour_error_.add(value(contour_->x.ref), value(contour_->y.ref), contour_->path);
+  }
 }
 
 double MotionMetrics::track_rsme() const { return n_ ? std::sqrt(sum_track_ / static_cast<double>(n_)) : 0.0; }
@@ -73,6 +80,21 @@ std::string MotionMetrics::json(const Program& p, std::int64_t duration_ns, doub
                       {"rms_error", rms_error(i)},
                       {"max_abs_sync_error", max_eps_[i]}});
     m["axes"] = axes;
+    if (contour_) {
+      const ContourPath& path = contour_->path;
+      ordered_json c;
+      c["axes"] = {contour_->x.label, contour_->y.label};
+      if (path.kind == ContourPath::Kind::Circle)
+        c["path"] = {{"circle", {{"center", {path.cx, path.cy}}, {"radius", path.radius}}}};
+      else
+        c["path"] = {{"line", {{"point", {path.px, path.py}}, {"direction", {path.dx, path.dy}}}}};
+      c["samples"] = contour_error_.samples();
+      c["mean_abs"] = contour_error_.mean_abs();
+      c["max_abs"] = contour_error_.max_abs();
+      c["rms"] = contour_error_.rms();
+      c["mean"] = contour_error_.mean();
+      m["contour_error"] = c;
+    }
     j["metrics"] = m;
   }
   ordered_json tasks = ordered_json::array();

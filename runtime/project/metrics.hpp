@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "runtime/core/program.hpp"
+#include "runtime/project/contour_metric.hpp"
 
 namespace syncplc {
 
@@ -22,6 +23,7 @@ namespace syncplc {
 struct MetricsSettings {
   std::vector<TraceColumn> axis_errors;
   std::int64_t from_ns = 0;
+  std::optional<ContourSettings> contour;  // metrics: contour (contour_metric.hpp)
 };
 
 class MotionMetrics {
@@ -39,6 +41,8 @@ class MotionMetrics {
   double max_abs_error(std::size_t axis) const { return max_e_[axis]; }
   double rms_error(std::size_t axis) const;
   double max_abs_sync_error(std::size_t axis) const { return max_eps_[axis]; }
+  // The true contour error, when the project names a contour.
+  const ContourMetric* contour() const { return contour_ ? &contour_error_ : nullptr; }
 
   // The whole report as JSON text.
   std::string json(const Program& p, std::int64_t duration_ns, double wall_s) const;
@@ -53,6 +57,8 @@ class MotionMetrics {
   double sum_track_ = 0, sum_sync_ = 0;
   std::vector<double> max_e_, sum_e2_, max_eps_;
   std::vector<double> e_;
+  std::optional<ContourSettings> contour_;
+  ContourMetric contour_error_;
 };
 
 }  // namespace syncplc

@@ -299,8 +299,10 @@ void read_metrics(const ConfigNode& n, Declarations& p, Diagnostics& diags) {
       auto ns = v.is_scalar() ? parse_duration_ns(v.scalar, &err) : std::nullopt;
       if (!ns || *ns < 0) diags.error(v.loc, "metrics from: " + (err.empty() ? "'" + v.scalar + "' must not be negative" : err));
       else p.metrics_from_ns = *ns;
+    } else if (k == "contour") {
+      read_contour_metric(v, p.metrics_contour, diags);
     } else {
-      diags.error(v.loc, "unknown key '" + k + "' in metrics (axis_errors, from)");
+      diags.error(v.loc, "unknown key '" + k + "' in metrics (axis_errors, from, contour)");
     }
   }
   if (p.axis_errors.empty()) diags.error(n.loc, "metrics: axis_errors is missing");

@@ -98,7 +98,7 @@ metrics:
   EXPECT_THAT(e, has_error("p.yaml:4:23", "metrics: unknown tag or instance.pin 'nosuch'"));
   EXPECT_THAT(e, has_error("p.yaml:4:31", "metrics: tag x is not an array"));
   EXPECT_THAT(e, has_error("p.yaml:5:9", "metrics from: 'soon' is not a duration"));
-  EXPECT_THAT(e, has_error("p.yaml:6:11", "unknown key 'colour' in metrics (axis_errors, from)"));
+  EXPECT_THAT(e, has_error("p.yaml:6:11", "unknown key 'colour' in metrics (axis_errors, from, contour)"));
   auto e2 = loadertest::errors(R"(
 tasks: [{name: servo, period: 1ms}]
 tags: [{name: n, type: INT}]
