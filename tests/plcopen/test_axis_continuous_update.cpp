@@ -130,7 +130,9 @@ TEST(AxisContinuousUpdate, AVelocityMoveRampsToItsNewVelocity) {
     ASSERT_TRUE(r.m.report(id).in_velocity);
     EXPECT_EQ(r.m.set_velocity(), -0.5);
     EXPECT_EQ(r.status(id), CommandStatus::Active);  // a velocity move is never Done
-    if (jerk > 0) EXPECT_LE(worst_jerk, jerk * (1 + 1e-6));
+    if (jerk > 0) {
+      EXPECT_LE(worst_jerk, jerk * (1 + 1e-6));
+    }
   }
 }
 
