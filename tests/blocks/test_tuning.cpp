@@ -65,15 +65,29 @@ TEST(Tuning, EveryTuningInputActsAsItsParameter) {
       const std::string pin = p.name + kTuningSuffix;
       ASSERT_GE(t->pin_index(pin), 0);
       auto o = base_options(*t);
-      const double v = other_value(p, o);
+      // An integer parameter (MC_AXIS.home_method) gets the next integer
+      // within its range and its tuning input its own type.
+      const bool integer = p.type != IecType::LREAL && p.type != IecType::REAL;
+      double v = other_value(p, o);
+      if (integer) {
+        const double d = std::stod(p.default_value.empty() ? o.params.at(p.name) : p.default_value);
+        v = (p.max && d + 1 > *p.max) ? d - 1 : d + 1;
+      }
       auto wired = o;
       wired.connected->insert(pin);
       auto loaded = o;
-      loaded.params[p.name] = std::to_string(v);
+      loaded.params[p.name] = integer ? std::to_string(static_cast<long long>(v)) : std::to_string(v);
       BlockHarness a(builtin_blocks(), t->name, wired), b(builtin_blocks(), t->name, loaded);
       ASSERT_TRUE(a.ok());
       ASSERT_TRUE(b.ok()) << (b.errors().empty() ? "" : b.errors()[0]);
-      a.set<double>(pin, std::stod(std::to_string(v)));
+      switch (p.type) {
+        case IecType::INT: a.set<std::int16_t>(pin, static_cast<std::int16_t>(v)); break;
+        case IecType::DINT: a.set<std::int32_t>(pin, static_cast<std::int32_t>(v)); break;
+        case IecType::LINT: a.set<std::int64_t>(pin, static_cast<std::int64_t>(v)); break;
+        case IecType::REAL: a.set<float>(pin, std::stof(std::to_string(v))); break;
+        default: ASSERT_EQ(p.type, IecType::LREAL) << "a tunable parameter of a type this test does not set";
+                 a.set<double>(pin, std::stod(std::to_string(v)));
+      }
       std::mt19937 rng(7);
       std::uniform_real_distribution<double> value(-1.0, 1.0);
       for (int scan = 0; scan < 50; ++scan) {
