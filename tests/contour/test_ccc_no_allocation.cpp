@@ -13,30 +13,14 @@
 #include "runtime/project/loader.hpp"
 #include "runtime/project/metrics.hpp"
 
+#include "tests/support/allocation_counter.hpp"
+
+// The scan-path test below counts this binary's operator new
+// (tests/support/allocation_counter.*).
 namespace {
-std::atomic<bool> g_ccc_counting{false};
-std::atomic<long> g_ccc_allocations{0};
+std::atomic<bool>& g_ccc_counting = syncplc::test::counting_allocations;
+std::atomic<long>& g_ccc_allocations = syncplc::test::allocations_counted;
 }  // namespace
-
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-
-void* operator new(std::size_t n) {
-  if (g_ccc_counting.load(std::memory_order_relaxed)) g_ccc_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t n) { return operator new(n); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
-void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
-  if (g_ccc_counting.load(std::memory_order_relaxed)) g_ccc_allocations.fetch_add(1, std::memory_order_relaxed);
-  return std::malloc(n ? n : 1);
-}
-void* operator new[](std::size_t n, const std::nothrow_t& t) noexcept { return operator new(n, t); }
-void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
-void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
 
 namespace syncplc {
 namespace {

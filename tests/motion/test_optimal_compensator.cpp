@@ -19,33 +19,14 @@
 #include "fblocks/motion/optimal_compensator_math.hpp"
 #include "runtime/core/block_harness.hpp"
 
-namespace test_optimal_compensator_alloc {
-std::atomic<bool> counting{false};
-std::atomic<long> allocations{0};
-}  // namespace test_optimal_compensator_alloc
+#include "tests/support/allocation_counter.hpp"
 
-// Counting global operator new for this test binary (only counts while a
-// test asks it to); every form pairs malloc with free.
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-void* operator new(std::size_t n) {
-  if (test_optimal_compensator_alloc::counting.load(std::memory_order_relaxed))
-    test_optimal_compensator_alloc::allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t n) { return operator new(n); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
-void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
-  if (test_optimal_compensator_alloc::counting.load(std::memory_order_relaxed))
-    test_optimal_compensator_alloc::allocations.fetch_add(1, std::memory_order_relaxed);
-  return std::malloc(n ? n : 1);
-}
-void* operator new[](std::size_t n, const std::nothrow_t& t) noexcept { return operator new(n, t); }
-void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
-void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
+// The no-allocation test below counts this binary's operator new
+// (tests/support/allocation_counter.*).
+namespace test_optimal_compensator_alloc {
+std::atomic<bool>& counting = syncplc::test::counting_allocations;
+std::atomic<long>& allocations = syncplc::test::allocations_counted;
+}  // namespace test_optimal_compensator_alloc
 
 namespace syncplc::motion {
 namespace {

@@ -27,30 +27,14 @@
 
 // The scan path never allocates: this binary's operator new counts while
 // mc_st_counting is set (the test at the end).
+#include "tests/support/allocation_counter.hpp"
+
+// The scan-path test below counts this binary's operator new
+// (tests/support/allocation_counter.*).
 namespace {
-std::atomic<bool> mc_st_counting{false};
-std::atomic<long> mc_st_allocations{0};
+std::atomic<bool>& mc_st_counting = syncplc::test::counting_allocations;
+std::atomic<long>& mc_st_allocations = syncplc::test::allocations_counted;
 }  // namespace
-
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-
-void* operator new(std::size_t n) {
-  if (mc_st_counting.load(std::memory_order_relaxed)) mc_st_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t n) { return operator new(n); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
-void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
-  if (mc_st_counting.load(std::memory_order_relaxed)) mc_st_allocations.fetch_add(1, std::memory_order_relaxed);
-  return std::malloc(n ? n : 1);
-}
-void* operator new[](std::size_t n, const std::nothrow_t& t) noexcept { return operator new(n, t); }
-void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
-void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
 
 namespace syncplc {
 namespace mc_st {

@@ -12,34 +12,14 @@
 #include "runtime/core/virtual_clock.hpp"
 #include "tests/support/project_fixture.hpp"
 
+#include "tests/support/allocation_counter.hpp"
+
+// The scan-path test below counts this binary's operator new
+// (tests/support/allocation_counter.*).
 namespace {
-std::atomic<bool> g_counting{false};
-std::atomic<long> g_allocations{0};
+std::atomic<bool>& g_counting = syncplc::test::counting_allocations;
+std::atomic<long>& g_allocations = syncplc::test::allocations_counted;
 }  // namespace
-
-// GCC sees free() of what it takes for operator new's memory; here both are malloc's.
-#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
-
-void* operator new(std::size_t n) {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void* operator new[](std::size_t n) { return operator new(n); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
-// The nothrow forms too (std::stable_sort's temporary buffer takes one and
-// gives it back through the sized delete above): every new and delete of the
-// binary pairs malloc with free, as ASan checks.
-void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
-  return std::malloc(n ? n : 1);
-}
-void* operator new[](std::size_t n, const std::nothrow_t& t) noexcept { return operator new(n, t); }
-void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
-void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
 
 namespace syncplc {
 namespace {
