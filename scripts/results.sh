@@ -10,4 +10,6 @@ fi
 [ -x build/syncplc ] || bash scripts/build.sh build
 /usr/bin/python3 scripts/results.py tables "${1:-/tmp/syncplc-results}"
 # Paper 003 Figs. 7-8: the dropout compensators in the loop of its Fig. 3.
-exec /usr/bin/python3 scripts/results_dropout.py tables "${1:-/tmp/syncplc-results}"
+/usr/bin/python3 scripts/results_dropout.py tables "${1:-/tmp/syncplc-results}"
+# Paper 002's servo test and paper 003 Figs. 11-15: contour error with and without CCC (set -e: any failure stops it).
+/usr/bin/python3 scripts/results_contour.py tables "${1:-/tmp/syncplc-results}"
