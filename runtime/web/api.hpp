@@ -71,6 +71,12 @@ struct ApiContext {
   static std::string client(const http::Request& req);
   // Sleeps up to ns; false when the server stops meanwhile.
   bool wait_ns(std::int64_t ns);
+  // Runs `read` with the program held until it returns true: false means a
+  // pin it read had no copy yet (nobody watched it before; the task
+  // publishes one at its next scan, pin_monitor.hpp). Asks again 4 ms later
+  // without holding the program meanwhile, at most 25 times; returns the
+  // last answer.
+  bool with_published_program(const std::function<bool(Program&)>& read);
 };
 
 void send_json(http::Response& res, int status, const nlohmann::json& body);

@@ -3,9 +3,6 @@
 // axis. A command is a write of one of the axis's HMI pins (hmi_enable,
 // hmi_reset) through its task's write queue, as tag writes go: nothing is
 // locked or allocated in the scan, and the axis acts on it in the next scan.
-#include <chrono>
-#include <thread>
-
 #include "fblocks/plcopen/axis_block.hpp"
 #include "fblocks/plcopen/axis_texts.hpp"
 #include "runtime/web/api.hpp"
@@ -141,46 +138,38 @@ void axis_command(ApiContext& c, const http::Request& req, http::Response& res, 
   if (!c.json_body(req, res)) return;
   const std::string name = req.matches[1];
   std::string task, event;
-  bool starting = false;
-  for (int attempt = 0; attempt < 25; ++attempt) {
-    starting = false;
-    c.host.with_program([&](Program& p) {
-      const AxisAt at = find_axis(p, name);
-      if (!at.block) {
-        send_error(res, 404, "no axis '" + name + "' (an instance of MC_AXIS)");
-        return;
-      }
-      task = at.task->config().name;
-      if (at.task->stopped()) {
-        send_error(res, 409, "task " + task + " has stopped: its axes take no command until it runs again");
-        return;
-      }
-      if (pin_wired(*at.block, pin)) {
-        send_error(res, 409, name + "." + at.block->type->pins[static_cast<std::size_t>(pin)].name +
-                                 " is wired in the project: the program decides it, not the HMI");
-        return;
-      }
-      const auto state = state_now(p, *at.block);
-      if (!state) {
-        starting = true;
-        return;
-      }
-      if (!check(*state, res)) return;
-      QueuedWrite w;
-      w.cell = at.block->pin_cell[static_cast<std::size_t>(pin)];
-      w.value.set<bool>(value);
-      if (!at.task->enqueue(&w, 1)) {
-        send_error(res, 409, "task " + task + "'s write queue is full; try again");
-        return;
-      }
-      event = name + ": " + what;
-      send_json(res, 200, {{"ok", true}, {"axis", name}, {"command", what}, {"task", task},
-                           {"state", plcopen::axis_state_name(*state)}});
-    });
-    if (!starting) break;
-    std::this_thread::sleep_for(std::chrono::milliseconds(4));
-  }
-  if (starting) send_error(res, 503, "axis " + name + "'s state could not be read; try again");
+  const bool read = c.with_published_program([&](Program& p) {
+    const AxisAt at = find_axis(p, name);
+    if (!at.block) {
+      send_error(res, 404, "no axis '" + name + "' (an instance of MC_AXIS)");
+      return true;
+    }
+    task = at.task->config().name;
+    if (at.task->stopped()) {
+      send_error(res, 409, "task " + task + " has stopped: its axes take no command until it runs again");
+      return true;
+    }
+    if (pin_wired(*at.block, pin)) {
+      send_error(res, 409, name + "." + at.block->type->pins[static_cast<std::size_t>(pin)].name +
+                               " is wired in the project: the program decides it, not the HMI");
+      return true;
+    }
+    const auto state = state_now(p, *at.block);
+    if (!state) return false;
+    if (!check(*state, res)) return true;
+    QueuedWrite w;
+    w.cell = at.block->pin_cell[static_cast<std::size_t>(pin)];
+    w.value.set<bool>(value);
+    if (!at.task->enqueue(&w, 1)) {
+      send_error(res, 409, "task " + task + "'s write queue is full; try again");
+      return true;
+    }
+    event = name + ": " + what;
+    send_json(res, 200, {{"ok", true}, {"axis", name}, {"command", what}, {"task", task},
+                         {"state", plcopen::axis_state_name(*state)}});
+    return true;
+  });
+  if (!read) send_error(res, 503, "axis " + name + "'s state could not be read; try again");
   if (!event.empty()) c.host.record_event("hmi-write", task, event + " (by " + who->user + ")", ApiContext::client(req));
 }
 
@@ -192,18 +181,12 @@ void add_axis_routes(http::Router& s, ApiContext& c) {
     const bool all = sees_everything(c.session(req));
     nlohmann::json axes;
     std::int64_t now = -1;
-    // A pin nobody watched has no copy until its task's next publication
-    // (pin_monitor.hpp): ask again a little later, as GET /values does.
-    for (int attempt = 0; attempt < 25; ++attempt) {
-      bool complete = false;
-      c.host.with_program([&](Program& p) {
-        const auto hidden = all ? nullptr : c.hidden_cells.get(p, c.host.program_generation());
-        complete = read_axes(p, c.host.program_generation(), hidden.get(), &axes);
-        now = logical_now_ns(p);
-      });
-      if (complete) break;
-      std::this_thread::sleep_for(std::chrono::milliseconds(4));
-    }
+    c.with_published_program([&](Program& p) {
+      const auto hidden = all ? nullptr : c.hidden_cells.get(p, c.host.program_generation());
+      const bool complete = read_axes(p, c.host.program_generation(), hidden.get(), &axes);
+      now = logical_now_ns(p);
+      return complete;
+    });
     send_json(res, 200, {{"now_ns", now}, {"axes", axes}});
   });
 

@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <charconv>
 #include <limits>
-#include <thread>
 
 #include "runtime/store/event_log.hpp"
 #include "runtime/store/log_queries.hpp"
@@ -132,36 +131,32 @@ void add_read_routes(http::Router& s, ApiContext& c) {
     nlohmann::json values = nlohmann::json::object(), forced = nlohmann::json::object();
     const bool all = sees_everything(c.session(req));
     bool ok = true;
-    // A pin nobody watched has no copy until its task's next publication
-    // (pin_monitor.hpp): ask again a little later, without holding the
-    // program meanwhile, rather than answer null.
-    for (int attempt = 0; attempt < 25 && ok; ++attempt) {
+    // A pin nobody watched is asked again a little later rather than
+    // answered null (ApiContext::with_published_program).
+    c.with_published_program([&](Program& p) {
       bool starting = false;
-      c.host.with_program([&](Program& p) {
-        const ForcedCells fc = forced_cells(p);
-        const auto hidden = all ? nullptr : c.hidden_cells.get(p, c.host.program_generation());
-        for (const auto& ref : refs) {
-          std::string why;
-          auto r = p.resolve(ref, &why);
-          if (!r) {
-            send_error(res, 404, why.empty() ? "no tag or pin '" + ref + "'" : why);
-            ok = false;
-            return;
-          }
-          if (hidden && hidden->hides(*r)) {
-            send_error(res, 403, hidden_reason(ref));
-            ok = false;
-            return;
-          }
-          const RefValue v = ref_value(p, *r, fc);
-          starting = starting || v.value.is_null();
-          values[ref] = v.value;
-          forced[ref] = v.forced;
+      const ForcedCells fc = forced_cells(p);
+      const auto hidden = all ? nullptr : c.hidden_cells.get(p, c.host.program_generation());
+      for (const auto& ref : refs) {
+        std::string why;
+        auto r = p.resolve(ref, &why);
+        if (!r) {
+          send_error(res, 404, why.empty() ? "no tag or pin '" + ref + "'" : why);
+          ok = false;
+          return true;
         }
-      });
-      if (!starting) break;
-      std::this_thread::sleep_for(std::chrono::milliseconds(4));
-    }
+        if (hidden && hidden->hides(*r)) {
+          send_error(res, 403, hidden_reason(ref));
+          ok = false;
+          return true;
+        }
+        const RefValue v = ref_value(p, *r, fc);
+        starting = starting || v.value.is_null();
+        values[ref] = v.value;
+        forced[ref] = v.forced;
+      }
+      return !starting;
+    });
     if (ok) send_json(res, 200, {{"t_ns", store::wall_now_ns()}, {"values", values}, {"forced", forced}});
   });
 

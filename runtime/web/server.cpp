@@ -2,6 +2,9 @@
 
 #include <time.h>
 
+#include <chrono>
+#include <thread>
+
 #include "runtime/core/task_cpus.hpp"
 #include "runtime/store/database.hpp"
 #include "runtime/web/api.hpp"
@@ -92,6 +95,16 @@ std::optional<Session> ApiContext::need(const http::Request& req, http::Response
     return std::nullopt;
   }
   return s;
+}
+
+bool ApiContext::with_published_program(const std::function<bool(Program&)>& read) {
+  bool complete = false;
+  for (int attempt = 0; attempt < 25; ++attempt) {
+    host.with_program([&](Program& p) { complete = read(p); });
+    if (complete) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(4));
+  }
+  return complete;
 }
 
 std::optional<nlohmann::json> ApiContext::json_body(const http::Request& req, http::Response& res,
