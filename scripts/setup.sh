@@ -7,7 +7,7 @@ set -euo pipefail
 PACKAGES=(
   build-essential cmake ninja-build pkg-config git
   libyaml-dev libcli11-dev libfmt-dev libspdlog-dev nlohmann-json3-dev
-  libeigen3-dev libmodbus-dev libsqlite3-dev libsqlitecpp-dev sqlite3 libsodium-dev
+  libeigen3-dev libnlopt-dev libmodbus-dev libsqlite3-dev libsqlitecpp-dev sqlite3 libsodium-dev
   libboost1.81-dev libssl-dev  # the HTTP server (runtime/web: Boost.Beast); OpenSSL for its TLS
   libcpp-httplib-dev  # the CLI's HTTP client (runtime/cli/api_client)
   libxbyak-dev  # native code for compiled ST on x86-64 (runtime/st/vm/native_x64.cpp)
