@@ -1,11 +1,13 @@
 #!/usr/bin/python3
 """docs/results.md section 3, "Paper 003 Figs. 7 and 8": the dropout
 compensators (zero fill, hold, the paper's recursive Taylor, the robust
-Taylor, the optimal compensator) in the loop of paper 003 Fig. 3, run through
-projects/paper003_compensators with `syncplc sim`.
+Taylor, the Wiener predictor, Ling & Lemmon's optimal compensator) in the
+loop of paper 003 Fig. 3, run through projects/paper003_compensators with
+`syncplc sim`; the optimal compensator's taps for each rate, and the exact
+output powers beside the simulated ones, from `syncplc design-compensator`.
 
 Usage: results_dropout.py tables OUTDIR     print the two tables, draw docs/figures/paper003_fig7.png, _fig8.png
-       results_dropout.py loop_autocorrelation   the design lags rho1..rho4 of noise.yaml's optimal compensator
+       results_dropout.py loop_autocorrelation   the design lags rho1..rho4 of noise.yaml's Wiener predictor
 Run by scripts/results.sh.
 """
 import csv
@@ -16,7 +18,9 @@ import subprocess
 import sys
 
 SYNCPLC = "build/syncplc"
-NAMES = ["zero fill", "hold (1-delay)", "Taylor, recursive (paper)", "Taylor, robust", "optimal"]
+NAMES = ["zero fill", "hold (1-delay)", "Taylor, recursive (paper)", "Taylor, robust", "Wiener predictor",
+         "optimal (Ling & Lemmon)"]
+LOOP = "projects/paper003_compensators/loop_model.yaml"
 RATES = ["0", "0.05", "0.1", "0.15", "0.2", "0.3", "0.4", "0.5", "0.6"]
 # Paper 003 §4.1: the identified DYNA plant P(z) = B(z)/A(z) (powers of z^-1).
 PLANT_B = [0, 0, 0.30554, -0.023766, 0.11104, 0.028834]
@@ -54,6 +58,17 @@ def sim(project, duration, out, sets):
     return json.load(open(out + ".json")), read(out + ".csv")
 
 
+def design(eps):
+    """Ling & Lemmon's taps at this rate and the exact E[y^2] of zero fill,
+    hold, the recursive Taylor taps and the optimum (syncplc design-compensator)."""
+    out = subprocess.run([SYNCPLC, "design-compensator", LOOP, "--loss", eps, "--order", "4", "--taps", "4,-6,4,-1",
+                          "--json"], check=True, capture_output=True, text=True).stdout
+    j = json.loads(out)
+    exact = {c["name"]: c["output_power"] for c in j["compare"]}
+    return j["optimal"]["taps"], {"zero": exact["zero fill"], "hold": exact["hold (1-delay)"], "taylor": exact["given"],
+                                  "optimal": j["optimal"]["output_power"]}
+
+
 def fmt(x):
     return "diverges" if not math.isfinite(x) or x > 1e12 else f"{x:.4g}"
 
@@ -64,17 +79,18 @@ def run(kind, outdir):
     duration = "100s" if kind == "noise" else "20s"
     res = {}
     for eps in RATES:
-        m, c = sim(project, duration, os.path.join(outdir, f"p003_{kind}_{eps}"),
-                   [f"ring.loss.p={eps}", f"optimal.dropout_rate={eps}"])
+        taps, exact = design(eps)
+        sets = [f"ring.loss.p={eps}", f"wiener.dropout_rate={eps}"] + [f"optimal.a{i + 1}={a!r}" for i, a in enumerate(taps)]
+        m, c = sim(project, duration, os.path.join(outdir, f"p003_{kind}_{eps}"), sets)
         # A diverged run (the recursive Taylor above ~12 % loss) has rms_error null (NaN) or huge.
         axes = [a["rms_error"] if a["rms_error"] is not None else float("inf") for a in m["metrics"]["axes"]]
         lost = int(next(d for d in m["drivers"] if d["name"] == "ring")["counters"]["frames_lost"])
         if kind == "noise":
             ideal = c["y_ideal"][1000:]
-            res[eps] = ([a * a for a in axes], sum(v * v for v in ideal) / len(ideal), lost)
+            res[eps] = ([a * a for a in axes], sum(v * v for v in ideal) / len(ideal), lost, exact, taps)
         else:
             e = c["e_ideal"][10:]
-            res[eps] = (axes, math.sqrt(sum(v * v for v in e) / len(e)), lost)
+            res[eps] = (axes, math.sqrt(sum(v * v for v in e) / len(e)), lost, exact, taps)
     return res
 
 
@@ -100,28 +116,43 @@ def plot(res, ylabel, title, out, ideal_label):
     fig.savefig(out, dpi=100)
 
 
+def exact_fmt(x):
+    return "unbounded" if x is None else f"{x:.4g}"
+
+
 def tables(outdir):
     os.makedirs(outdir, exist_ok=True)
     noise = run("noise", outdir)
     print("### 3b. Paper 003 Fig. 7: output power R_yy(0) with white-noise input (100 s)\n")
-    print("| dropout rate | frames lost | " + " | ".join(NAMES) + " | optimal vs hold |")
-    print("|---:|---:|" + "---:|" * (len(NAMES) + 1))
+    print("| dropout rate | frames lost | " + " | ".join(NAMES) + " | optimal vs hold | optimal vs zero fill |")
+    print("|---:|---:|" + "---:|" * (len(NAMES) + 2))
     for eps in RATES:
-        v, _, lost = noise[eps]
-        print(f"| {float(eps):g} | {lost} | " + " | ".join(fmt(x) for x in v) + f" | {100 * (v[4] / v[1] - 1):+.1f} % |")
+        v, _, lost, _, _ = noise[eps]
+        print(f"| {float(eps):g} | {lost} | " + " | ".join(fmt(x) for x in v) +
+              f" | {100 * (v[5] / v[1] - 1):+.1f} % | {100 * (v[5] / v[0] - 1):+.2f} % |")
     print(f"\nno dropouts: R_yy(0) = {noise['0'][1]:.4g}; theory (impulse response): {loop_autocorrelation()[0]:.4g}\n")
-    print(f"command: `{SYNCPLC} sim projects/paper003_compensators/noise.yaml -d 100s --set ring.loss.p=EPS "
-          "--set optimal.dropout_rate=EPS --metrics out.json` (R_yy = metrics.axes[i].rms_error^2)\n")
+    print("Exact stationary E[y^2] (`syncplc design-compensator`) and the optimal taps:\n")
+    print("| dropout rate | zero fill | hold | Taylor, recursive | optimal | optimal taps a1..a4 |")
+    print("|---:|---:|---:|---:|---:|---|")
+    for eps in RATES:
+        x, taps = noise[eps][3], noise[eps][4]
+        taps_text = ", ".join(f"{a:.3f}" for a in taps) if float(eps) > 0 else "any (nothing is lost)"
+        print(f"| {float(eps):g} | " + " | ".join(exact_fmt(x[k]) for k in ("zero", "hold", "taylor", "optimal")) +
+              " | " + taps_text + " |")
+    print(f"\ncommand: `{SYNCPLC} design-compensator {LOOP} --loss EPS --taps 4,-6,4,-1`, then "
+          f"`{SYNCPLC} sim projects/paper003_compensators/noise.yaml -d 100s --set ring.loss.p=EPS "
+          "--set wiener.dropout_rate=EPS --set optimal.a1=A1 ... --set optimal.a4=A4 --metrics out.json` "
+          "(R_yy = metrics.axes[i].rms_error^2)\n")
     sin = run("sinusoid", outdir)
     print("### 3c. Paper 003 Fig. 8: sinusoid 50 mm at 3000 mm/min, RMS of y minus the loss-free loop's y (mm, 20 s)\n")
     print("| dropout rate | frames lost | " + " | ".join(NAMES) + " |")
     print("|---:|---:|" + "---:|" * len(NAMES))
     for eps in RATES:
-        v, _, lost = sin[eps]
+        v, _, lost, _, _ = sin[eps]
         print(f"| {float(eps):g} | {lost} | " + " | ".join(fmt(x) for x in v) + " |")
     print(f"\nloss-free loop: RMS tracking error r - y = {sin['0'][1]:.4g} mm\n")
     print(f"command: `{SYNCPLC} sim projects/paper003_compensators/sinusoid.yaml -d 20s --set ring.loss.p=EPS "
-          "--set optimal.dropout_rate=EPS --metrics out.json` (metrics.axes[i].rms_error)\n")
+          "--set wiener.dropout_rate=EPS --set optimal.a1=A1 ... --metrics out.json` (metrics.axes[i].rms_error)\n")
     plot(noise, "R_yy(0) = E[y^2]", "Paper 003 Fig. 7: white-noise input", "docs/figures/paper003_fig7.png",
          "no dropouts")
     plot(sin, "RMS(y - y without dropouts) (mm)", "Paper 003 Fig. 8: sinusoid 50 mm, 3000 mm/min",

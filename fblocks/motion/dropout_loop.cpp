@@ -34,7 +34,7 @@ Normalised normalise(const TransferFunction& h) {
 
 std::string tf_error(const TransferFunction& h, const char* what) {
   if (h.num.empty() || h.den.empty()) return std::string(what) + ": numerator and denominator need a coefficient each";
-  if (h.num.size() > 64 || h.den.size() > 64) return std::string(what) + ": at most 64 coefficients";
+  if (h.num.size() > 32 || h.den.size() > 32) return std::string(what) + ": at most 32 coefficients";
   for (double v : h.num)
     if (!std::isfinite(v)) return std::string(what) + ": a numerator coefficient is not finite";
   for (double v : h.den)
@@ -135,8 +135,12 @@ std::string dropout_loop_error(const DropoutLoop& loop) {
   using namespace dropout_loop_impl;
   if (auto e = tf_error(loop.plant, "plant"); !e.empty()) return e;
   if (auto e = tf_error(loop.controller, "controller"); !e.empty()) return e;
-  if (loop.delay < 1 || loop.delay > 64) return "delay must be 1..64 frames";
+  if (loop.delay < 1 || loop.delay > kDropoutLoopMaxStates) return "delay must be 1.." + std::to_string(kDropoutLoopMaxStates) + " frames";
   if (!std::isfinite(loop.input_variance) || loop.input_variance < 0) return "input variance must be finite and >= 0";
+  const auto states = dropout_loop_impl::normalise(loop.plant).order + dropout_loop_impl::normalise(loop.controller).order + loop.delay;
+  if (states > kDropoutLoopMaxStates)
+    return "the loop has " + std::to_string(states) + " states (plant order + controller order + delay); at most " +
+           std::to_string(kDropoutLoopMaxStates) + " with the taps";
   return {};
 }
 
@@ -145,6 +149,13 @@ LoopPower dropout_loop_power(const DropoutLoop& loop, std::span<const double> a,
   if (auto e = dropout_loop_error(loop); !e.empty()) throw std::invalid_argument(e);
   if (!(eps >= 0.0 && eps <= 1.0)) throw std::invalid_argument("dropout rate must be in [0, 1]");
   if (a.size() > 16) throw std::invalid_argument("at most 16 compensator taps");
+  {
+    using namespace dropout_loop_impl;
+    const auto states = static_cast<std::size_t>(normalise(loop.plant).order + normalise(loop.controller).order + loop.delay) + a.size();
+    if (states > static_cast<std::size_t>(kDropoutLoopMaxStates))
+      throw std::invalid_argument("the loop and its " + std::to_string(a.size()) + " taps have " + std::to_string(states) +
+                                  " states; at most " + std::to_string(kDropoutLoopMaxStates));
+  }
   for (double v : a)
     if (!std::isfinite(v)) throw std::invalid_argument("a compensator tap is not finite");
 

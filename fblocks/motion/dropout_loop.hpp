@@ -37,6 +37,11 @@ struct TransferFunction {
   std::vector<double> den{1.0};
 };
 
+// The state (plant order + controller order + delay + taps) is at most this:
+// the second-moment equation has n^2 unknowns and its LU takes n^6 work, so
+// 24 states are a 576 x 576 system (2.6 MB, milliseconds).
+inline constexpr int kDropoutLoopMaxStates = 24;
+
 struct DropoutLoop {
   TransferFunction plant;
   TransferFunction controller;  // default: unit gain (paper 003 Fig. 3 closes the loop directly)
@@ -45,7 +50,8 @@ struct DropoutLoop {
 };
 
 // Empty when the loop can be analysed; otherwise why not (den[0] == 0, a
-// non-finite coefficient, delay < 1, a negative or non-finite variance).
+// non-finite coefficient, delay < 1, a negative or non-finite variance, more
+// than kDropoutLoopMaxStates states without the taps).
 std::string dropout_loop_error(const DropoutLoop& loop);
 
 struct LoopPower {

@@ -74,6 +74,15 @@ struct TrendOptions {
   bool csv = false;
 };
 int cmd_trend(const TrendOptions& options);
+// syncplc design-compensator (cmd_design.cpp).
+struct DesignOptions {
+  std::string loop;                       // the loop file (YAML)
+  double loss = 0;                        // Bernoulli dropout rate
+  int order = 4;                          // taps of the compensator
+  std::vector<std::vector<double>> taps;  // more compensators to compare (--taps a1,a2,...)
+  bool json = false;
+};
+int cmd_design_compensator(const DesignOptions& options);
 int cmd_test(const std::string& project, const std::string& tests, const std::string& junit);
 // `syncplc user add|passwd|role|remove|list`: the users of the HTTP API and
 // the HMI in the PLC's database (docs/user-guide.md).

@@ -1,5 +1,8 @@
 // syncplc: a soft-PLC for synchronized multi-axis motion.
 #include <CLI/CLI.hpp>
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
 
 #include <iostream>
 
@@ -48,6 +51,17 @@ int main(int argc, char** argv) {
   sim->add_option("--set", sets, "override a parameter: instance.param=value (repeatable)");
   sim->add_option("--metrics", metrics, "write statistics, motion metrics (Track/Sync-RSME) and driver counters as JSON");
   sim->add_flag("--quiet,-q", quiet, "no progress display");
+
+  DesignOptions design;
+  std::vector<std::string> design_taps;
+  auto* design_cmd = app.add_subcommand("design-compensator",
+                                        "Ling & Lemmon's optimal dropout compensator for a loop: the taps that minimise "
+                                        "its output power under Bernoulli dropouts (OPTIMAL_COMPENSATOR design 1)");
+  design_cmd->add_option("LOOP", design.loop, "loop file (YAML): plant, controller, delay, input_variance")->required();
+  design_cmd->add_option("--loss", design.loss, "dropout rate, 0 <= rate < 1")->required();
+  design_cmd->add_option("--order", design.order, "taps of the compensator, 1..16")->check(CLI::Range(1, 16));
+  design_cmd->add_option("--taps", design_taps, "also compare these taps, comma-separated a1,a2,... (repeatable)");
+  design_cmd->add_flag("--json", design.json, "print JSON");
 
   auto* run = app.add_subcommand("run", "run a project in real time");
   run->add_option("PROJECT", project, "project file (YAML); none: the last accepted project in the database");
@@ -225,6 +239,28 @@ int main(int argc, char** argv) {
   try {
     if (*check) return cmd_check(project);
     if (*blocks) return cmd_blocks(block, markdown, blocks_project);
+    if (*design_cmd) {
+      for (const auto& t : design_taps) {
+        std::vector<double> a;
+        std::stringstream ss(t);
+        std::string item;
+        while (std::getline(ss, item, ',')) {
+          char* end = nullptr;
+          const double v = std::strtod(item.c_str(), &end);
+          if (item.empty() || end != item.c_str() + item.size() || !std::isfinite(v)) {
+            std::cerr << "--taps " << t << ": '" << item << "' is not a finite number\n";
+            return kExitInvalid;
+          }
+          a.push_back(v);
+        }
+        if (a.size() > 16) {
+          std::cerr << "--taps " << t << ": at most 16 taps\n";
+          return kExitInvalid;
+        }
+        design.taps.push_back(a);
+      }
+      return cmd_design_compensator(design);
+    }
     if (*sim) return cmd_sim(project, duration, seed, trace, sets, quiet, metrics);
     if (*run) {
       RunOptions o;

@@ -121,7 +121,7 @@ TEST(DropoutLoop, MatchesAMonteCarloRunOfTheLoopWithDropouts) {
       ASSERT_TRUE(p.ms_stable);
       const double sim = simulated_power(l, taps, eps, 1'000'000, 7);
       // 1e6 correlated samples: the relative standard error of the estimate is ~0.45 %.
-      EXPECT_NEAR(sim, p.output_power, 0.015 * p.output_power) << "eps " << eps << " taps " << taps.size();
+      EXPECT_NEAR(sim, p.output_power, 0.02 * p.output_power) << "eps " << eps << " taps " << taps.size();
     }
   }
 }
@@ -275,6 +275,14 @@ TEST(DropoutDesign, RejectsWhatItCannotAnalyse) {
     EXPECT_NE(std::string(e.what()).find("delay"), std::string::npos);
   }
   EXPECT_THROW(design_dropout_compensator(paper_loop(), 0, 0.1), std::invalid_argument);
+  // Bounded work and memory: a loop of more than 24 states is refused, with the count.
+  l = paper_loop();
+  l.delay = 17;  // 5 + 17 = 22 states: fine alone, 26 with four taps
+  EXPECT_TRUE(dropout_loop_error(l).empty()) << dropout_loop_error(l);
+  EXPECT_THROW(dropout_loop_power(l, std::vector<double>(4, 0.0), 0.1), std::invalid_argument);
+  l.controller.den.assign(10, 0.1);
+  l.controller.den[0] = 1;
+  EXPECT_NE(dropout_loop_error(l).find("31 states"), std::string::npos) << dropout_loop_error(l);
   EXPECT_THROW(design_dropout_compensator(paper_loop(), 2, 1.0), std::invalid_argument);
   // An open-loop unstable plant under 95 % loss: nothing holds it.
   DropoutLoop unstable;

@@ -182,6 +182,29 @@ TEST(OptimalCompensatorBlock, PassesSamplesAndFeedsItsEstimatesBack) {
   EXPECT_EQ(h.get<std::uint32_t>("consecutive"), 0u);
 }
 
+// design 1: the taps as given (from `syncplc design-compensator`), the same
+// recursion over the compensated stream.
+TEST(OptimalCompensatorBlock, GivenTapsAreUsedAsWritten) {
+  auto h = make_optimal({{"design", "1"}, {"order", "2"}, {"a1", "-0.5"}, {"a2", "0.25"}});
+  ASSERT_TRUE(h.ok()) << optimal_errors(h);
+  h.set<double>("in", 8.0);
+  h.set<bool>("valid", true);
+  h.scan();
+  h.set<double>("in", 4.0);
+  h.scan();
+  h.set<bool>("valid", false);
+  h.scan();
+  EXPECT_NEAR(h.get<double>("out"), -0.5 * 4.0 + 0.25 * 8.0, 1e-15);
+  h.scan();
+  EXPECT_NEAR(h.get<double>("out"), -0.5 * 0.0 + 0.25 * 4.0, 1e-15);
+  EXPECT_TRUE(h.get<bool>("estimated"));
+  // A tap beyond the order is refused, not silently dropped; out of range too.
+  const std::string e = optimal_errors(make_optimal({{"design", "1"}, {"order", "2"}, {"a3", "0.1"}}));
+  EXPECT_NE(e.find("a3 is set but order is 2"), std::string::npos) << e;
+  EXPECT_NE(optimal_errors(make_optimal({{"design", "1"}, {"a1", "200"}})).find("a1 must be <="), std::string::npos);
+  EXPECT_NE(optimal_errors(make_optimal({{"design", "2"}})).find("design"), std::string::npos);
+}
+
 // On a signal of the spectrum it was designed for (AR(2) x = 1.6 x1 - 0.8 x2
 // + w) at 20 % Bernoulli loss, the optimal compensator's error on the lost
 // samples is well below hold's (theory at eps = 0: innovation variance 0.076
