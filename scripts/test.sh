@@ -18,28 +18,78 @@ bash scripts/setup.sh
 bash scripts/build_hmi.sh --browser  # the HMI and chromium for its browser tests (label hmi)
 jobs=$(nproc)
 
+# The builds after the first run in the background at nice 19 beside the
+# tests of the stage before: the tests mostly wait (ctest -j2 of the release
+# stage uses about 70 % of one core), and a niced compiler takes only the CPU
+# they leave (docs/benchmarks.md section 13, "Overlapping builds and tests").
+# bg LOG CMD...: runs CMD in the background; its status lands in LOG.rc.
+logs=$(mktemp -d)
+bg_pids=()
+declare -A bg_pid_of
+bg() {
+  local log=$1
+  shift
+  (set +e; nice -n 19 "$@" >"$log" 2>&1; echo $? >"$log.rc") &
+  bg_pids+=($!)
+  bg_pid_of[$log]=$!
+}
+# bg_wait LOG: waits for it; its log's last lines, or all of it and a stop on failure.
+bg_wait() {
+  local log=$1
+  while [ ! -f "$log.rc" ]; do
+    if ! kill -0 "${bg_pid_of[$log]}" 2>/dev/null && [ ! -f "$log.rc" ]; then
+      echo "background build ended without a status: $log"
+      exit 1
+    fi
+    sleep 1
+  done
+  local rc
+  rc=$(cat "$log.rc")
+  if [ "$rc" != 0 ]; then
+    cat "$log"
+    echo "background build failed: $log (status $rc)"
+    exit "$rc"
+  fi
+  tail -n 3 "$log"
+}
+kill_tree() {
+  local child
+  for child in $(pgrep -P "$1" 2>/dev/null); do kill_tree "$child"; done
+  kill "$1" 2>/dev/null || true
+}
+# A failing stage stops the script; the builds still running beside it stop too.
+trap 'for p in "${bg_pids[@]}"; do kill_tree "$p"; done; rm -rf "$logs"' EXIT
+
 echo "== release build"
 # Every build here is from scratch, so in unity batches (-DSYNCPLC_UNITY=ON:
 # half the compile time, docs/benchmarks.md section 13).
 # Line tables only (-g1): stack traces keep their lines, the build takes 30 %
 # less time than with full debug information.
 bash scripts/build.sh build -DSYNCPLC_UNITY=ON -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG"
+
+# Beside the release tests: the ASan + UBSan build.
+bg "$logs/asan.log" bash scripts/build.sh build-asan -DSYNCPLC_UNITY=ON -DSYNCPLC_SANITIZE=address,undefined -DSYNCPLC_BENCH=OFF
 (cd build && ctest --output-on-failure -j "$jobs")
 
 echo "== AddressSanitizer + UndefinedBehaviorSanitizer"
-bash scripts/build.sh build-asan -DSYNCPLC_UNITY=ON -DSYNCPLC_SANITIZE=address,undefined -DSYNCPLC_BENCH=OFF
+bg_wait "$logs/asan.log"
+# Beside the ASan tests: the ThreadSanitizer build (only what the threaded
+# and CLI tests need: the target threaded_and_cli_tests, tests/CMakeLists.txt;
+# the other suites do not run there), then the fuzz targets (built with clang).
+bg "$logs/tsan.log" env SYNCPLC_TARGETS="threaded_and_cli_tests" \
+  bash scripts/build.sh build-tsan -DSYNCPLC_UNITY=ON -DSYNCPLC_SANITIZE=thread -DSYNCPLC_BENCH=OFF
+bg "$logs/fuzz.log" bash -c "while [ ! -f '$logs/tsan.log.rc' ]; do sleep 1; done; bash scripts/fuzz.sh 0 build-fuzz -DSYNCPLC_UNITY=ON"
 # Not the tests labelled no_cxx (the HMI's JavaScript alone, the simulated
 # drive alone): none of syncplc's C++ runs in them, the release stage ran them.
 (cd build-asan && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
    ctest --output-on-failure -j "$jobs" -LE no_cxx)
 
 echo "== ThreadSanitizer"
-# Only what the threaded and CLI tests need (the target threaded_and_cli_tests,
-# tests/CMakeLists.txt): the other suites do not run here.
-SYNCPLC_TARGETS="threaded_and_cli_tests" \
-  bash scripts/build.sh build-tsan -DSYNCPLC_UNITY=ON -DSYNCPLC_SANITIZE=thread -DSYNCPLC_BENCH=OFF
+bg_wait "$logs/tsan.log"
 (cd build-tsan && TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
    ctest --output-on-failure -j "$jobs" -L 'threaded|cli|peers' -LE no_cxx)
+
 echo "== libFuzzer: the Modbus request and reply paths, the HTTP request path, the ST front end, the ST engines"
+bg_wait "$logs/fuzz.log"
 bash scripts/fuzz.sh 60 build-fuzz -DSYNCPLC_UNITY=ON
 echo "== all test runs passed"
