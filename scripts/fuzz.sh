@@ -13,7 +13,7 @@ cd "$(dirname "$0")/.."
 seconds=${1:-60}
 dir=${2:-build-fuzz}
 shift $(( $# < 2 ? $# : 2 ))
-SYNCPLC_TARGETS="fuzz_modbus_request fuzz_modbus_reply fuzz_http_request fuzz_st_parse fuzz_st_engines" bash scripts/build.sh "$dir" -DCMAKE_CXX_COMPILER=clang++ \
+SYNCPLC_TARGETS="fuzz_modbus_request fuzz_modbus_reply fuzz_http_request fuzz_st_parse fuzz_st_engines" bash scripts/build.sh "$dir" -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
   -DSYNCPLC_FUZZ=ON -DSYNCPLC_SANITIZE=address,undefined -DSYNCPLC_TESTS=OFF -DSYNCPLC_BENCH=OFF "$@"
 [ "$seconds" = 0 ] && exit 0
 mkdir -p "$dir/fuzz-artifacts"

@@ -10,6 +10,7 @@ PACKAGES=(
   libeigen3-dev libnlopt-dev libmodbus-dev libsqlite3-dev libsqlitecpp-dev sqlite3 libsodium-dev
   libboost1.81-dev libssl-dev  # the HTTP server (runtime/web: Boost.Beast); OpenSSL for its TLS
   libcpp-httplib-dev  # the CLI's HTTP client (runtime/cli/api_client)
+  cyclonedds-dev cyclonedds-tools  # the dds driver (runtime/io/dds) and its peer tests (ddsperf)
   libxbyak-dev  # native code for compiled ST on x86-64 (runtime/st/vm/native_x64.cpp)
   libgtest-dev libgmock-dev libbenchmark-dev
   python3-pymodbus python3-serial-asyncio mbpoll  # Modbus peer tests; pymodbus's client needs serial-asyncio

@@ -1,5 +1,6 @@
 #include "runtime/io/drivers.hpp"
 
+#include "runtime/io/dds/dds_driver.hpp"
 #include "runtime/io/memory_driver.hpp"
 #include "runtime/io/modbus_client/modbus_client.hpp"
 #include "runtime/io/sim_ring.hpp"
@@ -14,6 +15,7 @@ const DriverRegistry& builtin_drivers() {
     r.add(sim_table_driver_type());
     r.add(sim_ring_driver_type());
     r.add(modbus_client_driver_type());
+    r.add(dds_driver_type());
     return r;
   }();
   return registry;

@@ -1,0 +1,181 @@
+#include "runtime/io/dds/dds_driver.hpp"
+
+#include <atomic>
+#include <memory>
+
+#include "runtime/io/dds/dds_link.hpp"
+#include "runtime/io/dds/dds_settings.hpp"
+#include "runtime/io/dds/subscription_latch.hpp"
+#include "runtime/io/safe_output_latch.hpp"
+
+namespace syncplc {
+namespace dds_driver_impl {
+
+using namespace syncplc::dds;
+
+// Status channels of a subscription, after its values channel.
+enum : int { kOk = 1, kAge, kLost, kLate, kScan, kReaction, kStatusChannels = kReaction };
+
+class DdsDriver final : public IoDriver {
+ public:
+  explicit DdsDriver(DdsSettings s) : s_(std::move(s)), link_(s_) {
+    for (const auto& p : s_.publish) {
+      pub_channel_.push_back(static_cast<int>(channels_.size()));
+      channels_.push_back({p.topic, PinDir::Out, IecType::LREAL, p.values, "", "published: one sample per scan"});
+    }
+    for (const auto& sub : s_.subscribe) {
+      sub_channel_.push_back(static_cast<int>(channels_.size()));
+      channels_.push_back({sub.topic, PinDir::In, IecType::LREAL, sub.values, "", "the newest sample's values"});
+      channels_.push_back({sub.topic + "_ok", PinDir::In, IecType::BOOL, 1, "", "a sample arrived within stale_after scans"});
+      channels_.push_back({sub.topic + "_age", PinDir::In, IecType::UDINT, 1, "", "scans since the newest sample arrived"});
+      channels_.push_back({sub.topic + "_lost", PinDir::In, IecType::UDINT, 1, "", "samples that never arrived, since open"});
+      channels_.push_back({sub.topic + "_late", PinDir::In, IecType::UDINT, 1, "", "samples that arrived after a newer one"});
+      channels_.push_back({sub.topic + "_scan", PinDir::In, IecType::ULINT, 1, "", "the publisher's scan of the values"});
+      channels_.push_back({sub.topic + "_reaction", PinDir::In, IecType::BOOL, 1, "", "stale past stale_after: the reaction applies"});
+    }
+    ok_ = std::make_unique<std::atomic<bool>[]>(s_.subscribe.size());
+    for (const auto& p : s_.publish) last_out_.emplace_back(p.values, Cell{});
+  }
+
+  const std::vector<DriverChannel>& channels() const override { return channels_; }
+
+  void bind(const std::vector<Cell*>& cells) override {
+    cells_ = cells;
+    latches_.clear();
+    for (const auto& sub : s_.subscribe) latches_.emplace_back(sub, make_subscription_texts(name(), sub));
+  }
+
+  bool open(std::string* error) override {
+    for (auto& l : latches_) l.reset();
+    for (std::size_t i = 0; i < s_.subscribe.size(); ++i) ok_[i].store(false, std::memory_order_relaxed);
+    safe_.reset();
+    last_scan_ = 0;
+    return link_.open(error);
+  }
+
+  void latch_inputs(const ScanContext& ctx) noexcept override {
+    for (std::size_t i = 0; i < s_.subscribe.size(); ++i) {
+      const int ch = sub_channel_[i];
+      const SubscriptionStatus& st = latches_[i].latch(link_.subscription(i).acquire(), ctx, cell(ch));
+      ok_[i].store(st.ok, std::memory_order_relaxed);
+      if (Cell* c = cell(ch + kOk)) c->set<bool>(st.ok);
+      if (Cell* c = cell(ch + kAge)) c->set<std::uint32_t>(st.age);
+      if (Cell* c = cell(ch + kLost)) c->set<std::uint32_t>(st.lost);
+      if (Cell* c = cell(ch + kLate)) c->set<std::uint32_t>(st.late);
+      if (Cell* c = cell(ch + kScan)) c->set<std::uint64_t>(st.scan);
+      if (Cell* c = cell(ch + kReaction)) c->set<bool>(st.reacting);
+    }
+  }
+
+  void write_outputs(const ScanContext& ctx) noexcept override {
+    if (!safe_.begin_write()) return;  // held in the safe state
+    last_scan_ = ctx.scan;
+    for (std::size_t i = 0; i < s_.publish.size(); ++i) {
+      if (const Cell* c = cell(pub_channel_[i])) std::copy(c, c + s_.publish[i].values, last_out_[i].begin());
+      publish(i, ctx.scan, ctx.now_ns);
+    }
+    safe_.end_write();
+    link_.hand_over();
+  }
+
+  bool write_safe_outputs(const SafeOutput* outputs, std::size_t n) noexcept override {
+    if (!safe_.engage()) return false;
+    // The safe values go out as one more sample of each publication, the
+    // scan after the last one written, so that subscribers take it as new.
+    for (std::size_t k = 0; k < n; ++k)
+      for (std::size_t i = 0; i < s_.publish.size(); ++i)
+        if (outputs[k].channel == pub_channel_[i] && outputs[k].element < s_.publish[i].values)
+          last_out_[i][outputs[k].element] = outputs[k].value;
+    for (std::size_t i = 0; i < s_.publish.size(); ++i) publish(i, last_scan_ + 1, last_time_);
+    link_.hand_over();
+    return true;
+  }
+
+  void close() noexcept override { link_.close(); }
+
+  bool input_ok(int channel) const noexcept override {
+    for (std::size_t i = 0; i < sub_channel_.size(); ++i)
+      if (channel == sub_channel_[i]) return ok_[i].load(std::memory_order_relaxed);
+    return true;
+  }
+
+  bool read_output(int channel, Cell* values) const override {
+    for (std::size_t i = 0; i < pub_channel_.size(); ++i)
+      if (channel == pub_channel_[i]) {
+        std::copy(last_out_[i].begin(), last_out_[i].end(), values);
+        return true;
+      }
+    return false;
+  }
+
+  std::string summary() const override {
+    std::string t = "node " + s_.node + ", DDS domain " + std::to_string(s_.domain);
+    if (!s_.peers.empty()) {
+      t += ", peers";
+      for (const auto& p : s_.peers) t += " " + p;
+    }
+    for (const auto& p : s_.publish) t += "; publishes " + p.topic + " (" + std::to_string(p.values) + ")";
+    for (const auto& sub : s_.subscribe)
+      t += "; subscribes " + sub.topic + " (" + std::to_string(sub.values) + ", stale after " + std::to_string(sub.stale_after) +
+           (sub.stale_after == 1 ? " scan: " : " scans: ") +
+           (sub.reaction == StaleReaction::Hold ? "hold" : sub.reaction == StaleReaction::Safe ? "safe" : "stop") + ")";
+    return t;
+  }
+
+  std::vector<std::pair<std::string, double>> counters() const override {
+    const LinkCounters& c = link_.counters();
+    auto v = [](const std::atomic<std::uint64_t>& a) { return static_cast<double>(a.load(std::memory_order_relaxed)); };
+    return {{"samples_sent", v(c.sent)},         {"write_errors", v(c.write_errors)},
+            {"samples_received", v(c.received)}, {"samples_lost", v(c.lost)},
+            {"samples_late", v(c.late)},         {"samples_mismatched", v(c.mismatched)},
+            {"writers_changed", v(c.writers_changed)}};
+  }
+
+ private:
+  Cell* cell(int ch) const noexcept {
+    return ch >= 0 && static_cast<std::size_t>(ch) < cells_.size() ? cells_[static_cast<std::size_t>(ch)] : nullptr;
+  }
+  void publish(std::size_t i, std::uint64_t scan, std::int64_t time) noexcept {
+    TripleBuffer& b = link_.publication(i);
+    Cell* out = b.back();
+    out[PublicationCells::kScan].set<std::uint64_t>(scan);
+    out[PublicationCells::kTime].set<std::int64_t>(time);
+    // A channel of n values is n LREAL cells.
+    std::copy(last_out_[i].begin(), last_out_[i].end(), out + PublicationCells::kValues);
+    b.publish();
+    last_time_ = time;
+  }
+
+  DdsSettings s_;
+  DdsLink link_;
+  std::vector<DriverChannel> channels_;
+  std::vector<int> pub_channel_, sub_channel_;
+  std::vector<Cell*> cells_;
+  std::vector<SubscriptionLatch> latches_;
+  std::unique_ptr<std::atomic<bool>[]> ok_;
+  std::vector<std::vector<Cell>> last_out_;
+  SafeOutputLatch safe_;
+  std::uint64_t last_scan_ = 0;
+  std::int64_t last_time_ = 0;
+};
+
+}  // namespace dds_driver_impl
+
+DriverTypeInfo dds_driver_type() {
+  DriverTypeInfo t;
+  t.name = "dds";
+  t.doc =
+      "Nodes over Cyclone DDS: node, domain, peers (unicast discovery, multicast off), interface, shared_memory, "
+      "qos {reliability (best_effort, reliable), deadline, liveliness}; publish [{topic, values}] as one sample per "
+      "scan; subscribe [{topic, values, stale_after (scans), reaction (hold, safe, stop), safe}]. Channels: TOPIC, "
+      "and per subscription TOPIC_ok, TOPIC_age (scans), TOPIC_lost, TOPIC_late, TOPIC_scan, TOPIC_reaction. "
+      "docs/dds.md.";
+  t.create = [](const ConfigNode& node, DriverSetup& setup) -> std::unique_ptr<IoDriver> {
+    dds::DdsSettings s;
+    if (!dds::read_dds_settings(node, setup, s)) return nullptr;
+    return std::make_unique<dds_driver_impl::DdsDriver>(std::move(s));
+  };
+  return t;
+}
+
+}  // namespace syncplc

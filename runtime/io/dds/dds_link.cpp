@@ -1,0 +1,228 @@
+#include "runtime/io/dds/dds_link.hpp"
+
+#include <dds/dds.h>
+
+#include <algorithm>
+
+#include "runtime/core/monotonic_clock.hpp"
+#include "runtime/io/dds/node_sample.h"
+#include "runtime/io/dds/subscription_latch.hpp"
+
+namespace syncplc::dds {
+namespace dds_link_impl {
+
+std::string rc_text(dds_return_t rc) { return dds_strretcode(rc); }
+
+// Keep-last QoS of a cyclic control loop (docs/dds.md, "QoS"): only the
+// newest sample matters, a late one is worth nothing.
+dds_qos_t* loop_qos(const DdsSettings& s, std::int32_t depth) {
+  dds_qos_t* q = dds_create_qos();
+  if (s.reliability == Reliability::Reliable) dds_qset_reliability(q, DDS_RELIABILITY_RELIABLE, DDS_MSECS(1));
+  else dds_qset_reliability(q, DDS_RELIABILITY_BEST_EFFORT, 0);
+  dds_qset_history(q, DDS_HISTORY_KEEP_LAST, depth);
+  dds_qset_durability(q, DDS_DURABILITY_VOLATILE);
+  if (s.deadline_ns > 0) dds_qset_deadline(q, s.deadline_ns);
+  if (s.liveliness_ns > 0) dds_qset_liveliness(q, DDS_LIVELINESS_AUTOMATIC, s.liveliness_ns);
+  return q;
+}
+
+}  // namespace dds_link_impl
+
+DdsLink::DdsLink(const DdsSettings& s) : s_(s), pubs_(s.publish.size()), subs_(s.subscribe.size()) {
+  for (std::size_t i = 0; i < s.publish.size(); ++i) pubs_[i].resize(PublicationCells::kValues + s.publish[i].values);
+  for (std::size_t i = 0; i < s.subscribe.size(); ++i) subs_[i].resize(SubscriptionCells::kValues + s.subscribe[i].values);
+}
+
+DdsLink::~DdsLink() { close(); }
+
+std::string DdsLink::cyclone_config(const DdsSettings& s) {
+  // Settings were checked at load (no XML metacharacters in addresses or names).
+  std::string x = "<CycloneDDS><Domain id=\"any\"><General>";
+  if (!s.interface.empty()) {
+    const bool address = s.interface.find_first_of(".:") != std::string::npos;
+    x += "<Interfaces><NetworkInterface " + std::string(address ? "address" : "name") + "=\"" + s.interface +
+         "\"/></Interfaces>";
+  }
+  // Explicit peers: unicast discovery, no multicast (a fixed cell; what works
+  // across network namespaces and on networks that drop multicast).
+  if (!s.peers.empty()) x += "<AllowMulticast>false</AllowMulticast>";
+  x += "</General><Discovery><ParticipantIndex>auto</ParticipantIndex><MaxAutoParticipantIndex>63</MaxAutoParticipantIndex>";
+  if (!s.peers.empty()) {
+    x += "<Peers>";
+    for (const auto& p : s.peers) x += "<Peer address=\"" + p + "\"/>";
+    x += "</Peers>";
+  }
+  x += "</Discovery>";
+  if (s.shared_memory) x += "<SharedMemory><Enable>true</Enable></SharedMemory>";
+  x += "</Domain></CycloneDDS>";
+  return x;
+}
+
+bool DdsLink::open(std::string* error) {
+  using namespace dds_link_impl;
+  close();
+  const std::string config = cyclone_config(s_);
+  const dds_entity_t domain = dds_create_domain(s_.domain, config.c_str());
+  // Another driver of this process made the domain already: it is shared
+  // (the first driver's network settings hold for it).
+  if (domain < 0 && domain != DDS_RETCODE_PRECONDITION_NOT_MET) {
+    *error = "dds: cannot create DDS domain " + std::to_string(s_.domain) + " with these network settings: " + rc_text(domain);
+    return false;
+  }
+  participant_ = dds_create_participant(s_.domain, nullptr, nullptr);
+  if (participant_ < 0) {
+    *error = "dds: cannot join DDS domain " + std::to_string(s_.domain) + ": " + rc_text(participant_);
+    participant_ = 0;
+    return false;
+  }
+  auto fail = [&](const std::string& what, dds_return_t rc) {
+    *error = "dds: " + what + ": " + rc_text(rc);
+    close();
+    return false;
+  };
+  for (const auto& p : s_.publish) {
+    const dds_entity_t topic = dds_create_topic(participant_, &syncplc_NodeSample_desc, wire_topic(p.topic).c_str(), nullptr, nullptr);
+    if (topic < 0) return fail("topic " + p.topic, topic);
+    dds_qos_t* q = loop_qos(s_, 1);
+    const dds_entity_t w = dds_create_writer(participant_, topic, q, nullptr);
+    dds_delete_qos(q);
+    if (w < 0) return fail("writer of " + p.topic, w);
+    writers_.push_back(w);
+  }
+  waitset_ = dds_create_waitset(participant_);
+  guard_ = dds_create_guardcondition(participant_);
+  if (waitset_ < 0 || guard_ < 0) return fail("waitset", waitset_ < 0 ? waitset_ : guard_);
+  dds_waitset_attach(waitset_, guard_, -1);
+  for (std::size_t i = 0; i < s_.subscribe.size(); ++i) {
+    const auto& sub = s_.subscribe[i];
+    const dds_entity_t topic = dds_create_topic(participant_, &syncplc_NodeSample_desc, wire_topic(sub.topic).c_str(), nullptr, nullptr);
+    if (topic < 0) return fail("topic " + sub.topic, topic);
+    dds_qos_t* q = loop_qos(s_, 8);
+    const dds_entity_t r = dds_create_reader(participant_, topic, q, nullptr);
+    dds_delete_qos(q);
+    if (r < 0) return fail("reader of " + sub.topic, r);
+    readers_.push_back(r);
+    const dds_entity_t cond = dds_create_readcondition(r, DDS_ANY_STATE);
+    if (cond < 0) return fail("read condition of " + sub.topic, cond);
+    conditions_.push_back(cond);
+    dds_waitset_attach(waitset_, cond, static_cast<dds_attach_t>(i));
+  }
+  // Values before the first sample: zero, not yet received (received = 0).
+  std::vector<Cell> zero;
+  for (auto& b : subs_) {
+    zero.assign(b.size(), Cell{});
+    b.fill(zero.data());
+  }
+  stop_ = false;
+  send_ = std::thread([this] { send_loop(); });
+  receive_ = std::thread([this] { receive_loop(); });
+  return true;
+}
+
+void DdsLink::close() noexcept {
+  stop_ = true;
+  signal_.hand_over();
+  if (guard_ > 0) dds_set_guardcondition(guard_, true);
+  if (send_.joinable()) send_.join();
+  if (receive_.joinable()) receive_.join();
+  if (participant_ > 0) dds_delete(participant_);  // and every entity it owns
+  participant_ = waitset_ = guard_ = 0;
+  writers_.clear();
+  readers_.clear();
+  conditions_.clear();
+}
+
+void DdsLink::send_loop() noexcept {
+  syncplc_NodeSample sample{};
+  std::vector<std::uint64_t> last(s_.publish.size(), 0);
+  std::vector<bool> any(s_.publish.size(), false);
+  std::uint32_t seen = signal_.count();
+  while (!stop_.load(std::memory_order_acquire)) {
+    const std::uint32_t now = signal_.wait(seen, monotonic_ns() + 100'000'000, stop_);
+    if (now == seen) continue;  // timed out (no scan handed over) or stopping
+    seen = now;
+    for (std::size_t i = 0; i < s_.publish.size(); ++i) {
+      const Cell* c = pubs_[i].acquire();
+      const std::uint64_t scan = c[PublicationCells::kScan].get<std::uint64_t>();
+      if (any[i] && scan == last[i]) continue;  // nothing new (outputs held)
+      any[i] = true;
+      last[i] = scan;
+      const auto& p = s_.publish[i];
+      sample.layout = layout_word(p.topic, p.values);
+      sample.scan = scan;
+      sample.time_ns = c[PublicationCells::kTime].get<std::int64_t>();
+      sample.count = p.values;
+      for (std::uint32_t v = 0; v < p.values; ++v) sample.values[v] = c[PublicationCells::kValues + v].get<double>();
+      if (dds_write(writers_[i], &sample) < 0) counters_.write_errors.fetch_add(1, std::memory_order_relaxed);
+      else counters_.sent.fetch_add(1, std::memory_order_relaxed);
+    }
+  }
+}
+
+void DdsLink::receive_loop() noexcept {
+  constexpr int kBatch = 16;
+  std::vector<syncplc_NodeSample> buf(kBatch);
+  void* ptrs[kBatch];
+  for (int j = 0; j < kBatch; ++j) ptrs[j] = &buf[static_cast<std::size_t>(j)];
+  dds_sample_info_t infos[kBatch];
+  struct State {
+    std::uint32_t layout = 0;
+    dds_instance_handle_t writer = 0;
+    bool have = false;
+    std::uint64_t last = 0, received = 0, lost = 0, late = 0;
+  };
+  std::vector<State> st(s_.subscribe.size());
+  for (std::size_t i = 0; i < st.size(); ++i) st[i].layout = layout_word(s_.subscribe[i].topic, s_.subscribe[i].values);
+  std::vector<dds_attach_t> triggered(s_.subscribe.size() + 1);
+  while (!stop_.load(std::memory_order_acquire)) {
+    const dds_return_t n = dds_waitset_wait(waitset_, triggered.data(), triggered.size(), DDS_MSECS(100));
+    if (n < 0) break;
+    for (std::size_t i = 0; i < readers_.size(); ++i) {
+      State& s = st[i];
+      const auto& sub = s_.subscribe[i];
+      for (;;) {
+        const dds_return_t k = dds_take(readers_[i], ptrs, infos, kBatch, kBatch);
+        if (k <= 0) break;
+        for (int j = 0; j < k; ++j) {
+          if (!infos[j].valid_data) continue;
+          const syncplc_NodeSample& m = buf[static_cast<std::size_t>(j)];
+          if (m.layout != s.layout || m.count != sub.values) {
+            counters_.mismatched.fetch_add(1, std::memory_order_relaxed);
+            continue;
+          }
+          // Another writer: the publishing node restarted (its scan count
+          // starts again) or a second node publishes the topic.
+          if (s.have && infos[j].publication_handle != s.writer) {
+            counters_.writers_changed.fetch_add(1, std::memory_order_relaxed);
+            s.have = false;
+          }
+          if (s.have && m.scan <= s.last) {
+            ++s.late;
+            counters_.late.fetch_add(1, std::memory_order_relaxed);
+            continue;
+          }
+          if (s.have && m.scan > s.last + 1) {
+            s.lost += m.scan - s.last - 1;
+            counters_.lost.fetch_add(m.scan - s.last - 1, std::memory_order_relaxed);
+          }
+          s.writer = infos[j].publication_handle;
+          s.have = true;
+          s.last = m.scan;
+          ++s.received;
+          counters_.received.fetch_add(1, std::memory_order_relaxed);
+          Cell* b = subs_[i].back();
+          b[SubscriptionCells::kReceived].set<std::uint64_t>(s.received);
+          b[SubscriptionCells::kScan].set<std::uint64_t>(m.scan);
+          b[SubscriptionCells::kTime].set<std::int64_t>(m.time_ns);
+          b[SubscriptionCells::kStamp].set<std::int64_t>(monotonic_ns());
+          b[SubscriptionCells::kLost].set<std::uint64_t>(s.lost);
+          b[SubscriptionCells::kLate].set<std::uint64_t>(s.late);
+          for (std::uint32_t v = 0; v < sub.values; ++v) b[SubscriptionCells::kValues + v].set<double>(m.values[v]);
+          subs_[i].publish();
+        }
+      }
+    }
+  }
+}
+
+}  // namespace syncplc::dds

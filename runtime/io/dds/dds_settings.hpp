@@ -1,0 +1,76 @@
+// The settings of a `dds` driver (docs/dds.md): which DDS domain and network,
+// what this node publishes, what it subscribes to, and how a subscription
+// that goes stale is treated. Read from the driver's project-file entry by
+// read_dds_settings; every problem is a load error at its file:line:col.
+//
+//   - name: net
+//     type: dds
+//     node: axis1                      # this node's name, in every sample it sends
+//     domain: 0                        # DDS domain id
+//     peers: [127.0.0.1]               # unicast discovery; multicast is then off
+//     interface: lo                    # the network interface (name or address)
+//     shared_memory: false             # Cyclone's iceoryx transport (needs iox-roudi)
+//     qos: {reliability: best_effort, deadline: 2ms, liveliness: 10ms}
+//     publish:
+//       - {topic: axis1_state, values: 2}
+//     subscribe:
+//       - {topic: master_ref, values: 4, stale_after: 3, reaction: hold, safe: 0}
+//     bind: {axis1_state: state, master_ref: ref, master_ref_ok: ref_ok}
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "runtime/core/config_node.hpp"
+#include "runtime/core/io_driver.hpp"
+
+namespace syncplc::dds {
+
+// One sample carries at most this many values (the fixed layout of
+// node_sample.idl).
+inline constexpr std::uint32_t kMaxValues = 64;
+
+enum class StaleReaction : std::uint8_t { Hold, Safe, Stop };
+
+struct Publication {
+  std::string topic;
+  std::uint32_t values = 1;
+};
+
+struct Subscription {
+  std::string topic;
+  std::uint32_t values = 1;
+  std::uint32_t stale_after = 0;  // scans without a new sample before the reaction applies
+  StaleReaction reaction = StaleReaction::Hold;
+  std::vector<double> safe;       // one per value, for reaction safe
+};
+
+enum class Reliability : std::uint8_t { BestEffort, Reliable };
+
+struct DdsSettings {
+  std::string node;
+  std::uint32_t domain = 0;
+  std::vector<std::string> peers;
+  std::string interface;
+  bool shared_memory = false;
+  Reliability reliability = Reliability::BestEffort;
+  std::int64_t deadline_ns = 0;    // 0: none
+  std::int64_t liveliness_ns = 0;  // 0: none (automatic liveliness, infinite lease)
+  std::vector<Publication> publish;
+  std::vector<Subscription> subscribe;
+};
+
+// False after reporting every error through `setup`.
+bool read_dds_settings(const ConfigNode& entry, DriverSetup& setup, DdsSettings& out);
+
+// The topic's name on the wire: "syncplc_" + topic (topics of other
+// applications in the same domain cannot collide with ours).
+std::string wire_topic(const std::string& topic);
+
+// What a sample's `layout` word holds for `values` values: a check that
+// publisher and subscriber agree on the topic's layout (FNV-1a of the
+// layout's version, the topic and the count).
+std::uint32_t layout_word(const std::string& topic, std::uint32_t values);
+
+}  // namespace syncplc::dds

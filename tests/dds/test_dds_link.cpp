@@ -1,0 +1,219 @@
+// Two dds drivers in one process on Cyclone DDS (loopback, unicast
+// discovery): samples cross in order with the publisher's scan count, lost
+// scans are counted, a silent publisher goes stale and comes back, a
+// restarted publisher is taken again, a topic whose layout differs is never
+// shown, and the safe outputs go out as one more sample. Each test uses its
+// own domain and topics (ctest runs test processes side by side).
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <memory>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "runtime/io/drivers.hpp"
+#include "runtime/project/yaml_tree.hpp"
+
+namespace syncplc {
+namespace {
+
+class Setup final : public DriverSetup {
+ public:
+  std::int64_t task_period_ns() const override { return 1'000'000; }
+  std::uint64_t seed() const override { return 1; }
+  void error(const SourceLoc& where, const std::string& message) override { errors.push_back(where.text() + ": " + message); }
+  std::vector<std::string> errors;
+};
+
+// This test process's own domain: tests of other processes run beside it.
+int domain() { return 10 + static_cast<int>(getpid() % 200); }
+
+struct Node {
+  explicit Node(const std::string& body) {
+    Diagnostics d;
+    cfg = read_yaml_string("name: net\ntype: dds\ndomain: " + std::to_string(domain()) +
+                               "\npeers: [127.0.0.1]\ninterface: 127.0.0.1\n" + body,
+                           "node.yaml", d);
+    drv = builtin_drivers().find("dds")->create(cfg, setup);
+    EXPECT_TRUE(drv) << (setup.errors.empty() ? "" : setup.errors[0]);
+    if (!drv) return;
+    drv->set_name("net");
+    for (const auto& c : drv->channels()) storage.emplace_back(c.length, Cell{});
+    std::vector<Cell*> cells;
+    for (auto& s : storage) cells.push_back(s.data());
+    drv->bind(cells);
+    std::string err;
+    EXPECT_TRUE(drv->open(&err)) << err;
+  }
+  ~Node() {
+    if (drv) drv->close();
+  }
+  int channel(const std::string& name) const {
+    for (std::size_t i = 0; i < drv->channels().size(); ++i)
+      if (drv->channels()[i].name == name) return static_cast<int>(i);
+    ADD_FAILURE() << "no channel " << name;
+    return 0;
+  }
+  Cell& at(const std::string& name, std::size_t i = 0) { return storage[static_cast<std::size_t>(channel(name))][i]; }
+  // One scan of this node: latch, set the publication's values, write.
+  void scan(std::uint64_t k, const std::string& pub = "", std::vector<double> values = {}) {
+    ctx.scan = k;
+    ctx.now_ns = static_cast<std::int64_t>(k) * 1'000'000;
+    ctx.stop_request = nullptr;
+    drv->latch_inputs(ctx);
+    for (std::size_t i = 0; i < values.size(); ++i) at(pub, i).set<double>(values[i]);
+    drv->write_outputs(ctx);
+  }
+  double counter(const std::string& name) const {
+    for (const auto& [k, v] : drv->counters())
+      if (k == name) return v;
+    return -1;
+  }
+  Setup setup;
+  ConfigNode cfg;
+  std::unique_ptr<IoDriver> drv;
+  std::vector<std::vector<Cell>> storage;
+  ScanContext ctx;
+};
+
+// Latches `n` until `done` holds (a guard of 20 s against a hang, never a bound on speed).
+template <class F>
+bool latch_until(Node& n, F done) {
+  const auto guard = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (std::chrono::steady_clock::now() < guard) {
+    n.drv->latch_inputs(n.ctx);
+    if (done()) return true;
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
+  }
+  return false;
+}
+
+std::string topic(const char* base) { return std::string(base) + "_" + std::to_string(getpid()); }
+
+TEST(DdsLink, SamplesCrossInOrderWithThePublishersScan) {
+  const std::string t = topic("state");
+  Node a("node: a\npublish: [{topic: " + t + ", values: 2}]\n");
+  Node b("node: b\nsubscribe: [{topic: " + t + ", values: 2, stale_after: 1000000}]\n");
+  // Discovery: publish until the first sample is seen.
+  std::uint64_t k = 0;
+  ASSERT_TRUE(latch_until(b, [&] {
+    ++k;
+    a.scan(k, t, {1.0 * k, -1.0 * k});
+    return b.at(t + "_ok").get<bool>();
+  }));
+  for (int i = 0; i < 100; ++i) {
+    ++k;
+    a.scan(k, t, {1.0 * k, -1.0 * k});
+    ASSERT_TRUE(latch_until(b, [&] { return b.at(t + "_scan").get<std::uint64_t>() == k; })) << k;
+    EXPECT_EQ(b.at(t, 0).get<double>(), 1.0 * k);
+    EXPECT_EQ(b.at(t, 1).get<double>(), -1.0 * k);
+    EXPECT_TRUE(b.at(t + "_ok").get<bool>());
+  }
+  EXPECT_EQ(b.at(t + "_late").get<std::uint32_t>(), 0u);
+  EXPECT_GE(a.counter("samples_sent"), 100);
+}
+
+TEST(DdsLink, ScansThePublisherSkippedAreCountedLost) {
+  const std::string t = topic("lossy");
+  Node a("node: a\npublish: [{topic: " + t + ", values: 1}]\n");
+  Node b("node: b\nsubscribe: [{topic: " + t + ", values: 1, stale_after: 1000000}]\n");
+  std::uint64_t k = 0;
+  ASSERT_TRUE(latch_until(b, [&] {
+    a.scan(++k, t, {0.0});
+    return b.at(t + "_ok").get<bool>();
+  }));
+  // Matched: the next sample arrives, and from there on every gap is the publisher's.
+  a.scan(++k, t, {0.0});
+  ASSERT_TRUE(latch_until(b, [&] { return b.at(t + "_scan").get<std::uint64_t>() == k; }));
+  const std::uint32_t lost0 = b.at(t + "_lost").get<std::uint32_t>();
+  // Ten samples, each 3 scans after the one before: 2 lost per sample.
+  for (int i = 0; i < 10; ++i) {
+    k += 3;
+    a.scan(k, t, {1.0});
+    ASSERT_TRUE(latch_until(b, [&] { return b.at(t + "_scan").get<std::uint64_t>() == k; }));
+  }
+  EXPECT_EQ(b.at(t + "_lost").get<std::uint32_t>() - lost0, 20u);
+}
+
+TEST(DdsLink, ASilentPublisherGoesStaleAndComesBack) {
+  const std::string t = topic("silent");
+  Node a("node: a\npublish: [{topic: " + t + ", values: 1}]\n");
+  Node b("node: b\nsubscribe: [{topic: " + t + ", values: 1, stale_after: 5, reaction: safe, safe: -7}]\n");
+  std::uint64_t k = 0, kb = 0;
+  ASSERT_TRUE(latch_until(b, [&] {
+    a.scan(++k, t, {3.0});
+    return b.at(t + "_ok").get<bool>();
+  }));
+  // b scans on; a sends nothing: after 5 scans without a sample b reacts.
+  kb = 1000;
+  for (int i = 0; i <= 5; ++i) b.scan(++kb);
+  EXPECT_TRUE(b.at(t + "_reaction").get<bool>());
+  EXPECT_FALSE(b.at(t + "_ok").get<bool>());
+  EXPECT_EQ(b.at(t).get<double>(), -7.0) << "safe: the values take the safe value while stale";
+  EXPECT_GE(b.at(t + "_age").get<std::uint32_t>(), 6u);
+  a.scan(++k, t, {4.0});
+  ASSERT_TRUE(latch_until(b, [&] { return b.at(t + "_ok").get<bool>(); }));
+  EXPECT_EQ(b.at(t).get<double>(), 4.0);
+  EXPECT_FALSE(b.at(t + "_reaction").get<bool>());
+}
+
+TEST(DdsLink, ARestartedPublisherIsTakenAgainFromItsFirstScan) {
+  const std::string t = topic("restart");
+  Node b("node: b\nsubscribe: [{topic: " + t + ", values: 1, stale_after: 1000000}]\n");
+  {
+    Node a("node: a\npublish: [{topic: " + t + ", values: 1}]\n");
+    std::uint64_t k = 500;
+    ASSERT_TRUE(latch_until(b, [&] {
+      a.scan(++k, t, {1.0});
+      return b.at(t + "_ok").get<bool>() && b.at(t).get<double>() == 1.0;
+    }));
+  }
+  Node a2("node: a\npublish: [{topic: " + t + ", values: 1}]\n");
+  std::uint64_t k = 0;  // a new run counts its scans from 0 again
+  ASSERT_TRUE(latch_until(b, [&] {
+    a2.scan(k++, t, {2.0});
+    return b.at(t).get<double>() == 2.0;
+  }));
+  EXPECT_EQ(b.at(t + "_late").get<std::uint32_t>(), 0u) << "not late: another writer, counted as one";
+  EXPECT_GE(b.counter("writers_changed"), 1);
+}
+
+TEST(DdsLink, ATopicWhoseLayoutDiffersIsNeverShown) {
+  const std::string t = topic("layout");
+  Node a("node: a\npublish: [{topic: " + t + ", values: 2}]\n");
+  Node b("node: b\nsubscribe: [{topic: " + t + ", values: 3, stale_after: 1000000}]\n");
+  std::uint64_t k = 0;
+  ASSERT_TRUE(latch_until(b, [&] {
+    a.scan(++k, t, {1.0, 2.0});
+    return b.counter("samples_mismatched") >= 5;
+  }));
+  EXPECT_FALSE(b.at(t + "_ok").get<bool>());
+  EXPECT_EQ(b.at(t, 0).get<double>(), 0.0);
+}
+
+TEST(DdsLink, SafeOutputsGoOutAsOneMoreSampleAndHold) {
+  const std::string t = topic("safe");
+  Node a("node: a\npublish: [{topic: " + t + ", values: 2}]\n");
+  Node b("node: b\nsubscribe: [{topic: " + t + ", values: 2, stale_after: 1000000}]\n");
+  std::uint64_t k = 0;
+  ASSERT_TRUE(latch_until(b, [&] {
+    a.scan(++k, t, {5.0, 6.0});
+    return b.at(t + "_ok").get<bool>();
+  }));
+  SafeOutput safe{a.channel(t), 1, Cell{}};
+  safe.value.set<double>(-1.0);
+  ASSERT_TRUE(a.drv->write_safe_outputs(&safe, 1));
+  ASSERT_TRUE(latch_until(b, [&] { return b.at(t, 1).get<double>() == -1.0; }));
+  EXPECT_EQ(b.at(t, 0).get<double>(), 5.0) << "the other element keeps its last value";
+  EXPECT_EQ(b.at(t + "_scan").get<std::uint64_t>(), k + 1);
+  // Held: a scan that ends afterwards sends nothing.
+  a.scan(k + 2, t, {9.0, 9.0});
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  b.drv->latch_inputs(b.ctx);
+  EXPECT_EQ(b.at(t, 0).get<double>(), 5.0);
+}
+
+}  // namespace
+}  // namespace syncplc
