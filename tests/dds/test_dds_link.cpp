@@ -15,6 +15,7 @@
 
 #include "runtime/io/drivers.hpp"
 #include "runtime/project/yaml_tree.hpp"
+#include "tests/support/allocation_counter.hpp"
 
 namespace syncplc {
 namespace {
@@ -146,7 +147,9 @@ TEST(DdsLink, ASilentPublisherGoesStaleAndComesBack) {
     a.scan(++k, t, {3.0});
     return b.at(t + "_ok").get<bool>();
   }));
-  // b scans on; a sends nothing: after 5 scans without a sample b reacts.
+  // Everything a sent has arrived; now b scans on and a sends nothing: after
+  // 5 scans without a sample b reacts.
+  ASSERT_TRUE(latch_until(b, [&] { return b.at(t + "_scan").get<std::uint64_t>() == k; }));
   kb = 1000;
   for (int i = 0; i <= 5; ++i) b.scan(++kb);
   EXPECT_TRUE(b.at(t + "_reaction").get<bool>());
@@ -213,6 +216,40 @@ TEST(DdsLink, SafeOutputsGoOutAsOneMoreSampleAndHold) {
   std::this_thread::sleep_for(std::chrono::milliseconds(50));
   b.drv->latch_inputs(b.ctx);
   EXPECT_EQ(b.at(t, 0).get<double>(), 5.0);
+}
+
+// latch_inputs and write_outputs of both nodes, with samples crossing: no
+// operator new anywhere in the process meanwhile (Cyclone's own C
+// allocations happen in the driver's threads, which call no operator new).
+TEST(DdsLink, TheScanPathDoesNotAllocate) {
+  const std::string t = topic("alloc");
+  Node a("node: a\npublish: [{topic: " + t + ", values: 4}]\nsubscribe: [{topic: " + t + "_back, values: 1, stale_after: 2}]\n");
+  Node b("node: b\npublish: [{topic: " + t + "_back, values: 1}]\nsubscribe: [{topic: " + t + ", values: 4, stale_after: 2, reaction: safe}]\n");
+  std::uint64_t k = 0;
+  ASSERT_TRUE(latch_until(b, [&] {
+    ++k;
+    a.scan(k, t, {1, 2, 3, 4});
+    return b.at(t + "_ok").get<bool>();
+  }));
+  Cell& a_out = a.at(t, 0);
+  Cell& b_out = b.at(t + "_back");
+  test::allocations_counted = 0;
+  test::counting_allocations = true;
+  for (int i = 0; i < 500; ++i) {
+    ++k;
+    for (Node* n : {&a, &b}) {
+      n->ctx.scan = k;
+      n->drv->latch_inputs(n->ctx);
+    }
+    a_out.set<double>(1.0 * static_cast<double>(k));
+    b_out.set<double>(1.0 * static_cast<double>(k));
+    a.drv->write_outputs(a.ctx);
+    b.drv->write_outputs(b.ctx);
+    if (i % 50 == 0) std::this_thread::sleep_for(std::chrono::milliseconds(1));  // stale periods too (safe values, events)
+  }
+  test::counting_allocations = false;
+  EXPECT_EQ(test::allocations_counted.load(), 0);
+  EXPECT_GT(b.at(t + "_scan").get<std::uint64_t>(), 0u);
 }
 
 }  // namespace

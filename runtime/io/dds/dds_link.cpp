@@ -3,6 +3,8 @@
 #include <dds/dds.h>
 
 #include <algorithm>
+#include <map>
+#include <mutex>
 
 #include "runtime/core/monotonic_clock.hpp"
 #include "runtime/io/dds/node_sample.h"
@@ -25,6 +27,48 @@ dds_qos_t* loop_qos(const DdsSettings& s, std::int32_t depth) {
   if (s.liveliness_ns > 0) dds_qset_liveliness(q, DDS_LIVELINESS_AUTOMATIC, s.liveliness_ns);
   return q;
 }
+
+// The DDS domains this process has made, shared by its dds drivers: a
+// domain is made with the first driver's network settings and deleted with
+// the last driver that uses it (deleting a domain deletes every participant
+// in it). open() and close() only, never the scan.
+class Domains {
+ public:
+  static Domains& instance() {
+    static Domains* d = new Domains;  // lives as long as the process; drivers close before exit
+    return *d;
+  }
+  // The domain's handle (> 0), or a DDS return code (< 0).
+  dds_entity_t acquire(std::uint32_t id, const std::string& config) {
+    std::lock_guard lock(m_);
+    auto it = domains_.find(id);
+    if (it != domains_.end()) {
+      ++it->second.users;
+      return it->second.handle;
+    }
+    const dds_entity_t h = dds_create_domain(id, config.c_str());
+    if (h < 0) return h;
+    domains_[id] = {h, 1};
+    return h;
+  }
+  void release(std::uint32_t id) {
+    std::lock_guard lock(m_);
+    auto it = domains_.find(id);
+    if (it == domains_.end()) return;
+    if (--it->second.users == 0) {
+      dds_delete(it->second.handle);
+      domains_.erase(it);
+    }
+  }
+
+ private:
+  struct Entry {
+    dds_entity_t handle = 0;
+    int users = 0;
+  };
+  std::mutex m_;
+  std::map<std::uint32_t, Entry> domains_;
+};
 
 }  // namespace dds_link_impl
 
@@ -62,17 +106,19 @@ bool DdsLink::open(std::string* error) {
   using namespace dds_link_impl;
   close();
   const std::string config = cyclone_config(s_);
-  const dds_entity_t domain = dds_create_domain(s_.domain, config.c_str());
-  // Another driver of this process made the domain already: it is shared
-  // (the first driver's network settings hold for it).
-  if (domain < 0 && domain != DDS_RETCODE_PRECONDITION_NOT_MET) {
+  // Another driver of this process may have made the domain already: it is
+  // shared (the first driver's network settings hold for it).
+  const dds_entity_t domain = Domains::instance().acquire(s_.domain, config);
+  if (domain < 0) {
     *error = "dds: cannot create DDS domain " + std::to_string(s_.domain) + " with these network settings: " + rc_text(domain);
     return false;
   }
+  domain_held_ = true;
   participant_ = dds_create_participant(s_.domain, nullptr, nullptr);
   if (participant_ < 0) {
     *error = "dds: cannot join DDS domain " + std::to_string(s_.domain) + ": " + rc_text(participant_);
     participant_ = 0;
+    close();
     return false;
   }
   auto fail = [&](const std::string& what, dds_return_t rc) {
@@ -127,6 +173,8 @@ void DdsLink::close() noexcept {
   if (receive_.joinable()) receive_.join();
   if (participant_ > 0) dds_delete(participant_);  // and every entity it owns
   participant_ = waitset_ = guard_ = 0;
+  if (domain_held_) dds_link_impl::Domains::instance().release(s_.domain);
+  domain_held_ = false;
   writers_.clear();
   readers_.clear();
   conditions_.clear();
@@ -136,6 +184,8 @@ void DdsLink::send_loop() noexcept {
   syncplc_NodeSample sample{};
   std::vector<std::uint64_t> last(s_.publish.size(), 0);
   std::vector<bool> any(s_.publish.size(), false);
+  std::vector<std::uint32_t> layout(s_.publish.size());
+  for (std::size_t i = 0; i < layout.size(); ++i) layout[i] = layout_word(s_.publish[i].topic, s_.publish[i].values);
   std::uint32_t seen = signal_.count();
   while (!stop_.load(std::memory_order_acquire)) {
     const std::uint32_t now = signal_.wait(seen, monotonic_ns() + 100'000'000, stop_);
@@ -148,7 +198,7 @@ void DdsLink::send_loop() noexcept {
       any[i] = true;
       last[i] = scan;
       const auto& p = s_.publish[i];
-      sample.layout = layout_word(p.topic, p.values);
+      sample.layout = layout[i];
       sample.scan = scan;
       sample.time_ns = c[PublicationCells::kTime].get<std::int64_t>();
       sample.count = p.values;

@@ -69,6 +69,7 @@ class DdsLink {
   std::thread send_, receive_;
   LinkCounters counters_;
   std::int32_t participant_ = 0, waitset_ = 0, guard_ = 0;
+  bool domain_held_ = false;
   std::vector<std::int32_t> writers_, readers_, conditions_;
 };
 

@@ -146,7 +146,7 @@ std::uint32_t layout_word(const std::string& topic, std::uint32_t values) {
     h ^= b;
     h *= 16777619u;
   };
-  for (char ch : std::string("syncplc node sample 1/")) mix(static_cast<unsigned char>(ch));
+  for (const char* p = "syncplc node sample 1/"; *p; ++p) mix(static_cast<unsigned char>(*p));
   for (char ch : topic) mix(static_cast<unsigned char>(ch));
   for (int i = 0; i < 4; ++i) mix(static_cast<unsigned char>(values >> (8 * i)));
   return h;
