@@ -54,9 +54,10 @@ set(CPACK_DEBIAN_PACKAGE_SECTION misc)
 set(CPACK_DEBIAN_PACKAGE_PRIORITY optional)
 # The shared libraries' packages (libmodbus5, libsodium23, libssl3, ...) from
 # dpkg-shlibdeps, so apt-get install ./syncplc_*.deb brings them; adduser
-# for the system user the postinst makes.
+# for the system user the postinst makes, procps for the unit's
+# ExecReload=/bin/kill (not an essential package).
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
-set(CPACK_DEBIAN_PACKAGE_DEPENDS "adduser")
+set(CPACK_DEBIAN_PACKAGE_DEPENDS "adduser, procps")
 # Debug information stays in the build tree; the package's binary is stripped.
 set(CPACK_STRIP_FILES ON)
 set(CPACK_DEBIAN_PACKAGE_CONTROL_EXTRA
