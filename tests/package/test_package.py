@@ -25,6 +25,7 @@ import json
 import os
 import pwd
 import re
+import resource
 import shutil
 import signal
 import socket
@@ -170,6 +171,35 @@ def expand_exec(line, env):
     return argv
 
 
+def rlimit_value(text):
+    return resource.RLIM_INFINITY if text == "infinity" else int(text)
+
+
+UNIT_LIMITS = (("LimitRTPRIO", resource.RLIMIT_RTPRIO), ("LimitMEMLOCK", resource.RLIMIT_MEMLOCK))
+
+
+def can_set_limits(settings):
+    """Whether this process may raise its hard limits to the unit's (it needs
+    CAP_SYS_RESOURCE, which systemd has and a container's root may not)."""
+    code = "import resource\n" + "".join(
+        "resource.setrlimit(%d, (%d, %d))\n" % (which, rlimit_value(settings[key]), rlimit_value(settings[key]))
+        for key, which in UNIT_LIMITS)
+    return subprocess.run([sys.executable, "-c", code], stderr=subprocess.DEVNULL).returncode == 0
+
+
+def as_service(user, settings, limits):
+    """A child's start as systemd gives it: LimitRTPRIO= and LimitMEMLOCK=
+    (when `limits`), then User= and Group= with no other groups."""
+    def start():
+        for key, which in UNIT_LIMITS if limits else ():
+            v = rlimit_value(settings[key])
+            resource.setrlimit(which, (v, v))
+        os.setgroups([])
+        os.setgid(user.pw_gid)
+        os.setuid(user.pw_uid)
+    return start
+
+
 def free_port():
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
@@ -308,7 +338,13 @@ def main():
         check(argv[0] == "/usr/bin/syncplc", "ExecStart runs /usr/bin/syncplc")
         if not install:
             argv[0] = os.path.join(root, argv[0].lstrip("/"))  # the extracted copy
-        as_user = {"user": user.pw_uid, "group": user.pw_gid, "extra_groups": []} if user else {}
+        # Installed: as the unit's user with the unit's limits, as systemd
+        # starts it (the limits set while still root, then the user).
+        limits = bool(user) and can_set_limits(settings)
+        if user and not limits:
+            print("note: this process may not raise its limits (no CAP_SYS_RESOURCE): the service runs with "
+                  "the test's own, and whether the unit's give it SCHED_FIFO and locked memory is not checked")
+        as_user = {"preexec_fn": as_service(user, settings, limits)} if user else {}
 
         # 6a. No boot project yet: status 2, on which the unit does not restart.
         rc, out = run(argv, env=env, **as_user)
@@ -357,6 +393,11 @@ def main():
         text = log.read()
         check(rc == 0, "SIGTERM stops it with status 0 (got %s)" % rc)
         check("starting version 1 of %s/plc.db" % state in text, "it started version 1 of the state directory's plc.db")
+        if limits:
+            # The unit's limits are what an unprivileged service needs for
+            # SCHED_FIFO at the project's priority (50) and mlockall.
+            check("SCHED_FIFO" not in text, "as the user syncplc with the unit's limits the task got SCHED_FIFO")
+            check("mlockall failed" not in text, "... and its memory locked")
         if failures:
             print(text)
     finally:
