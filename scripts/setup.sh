@@ -18,6 +18,7 @@ PACKAGES=(
   rt-tests
   openssl  # tests/peers/test_http_tls.py makes a certificate
   curl  # the HTTP API's examples (docs/http-api.md) run as written
+  dpkg-dev file systemd  # the Debian package (packaging/): cpack's dpkg-shlibdeps and file, systemd-analyze verify on its unit
   clang libclang-rt-14-dev
 )
 missing=()

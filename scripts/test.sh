@@ -69,7 +69,10 @@ bash scripts/build.sh build -DSYNCPLC_UNITY=ON -DCMAKE_CXX_FLAGS_RELWITHDEBINFO=
 
 # Beside the release tests: the ASan + UBSan build.
 bg "$logs/asan.log" bash scripts/build.sh build-asan -DSYNCPLC_UNITY=ON -DSYNCPLC_SANITIZE=address,undefined -DSYNCPLC_BENCH=OFF
-(cd build && ctest --output-on-failure -j "$jobs")
+# SYNCPLC_TEST_INSTALL=1: the package test (tests/package) installs the
+# Debian package it builds with apt-get, runs its unit's ExecStart line as
+# the unit's user, and purges it (only where no syncplc is installed already).
+(cd build && SYNCPLC_TEST_INSTALL=1 ctest --output-on-failure -j "$jobs")
 
 echo "== AddressSanitizer + UndefinedBehaviorSanitizer"
 bg_wait "$logs/asan.log"

@@ -100,7 +100,8 @@ int main(int argc, char** argv) {
                   "the CPUs of the HTTP server's threads, e.g. 0 or 0,2 (default: every CPU no task is pinned to)")
       ->delimiter(',')
       ->check(CLI::Range(0, 1023));
-  run->add_option("--hmi-dir", http.hmi_dir, "serve the HMI from this directory (default: the build's hmi_web/dist)");
+  run->add_option("--hmi-dir", http.hmi_dir, "serve the HMI from this directory (default: the installed copy, PREFIX/share/syncplc/hmi "
+                                          "for PREFIX/bin/syncplc, else the build's hmi_web/dist)");
 
   auto* reload = app.add_subcommand("reload", "online change: the running `syncplc run` of PROJECT loads its file again "
                                               "and switches to it without a stop; prints what changed");

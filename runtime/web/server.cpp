@@ -9,6 +9,7 @@
 #include "runtime/store/database.hpp"
 #include "runtime/web/api.hpp"
 #include "runtime/web/descriptor_budget.hpp"
+#include "runtime/web/hmi_location.hpp"
 #include "runtime/web/http/router.hpp"
 #include "runtime/web/http_server.hpp"
 #include "runtime/web/json_values.hpp"
@@ -248,7 +249,7 @@ bool Server::start(std::string* error) {
   add_stream_routes(impl.router, ctx);
   add_axis_routes(impl.router, ctx);
 
-  const std::string dist = c.hmi_dir.empty() ? SYNCPLC_HMI_DIST : c.hmi_dir;
+  const std::string dist = c.hmi_dir.empty() ? default_hmi_dir() : c.hmi_dir;
   if (!impl.files.open(dist))
     impl.no_hmi = "The HMI is not built here (no " + dist + "/index.html): run scripts/build_hmi.sh. The API is at /api/v1.";
 

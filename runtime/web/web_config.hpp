@@ -18,7 +18,7 @@ struct WebConfig {
   std::string tls_cert, tls_key;  // both or neither: HTTPS
   bool allow_plain_remote = false;  // --http-insecure: plain HTTP on a non-loopback address
   std::optional<bool> anonymous_read;  // default: on for a loopback address, off otherwise
-  std::string hmi_dir;       // "" : the build's hmi_web/dist
+  std::string hmi_dir;       // "" : the installed copy beside the executable, else the build's hmi_web/dist (hmi_location.hpp)
   std::size_t max_streams = 64;          // live streams at once; more get 503
   // HTTP connections open at once (--http-max-connections); more are
   // answered 503 and closed. Never more than the HTTP server's share of the
