@@ -32,10 +32,13 @@ class Setup final : public DriverSetup {
 int domain() { return 10 + static_cast<int>(getpid() % 200); }
 
 struct Node {
-  explicit Node(const std::string& body) {
+  // startup_check 0 unless the body sets it: the nodes of a test start one
+  // after the other, and the first would wait for its peer.
+  explicit Node(const std::string& body, bool must_open = true) {
     Diagnostics d;
+    const std::string check = body.find("startup_check") == std::string::npos ? "startup_check: 0s\n" : "";
     cfg = read_yaml_string("name: net\ntype: dds\ndomain: " + std::to_string(domain()) +
-                               "\npeers: [127.0.0.1]\ninterface: 127.0.0.1\n" + body,
+                               "\npeers: [127.0.0.1]\ninterface: 127.0.0.1\n" + check + body,
                            "node.yaml", d);
     drv = builtin_drivers().find("dds")->create(cfg, setup);
     EXPECT_TRUE(drv) << (setup.errors.empty() ? "" : setup.errors[0]);
@@ -45,8 +48,10 @@ struct Node {
     std::vector<Cell*> cells;
     for (auto& s : storage) cells.push_back(s.data());
     drv->bind(cells);
-    std::string err;
-    EXPECT_TRUE(drv->open(&err)) << err;
+    opened = drv->open(&open_error);
+    if (must_open) {
+      EXPECT_TRUE(opened) << open_error;
+    }
   }
   ~Node() {
     if (drv) drv->close();
@@ -73,6 +78,8 @@ struct Node {
     return -1;
   }
   Setup setup;
+  bool opened = false;
+  std::string open_error;
   ConfigNode cfg;
   std::unique_ptr<IoDriver> drv;
   std::vector<std::vector<Cell>> storage;
@@ -216,6 +223,25 @@ TEST(DdsLink, SafeOutputsGoOutAsOneMoreSampleAndHold) {
   std::this_thread::sleep_for(std::chrono::milliseconds(50));
   b.drv->latch_inputs(b.ctx);
   EXPECT_EQ(b.at(t, 0).get<double>(), 5.0);
+}
+
+// A node whose project gives a topic another size than its peer's is
+// refused at start with both sizes named; one that agrees starts.
+TEST(DdsLink, ANodeWhoseTopicsDoNotMatchItsPeersIsRefusedAtStart) {
+  const std::string t = topic("mismatch");
+  Node a("node: a\npublish: [{topic: " + t + ", values: 2}]\n");
+  Node bad("node: b\nstartup_check: 20s\nsubscribe: [{topic: " + t + ", values: 3}]\n", false);
+  EXPECT_FALSE(bad.opened);
+  EXPECT_EQ(bad.open_error, "dds: topic " + t + ": node 'a' publishes 2 values, this node takes 3: the nodes' projects "
+                            "do not match; this node is not started");
+  Node good("node: c\nstartup_check: 20s\nsubscribe: [{topic: " + t + ", values: 2}]\n");
+  EXPECT_TRUE(good.opened);
+  // The check goes both ways: a publisher that starts after a subscriber of another size.
+  const std::string u = topic("mismatch_pub");
+  Node sub("node: d\nsubscribe: [{topic: " + u + ", values: 1}]\n");
+  Node pub("node: e\nstartup_check: 20s\npublish: [{topic: " + u + ", values: 4}]\n", false);
+  EXPECT_EQ(pub.open_error, "dds: topic " + u + ": node 'd' takes 1 value, this node publishes 4: the nodes' projects "
+                            "do not match; this node is not started");
 }
 
 // latch_inputs and write_outputs of both nodes, with samples crossing: no

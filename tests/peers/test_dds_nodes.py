@@ -1,7 +1,8 @@
 """Two nodes over DDS, each its own `syncplc run` (docs/dds.md): node A
 counts its scans and publishes the count; node B subscribes to it
 (stale_after 20 scans, reaction safe) and serves what it sees on its Modbus
-server, read here with pymodbus. A is killed with SIGKILL: B sees the
+server, read here with pymodbus. A third node that gives the topic another
+size is refused at start with a message that names both. A is killed with SIGKILL: B sees the
 subscription stale and takes the safe value; A is started again: B takes its
 samples again without a restart, though A's scans count from 0 once more.
 Loopback only, unicast discovery (multicast off), a domain of this test's own.
@@ -66,6 +67,23 @@ drivers:
 modbus: {{}}
 """
 
+# A node that takes the topic as two values: refused at start.
+NODE_C = """
+project: {{name: dds_c, version: 1.0.0}}
+tasks: [{{name: main, period: 5ms}}]
+tags:
+  - {{name: y, type: "ARRAY[1..2] OF LREAL"}}
+drivers:
+  - name: net
+    type: dds
+    node: c
+    domain: {domain}
+    peers: [127.0.0.1]
+    interface: 127.0.0.1
+    subscribe: [{{topic: {topic}, values: 2}}]
+    bind: {{{topic}: y}}
+"""
+
 
 def write(tmp, name, text):
     path = os.path.join(tmp, name)
@@ -95,6 +113,14 @@ def main():
     # A's count reaches B and grows.
     until(lambda v: v[1] and v[0] > 10, "B sees A's count")
     until(lambda v: v[0] > 400, "the count B sees grows")
+
+    # A third node whose project gives the topic two values is refused at start, with both sizes named.
+    path_c = write(tmp, "c.yaml", NODE_C)
+    c = peerlib.run([binary, "run", path_c, "--no-status", "--modbus-port", "0", "-d", "20s",
+                     "--db", os.path.join(tmp, "c.db")], timeout=60)
+    peerlib.check_true(c.returncode != 0, "the mismatched node did not start (status %d)" % c.returncode)
+    want = "topic %s: node 'a' publishes 1 value, this node takes 2: the nodes' projects do not match" % TOPIC
+    peerlib.check_true(want in c.stdout, "its message names the topic and both sizes:\n" + c.stdout)
 
     # SIGKILL: no goodbye on the wire. B goes stale after 20 of its scans and
     # takes the safe value.

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <map>
+#include <string>
 #include <mutex>
 
 #include "runtime/core/monotonic_clock.hpp"
@@ -15,10 +16,49 @@ namespace dds_link_impl {
 
 std::string rc_text(dds_return_t rc) { return dds_strretcode(rc); }
 
+// What every writer and reader tells its peers in its user data: the node
+// and the topic's layout, so a node can check at start that its peers agree
+// (check_peers).
+std::string endpoint_tag(const std::string& node, const std::string& topic, std::uint32_t values) {
+  return "syncplc1 node=" + node + " values=" + std::to_string(values) + " layout=" +
+         std::to_string(layout_word(topic, values));
+}
+
+struct PeerTag {
+  std::string node;
+  std::uint32_t values = 0, layout = 0;
+};
+
+// The tag of a matched endpoint; false for a non-syncplc endpoint.
+bool peer_tag(const dds_builtintopic_endpoint_t* ep, PeerTag& out) {
+  void* data = nullptr;
+  size_t size = 0;
+  if (!ep || !ep->qos || !dds_qget_userdata(ep->qos, &data, &size) || !data) return false;
+  const std::string text(static_cast<const char*>(data), size);
+  dds_free(data);
+  if (text.rfind("syncplc1 ", 0) != 0) return false;
+  auto field = [&](const char* key) -> std::string {
+    const std::string k = std::string(" ") + key + "=";
+    const auto at = text.find(k);
+    if (at == std::string::npos) return {};
+    const auto end = text.find(' ', at + k.size());
+    return text.substr(at + k.size(), end == std::string::npos ? std::string::npos : end - at - k.size());
+  };
+  out.node = field("node");
+  try {
+    out.values = static_cast<std::uint32_t>(std::stoul(field("values")));
+    out.layout = static_cast<std::uint32_t>(std::stoul(field("layout")));
+  } catch (...) {
+    return false;
+  }
+  return true;
+}
+
 // Keep-last QoS of a cyclic control loop (docs/dds.md, "QoS"): only the
 // newest sample matters, a late one is worth nothing.
-dds_qos_t* loop_qos(const DdsSettings& s, std::int32_t depth) {
+dds_qos_t* loop_qos(const DdsSettings& s, std::int32_t depth, const std::string& tag) {
   dds_qos_t* q = dds_create_qos();
+  dds_qset_userdata(q, tag.data(), tag.size());
   if (s.reliability == Reliability::Reliable) dds_qset_reliability(q, DDS_RELIABILITY_RELIABLE, DDS_MSECS(1));
   else dds_qset_reliability(q, DDS_RELIABILITY_BEST_EFFORT, 0);
   dds_qset_history(q, DDS_HISTORY_KEEP_LAST, depth);
@@ -129,7 +169,7 @@ bool DdsLink::open(std::string* error) {
   for (const auto& p : s_.publish) {
     const dds_entity_t topic = dds_create_topic(participant_, &syncplc_NodeSample_desc, wire_topic(p.topic).c_str(), nullptr, nullptr);
     if (topic < 0) return fail("topic " + p.topic, topic);
-    dds_qos_t* q = loop_qos(s_, 1);
+    dds_qos_t* q = loop_qos(s_, 1, endpoint_tag(s_.node, p.topic, p.values));
     const dds_entity_t w = dds_create_writer(participant_, topic, q, nullptr);
     dds_delete_qos(q);
     if (w < 0) return fail("writer of " + p.topic, w);
@@ -143,7 +183,7 @@ bool DdsLink::open(std::string* error) {
     const auto& sub = s_.subscribe[i];
     const dds_entity_t topic = dds_create_topic(participant_, &syncplc_NodeSample_desc, wire_topic(sub.topic).c_str(), nullptr, nullptr);
     if (topic < 0) return fail("topic " + sub.topic, topic);
-    dds_qos_t* q = loop_qos(s_, 8);
+    dds_qos_t* q = loop_qos(s_, 8, endpoint_tag(s_.node, sub.topic, sub.values));
     const dds_entity_t r = dds_create_reader(participant_, topic, q, nullptr);
     dds_delete_qos(q);
     if (r < 0) return fail("reader of " + sub.topic, r);
@@ -152,6 +192,10 @@ bool DdsLink::open(std::string* error) {
     if (cond < 0) return fail("read condition of " + sub.topic, cond);
     conditions_.push_back(cond);
     dds_waitset_attach(waitset_, cond, static_cast<dds_attach_t>(i));
+  }
+  if (!check_peers(error)) {
+    close();
+    return false;
   }
   // Values before the first sample: zero, not yet received (received = 0).
   std::vector<Cell> zero;
@@ -163,6 +207,46 @@ bool DdsLink::open(std::string* error) {
   send_ = std::thread([this] { send_loop(); });
   receive_ = std::thread([this] { receive_loop(); });
   return true;
+}
+
+bool DdsLink::check_peers(std::string* error) {
+  using namespace dds_link_impl;
+  if (s_.startup_check_ns <= 0) return true;
+  const std::int64_t until = monotonic_ns() + s_.startup_check_ns;
+  constexpr std::size_t kMax = 64;
+  dds_instance_handle_t handles[kMax];
+  for (;;) {
+    bool all_met = true;
+    // One entity's matched endpoints: false (with *error) on a layout that is not ours.
+    auto check = [&](dds_entity_t e, bool writer, const std::string& topic, std::uint32_t values) {
+      const dds_return_t n = writer ? dds_get_matched_subscriptions(e, handles, kMax) : dds_get_matched_publications(e, handles, kMax);
+      if (n <= 0) {
+        all_met = false;
+        return true;
+      }
+      for (dds_return_t i = 0; i < n && i < static_cast<dds_return_t>(kMax); ++i) {
+        dds_builtintopic_endpoint_t* ep = writer ? dds_get_matched_subscription_data(e, handles[i])
+                                                 : dds_get_matched_publication_data(e, handles[i]);
+        PeerTag tag;
+        const bool ours = peer_tag(ep, tag);
+        if (ep) dds_builtintopic_free_endpoint(ep);
+        if (ours && tag.layout != layout_word(topic, values)) {
+          *error = "dds: topic " + topic + ": node '" + tag.node + "' " + (writer ? "takes " : "publishes ") +
+                   std::to_string(tag.values) + (tag.values == 1 ? " value" : " values") + ", this node " +
+                   (writer ? "publishes " : "takes ") + std::to_string(values) +
+                   ": the nodes' projects do not match; this node is not started";
+          return false;
+        }
+      }
+      return true;
+    };
+    for (std::size_t i = 0; i < writers_.size(); ++i)
+      if (!check(writers_[i], true, s_.publish[i].topic, s_.publish[i].values)) return false;
+    for (std::size_t i = 0; i < readers_.size(); ++i)
+      if (!check(readers_[i], false, s_.subscribe[i].topic, s_.subscribe[i].values)) return false;
+    if (all_met || monotonic_ns() >= until) return true;
+    dds_sleepfor(DDS_MSECS(10));
+  }
 }
 
 void DdsLink::close() noexcept {

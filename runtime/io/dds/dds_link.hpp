@@ -59,6 +59,9 @@ class DdsLink {
   static std::string cyclone_config(const DdsSettings& s);
 
  private:
+  // Waits up to startup_check for every writer and reader to meet a peer;
+  // false with *error when a peer has another layout for the topic.
+  bool check_peers(std::string* error);
   void send_loop() noexcept;
   void receive_loop() noexcept;
 

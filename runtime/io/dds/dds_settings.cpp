@@ -90,7 +90,7 @@ bool read_subscriptions(DriverConfig& c, DriverSetup& setup, const ConfigNode& l
 bool read_dds_settings(const ConfigNode& entry, DriverSetup& setup, DdsSettings& s) {
   using namespace dds_settings_read;
   DriverConfig c(entry, setup, "dds",
-                 {"node", "domain", "peers", "interface", "shared_memory", "qos", "publish", "subscribe"});
+                 {"node", "domain", "peers", "interface", "shared_memory", "qos", "startup_check", "publish", "subscribe"});
   if (!c.has("node")) c.error(entry.loc, "dds: node is required (this node's name)");
   else name_at(c, c.node("node"), "node", s.node);
   s.domain = static_cast<std::uint32_t>(c.integer("domain", 0, 0, 230));
@@ -111,6 +111,7 @@ bool read_dds_settings(const ConfigNode& entry, DriverSetup& setup, DdsSettings&
     else s.interface = i->scalar;
   }
   s.shared_memory = c.boolean("shared_memory", false);
+  s.startup_check_ns = c.duration_ns("startup_check", 2'000'000'000, 0, 60'000'000'000);
   bool sections_ok = true;
   if (const ConfigNode* q = c.node("qos")) {
     auto qc = DriverConfig::section(*q, setup, "qos", {"reliability", "deadline", "liveliness"});

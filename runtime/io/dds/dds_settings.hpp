@@ -11,6 +11,7 @@
 //     interface: lo                    # the network interface (name or address)
 //     shared_memory: false             # Cyclone's iceoryx transport (needs iox-roudi)
 //     qos: {reliability: best_effort, deadline: 2ms, liveliness: 10ms}
+//     startup_check: 2s                # wait for peers at start, refuse a layout mismatch
 //     publish:
 //       - {topic: axis1_state, values: 2}
 //     subscribe:
@@ -57,6 +58,9 @@ struct DdsSettings {
   Reliability reliability = Reliability::BestEffort;
   std::int64_t deadline_ns = 0;    // 0: none
   std::int64_t liveliness_ns = 0;  // 0: none (automatic liveliness, infinite lease)
+  // How long open() waits for every topic to meet its peers, checking that
+  // they agree on its layout (docs/dds.md, "Starting a node"); 0: no check.
+  std::int64_t startup_check_ns = 2'000'000'000;
   std::vector<Publication> publish;
   std::vector<Subscription> subscribe;
 };
