@@ -110,6 +110,8 @@ class DdsDriver final : public IoDriver {
 
   std::string summary() const override {
     std::string t = "node " + s_.node + ", DDS domain " + std::to_string(s_.domain);
+    if (s_.inject.on())
+      t += ", INJECTING loss " + std::to_string(s_.inject.loss) + " and delay " + std::to_string(s_.inject.delay_ns / 1000) + " us";
     if (!s_.peers.empty()) {
       t += ", peers";
       for (const auto& p : s_.peers) t += " " + p;
@@ -128,7 +130,7 @@ class DdsDriver final : public IoDriver {
     return {{"samples_sent", v(c.sent)},         {"write_errors", v(c.write_errors)},
             {"samples_received", v(c.received)}, {"samples_lost", v(c.lost)},
             {"samples_late", v(c.late)},         {"samples_mismatched", v(c.mismatched)},
-            {"writers_changed", v(c.writers_changed)}};
+            {"writers_changed", v(c.writers_changed)}, {"samples_dropped_by_injection", v(c.injected_lost)}};
   }
 
  private:

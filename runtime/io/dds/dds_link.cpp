@@ -3,11 +3,14 @@
 #include <dds/dds.h>
 
 #include <algorithm>
+#include <latch>
 #include <map>
+#include <random>
 #include <string>
 #include <mutex>
 
 #include "runtime/core/monotonic_clock.hpp"
+#include "runtime/io/dds/delay_line.hpp"
 #include "runtime/io/dds/node_sample.h"
 #include "runtime/io/dds/subscription_latch.hpp"
 
@@ -204,8 +207,12 @@ bool DdsLink::open(std::string* error) {
     b.fill(zero.data());
   }
   stop_ = false;
-  send_ = std::thread([this] { send_loop(); });
-  receive_ = std::thread([this] { receive_loop(); });
+  // open() returns when both threads have made their buffers: what they
+  // allocate, they allocate before the first scan.
+  std::latch ready(2);
+  send_ = std::thread([this, &ready] { send_loop(ready); });
+  receive_ = std::thread([this, &ready] { receive_loop(ready); });
+  ready.wait();
   return true;
 }
 
@@ -264,13 +271,14 @@ void DdsLink::close() noexcept {
   conditions_.clear();
 }
 
-void DdsLink::send_loop() noexcept {
+void DdsLink::send_loop(std::latch& ready) noexcept {
   syncplc_NodeSample sample{};
   std::vector<std::uint64_t> last(s_.publish.size(), 0);
   std::vector<bool> any(s_.publish.size(), false);
   std::vector<std::uint32_t> layout(s_.publish.size());
   for (std::size_t i = 0; i < layout.size(); ++i) layout[i] = layout_word(s_.publish[i].topic, s_.publish[i].values);
   std::uint32_t seen = signal_.count();
+  ready.count_down();
   while (!stop_.load(std::memory_order_acquire)) {
     const std::uint32_t now = signal_.wait(seen, monotonic_ns() + 100'000'000, stop_);
     if (now == seen) continue;  // timed out (no scan handed over) or stopping
@@ -293,7 +301,7 @@ void DdsLink::send_loop() noexcept {
   }
 }
 
-void DdsLink::receive_loop() noexcept {
+void DdsLink::receive_loop(std::latch& ready) noexcept {
   constexpr int kBatch = 16;
   std::vector<syncplc_NodeSample> buf(kBatch);
   void* ptrs[kBatch];
@@ -307,12 +315,64 @@ void DdsLink::receive_loop() noexcept {
   };
   std::vector<State> st(s_.subscribe.size());
   for (std::size_t i = 0; i < st.size(); ++i) st[i].layout = layout_word(s_.subscribe[i].topic, s_.subscribe[i].values);
+  // Injected delay: each subscription's samples wait in a delay line of
+  // fixed size (enough for the delay at one sample a millisecond, and more).
+  struct Held {
+    syncplc_NodeSample sample;
+    dds_instance_handle_t writer;
+  };
+  const Injection& inj = s_.inject;
+  const std::size_t hold = inj.delay_ns > 0 ? static_cast<std::size_t>(inj.delay_ns / 1'000'000) * 2 + 64 : 0;
+  std::vector<DelayLine<Held>> delayed(s_.subscribe.size(), DelayLine<Held>(hold));
+  std::mt19937_64 rng(inj.seed);
+  std::bernoulli_distribution drop(inj.loss);
+
+  // A sample that passed the injection: in order, or late; gaps counted lost.
+  auto accept = [&](std::size_t i, const syncplc_NodeSample& m, dds_instance_handle_t writer) {
+    State& s = st[i];
+    const auto& sub = s_.subscribe[i];
+    // Another writer: the publishing node restarted (its scan count starts
+    // again) or a second node publishes the topic.
+    if (s.have && writer != s.writer) {
+      counters_.writers_changed.fetch_add(1, std::memory_order_relaxed);
+      s.have = false;
+    }
+    if (s.have && m.scan <= s.last) {
+      ++s.late;
+      counters_.late.fetch_add(1, std::memory_order_relaxed);
+      return;
+    }
+    if (s.have && m.scan > s.last + 1) {
+      s.lost += m.scan - s.last - 1;
+      counters_.lost.fetch_add(m.scan - s.last - 1, std::memory_order_relaxed);
+    }
+    s.writer = writer;
+    s.have = true;
+    s.last = m.scan;
+    ++s.received;
+    counters_.received.fetch_add(1, std::memory_order_relaxed);
+    Cell* b = subs_[i].back();
+    b[SubscriptionCells::kReceived].set<std::uint64_t>(s.received);
+    b[SubscriptionCells::kScan].set<std::uint64_t>(m.scan);
+    b[SubscriptionCells::kTime].set<std::int64_t>(m.time_ns);
+    b[SubscriptionCells::kStamp].set<std::int64_t>(monotonic_ns());
+    b[SubscriptionCells::kLost].set<std::uint64_t>(s.lost);
+    b[SubscriptionCells::kLate].set<std::uint64_t>(s.late);
+    for (std::uint32_t v = 0; v < sub.values; ++v) b[SubscriptionCells::kValues + v].set<double>(m.values[v]);
+    subs_[i].publish();
+  };
+
   std::vector<dds_attach_t> triggered(s_.subscribe.size() + 1);
+  ready.count_down();
   while (!stop_.load(std::memory_order_acquire)) {
-    const dds_return_t n = dds_waitset_wait(waitset_, triggered.data(), triggered.size(), DDS_MSECS(100));
+    // Sleep until data, the stop guard, or the next held sample is due.
+    dds_duration_t timeout = DDS_MSECS(100);
+    const std::int64_t now = monotonic_ns();
+    for (const auto& d : delayed)
+      if (!d.empty()) timeout = std::min<dds_duration_t>(timeout, std::max<std::int64_t>(0, d.next_due() - now));
+    const dds_return_t n = dds_waitset_wait(waitset_, triggered.data(), triggered.size(), timeout);
     if (n < 0) break;
     for (std::size_t i = 0; i < readers_.size(); ++i) {
-      State& s = st[i];
       const auto& sub = s_.subscribe[i];
       for (;;) {
         const dds_return_t k = dds_take(readers_[i], ptrs, infos, kBatch, kBatch);
@@ -320,42 +380,26 @@ void DdsLink::receive_loop() noexcept {
         for (int j = 0; j < k; ++j) {
           if (!infos[j].valid_data) continue;
           const syncplc_NodeSample& m = buf[static_cast<std::size_t>(j)];
-          if (m.layout != s.layout || m.count != sub.values) {
+          if (m.layout != st[i].layout || m.count != sub.values) {
             counters_.mismatched.fetch_add(1, std::memory_order_relaxed);
             continue;
           }
-          // Another writer: the publishing node restarted (its scan count
-          // starts again) or a second node publishes the topic.
-          if (s.have && infos[j].publication_handle != s.writer) {
-            counters_.writers_changed.fetch_add(1, std::memory_order_relaxed);
-            s.have = false;
-          }
-          if (s.have && m.scan <= s.last) {
-            ++s.late;
-            counters_.late.fetch_add(1, std::memory_order_relaxed);
+          if (inj.loss > 0 && drop(rng)) {
+            counters_.injected_lost.fetch_add(1, std::memory_order_relaxed);
             continue;
           }
-          if (s.have && m.scan > s.last + 1) {
-            s.lost += m.scan - s.last - 1;
-            counters_.lost.fetch_add(m.scan - s.last - 1, std::memory_order_relaxed);
+          if (inj.delay_ns > 0) {
+            if (delayed[i].push(Held{m, infos[j].publication_handle}, monotonic_ns() + inj.delay_ns))
+              counters_.injected_lost.fetch_add(1, std::memory_order_relaxed);  // the delay line was full
+            continue;
           }
-          s.writer = infos[j].publication_handle;
-          s.have = true;
-          s.last = m.scan;
-          ++s.received;
-          counters_.received.fetch_add(1, std::memory_order_relaxed);
-          Cell* b = subs_[i].back();
-          b[SubscriptionCells::kReceived].set<std::uint64_t>(s.received);
-          b[SubscriptionCells::kScan].set<std::uint64_t>(m.scan);
-          b[SubscriptionCells::kTime].set<std::int64_t>(m.time_ns);
-          b[SubscriptionCells::kStamp].set<std::int64_t>(monotonic_ns());
-          b[SubscriptionCells::kLost].set<std::uint64_t>(s.lost);
-          b[SubscriptionCells::kLate].set<std::uint64_t>(s.late);
-          for (std::uint32_t v = 0; v < sub.values; ++v) b[SubscriptionCells::kValues + v].set<double>(m.values[v]);
-          subs_[i].publish();
+          accept(i, m, infos[j].publication_handle);
         }
       }
     }
+    const std::int64_t after = monotonic_ns();
+    for (std::size_t i = 0; i < delayed.size(); ++i)
+      while (const Held* h = delayed[i].pop_due(after)) accept(i, h->sample, h->writer);
   }
 }
 

@@ -15,6 +15,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <latch>
 #include <memory>
 #include <string>
 #include <thread>
@@ -33,7 +34,8 @@ struct PublicationCells {
 };
 
 struct LinkCounters {
-  std::atomic<std::uint64_t> sent{0}, write_errors{0}, received{0}, lost{0}, late{0}, mismatched{0}, writers_changed{0};
+  std::atomic<std::uint64_t> sent{0}, write_errors{0}, received{0}, lost{0}, late{0}, mismatched{0}, writers_changed{0},
+      injected_lost{0};  // dropped by the injection (docs/dds.md)
 };
 
 class DdsLink {
@@ -62,8 +64,8 @@ class DdsLink {
   // Waits up to startup_check for every writer and reader to meet a peer;
   // false with *error when a peer has another layout for the topic.
   bool check_peers(std::string* error);
-  void send_loop() noexcept;
-  void receive_loop() noexcept;
+  void send_loop(std::latch& ready) noexcept;
+  void receive_loop(std::latch& ready) noexcept;
 
   const DdsSettings& s_;
   std::vector<TripleBuffer> pubs_, subs_;

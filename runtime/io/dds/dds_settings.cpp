@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdint>
 #include <set>
 
 #include "runtime/io/driver_config.hpp"
@@ -90,7 +91,7 @@ bool read_subscriptions(DriverConfig& c, DriverSetup& setup, const ConfigNode& l
 bool read_dds_settings(const ConfigNode& entry, DriverSetup& setup, DdsSettings& s) {
   using namespace dds_settings_read;
   DriverConfig c(entry, setup, "dds",
-                 {"node", "domain", "peers", "interface", "shared_memory", "qos", "startup_check", "publish", "subscribe"});
+                 {"node", "domain", "peers", "interface", "shared_memory", "qos", "startup_check", "inject", "publish", "subscribe"});
   if (!c.has("node")) c.error(entry.loc, "dds: node is required (this node's name)");
   else name_at(c, c.node("node"), "node", s.node);
   s.domain = static_cast<std::uint32_t>(c.integer("domain", 0, 0, 230));
@@ -121,6 +122,13 @@ bool read_dds_settings(const ConfigNode& entry, DriverSetup& setup, DdsSettings&
     s.deadline_ns = qc.duration_ns("deadline", 0, 0, 3'600'000'000'000);
     s.liveliness_ns = qc.duration_ns("liveliness", 0, 0, 3'600'000'000'000);
     sections_ok &= qc.ok();
+  }
+  if (const ConfigNode* q = c.node("inject")) {
+    auto ic = DriverConfig::section(*q, setup, "inject", {"loss", "delay", "seed"});
+    s.inject.loss = ic.number("loss", "", 0.0, 0.0, 1.0);
+    s.inject.delay_ns = ic.duration_ns("delay", 0, 0, 10'000'000'000);
+    s.inject.seed = static_cast<std::uint64_t>(ic.integer("seed", static_cast<std::int64_t>(setup.seed()), 0, INT64_MAX));
+    sections_ok &= ic.ok();
   }
   if (const ConfigNode* p = c.node("publish")) sections_ok &= read_publications(c, setup, *p, s);
   if (const ConfigNode* p = c.node("subscribe")) sections_ok &= read_subscriptions(c, setup, *p, s);

@@ -12,6 +12,7 @@
 //     shared_memory: false             # Cyclone's iceoryx transport (needs iox-roudi)
 //     qos: {reliability: best_effort, deadline: 2ms, liveliness: 10ms}
 //     startup_check: 2s                # wait for peers at start, refuse a layout mismatch
+//     inject: {loss: 0.05, delay: 2ms, seed: 7}   # fault injection (tests, measurements)
 //     publish:
 //       - {topic: axis1_state, values: 2}
 //     subscribe:
@@ -49,6 +50,17 @@ struct Subscription {
 
 enum class Reliability : std::uint8_t { BestEffort, Reliable };
 
+// Fault injection in the receive thread, for tests and measurements
+// (docs/dds.md, "Injected loss and delay"): every subscription of the node
+// drops a received sample with probability `loss` (seeded) and shows the
+// others `delay` after they arrived.
+struct Injection {
+  double loss = 0;
+  std::int64_t delay_ns = 0;
+  std::uint64_t seed = 1;
+  bool on() const { return loss > 0 || delay_ns > 0; }
+};
+
 struct DdsSettings {
   std::string node;
   std::uint32_t domain = 0;
@@ -61,6 +73,7 @@ struct DdsSettings {
   // How long open() waits for every topic to meet its peers, checking that
   // they agree on its layout (docs/dds.md, "Starting a node"); 0: no check.
   std::int64_t startup_check_ns = 2'000'000'000;
+  Injection inject;
   std::vector<Publication> publish;
   std::vector<Subscription> subscribe;
 };
