@@ -120,6 +120,15 @@ int cmd_run(const RunOptions& options) {
     po.runner.duration_ns = *limit;  // counted from the first release, not from here
   }
   po.runner.cpu_latency_us = options.cpu_latency_us;
+  if (!options.align.empty()) {
+    std::string err;
+    const auto a = parse_duration_ns(options.align, &err);
+    if (!a || *a <= 0) {
+      std::cerr << "syncplc: --align: " << (a ? "must be positive" : err) << "\n";
+      return kExitInvalid;
+    }
+    po.runner.align_ns = *a;
+  }
   if (!parse_sets(options.sets, po.load)) return kExitInvalid;
   const auto start = store::parse_start_mode(options.start);
   po.start = start.value_or(store::StartMode::Warm);

@@ -42,6 +42,7 @@ struct RunOptions {
   std::vector<std::string> sets;  // --set
   bool no_status = false;
   int cpu_latency_us = 0;
+  std::string align;  // --align: the grid anchored to CLOCK_REALTIME ("" : not)
   std::optional<int> modbus_port;
   std::string pid_file;  // "" : default_pid_file(project)
   std::string db;        // --db: the PLC's database ("" : the project's store: path, else the default; docs/store.md)

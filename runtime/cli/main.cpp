@@ -71,6 +71,10 @@ int main(int argc, char** argv) {
   run->add_option("--cpu-latency", cpu_latency_us,
                   "hold /dev/cpu_dma_latency at this many us while running (default 0; -1 leaves idle states alone)")
       ->check(CLI::Range(-1, 1000000));
+  std::string align;
+  run->add_option("--align", align,
+                  "start the tasks' grid at a whole multiple of this duration on CLOCK_REALTIME (e.g. 1s): nodes whose "
+                  "clocks agree scan in phase (docs/dds.md)");
   run->add_option("--modbus-port", modbus_port,
                   "serve Modbus TCP on this port (0: any free port), even without a modbus: section")
       ->check(CLI::Range(0, 65535));
@@ -270,6 +274,7 @@ int main(int argc, char** argv) {
       o.sets = sets;
       o.no_status = no_status;
       o.cpu_latency_us = cpu_latency_us;
+      o.align = align;
       o.modbus_port = modbus_port;
       o.pid_file = pid_file;
       o.db = db;

@@ -365,6 +365,9 @@ struct ScanContext {
   std::int64_t dt_ns = 0;        // since the previous scan's planned release (the period on the first)
   std::uint64_t scan = 0;        // 0 on the first scan
   bool virtual_time = true;
+  // Real time: the planned release on CLOCK_REALTIME (ns since the Unix
+  // epoch), what nodes on one grid compare (docs/dds.md); 0 in virtual time.
+  std::int64_t realtime_ns = 0;
   std::int64_t consumed_ns = 0;  // virtual execution time consumed so far in this scan
   std::uint16_t task = 0;
   std::int32_t block = -1;       // index of the executing block, set by the executor

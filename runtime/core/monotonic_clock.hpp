@@ -15,4 +15,13 @@ inline std::int64_t monotonic_ns() noexcept {
   return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
 }
 
+// CLOCK_REALTIME in ns since the Unix epoch: the clock nodes on several
+// machines share (disciplined by PTP/NTP); used only to anchor the tasks'
+// grid (RealtimeRunner::Options::align_ns) and to stamp samples.
+inline std::int64_t realtime_ns() noexcept {
+  timespec ts{};
+  clock_gettime(CLOCK_REALTIME, &ts);
+  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
+
 }  // namespace syncplc

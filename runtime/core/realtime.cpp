@@ -69,7 +69,13 @@ void RealtimeRunner::start() {
   }
   stop_.store(false);
   for (auto& t : program_->tasks) t->reset_timing();
-  epoch_ = monotonic_ns() + options_.start_delay_ns;
+  // Both clocks read back to back; the realtime epoch is where the grid sits
+  // on CLOCK_REALTIME, the monotonic one where the threads sleep to.
+  const std::int64_t rt = realtime_ns(), mono = monotonic_ns();
+  std::int64_t epoch_rt = rt + options_.start_delay_ns;
+  if (options_.align_ns > 0) epoch_rt = (epoch_rt / options_.align_ns + 1) * options_.align_ns;
+  epoch_ = mono + (epoch_rt - rt);
+  epoch_realtime_ = epoch_rt;
   program_->epoch_ns.store(epoch_, std::memory_order_release);
   std::lock_guard lock(workers_mutex_);
   by_task_.clear();
@@ -286,6 +292,7 @@ void RealtimeRunner::task_thread(Worker& w, Start start) {
     ctx.dt_ns = planned - prev_planned;
     ctx.scan = n;
     ctx.virtual_time = false;
+    ctx.realtime_ns = epoch_realtime_ + planned;
     task->scan(ctx);
     const std::int64_t end = monotonic_ns() - epoch_;
     last_end = end;

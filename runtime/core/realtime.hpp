@@ -37,6 +37,12 @@ class RealtimeRunner {
     // Run for this long from the epoch (the first release), then end by
     // themselves: exactly the releases before it get a scan. 0: until stopped.
     std::int64_t duration_ns = 0;
+    // Anchor the grid to CLOCK_REALTIME: the epoch (the first release) is
+    // the next instant after start_delay_ns that is a whole multiple of this
+    // since the Unix epoch, so that nodes whose clocks agree release their
+    // scans in phase (docs/dds.md, "One grid for all nodes"). 0: the epoch
+    // is start_delay_ns from now.
+    std::int64_t align_ns = 0;
   };
   RealtimeRunner(Program& program, Options options);
   explicit RealtimeRunner(Program& program) : RealtimeRunner(program, Options{}) {}
@@ -110,6 +116,7 @@ class RealtimeRunner {
   CpuLatencyRequest cpu_latency_;
   std::atomic<bool> stop_{false};
   std::int64_t epoch_ = 0;
+  std::int64_t epoch_realtime_ = 0;  // the epoch on CLOCK_REALTIME (ns since the Unix epoch)
   mutable std::mutex warnings_mutex_;
   std::vector<std::string> warnings_;
 };

@@ -73,6 +73,9 @@ TEST(DdsInject, DelayedSamplesAreShownNoSoonerThanTheDelay) {
     return b.at(t + "_ok").get<bool>();
   }));
   ASSERT_TRUE(ddstest::latch_until(b, [&] { return b.at(t + "_scan").get<std::uint64_t>() == k; }));
+  // (The discovery loop above sent faster than the delay line holds: some
+  // were dropped and counted; from here on one at a time.)
+  const std::uint32_t lost0 = b.at(t + "_lost").get<std::uint32_t>();
   for (int i = 0; i < 5; ++i) {
     ++k;
     const auto sent = std::chrono::steady_clock::now();
@@ -81,7 +84,7 @@ TEST(DdsInject, DelayedSamplesAreShownNoSoonerThanTheDelay) {
     EXPECT_GE(std::chrono::steady_clock::now() - sent, std::chrono::milliseconds(50));
     EXPECT_EQ(b.at(t).get<double>(), 2.0 * k);
   }
-  EXPECT_EQ(b.at(t + "_lost").get<std::uint32_t>(), 0u);
+  EXPECT_EQ(b.at(t + "_lost").get<std::uint32_t>(), lost0);
 }
 
 }  // namespace

@@ -3,6 +3,8 @@
 #include <atomic>
 #include <memory>
 
+#include "runtime/core/histogram.hpp"
+#include "runtime/core/monotonic_clock.hpp"
 #include "runtime/io/dds/dds_link.hpp"
 #include "runtime/io/dds/dds_settings.hpp"
 #include "runtime/io/dds/subscription_latch.hpp"
@@ -14,7 +16,7 @@ namespace dds_driver_impl {
 using namespace syncplc::dds;
 
 // Status channels of a subscription, after its values channel.
-enum : int { kOk = 1, kAge, kLost, kLate, kScan, kReaction, kStatusChannels = kReaction };
+enum : int { kOk = 1, kAge, kLost, kLate, kScan, kReaction, kPhase, kStatusChannels = kPhase };
 
 class DdsDriver final : public IoDriver {
  public:
@@ -32,6 +34,8 @@ class DdsDriver final : public IoDriver {
       channels_.push_back({sub.topic + "_late", PinDir::In, IecType::UDINT, 1, "", "samples that arrived after a newer one"});
       channels_.push_back({sub.topic + "_scan", PinDir::In, IecType::ULINT, 1, "", "the publisher's scan of the values"});
       channels_.push_back({sub.topic + "_reaction", PinDir::In, IecType::BOOL, 1, "", "stale past stale_after: the reaction applies"});
+      channels_.push_back({sub.topic + "_phase", PinDir::In, IecType::LREAL, 1, "us",
+                           "this scan's start minus the publisher's nearest scan start (real time)"});
     }
     ok_ = std::make_unique<std::atomic<bool>[]>(s_.subscribe.size());
     for (const auto& p : s_.publish) last_out_.emplace_back(p.values, Cell{});
@@ -49,14 +53,20 @@ class DdsDriver final : public IoDriver {
     for (auto& l : latches_) l.reset();
     for (std::size_t i = 0; i < s_.subscribe.size(); ++i) ok_[i].store(false, std::memory_order_relaxed);
     safe_.reset();
+    phase_.reset();
     last_scan_ = 0;
     return link_.open(error);
   }
 
   void latch_inputs(const ScanContext& ctx) noexcept override {
+    // When this scan began (a vDSO clock read, no system call): sent with
+    // the samples, compared with the publishers' starts.
+    started_ = ctx.virtual_time ? 0 : realtime_ns();
     for (std::size_t i = 0; i < s_.subscribe.size(); ++i) {
       const int ch = sub_channel_[i];
-      const SubscriptionStatus& st = latches_[i].latch(link_.subscription(i).acquire(), ctx, cell(ch));
+      const SubscriptionStatus& st = latches_[i].latch(link_.subscription(i).acquire(), ctx, cell(ch), started_);
+      if (st.fresh && st.has_phase) phase_.record(st.phase_ns < 0 ? -st.phase_ns : st.phase_ns);
+      if (Cell* c = cell(ch + kPhase)) c->set<double>(static_cast<double>(st.phase_ns) / 1000.0);
       ok_[i].store(st.ok, std::memory_order_relaxed);
       if (Cell* c = cell(ch + kOk)) c->set<bool>(st.ok);
       if (Cell* c = cell(ch + kAge)) c->set<std::uint32_t>(st.age);
@@ -72,7 +82,7 @@ class DdsDriver final : public IoDriver {
     last_scan_ = ctx.scan;
     for (std::size_t i = 0; i < s_.publish.size(); ++i) {
       if (const Cell* c = cell(pub_channel_[i])) std::copy(c, c + s_.publish[i].values, last_out_[i].begin());
-      publish(i, ctx.scan, ctx.now_ns);
+      publish(i, ctx.scan, ctx.realtime_ns ? ctx.realtime_ns : ctx.now_ns);
     }
     safe_.end_write();
     link_.hand_over();
@@ -126,11 +136,14 @@ class DdsDriver final : public IoDriver {
 
   std::vector<std::pair<std::string, double>> counters() const override {
     const LinkCounters& c = link_.counters();
+    const Histogram::Summary ph = phase_.summary();
     auto v = [](const std::atomic<std::uint64_t>& a) { return static_cast<double>(a.load(std::memory_order_relaxed)); };
     return {{"samples_sent", v(c.sent)},         {"write_errors", v(c.write_errors)},
             {"samples_received", v(c.received)}, {"samples_lost", v(c.lost)},
             {"samples_late", v(c.late)},         {"samples_mismatched", v(c.mismatched)},
-            {"writers_changed", v(c.writers_changed)}, {"samples_dropped_by_injection", v(c.injected_lost)}};
+            {"writers_changed", v(c.writers_changed)}, {"samples_dropped_by_injection", v(c.injected_lost)},
+            {"phase_samples", static_cast<double>(ph.count)}, {"phase_abs_p50_us", static_cast<double>(ph.p50) / 1000.0},
+            {"phase_abs_p99_us", static_cast<double>(ph.p99) / 1000.0}, {"phase_abs_max_us", static_cast<double>(ph.max) / 1000.0}};
   }
 
  private:
@@ -142,6 +155,7 @@ class DdsDriver final : public IoDriver {
     Cell* out = b.back();
     out[PublicationCells::kScan].set<std::uint64_t>(scan);
     out[PublicationCells::kTime].set<std::int64_t>(time);
+    out[PublicationCells::kStarted].set<std::int64_t>(started_);
     // A channel of n values is n LREAL cells.
     std::copy(last_out_[i].begin(), last_out_[i].end(), out + PublicationCells::kValues);
     b.publish();
@@ -158,6 +172,8 @@ class DdsDriver final : public IoDriver {
   std::vector<std::vector<Cell>> last_out_;
   SafeOutputLatch safe_;
   std::uint64_t last_scan_ = 0;
+  std::int64_t started_ = 0;  // this scan's start on CLOCK_REALTIME (latch_inputs); 0 in virtual time
+  Histogram phase_;           // |phase| of fresh samples, ns (docs/dds.md, "One grid for all nodes")
   std::int64_t last_time_ = 0;
 };
 

@@ -1,6 +1,8 @@
 #include "runtime/io/dds/dds_link.hpp"
 
 #include <dds/dds.h>
+#include <pthread.h>
+#include <sched.h>
 
 #include <algorithm>
 #include <latch>
@@ -112,6 +114,17 @@ class Domains {
   std::mutex m_;
   std::map<std::uint32_t, Entry> domains_;
 };
+
+// The driver's threads: named, and SCHED_FIFO at `priority` where the
+// process may (else they stay at normal scheduling: no error, the summary of
+// `syncplc check` says what was asked).
+void thread_setup(const char* name, int priority) {
+  pthread_setname_np(pthread_self(), name);
+  if (priority <= 0) return;
+  sched_param p{};
+  p.sched_priority = priority;
+  pthread_setschedparam(pthread_self(), SCHED_FIFO, &p);
+}
 
 }  // namespace dds_link_impl
 
@@ -272,6 +285,7 @@ void DdsLink::close() noexcept {
 }
 
 void DdsLink::send_loop(std::latch& ready) noexcept {
+  dds_link_impl::thread_setup("dds-send", s_.thread_priority);
   syncplc_NodeSample sample{};
   std::vector<std::uint64_t> last(s_.publish.size(), 0);
   std::vector<bool> any(s_.publish.size(), false);
@@ -293,6 +307,7 @@ void DdsLink::send_loop(std::latch& ready) noexcept {
       sample.layout = layout[i];
       sample.scan = scan;
       sample.time_ns = c[PublicationCells::kTime].get<std::int64_t>();
+      sample.started_ns = c[PublicationCells::kStarted].get<std::int64_t>();
       sample.count = p.values;
       for (std::uint32_t v = 0; v < p.values; ++v) sample.values[v] = c[PublicationCells::kValues + v].get<double>();
       if (dds_write(writers_[i], &sample) < 0) counters_.write_errors.fetch_add(1, std::memory_order_relaxed);
@@ -302,6 +317,7 @@ void DdsLink::send_loop(std::latch& ready) noexcept {
 }
 
 void DdsLink::receive_loop(std::latch& ready) noexcept {
+  dds_link_impl::thread_setup("dds-receive", s_.thread_priority);
   constexpr int kBatch = 16;
   std::vector<syncplc_NodeSample> buf(kBatch);
   void* ptrs[kBatch];
@@ -356,6 +372,7 @@ void DdsLink::receive_loop(std::latch& ready) noexcept {
     b[SubscriptionCells::kScan].set<std::uint64_t>(m.scan);
     b[SubscriptionCells::kTime].set<std::int64_t>(m.time_ns);
     b[SubscriptionCells::kStamp].set<std::int64_t>(monotonic_ns());
+    b[SubscriptionCells::kStarted].set<std::int64_t>(m.started_ns);
     b[SubscriptionCells::kLost].set<std::uint64_t>(s.lost);
     b[SubscriptionCells::kLate].set<std::uint64_t>(s.late);
     for (std::uint32_t v = 0; v < sub.values; ++v) b[SubscriptionCells::kValues + v].set<double>(m.values[v]);

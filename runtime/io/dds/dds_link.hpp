@@ -28,9 +28,9 @@
 namespace syncplc::dds {
 
 // The hand-over cells of one publication (write_outputs -> send thread):
-// [scan, time, values...].
+// [scan, time, started, values...].
 struct PublicationCells {
-  static constexpr std::size_t kScan = 0, kTime = 1, kValues = 2;
+  static constexpr std::size_t kScan = 0, kTime = 1, kStarted = 2, kValues = 3;
 };
 
 struct LinkCounters {

@@ -91,7 +91,7 @@ bool read_subscriptions(DriverConfig& c, DriverSetup& setup, const ConfigNode& l
 bool read_dds_settings(const ConfigNode& entry, DriverSetup& setup, DdsSettings& s) {
   using namespace dds_settings_read;
   DriverConfig c(entry, setup, "dds",
-                 {"node", "domain", "peers", "interface", "shared_memory", "qos", "startup_check", "inject", "publish", "subscribe"});
+                 {"node", "domain", "peers", "interface", "shared_memory", "qos", "startup_check", "inject", "thread_priority", "publish", "subscribe"});
   if (!c.has("node")) c.error(entry.loc, "dds: node is required (this node's name)");
   else name_at(c, c.node("node"), "node", s.node);
   s.domain = static_cast<std::uint32_t>(c.integer("domain", 0, 0, 230));
@@ -113,6 +113,7 @@ bool read_dds_settings(const ConfigNode& entry, DriverSetup& setup, DdsSettings&
   }
   s.shared_memory = c.boolean("shared_memory", false);
   s.startup_check_ns = c.duration_ns("startup_check", 2'000'000'000, 0, 60'000'000'000);
+  s.thread_priority = static_cast<int>(c.integer("thread_priority", 1, 0, 99));
   bool sections_ok = true;
   if (const ConfigNode* q = c.node("qos")) {
     auto qc = DriverConfig::section(*q, setup, "qos", {"reliability", "deadline", "liveliness"});
@@ -142,7 +143,7 @@ bool read_dds_settings(const ConfigNode& entry, DriverSetup& setup, DdsSettings&
   for (const auto& p : s.publish) claim(p.topic, c.node("publish"));
   for (const auto& sub : s.subscribe) {
     claim(sub.topic, c.node("subscribe"));
-    for (const char* suffix : {"_ok", "_age", "_lost", "_late", "_scan", "_reaction"}) claim(sub.topic + suffix, c.node("subscribe"));
+    for (const char* suffix : {"_ok", "_age", "_lost", "_late", "_scan", "_reaction", "_phase"}) claim(sub.topic + suffix, c.node("subscribe"));
   }
   return c.ok() && sections_ok;
 }

@@ -73,6 +73,10 @@ struct DdsSettings {
   // How long open() waits for every topic to meet its peers, checking that
   // they agree on its layout (docs/dds.md, "Starting a node"); 0: no check.
   std::int64_t startup_check_ns = 2'000'000'000;
+  // SCHED_FIFO priority of the driver's send and receive threads, so that a
+  // sample leaves right after its scan even when the machine is busy; 0:
+  // normal scheduling. Where the process may not (no RLIMIT_RTPRIO), normal.
+  int thread_priority = 1;
   Injection inject;
   std::vector<Publication> publish;
   std::vector<Subscription> subscribe;

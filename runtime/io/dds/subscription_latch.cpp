@@ -24,7 +24,8 @@ void SubscriptionLatch::reset() noexcept {
   reacted_ = false;
 }
 
-const SubscriptionStatus& SubscriptionLatch::latch(const Cell* c, const ScanContext& ctx, Cell* values) noexcept {
+const SubscriptionStatus& SubscriptionLatch::latch(const Cell* c, const ScanContext& ctx, Cell* values,
+                                                   std::int64_t started) noexcept {
   if (!started_) {
     started_ = true;
     since_ = ctx.scan;
@@ -36,6 +37,15 @@ const SubscriptionStatus& SubscriptionLatch::latch(const Cell* c, const ScanCont
     st_.fresh = true;
     since_ = ctx.scan;
     st_.scan = c[SubscriptionCells::kScan].get<std::uint64_t>();
+    const std::int64_t pub_started = c[SubscriptionCells::kStarted].get<std::int64_t>();
+    st_.has_phase = started > 0 && pub_started > 0 && ctx.dt_ns > 0;
+    if (st_.has_phase) {
+      const std::int64_t t = ctx.dt_ns;
+      std::int64_t d = (started - pub_started) % t;  // C++: the sign of the dividend
+      if (d > t / 2) d -= t;
+      if (d <= -t / 2) d += t;
+      st_.phase_ns = d;
+    }
     if (values)
       for (std::uint32_t i = 0; i < sub_->values; ++i) values[i] = c[SubscriptionCells::kValues + i];
   }

@@ -27,9 +27,11 @@
 namespace syncplc::dds {
 
 // The hand-over cells of one subscription (receive thread -> latch), in a
-// TripleBuffer: [received, publisher scan, publisher time, stamp, lost, late, values...].
+// TripleBuffer: [received, publisher scan, publisher time, stamp, lost, late,
+// publisher's scan start, values...].
 struct SubscriptionCells {
-  static constexpr std::size_t kReceived = 0, kScan = 1, kTime = 2, kStamp = 3, kLost = 4, kLate = 5, kValues = 6;
+  static constexpr std::size_t kReceived = 0, kScan = 1, kTime = 2, kStamp = 3, kLost = 4, kLate = 5, kStarted = 6,
+                               kValues = 7;
 };
 
 struct SubscriptionStatus {
@@ -39,6 +41,12 @@ struct SubscriptionStatus {
   std::uint32_t age = 0;         // scans
   std::uint64_t scan = 0;        // the publisher's scan of the values shown
   std::uint32_t lost = 0, late = 0;
+  // Real time: this scan's start minus the publisher's nearest scan start
+  // (the latest fresh sample's), in ns within (-T/2, T/2], T this task's
+  // period: how far the two nodes' grids are apart (docs/dds.md, "One grid
+  // for all nodes"). has_phase: measured (real time, a sample with a start).
+  std::int64_t phase_ns = 0;
+  bool has_phase = false;
 };
 
 // Static texts of a subscription's events, made (interned) at load.
@@ -55,8 +63,10 @@ class SubscriptionLatch {
   // Before the first scan of a run.
   void reset() noexcept;
   // cells: the newest hand-over (SubscriptionCells layout). values: the
-  // channel's cells (sub.values of them) or nullptr when unbound.
-  const SubscriptionStatus& latch(const Cell* cells, const ScanContext& ctx, Cell* values) noexcept;
+  // channel's cells (sub.values of them) or nullptr when unbound. started:
+  // when this scan began on CLOCK_REALTIME (0 in virtual time).
+  const SubscriptionStatus& latch(const Cell* cells, const ScanContext& ctx, Cell* values,
+                                  std::int64_t started = 0) noexcept;
   const SubscriptionStatus& status() const noexcept { return st_; }
 
  private:
