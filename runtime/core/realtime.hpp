@@ -59,6 +59,9 @@ class RealtimeRunner {
   // Warnings collected at start (no SCHED_FIFO permission, mlockall failed...).
   std::vector<std::string> warnings() const;
   std::int64_t epoch_ns() const { return epoch_; }
+  // The epoch on CLOCK_REALTIME (ns since the Unix epoch): a whole multiple
+  // of Options::align_ns when that is set.
+  std::int64_t epoch_realtime_ns() const { return epoch_realtime_; }
   // Now on the tasks' time axis (ns since the epoch).
   std::int64_t now_ns() const { return monotonic_ns() - epoch_; }
   // Supervision from a non-real-time thread: for each task, how long its

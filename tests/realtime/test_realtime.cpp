@@ -6,6 +6,7 @@
 #include <chrono>
 #include <thread>
 
+#include "runtime/core/monotonic_clock.hpp"
 #include "runtime/core/realtime.hpp"
 #include "tests/realtime/quiet_options.hpp"
 #include "tests/support/project_fixture.hpp"
@@ -156,6 +157,28 @@ blocks: [{name: m, type: MOVE, inputs: {IN: 1.0}}]
   // one that did would wait 9.95 s; half the period is fifty polls.
   EXPECT_LT(waited, std::chrono::seconds(5));
   EXPECT_EQ(p->tasks[0]->stats.summary().scans, 1u);
+}
+
+// --align: the epoch sits on a whole multiple of the alignment on
+// CLOCK_REALTIME, and the monotonic epoch the threads sleep to is the same
+// instant (the two clocks' offset, read now, agrees to within a millisecond:
+// no bound on speed, only on the two clocks being read a moment apart).
+TEST(Realtime, AlignedEpochSitsOnTheRealtimeGrid) {
+  auto p = load_test_project(R"(
+tasks: [{name: t, period: 10ms}]
+blocks: [{name: m, type: MOVE, inputs: {IN: 1.0}}]
+)");
+  ASSERT_TRUE(p);
+  RealtimeRunner::Options o = quiet_options();
+  o.align_ns = 50'000'000;
+  RealtimeRunner runner(*p, o);
+  runner.start();
+  const std::int64_t offset_now = realtime_ns() - monotonic_ns();
+  EXPECT_EQ(runner.epoch_realtime_ns() % o.align_ns, 0);
+  EXPECT_NEAR(static_cast<double>(runner.epoch_realtime_ns() - runner.epoch_ns()), static_cast<double>(offset_now), 1e6);
+  while (p->tasks[0]->stats.summary().scans < 3) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  runner.request_stop();
+  runner.join();
 }
 
 }  // namespace
