@@ -859,7 +859,7 @@ drivers:
     channels: [{name: c, dir: in, type: INT}]
     bind: {c: b}
 )");
-  EXPECT_THAT(e, ElementsAre("p.yaml:4:22: unknown driver type 'modbus' (memory, modbus_client, sim_ring, sim_table)", "p.yaml:5:5: driver without a name",
+  EXPECT_THAT(e, ElementsAre("p.yaml:4:22: unknown driver type 'modbus' (dds, memory, modbus_client, sim_ring, sim_table)", "p.yaml:5:5: driver without a name",
                              "p.yaml:6:5: memory driver needs a list 'channels'",
                              "p.yaml:7:56: dir must be 'in' or 'out', not 'sideways'",
                              "p.yaml:7:85: length must be 1..65536",
