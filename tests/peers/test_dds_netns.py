@@ -18,7 +18,7 @@ import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import peerlib  # noqa: E402
-from test_dds_nodes import NODE_A, NODE_B  # noqa: E402
+from test_dds_nodes import NODE_A, NODE_B, b_view  # noqa: E402
 
 PID = os.getpid()
 NS = "sdds%d" % PID
@@ -75,14 +75,7 @@ def main():
                               stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     atexit.register(lambda: a_proc.poll() is None and a_proc.kill())
     hmi = peerlib.Peer(b.port, peerlib.Tally())
-
-    def seen():
-        x = hmi.read_values(0, ["LREAL"], table="input")[0]
-        ok, reaction = hmi.read("discrete", 0, 2)
-        return x, ok, reaction
-
-    def until(pred, what):
-        return peerlib.wait_until(lambda: (lambda v: (pred(v), v))(seen()), what, timeout=30)[0]
+    _, until = b_view(hmi)
 
     until(lambda v: v[1] and v[0] > 10, "B sees the count of A in the other namespace")
     x = until(lambda v: v[0] > 100, "and it grows")[0]

@@ -85,6 +85,21 @@ drivers:
 """
 
 
+def b_view(hmi):
+    """What node B serves on its Modbus server, through `hmi`: seen() gives
+    (x, x_ok, x_reaction); until(pred, what) polls it until pred holds (a 30 s
+    guard against a hang) and returns that view."""
+    def seen():
+        x = hmi.read_values(0, ["LREAL"], table="input")[0]
+        ok, reaction = hmi.read("discrete", 0, 2)
+        return x, ok, reaction
+
+    def until(pred, what):
+        return peerlib.wait_until(lambda: (lambda v: (pred(v), v))(seen()), what, timeout=30)[0]
+
+    return seen, until
+
+
 def write(tmp, name, text):
     path = os.path.join(tmp, name)
     with open(path, "w") as f:
@@ -100,15 +115,7 @@ def main():
     b = peerlib.Server(binary, path_b, extra=("--db", os.path.join(tmp, "b.db")))
     a = peerlib.Server(binary, path_a, extra=("--db", os.path.join(tmp, "a.db")))
     hmi = peerlib.Peer(b.port, peerlib.Tally())
-
-    def seen():
-        x = hmi.read_values(0, ["LREAL"], table="input")[0]
-        ok, reaction = hmi.read("discrete", 0, 2)
-        return x, ok, reaction
-
-    def until(pred, what):
-        """Polls B until pred((x, ok, reaction)) holds (a 30 s guard against a hang)."""
-        return peerlib.wait_until(lambda: (lambda v: (pred(v), v))(seen()), what, timeout=30)[0]
+    seen, until = b_view(hmi)
 
     # A's count reaches B and grows.
     until(lambda v: v[1] and v[0] > 10, "B sees A's count")
