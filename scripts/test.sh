@@ -58,7 +58,7 @@ kill_tree() {
   kill "$1" 2>/dev/null || true
 }
 # A failing stage stops the script; the builds still running beside it stop too.
-trap 'for p in "${bg_pids[@]}"; do kill_tree "$p"; done; rm -rf "$logs"' EXIT
+trap 'for p in "${bg_pids[@]}"; do kill_tree "$p"; done; rm -rf "$logs" "${supp:-}"' EXIT
 
 echo "== release build"
 # Every build here is from scratch, so in unity batches (-DSYNCPLC_UNITY=ON:
@@ -92,8 +92,14 @@ bg "$logs/fuzz.log" bash -c "while [ ! -f '$logs/tsan.log.rc' ]; do sleep 1; don
 
 echo "== ThreadSanitizer"
 bg_wait "$logs/tsan.log"
-# tests/tsan.supp: Cyclone DDS's library, not built with TSan (its own atomics are invisible to it).
-(cd build-tsan && TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$PWD/../tests/tsan.supp" \
+# tests/tsan.supp: Cyclone DDS's library, not built with TSan (its own
+# atomics are invisible to it). Copied where every user can read it: some
+# tests run syncplc as another user, and a clone in a private directory
+# (mktemp -d) would hide it from them (TSan then refuses to start).
+supp=$(mktemp /tmp/syncplc-tsan-XXXXXX.supp)
+cp tests/tsan.supp "$supp"
+chmod 644 "$supp"
+(cd build-tsan && TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$supp" \
    ctest --output-on-failure -j "$jobs" -L 'threaded|cli|peers' -LE no_cxx)
 
 echo "== libFuzzer: the Modbus request and reply paths, the HTTP request path, the ST front end, the ST engines"
