@@ -16,7 +16,7 @@ namespace dds_driver_impl {
 using namespace syncplc::dds;
 
 // Status channels of a subscription, after its values channel.
-enum : int { kOk = 1, kAge, kLost, kLate, kScan, kReaction, kPhase, kStatusChannels = kPhase };
+enum : int { kOk = 1, kAge, kLost, kLate, kScan, kReaction, kPhase };
 
 class DdsDriver final : public IoDriver {
  public:

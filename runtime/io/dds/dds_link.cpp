@@ -182,13 +182,22 @@ bool DdsLink::open(std::string* error) {
     close();
     return false;
   };
-  for (const auto& p : s_.publish) {
-    const dds_entity_t topic = dds_create_topic(participant_, &syncplc_NodeSample_desc, wire_topic(p.topic).c_str(), nullptr, nullptr);
-    if (topic < 0) return fail("topic " + p.topic, topic);
-    dds_qos_t* q = loop_qos(s_, 1, endpoint_tag(s_.node, p.topic, p.values));
-    const dds_entity_t w = dds_create_writer(participant_, topic, q, nullptr);
+  // A writer (history depth 1) or a reader (depth 8) of a topic, with its tag.
+  auto endpoint = [&](const std::string& name, std::uint32_t values, bool writer) -> dds_entity_t {
+    const dds_entity_t topic = dds_create_topic(participant_, &syncplc_NodeSample_desc, wire_topic(name).c_str(), nullptr, nullptr);
+    if (topic < 0) {
+      fail("topic " + name, topic);
+      return topic;
+    }
+    dds_qos_t* q = loop_qos(s_, writer ? 1 : 8, endpoint_tag(s_.node, name, values));
+    const dds_entity_t e = writer ? dds_create_writer(participant_, topic, q, nullptr) : dds_create_reader(participant_, topic, q, nullptr);
     dds_delete_qos(q);
-    if (w < 0) return fail("writer of " + p.topic, w);
+    if (e < 0) fail((writer ? "writer of " : "reader of ") + name, e);
+    return e;
+  };
+  for (const auto& p : s_.publish) {
+    const dds_entity_t w = endpoint(p.topic, p.values, true);
+    if (w < 0) return false;
     writers_.push_back(w);
   }
   waitset_ = dds_create_waitset(participant_);
@@ -197,12 +206,8 @@ bool DdsLink::open(std::string* error) {
   dds_waitset_attach(waitset_, guard_, -1);
   for (std::size_t i = 0; i < s_.subscribe.size(); ++i) {
     const auto& sub = s_.subscribe[i];
-    const dds_entity_t topic = dds_create_topic(participant_, &syncplc_NodeSample_desc, wire_topic(sub.topic).c_str(), nullptr, nullptr);
-    if (topic < 0) return fail("topic " + sub.topic, topic);
-    dds_qos_t* q = loop_qos(s_, 8, endpoint_tag(s_.node, sub.topic, sub.values));
-    const dds_entity_t r = dds_create_reader(participant_, topic, q, nullptr);
-    dds_delete_qos(q);
-    if (r < 0) return fail("reader of " + sub.topic, r);
+    const dds_entity_t r = endpoint(sub.topic, sub.values, false);
+    if (r < 0) return false;
     readers_.push_back(r);
     const dds_entity_t cond = dds_create_readcondition(r, DDS_ANY_STATE);
     if (cond < 0) return fail("read condition of " + sub.topic, cond);
@@ -370,8 +375,6 @@ void DdsLink::receive_loop(std::latch& ready) noexcept {
     Cell* b = subs_[i].back();
     b[SubscriptionCells::kReceived].set<std::uint64_t>(s.received);
     b[SubscriptionCells::kScan].set<std::uint64_t>(m.scan);
-    b[SubscriptionCells::kTime].set<std::int64_t>(m.time_ns);
-    b[SubscriptionCells::kStamp].set<std::int64_t>(monotonic_ns());
     b[SubscriptionCells::kStarted].set<std::int64_t>(m.started_ns);
     b[SubscriptionCells::kLost].set<std::uint64_t>(s.lost);
     b[SubscriptionCells::kLate].set<std::uint64_t>(s.late);

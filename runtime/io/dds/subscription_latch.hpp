@@ -27,11 +27,10 @@
 namespace syncplc::dds {
 
 // The hand-over cells of one subscription (receive thread -> latch), in a
-// TripleBuffer: [received, publisher scan, publisher time, stamp, lost, late,
-// publisher's scan start, values...].
+// TripleBuffer: [received, publisher scan, lost, late, publisher's scan
+// start, values...].
 struct SubscriptionCells {
-  static constexpr std::size_t kReceived = 0, kScan = 1, kTime = 2, kStamp = 3, kLost = 4, kLate = 5, kStarted = 6,
-                               kValues = 7;
+  static constexpr std::size_t kReceived = 0, kScan = 1, kLost = 2, kLate = 3, kStarted = 4, kValues = 5;
 };
 
 struct SubscriptionStatus {
