@@ -56,9 +56,12 @@ TEST(DdsInject, DroppedSamplesAreCountedLostByTheSubscriber) {
   }));
   const double dropped = b.counter("samples_dropped_by_injection") - dropped0;
   const double lost = b.at(t + "_lost").get<std::uint32_t>() - lost0;
+  // Samples sent after the one b shows may still be dropped in flight: no
+  // later sample has closed their gap yet.
+  const double unclosed = static_cast<double>(k - b.at(t + "_scan").get<std::uint64_t>());
   EXPECT_GT(dropped, 140) << "about half of 400 (binomial: 200 +- 10)";
   EXPECT_LT(dropped, 260);
-  EXPECT_GE(lost, dropped) << "every dropped sample is a gap the subscriber counts";
+  EXPECT_GE(lost + unclosed, dropped) << "every dropped sample is a gap the subscriber counts";
   EXPECT_EQ(b.counter("samples_mismatched"), 0);
 }
 
