@@ -36,7 +36,7 @@ drivers:
 )");
   ASSERT_LOADS(r);
   const auto& ch = r.program->drivers[0].driver->channels();
-  ASSERT_EQ(ch.size(), 9u);  // one publication, one subscription and its seven status channels
+  ASSERT_EQ(ch.size(), 10u);  // one publication, one subscription and its eight status channels
   EXPECT_EQ(ch[0].name, "axis1_state");
   EXPECT_EQ(ch[0].dir, PinDir::Out);
   EXPECT_EQ(ch[0].length, 2u);
@@ -46,6 +46,8 @@ drivers:
   EXPECT_EQ(ch[2].type, IecType::BOOL);
   EXPECT_EQ(ch[7].name, "master_ref_reaction");
   EXPECT_EQ(ch[8].name, "master_ref_phase");
+  EXPECT_EQ(ch[9].name, "master_ref_fresh");
+  EXPECT_EQ(ch[9].type, IecType::BOOL);
   const std::string summary = r.program->drivers[0].driver->summary();
   EXPECT_NE(summary.find("node axis1, DDS domain 7, peers 127.0.0.1 10.0.0.2"), std::string::npos) << summary;
   EXPECT_NE(summary.find("subscribes master_ref (4, stale after 3 scans: safe)"), std::string::npos) << summary;

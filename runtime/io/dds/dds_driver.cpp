@@ -16,7 +16,7 @@ namespace dds_driver_impl {
 using namespace syncplc::dds;
 
 // Status channels of a subscription, after its values channel.
-enum : int { kOk = 1, kAge, kLost, kLate, kScan, kReaction, kPhase };
+enum : int { kOk = 1, kAge, kLost, kLate, kScan, kReaction, kPhase, kFresh };
 
 class DdsDriver final : public IoDriver {
  public:
@@ -36,6 +36,8 @@ class DdsDriver final : public IoDriver {
       channels_.push_back({sub.topic + "_reaction", PinDir::In, IecType::BOOL, 1, "", "stale past stale_after: the reaction applies"});
       channels_.push_back({sub.topic + "_phase", PinDir::In, IecType::LREAL, 1, "us",
                            "this scan's start minus the publisher's nearest scan start (real time)"});
+      channels_.push_back({sub.topic + "_fresh", PinDir::In, IecType::BOOL, 1, "",
+                           "a new sample was taken at this scan (an estimator's valid input)"});
     }
     ok_ = std::make_unique<std::atomic<bool>[]>(s_.subscribe.size());
     for (const auto& p : s_.publish) last_out_.emplace_back(p.values, Cell{});
@@ -74,6 +76,7 @@ class DdsDriver final : public IoDriver {
       if (Cell* c = cell(ch + kLate)) c->set<std::uint32_t>(st.late);
       if (Cell* c = cell(ch + kScan)) c->set<std::uint64_t>(st.scan);
       if (Cell* c = cell(ch + kReaction)) c->set<bool>(st.reacting);
+      if (Cell* c = cell(ch + kFresh)) c->set<bool>(st.fresh);
     }
   }
 
@@ -186,7 +189,7 @@ DriverTypeInfo dds_driver_type() {
       "Nodes over Cyclone DDS: node, domain, peers (unicast discovery, multicast off), interface, shared_memory, "
       "qos {reliability (best_effort, reliable), deadline, liveliness}; publish [{topic, values}] as one sample per "
       "scan; subscribe [{topic, values, stale_after (scans), reaction (hold, safe, stop), safe}]. Channels: TOPIC, "
-      "and per subscription TOPIC_ok, TOPIC_age (scans), TOPIC_lost, TOPIC_late, TOPIC_scan, TOPIC_reaction. "
+      "and per subscription TOPIC_ok, TOPIC_age (scans), TOPIC_lost, TOPIC_late, TOPIC_scan, TOPIC_reaction, TOPIC_phase (us), TOPIC_fresh. "
       "docs/dds.md.";
   t.create = [](const ConfigNode& node, DriverSetup& setup) -> std::unique_ptr<IoDriver> {
     dds::DdsSettings s;

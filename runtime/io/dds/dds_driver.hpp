@@ -13,6 +13,8 @@
 //   TOPIC_late       in   UDINT
 //   TOPIC_scan       in   ULINT, the publisher's scan count of the values
 //   TOPIC_reaction   in   BOOL
+//   TOPIC_phase      in   LREAL, us
+//   TOPIC_fresh      in   BOOL, a new sample was taken at this scan
 #pragma once
 
 #include "runtime/core/io_driver.hpp"
