@@ -7,6 +7,8 @@
 
 #include "runtime/cli/commands.hpp"
 #include "runtime/core/virtual_clock.hpp"
+#include "runtime/io/dds/virtual_bus.hpp"
+#include "runtime/project/system.hpp"
 #include "runtime/project/metrics.hpp"
 #include "runtime/project/report.hpp"
 #include "runtime/project/trace_csv.hpp"
@@ -24,6 +26,11 @@ int cmd_sim(const std::string& project, const std::string& duration, std::option
   LoadOptions o;
   o.seed = seed;
   if (!parse_sets(sets, o)) return kExitInvalid;
+  if (is_system_file(project)) return cmd_sim_system(project, *d, o, trace, quiet, metrics_path);
+  // Virtual time: a dds driver's subscriptions see what this project
+  // publishes itself (a system file runs all the nodes together).
+  o.virtual_time = true;
+  o.bus = std::make_shared<VirtualBus>();
   auto r = load_or_report(project, o);
   if (!r.ok()) return kExitInvalid;
   Program& p = *r.program;
@@ -42,6 +49,8 @@ int cmd_sim(const std::string& project, const std::string& duration, std::option
     std::cerr << "syncplc: " << err << "\n";
     return kExitInvalid;
   }
+  for (const auto& w : o.bus->unmatched())
+    std::cerr << "syncplc: warning: " << w << " (simulated on its own; run the system file to simulate every node)\n";
   std::ofstream metrics_out;
   if (!metrics_path.empty()) {
     metrics_out.open(metrics_path, std::ios::binary | std::ios::trunc);

@@ -19,6 +19,10 @@
 
 namespace syncplc {
 
+// The in-process network the nodes of one simulated system share in virtual
+// time (runtime/io/dds/virtual_bus.hpp); the core only passes it along.
+class VirtualBus;
+
 // One element of an output channel and the value it takes in the safe state
 // (the `safe:` value of the tag bound to the channel).
 struct SafeOutput {
@@ -107,6 +111,11 @@ class DriverSetup {
   virtual std::int64_t task_period_ns() const = 0;
   virtual std::uint64_t seed() const = 0;
   virtual void error(const SourceLoc& where, const std::string& message) = 0;
+  // Virtual time (`syncplc sim`, `syncplc test`): a driver whose link goes
+  // to other nodes (dds) uses its simulated counterpart instead, on bus()
+  // when the nodes of a system share one (nullptr: a bus of its own).
+  virtual bool virtual_time() const { return false; }
+  virtual std::shared_ptr<VirtualBus> bus() const { return nullptr; }
 };
 
 struct DriverTypeInfo {

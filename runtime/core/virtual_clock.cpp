@@ -97,8 +97,40 @@ void VirtualClock::finish_change() {
   change_ = nullptr;
 }
 
+VirtualClock::Next VirtualClock::pick() const {
+  // The next event: (time, publish before start, higher priority, lower index).
+  int best = -1;
+  bool best_publish = false;
+  std::int64_t best_time = kNever;
+  for (std::size_t i = 0; i < state_.size(); ++i) {
+    const auto& s = state_[i];
+    if (s.gone) continue;
+    const auto& task = *s.task;
+    if (s.publish_at >= 0) {
+      if (s.publish_at < best_time || (s.publish_at == best_time && !best_publish)) {
+        best = static_cast<int>(i), best_publish = true, best_time = s.publish_at;
+      }
+      continue;  // its next scan waits for the publication
+    }
+    if (s.stopped) continue;
+    std::int64_t start = std::max(task.release_ns(s.k), s.not_before);
+    bool better = start < best_time ||
+                  (start == best_time && !best_publish &&
+                   task.config().priority > state_[static_cast<std::size_t>(best)].task->config().priority);
+    if (better) best = static_cast<int>(i), best_publish = false, best_time = start;
+  }
+  return Next{best, best_publish, best_time};
+}
+
+std::int64_t VirtualClock::next_event() const {
+  // An online change under way switches tasks first (run_until); their next
+  // events are not known before, so the change's instant stands for them.
+  const Next n = pick();
+  if (change_ && change_->switch_ns < n.time) return std::max(change_->switch_ns, now_);
+  return n.state < 0 ? kNever : n.time;
+}
+
 void VirtualClock::run_until(std::int64_t t, bool inclusive) {
-  constexpr std::int64_t kNever = std::numeric_limits<std::int64_t>::max();
   for (;;) {
     if (change_) {
       // Switch every task whose next release is at or after T (and whose
@@ -115,27 +147,10 @@ void VirtualClock::run_until(std::int64_t t, bool inclusive) {
       }
       if (all) finish_change();
     }
-    // Pick the next event: (time, publish before start, higher priority, lower index).
-    int best = -1;
-    bool best_publish = false;
-    std::int64_t best_time = kNever;
-    for (std::size_t i = 0; i < state_.size(); ++i) {
-      const auto& s = state_[i];
-      if (s.gone) continue;
-      const auto& task = *s.task;
-      if (s.publish_at >= 0) {
-        if (s.publish_at < best_time || (s.publish_at == best_time && !best_publish)) {
-          best = static_cast<int>(i), best_publish = true, best_time = s.publish_at;
-        }
-        continue;  // its next scan waits for the publication
-      }
-      if (s.stopped) continue;
-      std::int64_t start = std::max(task.release_ns(s.k), s.not_before);
-      bool better = start < best_time ||
-                    (start == best_time && !best_publish &&
-                     task.config().priority > state_[static_cast<std::size_t>(best)].task->config().priority);
-      if (better) best = static_cast<int>(i), best_publish = false, best_time = start;
-    }
+    const Next n = pick();
+    const int best = n.state;
+    const bool best_publish = n.publish;
+    const std::int64_t best_time = n.time;
     if (best < 0 || best_time == kNever) break;
     if (inclusive ? best_time > t : best_time >= t) break;
 

@@ -15,6 +15,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <vector>
 
 #include "runtime/core/program.hpp"
@@ -31,6 +32,11 @@ class VirtualClock {
   void run_until(std::int64_t t, bool inclusive = false);
   // The time of the last event processed.
   std::int64_t now() const { return now_; }
+  // The time of the next event (a scan's start or a publication); kNever
+  // when no task will run again. Several programs on one clock (a system's
+  // nodes, system_clock.hpp) step together by it.
+  static constexpr std::int64_t kNever = std::numeric_limits<std::int64_t>::max();
+  std::int64_t next_event() const;
   // Called after all scans that started at time t have run (once per such t).
   void on_time_point(std::function<void(std::int64_t t)> f) { observer_ = std::move(f); }
   // Planned release of scan number n of a task (ignores overruns).
@@ -62,6 +68,12 @@ class VirtualClock {
     bool stopped = false;
     bool gone = false;               // removed by an online change
   };
+  struct Next {
+    int state = -1;  // index into state_, -1 none
+    bool publish = false;
+    std::int64_t time = kNever;
+  };
+  Next pick() const;
   void flush_observer();
   static OldGrid old_grid(const TaskState& s);
   // At a task's first release >= T: switches it (true) or ends it (removed).

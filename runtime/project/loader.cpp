@@ -45,7 +45,7 @@ Declarations read_declarations(ConfigNode& root, const std::string& path, const 
   std::set<std::string> driver_overrides;
   for (auto& [k, v] : root.map)
     if (k == "drivers") driver_overrides = override_driver_settings(v, opts, diags);
-  if (auto* n = root.find("drivers")) read_drivers(*n, drivers, p, diags);
+  if (auto* n = root.find("drivers")) read_drivers(*n, drivers, opts, p, diags);
   apply_overrides(opts, driver_overrides, p, diags);
   if (auto* n = root.find("connections")) read_connections(*n, p, diags);
   wire_externals(*p.st, p, diags);

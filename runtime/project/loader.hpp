@@ -37,6 +37,11 @@ struct LoadOptions {
   // Set (by another thread) to give up between stages: a PLC that stops
   // while it loads a project for an online change does not wait for it.
   const std::atomic<bool>* cancel = nullptr;
+  // The program will run in virtual time (VirtualClock): drivers with a link
+  // to other nodes take their simulated one (DriverSetup::virtual_time), on
+  // `bus` when the nodes of a system share one (runtime/project/system.hpp).
+  bool virtual_time = false;
+  std::shared_ptr<VirtualBus> bus;
 };
 
 struct LoadResult {

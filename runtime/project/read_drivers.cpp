@@ -11,14 +11,18 @@ namespace {
 // What a driver's factory sees of the project.
 class Setup final : public DriverSetup {
  public:
-  Setup(std::int64_t period, std::uint64_t seed, Diagnostics& d) : period_(period), seed_(seed), d_(d) {}
+  Setup(std::int64_t period, std::uint64_t seed, const LoadOptions& o, Diagnostics& d)
+      : period_(period), seed_(seed), o_(o), d_(d) {}
   std::int64_t task_period_ns() const override { return period_; }
   std::uint64_t seed() const override { return seed_; }
   void error(const SourceLoc& where, const std::string& message) override { d_.error(where, message); }
+  bool virtual_time() const override { return o_.virtual_time; }
+  std::shared_ptr<VirtualBus> bus() const override { return o_.bus; }
 
  private:
   std::int64_t period_;
   std::uint64_t seed_;
+  const LoadOptions& o_;
   Diagnostics& d_;
 };
 
@@ -105,7 +109,8 @@ std::set<std::string> override_driver_settings(ConfigNode& drivers, const LoadOp
   return driver_overrides;
 }
 
-void read_drivers(const ConfigNode& n, const DriverRegistry& drivers, Declarations& p, Diagnostics& diags) {
+void read_drivers(const ConfigNode& n, const DriverRegistry& drivers, const LoadOptions& opts, Declarations& p,
+                  Diagnostics& diags) {
   if (!n.is_list()) { diags.error(n.loc, "drivers: expected a list"); return; }
   for (const auto& dn : n.items) {
     if (!dn.is_map()) { diags.error(dn.loc, "a driver is a map {name, type, task, bind, ...}"); continue; }
@@ -130,7 +135,7 @@ void read_drivers(const ConfigNode& n, const DriverRegistry& drivers, Declaratio
     dd.type = ty->scalar;
     if (!tk) { if (p.tasks.size() == 1) dd.task = 0; else { diags.error(dn.loc, "driver " + dd.name + " has no task"); continue; } }
     else if ((dd.task = p.task_index(tk->scalar)) < 0) { diags.error(tk->loc, "unknown task '" + tk->scalar + "'"); continue; }
-    Setup setup(p.tasks[static_cast<std::size_t>(dd.task)].cfg.period_ns, mix_seed(p.seed, dd.name), diags);
+    Setup setup(p.tasks[static_cast<std::size_t>(dd.task)].cfg.period_ns, mix_seed(p.seed, dd.name), opts, diags);
     std::size_t before = diags.size();
     dd.driver = info->create(dn, setup);
     dd.settings = dd.type + "|" + std::to_string(p.tasks[static_cast<std::size_t>(dd.task)].cfg.period_ns) + "|" +

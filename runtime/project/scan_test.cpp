@@ -7,7 +7,9 @@
 #include <set>
 
 #include "runtime/core/units.hpp"
+#include "runtime/core/system_clock.hpp"
 #include "runtime/core/virtual_clock.hpp"
+#include "runtime/project/system.hpp"
 #include "runtime/project/metrics.hpp"
 #include "runtime/project/yaml_tree.hpp"
 
@@ -16,6 +18,7 @@ namespace {
 
 struct Target {
   enum Kind { Image, DriverIn, DriverOut, Metric } kind = Image;
+  std::size_t node = 0;  // in the system (0: a project tested on its own)
   enum class MetricKind { TrackRsme, SyncRsme, MaxAbsError, MaxAbsSyncError } metric = MetricKind::TrackRsme;
   std::size_t axis = 0;  // 0-based, for the per-axis metrics
   CellRef ref;
@@ -25,6 +28,7 @@ struct Target {
   std::uint32_t length = 1;
   std::string unit;
   std::string text;
+  std::string local;  // text without its node
 };
 
 struct Assignment {
@@ -143,9 +147,36 @@ std::optional<Cell> parse_cell(IecType t, const std::string& unit, const std::st
   return parse_value_in_unit(t, unit, text, err);
 }
 
+// A system's targets start with the node: axis1.ref_ok, master.metrics.track_rsme.
+std::optional<Target> resolve_in_system(const LoadedSystem& sys, bool named, const std::string& text, std::string* err) {
+  std::size_t node = 0;
+  std::string rest = text;
+  if (named) {
+    const auto dot = text.find('.');
+    const int n = dot == std::string::npos ? -1 : sys.find(text.substr(0, dot));
+    if (n < 0) {
+      std::string names;
+      for (const auto& x : sys.nodes) names += (names.empty() ? "" : ", ") + x.name;
+      *err = text + ": a system's target starts with its node (" + names + "), e.g. " + sys.nodes[0].name + ".tag";
+      return std::nullopt;
+    }
+    node = static_cast<std::size_t>(n);
+    rest = text.substr(dot + 1);
+  }
+  const LoadResult& r = sys.nodes[node].loaded;
+  auto t = resolve_target(*r.program, r.metrics.axis_errors.size(), rest, err);
+  if (t) {
+    t->node = node;
+    t->local = rest;
+    t->text = text;
+  }
+  return t;
+}
+
 class TestsReader {
  public:
-  TestsReader(const Program& p, const MetricsSettings& m, Diagnostics& d) : p_(p), axes_(m.axis_errors.size()), d_(d) {}
+  TestsReader(const LoadedSystem& sys, Diagnostics& d)
+      : sys_(sys), named_(!sys.nodes[0].name.empty()), p_(*sys.nodes[0].loaded.program), d_(d) {}
 
   std::vector<Case> read(const ConfigNode& root) {
     std::vector<Case> cases;
@@ -194,17 +225,27 @@ class TestsReader {
     return c;
   }
 
-  // `cycle: n` (of `task`, default the first): the planned release of its n-th scan.
+  // `cycle: n` (of `task`, default the first; of a system: node.task, default
+  // the first node's first): the planned release of its n-th scan.
   void read_cycle(const ConfigNode& cycle, const ConfigNode* task, std::int64_t& time, std::string& when) {
     std::string err;
     auto n = parse_value(IecType::ULINT, cycle.scalar, &err);
     if (!n) { d_.error(cycle.loc, "cycle: " + err); return; }
     int ti = 0;
+    const Program* p = &p_;
     if (task) {
-      ti = p_.find_task(task->scalar);
+      std::string name = task->scalar;
+      if (named_) {
+        const auto dot = name.find('.');
+        const int node = dot == std::string::npos ? -1 : sys_.find(name.substr(0, dot));
+        if (node < 0) { d_.error(task->loc, "task: a system's task is node.task, e.g. " + sys_.nodes[0].name + ".main"); return; }
+        p = sys_.nodes[static_cast<std::size_t>(node)].loaded.program.get();
+        name = name.substr(dot + 1);
+      }
+      ti = p->find_task(name);
       if (ti < 0) { d_.error(task->loc, "unknown task '" + task->scalar + "'"); return; }
     }
-    const auto& cfg = p_.tasks[static_cast<std::size_t>(ti)]->config();
+    const auto& cfg = p->tasks[static_cast<std::size_t>(ti)]->config();
     // The release time phase + n * period must fit 64 bits of nanoseconds.
     std::int64_t offset = 0;
     if (n->get<std::uint64_t>() > static_cast<std::uint64_t>(INT64_MAX) ||
@@ -259,13 +300,15 @@ class TestsReader {
 
   void read_assignment(const std::string& target, const ConfigNode& v, Action& a) {
     std::string err;
-    auto t = resolve_target(p_, axes_, target, &err);
+    auto t = resolve_in_system(sys_, named_, target, &err);
     if (!t) { d_.error(v.loc, err); return; }
+    const Program& p_ = *sys_.nodes[t->node].loaded.program;
+    const std::string local = named_ ? target.substr(target.find('.') + 1) : target;
     if (!a.expect && t->kind == Target::DriverOut) { d_.error(v.loc, target + " is a driver output: it can only be expected"); return; }
     if (a.expect && t->kind == Target::DriverIn) { d_.error(v.loc, target + " is a driver input: set it, expect the tag it feeds"); return; }
     if (!a.expect && t->kind == Target::Metric) { d_.error(v.loc, target + " is a metric: it can only be expected"); return; }
     if (!a.expect && t->kind == Target::Image) {
-      const Tag* tag = p_.find_tag(target.substr(0, target.find('[')));
+      const Tag* tag = p_.find_tag(local.substr(0, local.find('[')));
       if (tag && tag->written_every_scan) {
         // The writer runs in every scan after the set: the value would never be seen.
         const bool driver = tag->writer.rfind("driver ", 0) == 0;
@@ -333,8 +376,9 @@ class TestsReader {
     a.items.push_back(std::move(as));
   }
 
-  const Program& p_;
-  std::size_t axes_;  // in the project's metrics: section
+  const LoadedSystem& sys_;
+  bool named_;         // a system file: targets start with their node
+  const Program& p_;   // the first node's
   Diagnostics& d_;
   std::size_t order_ = 0;
 };
@@ -353,7 +397,8 @@ bool values_equal(IecType t, Cell a, Cell b, std::optional<double> tol) {
 // released at the step's time), so the tests exercise that path.
 bool queue_write(const Program& p, const Target& t, const std::vector<Cell>& values) {
   const auto count = static_cast<std::uint32_t>(values.size());
-  if (const Tag* tag = p.find_tag(t.text.substr(0, t.text.find('['))); tag && t.text.find('.') == std::string::npos)
+  if (const Tag* tag = p.find_tag(t.local.substr(0, t.local.find('[')));
+      tag && t.local.find('.') == std::string::npos)
     return p.write_tag(*tag, t.ref.cell - tag->cell, values.data(), count);
   // An instance's input pin: its task's queue all the same.
   std::vector<QueuedWrite> w(values.size());
@@ -366,14 +411,13 @@ ScanTestCaseResult run_case(const std::string& project, const LoadOptions& base,
   r.name = c.name;
   LoadOptions o = base;
   if (c.seed) o.seed = c.seed;
-  auto loaded = load_project(project, o);
-  if (!loaded.ok()) {
-    for (const auto& d : loaded.diagnostics.sorted()) r.failures.push_back(d.text());
+  LoadedSystem sys = load_system_or_project(project, o);
+  if (!sys.ok()) {
+    for (const auto& d : sys.diagnostics.sorted()) r.failures.push_back(d.text());
     return r;
   }
-  Program& p = *loaded.program;
   std::string err;
-  if (!p.open_drivers(&err)) {
+  if (!open_system(sys, &err)) {
     r.failures.push_back(err);
     return r;
   }
@@ -384,11 +428,21 @@ ScanTestCaseResult run_case(const std::string& project, const LoadOptions& base,
     if (x->expect != y->expect) return !x->expect;  // sets before expects at one instant
     return x->order < y->order;
   });
-  VirtualClock clock(p);
-  MotionMetrics metrics(loaded.metrics);
-  if (metrics.enabled())
-    clock.on_time_point([&](std::int64_t t) { metrics.sample(p, clock.image_access(), t, clock.scans(metrics.task())); });
+  std::vector<std::unique_ptr<VirtualClock>> clocks;
+  std::vector<std::unique_ptr<MotionMetrics>> node_metrics;
+  std::vector<VirtualClock*> order;
+  for (auto& n : sys.nodes) {
+    Program& np = *n.loaded.program;
+    clocks.push_back(std::make_unique<VirtualClock>(np));
+    node_metrics.push_back(std::make_unique<MotionMetrics>(n.loaded.metrics));
+    VirtualClock& nc = *clocks.back();
+    MotionMetrics& m = *node_metrics.back();
+    if (m.enabled()) nc.on_time_point([&np, &nc, &m](std::int64_t t) { m.sample(np, nc.image_access(), t, nc.scans(m.task())); });
+    order.push_back(&nc);
+  }
+  SystemClock clock(order);
   auto metric_value = [&](const Target& t) {
+    const MotionMetrics& metrics = *node_metrics[t.node];
     switch (t.metric) {
       case Target::MetricKind::TrackRsme: return metrics.track_rsme();
       case Target::MetricKind::SyncRsme: return metrics.sync_rsme();
@@ -401,6 +455,8 @@ ScanTestCaseResult run_case(const std::string& project, const LoadOptions& base,
     clock.run_until(a->time, a->expect);
     for (const auto& as : a->items) {
       const Target& t = as.target;
+      Program& p = *sys.nodes[t.node].loaded.program;
+      const VirtualClock& nc = *clocks[t.node];
       if (as.max || as.min || t.kind == Target::Metric) {
         ++r.steps_checked;
         double x = 0;
@@ -409,7 +465,7 @@ ScanTestCaseResult run_case(const std::string& project, const LoadOptions& base,
           Cell c;
           p.drivers[static_cast<std::size_t>(t.driver)].driver->read_output(t.channel, &c);
           x = cell_as_double(t.type, c);
-        } else x = cell_as_double(t.type, *clock.live_cell(t.ref));
+        } else x = cell_as_double(t.type, *nc.live_cell(t.ref));
         if (as.max || as.min) {
           if ((as.max && !(x <= *as.max)) || (as.min && !(x >= *as.min)))
             r.failures.push_back(fmt::format("{}: case '{}' {}: {} is {}, expected{}{}", as.loc.text(), c.name, a->when,
@@ -434,7 +490,7 @@ ScanTestCaseResult run_case(const std::string& project, const LoadOptions& base,
       }
       std::vector<Cell> actual(t.length);
       if (t.kind == Target::DriverOut) p.drivers[static_cast<std::size_t>(t.driver)].driver->read_output(t.channel, actual.data());
-      else std::copy(clock.live_cell(t.ref), clock.live_cell(t.ref) + t.length, actual.begin());
+      else std::copy(nc.live_cell(t.ref), nc.live_cell(t.ref) + t.length, actual.begin());
       ++r.steps_checked;
       for (std::uint32_t i = 0; i < t.length; ++i) {
         if (values_equal(t.type, actual[i], as.values[i], as.tolerance)) continue;
@@ -446,7 +502,7 @@ ScanTestCaseResult run_case(const std::string& project, const LoadOptions& base,
     }
   }
   r.virtual_seconds = static_cast<double>(clock.now()) * 1e-9;
-  p.close_drivers();
+  close_system(sys);
   r.passed = r.failures.empty();
   return r;
 }
@@ -475,14 +531,14 @@ std::size_t ScanTestReport::failed() const {
 
 ScanTestReport run_scan_tests(const std::string& project_path, const std::string& tests_path, const LoadOptions& options) {
   ScanTestReport rep;
-  auto loaded = load_project(project_path, options);
+  LoadedSystem loaded = load_system_or_project(project_path, options);
   if (!loaded.ok()) {
     rep.diagnostics = loaded.diagnostics;
     return rep;
   }
   ConfigNode root = read_yaml_file(tests_path, rep.diagnostics);
   if (!rep.diagnostics.empty()) return rep;
-  TestsReader reader(*loaded.program, loaded.metrics, rep.diagnostics);
+  TestsReader reader(loaded, rep.diagnostics);
   auto cases = reader.read(root);
   if (!rep.diagnostics.empty()) return rep;
   for (const auto& c : cases) rep.cases.push_back(run_case(project_path, options, c));

@@ -15,6 +15,11 @@
 // motion metrics (paper 000 eqs. 26-27) of the project's `metrics:
 // axis_errors`, accumulated from the start of the case.
 //
+// A system file (system.hpp) in place of the project runs every node of a
+// distributed project together on its simulated bus: targets then start
+// with their node (axis1.ref_ok, master.metrics.track_rsme) and `task:` is
+// node.task.
+//
 // Each case starts from a fresh load of the project and runs in virtual time.
 // `set` at time t is applied before any scan released at t; `expect` at t is
 // checked after every scan released at or before t has run. `cycle: n` of a

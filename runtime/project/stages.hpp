@@ -47,7 +47,8 @@ void read_blocks(ConfigNode& n, const BlockRegistry& blocks, Declarations& p, Di
 // read_drivers.cpp. --set driver.key=value rewrites the driver's settings
 // before it is created; returns the drivers so changed.
 std::set<std::string> override_driver_settings(ConfigNode& drivers, const LoadOptions& opts, Diagnostics& diags);
-void read_drivers(const ConfigNode& n, const DriverRegistry& drivers, Declarations& p, Diagnostics& diags);
+void read_drivers(const ConfigNode& n, const DriverRegistry& drivers, const LoadOptions& opts, Declarations& p,
+                  Diagnostics& diags);
 // --set instance.param=value and --set tag=value (check_params.cpp).
 void apply_overrides(const LoadOptions& opts, const std::set<std::string>& driver_overrides, Declarations& p,
                      Diagnostics& diags);

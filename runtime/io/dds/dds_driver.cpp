@@ -8,6 +8,7 @@
 #include "runtime/io/dds/dds_link.hpp"
 #include "runtime/io/dds/dds_settings.hpp"
 #include "runtime/io/dds/subscription_latch.hpp"
+#include "runtime/io/dds/virtual_link.hpp"
 #include "runtime/io/safe_output_latch.hpp"
 
 namespace syncplc {
@@ -20,7 +21,11 @@ enum : int { kOk = 1, kAge, kLost, kLate, kScan, kReaction, kPhase, kFresh };
 
 class DdsDriver final : public IoDriver {
  public:
-  explicit DdsDriver(DdsSettings s) : s_(std::move(s)), link_(s_) {
+  // bus: the simulated network of virtual time; nullptr: Cyclone DDS.
+  DdsDriver(DdsSettings s, std::shared_ptr<VirtualBus> bus, std::int64_t period_ns, std::uint64_t seed)
+      : s_(std::move(s)), virtual_(bus != nullptr) {
+    if (bus) link_ = std::make_unique<VirtualLink>(s_, std::move(bus), period_ns, seed);
+    else link_ = std::make_unique<DdsLink>(s_);
     for (const auto& p : s_.publish) {
       pub_channel_.push_back(static_cast<int>(channels_.size()));
       channels_.push_back({p.topic, PinDir::Out, IecType::LREAL, p.values, "", "published: one sample per scan"});
@@ -57,16 +62,17 @@ class DdsDriver final : public IoDriver {
     safe_.reset();
     phase_.reset();
     last_scan_ = 0;
-    return link_.open(error);
+    return link_->open(error);
   }
 
   void latch_inputs(const ScanContext& ctx) noexcept override {
     // When this scan began (a vDSO clock read, no system call): sent with
     // the samples, compared with the publishers' starts.
     started_ = ctx.virtual_time ? 0 : realtime_ns();
+    link_->poll(ctx.now_ns);
     for (std::size_t i = 0; i < s_.subscribe.size(); ++i) {
       const int ch = sub_channel_[i];
-      const SubscriptionStatus& st = latches_[i].latch(link_.subscription(i).acquire(), ctx, cell(ch), started_);
+      const SubscriptionStatus& st = latches_[i].latch(link_->subscription(i).acquire(), ctx, cell(ch), started_);
       if (st.fresh && st.has_phase) phase_.record(st.phase_ns < 0 ? -st.phase_ns : st.phase_ns);
       if (Cell* c = cell(ch + kPhase)) c->set<double>(static_cast<double>(st.phase_ns) / 1000.0);
       ok_[i].store(st.ok, std::memory_order_relaxed);
@@ -88,7 +94,7 @@ class DdsDriver final : public IoDriver {
       publish(i, ctx.scan, ctx.realtime_ns ? ctx.realtime_ns : ctx.now_ns);
     }
     safe_.end_write();
-    link_.hand_over();
+    link_->hand_over();
   }
 
   bool write_safe_outputs(const SafeOutput* outputs, std::size_t n) noexcept override {
@@ -100,11 +106,11 @@ class DdsDriver final : public IoDriver {
         if (outputs[k].channel == pub_channel_[i] && outputs[k].element < s_.publish[i].values)
           last_out_[i][outputs[k].element] = outputs[k].value;
     for (std::size_t i = 0; i < s_.publish.size(); ++i) publish(i, last_scan_ + 1, last_time_);
-    link_.hand_over();
+    link_->hand_over();
     return true;
   }
 
-  void close() noexcept override { link_.close(); }
+  void close() noexcept override { link_->close(); }
 
   bool input_ok(int channel) const noexcept override {
     for (std::size_t i = 0; i < sub_channel_.size(); ++i)
@@ -122,7 +128,7 @@ class DdsDriver final : public IoDriver {
   }
 
   std::string summary() const override {
-    std::string t = "node " + s_.node + ", DDS domain " + std::to_string(s_.domain);
+    std::string t = "node " + s_.node + (virtual_ ? ", virtual time: the system's simulated bus" : ", DDS domain " + std::to_string(s_.domain));
     if (s_.inject.on())
       t += ", INJECTING loss " + std::to_string(s_.inject.loss) + " and delay " + std::to_string(s_.inject.delay_ns / 1000) + " us";
     if (!s_.peers.empty()) {
@@ -138,7 +144,7 @@ class DdsDriver final : public IoDriver {
   }
 
   std::vector<std::pair<std::string, double>> counters() const override {
-    const LinkCounters& c = link_.counters();
+    const LinkCounters& c = link_->counters();
     const Histogram::Summary ph = phase_.summary();
     auto v = [](const std::atomic<std::uint64_t>& a) { return static_cast<double>(a.load(std::memory_order_relaxed)); };
     return {{"samples_sent", v(c.sent)},         {"write_errors", v(c.write_errors)},
@@ -154,7 +160,7 @@ class DdsDriver final : public IoDriver {
     return ch >= 0 && static_cast<std::size_t>(ch) < cells_.size() ? cells_[static_cast<std::size_t>(ch)] : nullptr;
   }
   void publish(std::size_t i, std::uint64_t scan, std::int64_t time) noexcept {
-    TripleBuffer& b = link_.publication(i);
+    TripleBuffer& b = link_->publication(i);
     Cell* out = b.back();
     out[PublicationCells::kScan].set<std::uint64_t>(scan);
     out[PublicationCells::kTime].set<std::int64_t>(time);
@@ -166,7 +172,8 @@ class DdsDriver final : public IoDriver {
   }
 
   DdsSettings s_;
-  DdsLink link_;
+  bool virtual_;
+  std::unique_ptr<Link> link_;
   std::vector<DriverChannel> channels_;
   std::vector<int> pub_channel_, sub_channel_;
   std::vector<Cell*> cells_;
@@ -194,7 +201,14 @@ DriverTypeInfo dds_driver_type() {
   t.create = [](const ConfigNode& node, DriverSetup& setup) -> std::unique_ptr<IoDriver> {
     dds::DdsSettings s;
     if (!dds::read_dds_settings(node, setup, s)) return nullptr;
-    return std::make_unique<dds_driver_impl::DdsDriver>(std::move(s));
+    std::shared_ptr<VirtualBus> bus;
+    if (setup.virtual_time()) {
+      bus = setup.bus();
+      // A project simulated on its own: its subscriptions see only what it
+      // publishes itself.
+      if (!bus) bus = std::make_shared<VirtualBus>();
+    }
+    return std::make_unique<dds_driver_impl::DdsDriver>(std::move(s), std::move(bus), setup.task_period_ns(), setup.seed());
   };
   return t;
 }

@@ -14,7 +14,7 @@
 #include "runtime/core/monotonic_clock.hpp"
 #include "runtime/io/dds/delay_line.hpp"
 #include "runtime/io/dds/node_sample.h"
-#include "runtime/io/dds/subscription_latch.hpp"
+#include "runtime/io/dds/subscription_intake.hpp"
 
 namespace syncplc::dds {
 namespace dds_link_impl {
@@ -128,11 +128,6 @@ void thread_setup(const char* name, int priority) {
 
 }  // namespace dds_link_impl
 
-DdsLink::DdsLink(const DdsSettings& s) : s_(s), pubs_(s.publish.size()), subs_(s.subscribe.size()) {
-  for (std::size_t i = 0; i < s.publish.size(); ++i) pubs_[i].resize(PublicationCells::kValues + s.publish[i].values);
-  for (std::size_t i = 0; i < s.subscribe.size(); ++i) subs_[i].resize(SubscriptionCells::kValues + s.subscribe[i].values);
-}
-
 DdsLink::~DdsLink() { close(); }
 
 std::string DdsLink::cyclone_config(const DdsSettings& s) {
@@ -218,12 +213,7 @@ bool DdsLink::open(std::string* error) {
     close();
     return false;
   }
-  // Values before the first sample: zero, not yet received (received = 0).
-  std::vector<Cell> zero;
-  for (auto& b : subs_) {
-    zero.assign(b.size(), Cell{});
-    b.fill(zero.data());
-  }
+  clear_subscriptions();
   stop_ = false;
   // open() returns when both threads have made their buffers: what they
   // allocate, they allocate before the first scan.
@@ -330,9 +320,7 @@ void DdsLink::receive_loop(std::latch& ready) noexcept {
   dds_sample_info_t infos[kBatch];
   struct State {
     std::uint32_t layout = 0;
-    dds_instance_handle_t writer = 0;
-    bool have = false;
-    std::uint64_t last = 0, received = 0, lost = 0, late = 0;
+    SubscriptionIntake intake;
   };
   std::vector<State> st(s_.subscribe.size());
   for (std::size_t i = 0; i < st.size(); ++i) st[i].layout = layout_word(s_.subscribe[i].topic, s_.subscribe[i].values);
@@ -348,38 +336,17 @@ void DdsLink::receive_loop(std::latch& ready) noexcept {
   std::mt19937_64 rng(inj.seed);
   std::bernoulli_distribution drop(inj.loss);
 
-  // A sample that passed the injection: in order, or late; gaps counted lost.
+  // A sample that passed the injection (subscription_intake.hpp).
   auto accept = [&](std::size_t i, const syncplc_NodeSample& m, dds_instance_handle_t writer) {
-    State& s = st[i];
-    const auto& sub = s_.subscribe[i];
-    // Another writer: the publishing node restarted (its scan count starts
-    // again) or a second node publishes the topic.
-    if (s.have && writer != s.writer) {
-      counters_.writers_changed.fetch_add(1, std::memory_order_relaxed);
-      s.have = false;
-    }
-    if (s.have && m.scan <= s.last) {
-      ++s.late;
-      counters_.late.fetch_add(1, std::memory_order_relaxed);
+    const IntakeCounters added =
+        st[i].intake.accept(subs_[i], writer, m.scan, m.started_ns, m.values, s_.subscribe[i].values);
+    if (added.writers_changed) counters_.writers_changed.fetch_add(added.writers_changed, std::memory_order_relaxed);
+    if (added.late) {
+      counters_.late.fetch_add(added.late, std::memory_order_relaxed);
       return;
     }
-    if (s.have && m.scan > s.last + 1) {
-      s.lost += m.scan - s.last - 1;
-      counters_.lost.fetch_add(m.scan - s.last - 1, std::memory_order_relaxed);
-    }
-    s.writer = writer;
-    s.have = true;
-    s.last = m.scan;
-    ++s.received;
+    if (added.lost) counters_.lost.fetch_add(added.lost, std::memory_order_relaxed);
     counters_.received.fetch_add(1, std::memory_order_relaxed);
-    Cell* b = subs_[i].back();
-    b[SubscriptionCells::kReceived].set<std::uint64_t>(s.received);
-    b[SubscriptionCells::kScan].set<std::uint64_t>(m.scan);
-    b[SubscriptionCells::kStarted].set<std::int64_t>(m.started_ns);
-    b[SubscriptionCells::kLost].set<std::uint64_t>(s.lost);
-    b[SubscriptionCells::kLate].set<std::uint64_t>(s.late);
-    for (std::uint32_t v = 0; v < sub.values; ++v) b[SubscriptionCells::kValues + v].set<double>(m.values[v]);
-    subs_[i].publish();
   };
 
   std::vector<dds_attach_t> triggered(s_.subscribe.size() + 1);

@@ -21,41 +21,22 @@
 #include <thread>
 #include <vector>
 
-#include "runtime/core/triple_buffer.hpp"
-#include "runtime/io/dds/dds_settings.hpp"
+#include "runtime/io/dds/link.hpp"
 #include "runtime/io/modbus_client/cycle_signal.hpp"
 
 namespace syncplc::dds {
 
-// The hand-over cells of one publication (write_outputs -> send thread):
-// [scan, time, started, values...].
-struct PublicationCells {
-  static constexpr std::size_t kScan = 0, kTime = 1, kStarted = 2, kValues = 3;
-};
-
-struct LinkCounters {
-  std::atomic<std::uint64_t> sent{0}, write_errors{0}, received{0}, lost{0}, late{0}, mismatched{0}, writers_changed{0},
-      injected_lost{0};  // dropped by the injection (docs/dds.md)
-};
-
-class DdsLink {
+class DdsLink final : public Link {
  public:
-  explicit DdsLink(const DdsSettings& s);
-  ~DdsLink();
-  DdsLink(const DdsLink&) = delete;
-  DdsLink& operator=(const DdsLink&) = delete;
+  explicit DdsLink(const DdsSettings& s) : Link(s) {}
+  ~DdsLink() override;
 
   // Creates the domain (the project's network settings), participant,
   // topics, writers and readers, and starts the threads. False with *error.
-  bool open(std::string* error);
+  bool open(std::string* error) override;
   // Stops and joins the threads, deletes the participant.
-  void close() noexcept;
-
-  TripleBuffer& publication(std::size_t i) { return pubs_[i]; }
-  TripleBuffer& subscription(std::size_t i) { return subs_[i]; }
-  // The scan: the publications' newest values are in their buffers.
-  void hand_over() noexcept { signal_.hand_over(); }
-  const LinkCounters& counters() const { return counters_; }
+  void close() noexcept override;
+  void hand_over() noexcept override { signal_.hand_over(); }
 
   // The XML of Cyclone's configuration for these settings (docs/dds.md, "Network").
   static std::string cyclone_config(const DdsSettings& s);
@@ -67,12 +48,9 @@ class DdsLink {
   void send_loop(std::latch& ready) noexcept;
   void receive_loop(std::latch& ready) noexcept;
 
-  const DdsSettings& s_;
-  std::vector<TripleBuffer> pubs_, subs_;
   CycleSignal signal_;
   std::atomic<bool> stop_{false};
   std::thread send_, receive_;
-  LinkCounters counters_;
   std::int32_t participant_ = 0, waitset_ = 0, guard_ = 0;
   bool domain_held_ = false;
   std::vector<std::int32_t> writers_, readers_, conditions_;
