@@ -44,11 +44,11 @@ int main(int argc, char** argv) {
   blocks->add_option("--project,-p", blocks_project, "also the project's Structured Text FUNCTION_BLOCKs and PROGRAMs");
 
   auto* sim = app.add_subcommand("sim", "run a project in virtual time, as fast as the CPU allows");
-  sim->add_option("PROJECT", project, "project file (YAML)")->required();
+  sim->add_option("PROJECT", project, "project file (YAML), or a system file listing the nodes of a distributed project (docs/dds.md)")->required();
   sim->add_option("--duration,-d", duration, "virtual time to simulate, e.g. 10s")->required();
   sim->add_option("--seed", seed, "seed for drivers and blocks that use randomness");
   sim->add_option("--trace", trace, "write the traced pins to this CSV file");
-  sim->add_option("--set", sets, "override a parameter: instance.param=value (repeatable)");
+  sim->add_option("--set", sets, "override a parameter: instance.param=value, of a system node.instance.param=value (repeatable)");
   sim->add_option("--metrics", metrics, "write statistics, motion metrics (Track/Sync-RSME) and driver counters as JSON");
   sim->add_flag("--quiet,-q", quiet, "no progress display");
 
@@ -144,7 +144,7 @@ int main(int argc, char** argv) {
   reset->add_option("--db", db, "the PLC's database (default: as for run)");
 
   auto* test = app.add_subcommand("test", "run scan-cycle tests against a project in virtual time");
-  test->add_option("PROJECT", project, "project file (YAML)")->required();
+  test->add_option("PROJECT", project, "project file (YAML), or a system file (targets then node.tag)")->required();
   test->add_option("TESTS", tests, "tests file (YAML)")->required();
   test->add_option("--junit", junit, "write a JUnit XML report to this file");
 
