@@ -35,7 +35,7 @@ int main(int argc, char** argv) {
   std::optional<int> modbus_port;
 
   auto* check = app.add_subcommand("check", "validate a project; print its task table, execution order and tag map");
-  check->add_option("PROJECT", project, "project file (YAML)")->required();
+  check->add_option("PROJECT", project, "project file (YAML), or a system file (every node and their topics)")->required();
 
   auto* blocks = app.add_subcommand("blocks", "list the block library, or describe one block type");
   blocks->add_option("TYPE", block, "a block type, e.g. TON");
