@@ -1,22 +1,53 @@
+// `syncplc sim`: a project, or every node of a system file (docs/dds.md,
+// "In virtual time"), in virtual time: one process, one time line
+// (runtime/core/system_clock.hpp), bit for bit reproducible. A project alone
+// is a system of one unnamed node: its trace columns and metrics carry no
+// node prefix.
 #include <fmt/format.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <fstream>
 #include <iostream>
+#include <memory>
 
 #include "runtime/cli/commands.hpp"
-#include "runtime/core/virtual_clock.hpp"
+#include "runtime/core/system_clock.hpp"
 #include "runtime/io/dds/virtual_bus.hpp"
-#include "runtime/project/system.hpp"
 #include "runtime/project/metrics.hpp"
 #include "runtime/project/report.hpp"
+#include "runtime/project/system.hpp"
 #include "runtime/project/trace_csv.hpp"
 
 namespace syncplc::cli {
+namespace cmd_sim_impl {
+
+bool open_output(std::ofstream& f, const std::string& path, const char* what) {
+  if (path.empty()) return true;
+  f.open(path, std::ios::binary | std::ios::trunc);
+  if (!f) std::cerr << "syncplc: cannot write " << what << " file " << path << "\n";
+  return static_cast<bool>(f);
+}
+
+bool close_output(std::ofstream& f, const std::string& path, const char* label) {
+  if (!f.is_open()) return true;
+  f.flush();
+  if (!f) {
+    std::cerr << "syncplc: error writing " << path << "\n";
+    return false;
+  }
+  std::cout << label << ": " << path << "\n";
+  return true;
+}
+
+// The node's name and a dot, for trace columns and reports of a system.
+std::string prefix(const SystemNode& n) { return n.name.empty() ? std::string() : n.name + "."; }
+
+}  // namespace cmd_sim_impl
 
 int cmd_sim(const std::string& project, const std::string& duration, std::optional<std::uint64_t> seed,
             const std::string& trace, const std::vector<std::string>& sets, bool quiet, const std::string& metrics_path) {
+  using namespace cmd_sim_impl;
   std::string err;
   auto d = parse_duration_ns(duration, &err);
   if (!d || *d <= 0) {
@@ -26,47 +57,62 @@ int cmd_sim(const std::string& project, const std::string& duration, std::option
   LoadOptions o;
   o.seed = seed;
   if (!parse_sets(sets, o)) return kExitInvalid;
-  if (is_system_file(project)) return cmd_sim_system(project, *d, o, trace, quiet, metrics_path);
-  // Virtual time: a dds driver's subscriptions see what this project
-  // publishes itself (a system file runs all the nodes together).
-  o.virtual_time = true;
-  o.bus = std::make_shared<VirtualBus>();
-  auto r = load_or_report(project, o);
-  if (!r.ok()) return kExitInvalid;
-  Program& p = *r.program;
-
-  std::ofstream out;
-  if (!trace.empty()) {
-    out.open(trace, std::ios::binary | std::ios::trunc);
-    if (!out) {
-      std::cerr << "syncplc: cannot write trace file " << trace << "\n";
-      return kExitInvalid;
-    }
-    if (p.traces.empty()) std::cerr << "syncplc: warning: the project has no traces: the CSV has only time_s\n";
-    write_trace_header(out, p);
+  LoadedSystem sys = load_system_or_project(project, o);
+  if (!sys.ok()) {
+    for (const auto& x : sys.diagnostics.sorted()) std::cerr << x.text() << "\n";
+    std::cerr << project << ": " << sys.diagnostics.size() << (sys.diagnostics.size() == 1 ? " error" : " errors")
+              << ", project not loaded\n";
+    return kExitInvalid;
   }
-  if (!p.open_drivers(&err)) {
+  const bool alone = sys.nodes.size() == 1 && sys.nodes[0].name.empty();
+
+  std::ofstream out, metrics_out;
+  if (!open_output(out, trace, "trace")) return kExitInvalid;
+  if (out.is_open()) {
+    // One time column, then every node's traces (a system's as node.label).
+    out << "time_s";
+    for (const auto& n : sys.nodes) {
+      if (n.loaded.program->traces.empty())
+        std::cerr << "syncplc: warning: " << (alone ? "the project" : "node " + n.name) << " has no traces\n";
+      for (const auto& c : n.loaded.program->traces) out << ',' << prefix(n) << c.label;
+    }
+    out << '\n';
+  }
+  std::vector<std::string> warnings;
+  if (!open_system(sys, &err, &warnings)) {
     std::cerr << "syncplc: " << err << "\n";
     return kExitInvalid;
   }
-  for (const auto& w : o.bus->unmatched())
-    std::cerr << "syncplc: warning: " << w << " (simulated on its own; run the system file to simulate every node)\n";
-  std::ofstream metrics_out;
-  if (!metrics_path.empty()) {
-    metrics_out.open(metrics_path, std::ios::binary | std::ios::trunc);
-    if (!metrics_out) {
-      std::cerr << "syncplc: cannot write metrics file " << metrics_path << "\n";
-      return kExitInvalid;
-    }
-    if (r.metrics.axis_errors.empty())
-      std::cerr << "syncplc: warning: the project names no metrics axis_errors: the metrics hold statistics only\n";
+  for (const auto& w : warnings)
+    std::cerr << "syncplc: warning: " << w << " (simulated on its own; a system file simulates every node)\n";
+  if (!open_output(metrics_out, metrics_path, "metrics")) {
+    close_system(sys);
+    return kExitInvalid;
   }
-  VirtualClock clock(p);
-  MotionMetrics metrics(r.metrics);
-  clock.on_time_point([&](std::int64_t t) {
-    if (out.is_open()) write_trace_row(out, p, clock.image_access(), t);
-    if (metrics.enabled()) metrics.sample(p, clock.image_access(), t, clock.scans(metrics.task()));
-  });
+
+  std::vector<std::unique_ptr<VirtualClock>> clocks;
+  std::vector<std::unique_ptr<MotionMetrics>> metrics;
+  std::vector<VirtualClock*> order;
+  for (auto& n : sys.nodes) {
+    Program& p = *n.loaded.program;
+    clocks.push_back(std::make_unique<VirtualClock>(p));
+    metrics.push_back(std::make_unique<MotionMetrics>(n.loaded.metrics));
+    VirtualClock& c = *clocks.back();
+    MotionMetrics& m = *metrics.back();
+    if (m.enabled()) c.on_time_point([&p, &c, &m](std::int64_t t) { m.sample(p, c.image_access(), t, c.scans(m.task())); });
+    if (metrics_out.is_open() && alone && !m.enabled())
+      std::cerr << "syncplc: warning: the project names no metrics axis_errors: the metrics hold statistics only\n";
+    order.push_back(&c);
+  }
+  SystemClock clock(order);
+  if (out.is_open())
+    clock.on_time_point([&](std::int64_t t) {
+      out << fmt::format("{:.9f}", static_cast<double>(t) * 1e-9);
+      for (std::size_t i = 0; i < sys.nodes.size(); ++i)
+        for (const auto& c : sys.nodes[i].loaded.program->traces)
+          out << ',' << format_trace_value(c.ref.type, *clocks[i]->live_cell(c.ref));
+      out << '\n';
+    });
 
   // Progress is shown only on a terminal; it never changes what is simulated.
   const bool progress = !quiet && isatty(STDERR_FILENO);
@@ -88,34 +134,36 @@ int cmd_sim(const std::string& project, const std::string& duration, std::option
     }
   }
   if (progress) std::cerr << "\r" << std::string(78, ' ') << "\r";
-  p.stop_drivers();  // the end of the run is a clean stop: the drivers' at_stop
-  double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-  print_events(std::cerr, p);
-  std::cout << fmt::format("Simulated {} of {} in {:.3f}s wall time (seed {})\n", format_duration(*d), p.name, wall, p.seed);
-  print_statistics(std::cout, p, true);
-  if (out.is_open()) {
-    out.flush();
-    if (!out) {
-      std::cerr << "syncplc: error writing " << trace << "\n";
-      return kExitInvalid;
-    }
-    std::cout << "Trace: " << trace << " (" << p.traces.size() << " columns)\n";
+  for (auto& n : sys.nodes) n.loaded.program->stop_drivers();  // the end of the run is a clean stop: the drivers' at_stop
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  if (alone)
+    std::cout << fmt::format("Simulated {} of {} in {:.3f}s wall time (seed {})\n", format_duration(*d),
+                             sys.nodes[0].loaded.program->name, wall, sys.nodes[0].loaded.program->seed);
+  else
+    std::cout << fmt::format("Simulated {} of system {} ({} nodes) in {:.3f}s wall time (seed {})\n", format_duration(*d),
+                             sys.name, sys.nodes.size(), wall, sys.seed ? std::to_string(*sys.seed) : "of each node's project");
+  std::string json;
+  for (std::size_t i = 0; i < sys.nodes.size(); ++i) {
+    Program& p = *sys.nodes[i].loaded.program;
+    if (!alone) std::cout << "\n== node " << sys.nodes[i].name << " (" << p.name << ", seed " << p.seed << ") ==\n";
+    print_events(std::cerr, p);
+    print_statistics(std::cout, p, true);
+    const MotionMetrics& m = *metrics[i];
+    if (m.enabled())
+      std::cout << fmt::format("Track-RSME {:.6g}  Sync-RSME {:.6g}  ({} samples, paper 000 eqs. 26-27)\n", m.track_rsme(),
+                               m.sync_rsme(), m.samples());
+    if (const ContourMetric* c = m.contour())
+      std::cout << fmt::format("Contour error  mean {:.6g}  max {:.6g}  RMS {:.6g}  (|distance| from the path)\n",
+                               c->mean_abs(), c->max_abs(), c->rms());
+    // A project alone: its metrics object; a system: one per node.
+    if (metrics_out.is_open())
+      json += alone ? m.json(p, *d, wall) : (i ? ", \"" : "{\"system\": \"" + sys.name + "\", \"nodes\": {\"") +
+                                                sys.nodes[i].name + "\": " + m.json(p, *d, wall);
   }
-  if (metrics.enabled())
-    std::cout << fmt::format("Track-RSME {:.6g}  Sync-RSME {:.6g}  ({} samples, paper 000 eqs. 26-27)\n",
-                             metrics.track_rsme(), metrics.sync_rsme(), metrics.samples());
-  if (const ContourMetric* c = metrics.contour())
-    std::cout << fmt::format("Contour error  mean {:.6g}  max {:.6g}  RMS {:.6g}  (|distance| from the path)\n",
-                             c->mean_abs(), c->max_abs(), c->rms());
-  if (metrics_out.is_open()) {
-    metrics_out << metrics.json(p, *d, wall);
-    metrics_out.flush();
-    if (!metrics_out) {
-      std::cerr << "syncplc: error writing " << metrics_path << "\n";
-      return kExitInvalid;
-    }
-    std::cout << "Metrics: " << metrics_path << "\n";
-  }
+  if (metrics_out.is_open() && !alone) json += "}}\n";
+  close_system(sys);
+  metrics_out << json;
+  if (!close_output(out, trace, "Trace") || !close_output(metrics_out, metrics_path, "Metrics")) return kExitInvalid;
   return kExitOk;
 }
 

@@ -36,9 +36,6 @@ int cmd_check(const std::string& project);
 int cmd_blocks(const std::string& name, bool markdown, const std::string& project = "");
 int cmd_sim(const std::string& project, const std::string& duration, std::optional<std::uint64_t> seed,
             const std::string& trace, const std::vector<std::string>& sets, bool quiet, const std::string& metrics_path);
-// cmd_sim of a system file (runtime/project/system.hpp): every node in one process.
-int cmd_sim_system(const std::string& path, std::int64_t duration_ns, const LoadOptions& options,
-                   const std::string& trace, bool quiet, const std::string& metrics_path);
 struct RunOptions {
   std::string project;            // "" : the last accepted project in the database
   std::string duration;           // --duration; "" until stopped

@@ -338,15 +338,7 @@ void DdsLink::receive_loop(std::latch& ready) noexcept {
 
   // A sample that passed the injection (subscription_intake.hpp).
   auto accept = [&](std::size_t i, const syncplc_NodeSample& m, dds_instance_handle_t writer) {
-    const IntakeCounters added =
-        st[i].intake.accept(subs_[i], writer, m.scan, m.started_ns, m.values, s_.subscribe[i].values);
-    if (added.writers_changed) counters_.writers_changed.fetch_add(added.writers_changed, std::memory_order_relaxed);
-    if (added.late) {
-      counters_.late.fetch_add(added.late, std::memory_order_relaxed);
-      return;
-    }
-    if (added.lost) counters_.lost.fetch_add(added.lost, std::memory_order_relaxed);
-    counters_.received.fetch_add(1, std::memory_order_relaxed);
+    count(st[i].intake.accept(subs_[i], writer, m.scan, m.started_ns, m.values, s_.subscribe[i].values));
   };
 
   std::vector<dds_attach_t> triggered(s_.subscribe.size() + 1);

@@ -12,6 +12,7 @@
 
 #include "runtime/core/triple_buffer.hpp"
 #include "runtime/io/dds/dds_settings.hpp"
+#include "runtime/io/dds/subscription_intake.hpp"
 #include "runtime/io/dds/subscription_latch.hpp"
 
 namespace syncplc::dds {
@@ -61,6 +62,16 @@ class Link {
       zero.assign(b.size(), Cell{});
       b.fill(zero.data());
     }
+  }
+  // What SubscriptionIntake::accept added, into the counters.
+  void count(const IntakeCounters& added) noexcept {
+    auto add = [](std::atomic<std::uint64_t>& c, std::uint64_t n) {
+      if (n) c.fetch_add(n, std::memory_order_relaxed);
+    };
+    add(counters_.writers_changed, added.writers_changed);
+    add(counters_.late, added.late);
+    add(counters_.lost, added.lost);
+    add(counters_.received, added.late ? 0 : 1);
   }
   const DdsSettings& s_;
   std::vector<TripleBuffer> pubs_, subs_;

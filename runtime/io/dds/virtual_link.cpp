@@ -52,20 +52,13 @@ void VirtualLink::close() noexcept {
 void VirtualLink::poll(std::int64_t now_ns) noexcept {
   for (std::size_t i = 0; i < sub_state_.size(); ++i) {
     Sub& st = sub_state_[i];
-    const std::uint32_t count = s_.subscribe[i].values;
+    const std::uint32_t count_values = s_.subscribe[i].values;
     bus_->take(st.id, now_ns, [&](const VirtualBus::Sample& m) {
       if (s_.inject.loss > 0 && st.rng.chance(s_.inject.loss)) {
         counters_.injected_lost.fetch_add(1, std::memory_order_relaxed);
         return;
       }
-      const IntakeCounters added = st.intake.accept(subs_[i], m.writer, m.scan, 0, m.values, count);
-      if (added.writers_changed) counters_.writers_changed.fetch_add(added.writers_changed, std::memory_order_relaxed);
-      if (added.late) {
-        counters_.late.fetch_add(added.late, std::memory_order_relaxed);
-        return;
-      }
-      if (added.lost) counters_.lost.fetch_add(added.lost, std::memory_order_relaxed);
-      counters_.received.fetch_add(1, std::memory_order_relaxed);
+      count(st.intake.accept(subs_[i], m.writer, m.scan, 0, m.values, count_values));
     });
   }
 }
