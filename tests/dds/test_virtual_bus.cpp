@@ -123,5 +123,22 @@ TEST(VirtualBus, APublisherThatComesBackIsANewWriter) {
   EXPECT_NE(first, second);
 }
 
+TEST(VirtualBus, AReplacedPublisherLeavesTheTopicToItsSuccessor) {
+  // An online change: the new driver advertises before the old one closes.
+  VirtualBus bus;
+  std::string err;
+  const int old_pub = bus.advertise("x", 1, "a", kMs, &err);
+  const int sub = bus.subscribe("x", 1, "b", 0, kMs, &err);
+  const int new_pub = bus.advertise("x", 1, "a", kMs, &err);
+  ASSERT_GE(new_pub, 0) << err;
+  publish(bus, old_pub, 5, 0, 1.0);  // the old one's last scan: no longer goes out
+  bus.withdraw_publisher(old_pub);
+  EXPECT_TRUE(bus.unmatched().empty());
+  publish(bus, new_pub, 6, 0, 2.0);
+  const auto got = take(bus, sub, kMs);
+  ASSERT_EQ(got.size(), 1u);
+  EXPECT_EQ(got[0].value, 2.0);
+}
+
 }  // namespace test_virtual_bus
 }  // namespace syncplc

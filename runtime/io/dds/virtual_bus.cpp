@@ -66,7 +66,7 @@ int VirtualBus::advertise(const std::string& topic, std::uint32_t values, const 
   t.period_ns = period_ns;
   t.writer = ++writers_;
   size_ring(t);
-  pubs_.push_back(ti);
+  pubs_.push_back(Publisher{ti, t.writer});
   return static_cast<int>(pubs_.size() - 1);
 }
 
@@ -108,7 +108,9 @@ int VirtualBus::subscribe(const std::string& topic, std::uint32_t values, const 
 
 void VirtualBus::withdraw_publisher(int id) noexcept {
   if (id < 0 || static_cast<std::size_t>(id) >= pubs_.size()) return;
-  topics_[pubs_[static_cast<std::size_t>(id)]].publisher.clear();
+  const Publisher& p = pubs_[static_cast<std::size_t>(id)];
+  Topic& t = topics_[p.topic];
+  if (t.writer == p.writer) t.publisher.clear();
 }
 
 void VirtualBus::withdraw_subscriber(int id) noexcept {
@@ -117,8 +119,9 @@ void VirtualBus::withdraw_subscriber(int id) noexcept {
 }
 
 void VirtualBus::publish(int id, std::uint64_t scan, std::int64_t release_ns, const Cell* values) noexcept {
-  Topic& t = topics_[pubs_[static_cast<std::size_t>(id)]];
-  if (t.capacity == 0) return;
+  const Publisher& p = pubs_[static_cast<std::size_t>(id)];
+  Topic& t = topics_[p.topic];
+  if (t.capacity == 0 || t.writer != p.writer) return;  // replaced: its samples no longer go out
   ++t.head;
   const std::size_t at = static_cast<std::size_t>(t.head % t.capacity);
   t.slots[at] = Slot{t.writer, scan, release_ns};

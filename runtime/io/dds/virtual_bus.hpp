@@ -34,7 +34,9 @@ class VirtualBus {
   int subscribe(const std::string& topic, std::uint32_t values, const std::string& node, std::int64_t delay_ns,
                 std::int64_t period_ns, std::string* error);
   // close: the publisher's topic has no writer until it is advertised again
-  // (a new writer: the subscribers count its scans afresh).
+  // (a new writer: the subscribers count its scans afresh). A publisher
+  // that another advertisement of the topic replaced (an online change's new
+  // driver opens before the old one closes) leaves the topic to it.
   void withdraw_publisher(int id) noexcept;
   void withdraw_subscriber(int id) noexcept;
 
@@ -99,7 +101,11 @@ class VirtualBus {
 
   std::vector<Topic> topics_;
   std::vector<Subscriber> subs_;
-  std::vector<std::size_t> pubs_;  // publisher id -> topic
+  struct Publisher {
+    std::size_t topic = 0;
+    std::uint64_t writer = 0;  // its advertisement
+  };
+  std::vector<Publisher> pubs_;
   std::uint64_t writers_ = 0;
 };
 
