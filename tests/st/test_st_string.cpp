@@ -185,7 +185,7 @@ TYPED_TEST(StString, Mid) {
       {1, 6, Ok, ""},      {1, 7, Bad, ""},      {1, 0, Bad, ""},       {1, -1, Bad, ""},  {-1, 2, Bad, ""},
       {kMax, 2, Ok, "BCDE"}, {1, kMax, Bad, ""}, {1, kMin, Bad, ""},    {kMin, 1, Bad, ""}};
   for (const auto& [l, p, st, want] : cases) {
-    const Result r = run<C>(10, [&](Cell* d, int c) { return str_mid<C>(d, c, s.data(), l, p); });
+    const Result r = run<C>(10, [&, l = l, p = p](Cell* d, int c) { return str_mid<C>(d, c, s.data(), l, p); });
     EXPECT_EQ(r.status, st) << "L " << l << " P " << p;
     EXPECT_EQ(r.text, want) << "L " << l << " P " << p;
   }
@@ -227,7 +227,7 @@ TYPED_TEST(StString, Insert) {
       {5, Ok, "ABCDExy"},  {6, Bad, "ABCDExy"},  {-1, Bad, "xyABCDE"},  {kMax, Bad, "ABCDExy"},
       {kMin, Bad, "xyABCDE"}};
   for (const auto& [p, st, want] : cases) {
-    const Result r = run<C>(10, [&](Cell* d, int c) { return str_insert<C>(d, c, s.data(), x.data(), p); });
+    const Result r = run<C>(10, [&, p = p](Cell* d, int c) { return str_insert<C>(d, c, s.data(), x.data(), p); });
     EXPECT_EQ(r.status, st) << p;
     EXPECT_EQ(r.text, want) << p;
   }
@@ -251,7 +251,7 @@ TYPED_TEST(StString, Delete) {
       {1, 0, Bad, "ABCDE"},   {1, -3, Bad, "ABCDE"},   {-1, 2, Bad, "ABCDE"},  {kMax, 1, Ok, ""},
       {kMax, 3, Ok, "AB"},    {1, kMax, Bad, "ABCDE"}, {1, kMin, Bad, "ABCDE"}, {kMin, 2, Bad, "ABCDE"}};
   for (const auto& [l, p, st, want] : cases) {
-    const Result r = run<C>(10, [&](Cell* d, int c) { return str_delete<C>(d, c, s.data(), l, p); });
+    const Result r = run<C>(10, [&, l = l, p = p](Cell* d, int c) { return str_delete<C>(d, c, s.data(), l, p); });
     EXPECT_EQ(r.status, st) << "L " << l << " P " << p;
     EXPECT_EQ(r.text, want) << "L " << l << " P " << p;
   }
@@ -272,7 +272,7 @@ TYPED_TEST(StString, Replace) {
       {-1, 2, Bad, "AxyBCDE"},    {kMax, 2, Ok, "Axy"},      {3, kMax, Bad, "ABCDExy"}, {3, kMin, Bad, "xyABCDE"},
       {kMin, 1, Bad, "xyABCDE"}};
   for (const auto& [l, p, st, want] : cases) {
-    const Result r = run<C>(10, [&](Cell* d, int c) { return str_replace<C>(d, c, s.data(), x.data(), l, p); });
+    const Result r = run<C>(10, [&, l = l, p = p](Cell* d, int c) { return str_replace<C>(d, c, s.data(), x.data(), l, p); });
     EXPECT_EQ(r.status, st) << "L " << l << " P " << p;
     EXPECT_EQ(r.text, want) << "L " << l << " P " << p;
   }
