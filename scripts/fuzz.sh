@@ -6,15 +6,18 @@
 # arguments go to the configure step, e.g. -DSYNCPLC_UNITY=ON). A crash, leak,
 # sanitizer report or failed check stops with a non-zero status and leaves the
 # input in BUILD_DIR/fuzz-artifacts/ (rerun it: BUILD_DIR/fuzz/<target> <file>).
-# SECONDS 0 only builds the targets (scripts/test.sh builds them beside other
-# work, then runs them).
+# SECONDS 0 only builds the targets. CMAKE_ARGS --prebuilt: BUILD_DIR holds
+# the targets already (scripts/test.sh builds them in its ASan tree, with
+# the tests), only run them.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
 dir=${2:-build-fuzz}
 shift $(( $# < 2 ? $# : 2 ))
-SYNCPLC_TARGETS="fuzz_modbus_request fuzz_modbus_reply fuzz_http_request fuzz_st_parse fuzz_st_engines" bash scripts/build.sh "$dir" -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
-  -DSYNCPLC_FUZZ=ON -DSYNCPLC_SANITIZE=address,undefined -DSYNCPLC_TESTS=OFF -DSYNCPLC_BENCH=OFF "$@"
+if [ "${1:-}" != --prebuilt ]; then
+  SYNCPLC_TARGETS="fuzz_modbus_request fuzz_modbus_reply fuzz_http_request fuzz_st_parse fuzz_st_engines" bash scripts/build.sh "$dir" -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+    -DSYNCPLC_FUZZ=ON -DSYNCPLC_SANITIZE=address,undefined -DSYNCPLC_TESTS=OFF -DSYNCPLC_BENCH=OFF "$@"
+fi
 [ "$seconds" = 0 ] && exit 0
 mkdir -p "$dir/fuzz-artifacts"
 # The Modbus server's request path, the client driver's reply path, the

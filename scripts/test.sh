@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Installs what is needed, builds, and runs every test three times:
 #   1. the release build (RelWithDebInfo), all tests;
-#   2. AddressSanitizer + UndefinedBehaviorSanitizer, all tests but those in
-#      which none of syncplc's C++ runs (label "no_cxx");
+#   2. AddressSanitizer + UndefinedBehaviorSanitizer (clang), all tests but
+#      those in which none of syncplc's C++ runs (label "no_cxx");
 #   3. ThreadSanitizer, the tests of threaded parts (label "threaded": the real-time
 #      runner, the store, the modbus_client driver's device threads, the HTTP server), the CLI
 #      tests and the peer tests (label "peers": pymodbus, mbpoll and the
@@ -10,7 +10,8 @@
 #   4. the libFuzzer harnesses of the Modbus server's request path, the
 #      modbus_client driver's reply path, the HTTP server's request path and
 #      the Structured Text parser, checker and engines, 90 s side by side
-#      beside the TSan tests, under ASan + UBSan (scripts/fuzz.sh; clang).
+#      beside the TSan tests, under ASan + UBSan: built in the ASan tree of
+#      stage 2 (scripts/fuzz.sh --prebuilt).
 # Any failure stops the script with a non-zero status.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -67,8 +68,13 @@ echo "== release build"
 # less time than with full debug information.
 bash scripts/build.sh build -DSYNCPLC_UNITY=ON -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG"
 
-# Beside the release tests: the ASan + UBSan build.
-bg "$logs/asan.log" bash scripts/build.sh build-asan -DSYNCPLC_UNITY=ON -DSYNCPLC_SANITIZE=address,undefined -DSYNCPLC_BENCH=OFF
+# Beside the release tests: the ASan + UBSan build, with clang (a quarter
+# less compile time than g++ at -O1 -g1 under the sanitizers) and the fuzz
+# targets in the same tree (libFuzzer needs clang; one sanitizer build
+# fewer: docs/benchmarks.md section 13, run 12).
+asan_args=(-DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ -DSYNCPLC_FUZZ=ON -DSYNCPLC_UNITY=ON
+           -DSYNCPLC_SANITIZE=address,undefined -DSYNCPLC_BENCH=OFF)
+bg "$logs/asan.log" bash scripts/build.sh build-asan "${asan_args[@]}"
 # SYNCPLC_TEST_INSTALL=1: the package test (tests/package) installs the
 # Debian package it builds with apt-get, runs its unit's ExecStart line as
 # the unit's user, and purges it (only where no syncplc is installed already).
@@ -78,13 +84,9 @@ echo "== AddressSanitizer + UndefinedBehaviorSanitizer"
 bg_wait "$logs/asan.log"
 # Beside the ASan tests: the ThreadSanitizer build (only what the threaded
 # and CLI tests need: the target threaded_and_cli_tests, tests/CMakeLists.txt;
-# the other suites do not run there), then the fuzz targets (built with clang).
+# the other suites do not run there).
 bg "$logs/tsan.log" env SYNCPLC_TARGETS="threaded_and_cli_tests" \
   bash scripts/build.sh build-tsan -DSYNCPLC_UNITY=ON -DSYNCPLC_SANITIZE=thread -DSYNCPLC_BENCH=OFF
-# The fuzz targets are built after the TSan build and then run, 90 s side
-# by side, beside the TSan tests: at nice 19 they take the CPU those tests
-# leave (about as many executions as 60 s with the machine to themselves).
-bg "$logs/fuzz.log" bash -c "while [ ! -f '$logs/tsan.log.rc' ]; do sleep 1; done; bash scripts/fuzz.sh 90 build-fuzz -DSYNCPLC_UNITY=ON"
 # Not the tests labelled no_cxx (the HMI's JavaScript alone, the simulated
 # drive alone): none of syncplc's C++ runs in them, the release stage ran them.
 (cd build-asan && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
@@ -92,6 +94,9 @@ bg "$logs/fuzz.log" bash -c "while [ ! -f '$logs/tsan.log.rc' ]; do sleep 1; don
 
 echo "== ThreadSanitizer"
 bg_wait "$logs/tsan.log"
+# The fuzz targets (built in the ASan tree) run 90 s side by side beside the
+# TSan tests: at nice 19 they take the CPU those tests leave.
+bg "$logs/fuzz.log" bash scripts/fuzz.sh 90 build-asan --prebuilt
 # tests/tsan.supp: Cyclone DDS's library, not built with TSan (its own
 # atomics are invisible to it). Copied where every user can read it: some
 # tests run syncplc as another user, and a clone in a private directory
