@@ -193,7 +193,7 @@ def report(r):
     print("  Track-RSME %.6f rad   Sync-RSME %.6f rad" % (r["track_rsme"], r["sync_rsme"]))
     print("  max |e| per axis: %s rad" % " ".join("%.4f" % e for e in r["max_abs_e"]))
     print("  lag: max %d scans, %d samples above 2" % (r["lag_max"], r["lagged"]))
-    print("  reference vs cosine while tracking: |dx| %.2e rad, |dv| %.2e rad/s, |da| %.2e rad/s^2" % tuple(r["ref_dev"]))
+    print("  published reference vs the cosine: |dx| %.2e rad, |dv| %.2e rad/s, |da| %.2e rad/s^2" % tuple(r["ref_dev"]))
     for name, n in r["nodes"].items():
         d, t = n.get("dds", {}), n.get("task", {})
         print("  %-7s scans %s overruns %s | received %s lost %s late %s dropped_by_injection %s | phase p99 %s us"
