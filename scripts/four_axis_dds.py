@@ -174,13 +174,14 @@ def run(args):
         result["nodes"] = {}
         for n in nodes:
             if n is not master:
-                result["nodes"][n.name] = n.values(["ref_lost", "ref_late", "following"])
+                result["nodes"][n.name] = n.values(["ref_lost", "ref_late", "following", "quick_stops"])
     finally:
         outs = {n.name: n.stop() for n in nodes}
         if not args.keep:
             shutil.rmtree(workdir, True)
     for name, out in outs.items():  # reached only when the window was read: an error went on from the finally
         node = result["nodes"].setdefault(name, {})
+        node["pid"] = next(n.proc.pid for n in nodes if n.name == name)
         node["dds"] = dds_counters(out)
         node["task"] = task_stats(out)
     return result
@@ -196,9 +197,10 @@ def report(r):
     print("  published reference vs the cosine: |dx| %.2e rad, |dv| %.2e rad/s, |da| %.2e rad/s^2" % tuple(r["ref_dev"]))
     for name, n in r["nodes"].items():
         d, t = n.get("dds", {}), n.get("task", {})
-        print("  %-7s scans %s overruns %s | received %s lost %s late %s dropped_by_injection %s | phase p99 %s us"
+        print("  %-7s scans %s overruns %s | received %s lost %s late %s dropped_by_injection %s | phase p99 %s us%s"
               % (name, t.get("scans"), t.get("overruns"), d.get("samples_received"), d.get("samples_lost"),
-                 d.get("samples_late"), d.get("samples_dropped_by_injection"), d.get("phase_abs_p99_us")))
+                 d.get("samples_late"), d.get("samples_dropped_by_injection"), d.get("phase_abs_p99_us"),
+                 " | quick stops %d" % n["quick_stops"] if "quick_stops" in n else ""))
 
 
 def main():
