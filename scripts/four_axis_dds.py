@@ -203,6 +203,11 @@ def report(r):
                  " | quick stops %d" % n["quick_stops"] if "quick_stops" in n else ""))
 
 
+def on_sigterm(signum, frame):
+    # SIGTERM ends the launcher as Ctrl-C does: through the finally that stops the nodes.
+    raise KeyboardInterrupt()
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--build-dir", default=os.path.join(ROOT, "build"))
@@ -214,9 +219,11 @@ def main():
     ap.add_argument("--keep", help="keep the nodes' databases and logs in this directory")
     ap.add_argument("--json", action="store_true", help="print the result as JSON")
     args = ap.parse_args()
-    # SIGTERM ends the launcher as Ctrl-C does: through the finally that stops the nodes.
-    signal.signal(signal.SIGTERM, lambda *_: (_ for _ in ()).throw(KeyboardInterrupt()))
-    r = run(args)
+    signal.signal(signal.SIGTERM, on_sigterm)
+    try:
+        r = run(args)
+    except KeyboardInterrupt:
+        sys.exit("four_axis_dds: interrupted; every node stopped")
     if args.json:
         print(json.dumps(r, indent=2))
     else:
