@@ -21,7 +21,8 @@ SimTableDriver::SimTableDriver(SimTableConfig cfg) : cfg_(std::move(cfg)), rng_(
       {"cmd", PinDir::Out, IecType::LREAL, n, "PWM", "drive commands"},
       {"pos", PinDir::In, IecType::LREAL, n, "rad", "measured positions"},
       {"vel", PinDir::In, IecType::LREAL, n, "rad/s", "velocities reported by the drives"},
-      {"applied", PinDir::In, IecType::LREAL, n, "PWM", "motor input last period: saturated command + disturbance"},
+      {"applied", PinDir::In, IecType::LREAL, n, "PWM", "motor input last period: saturated command + disturbance + load"},
+      {"load", PinDir::Out, IecType::LREAL, n, "PWM", "load set by the program, added to the motor input beyond the drive's limit"},
   };
   bound_.assign(channels_.size(), nullptr);
   for (std::size_t i = 0; i < n; ++i) {
@@ -38,6 +39,7 @@ SimTableDriver::SimTableDriver(SimTableConfig cfg) : cfg_(std::move(cfg)), rng_(
   pending_.assign(n, 0.0);
   applied_.assign(n, 0.0);
   last_cmd_.assign(n, 0.0);
+  last_load_.assign(n, 0.0);
   safe_cmd_.assign(n, 0.0);
   for (const auto& d : cfg_.disturbances) {
     edges_.push_back(d.from_ns);
@@ -98,9 +100,10 @@ void SimTableDriver::latch_inputs(const ScanContext& ctx) noexcept {
     advance_to(ctx.now_ns);
   }
   if (!safe_taken_ && safe_ready_.load(std::memory_order_acquire)) {  // the safe commands act from now on
+    // The load is the machine's, not the drive's: it stays as the program last set it.
     for (std::size_t i = 0; i < active_.size(); ++i) {
       const double u = std::isfinite(safe_cmd_[i]) ? safe_cmd_[i] : 0.0;
-      active_[i] = std::clamp(u, -cfg_.saturation, cfg_.saturation);
+      active_[i] = std::clamp(u, -cfg_.saturation, cfg_.saturation) + last_load_[i];
     }
     have_pending_ = false;
     safe_taken_ = true;
@@ -115,6 +118,7 @@ void SimTableDriver::latch_inputs(const ScanContext& ctx) noexcept {
 
 void SimTableDriver::write_outputs(const ScanContext& ctx) noexcept {
   Cell* c = bound_[kCmd];
+  Cell* load = bound_.size() > kLoad ? bound_[kLoad] : nullptr;
   if (!c || !safe_.begin_write()) return;
   if (have_pending_) {  // two writes without a latch between them: the older one never acted
     active_.swap(pending_);
@@ -126,7 +130,10 @@ void SimTableDriver::write_outputs(const ScanContext& ctx) noexcept {
       ++bad_commands_;
       u = 0;
     }
-    pending_[i] = std::clamp(u, -cfg_.saturation, cfg_.saturation);
+    double l = load ? load[i].get<double>() : 0.0;
+    if (!std::isfinite(l)) l = 0;  // as a refused command: no load rather than a non-number in the plant
+    last_load_[i] = l;
+    pending_[i] = std::clamp(u, -cfg_.saturation, cfg_.saturation) + l;
   }
   switch_at_ = ctx.now_ns + cfg_.actuation_delay_ns;
   have_pending_ = true;
@@ -161,22 +168,28 @@ DriverTypeInfo sim_table_driver_type() {
       "Simulated multi-axis table: each axis is the DC motor of paper 000 eq. (25), P(s) = k/(s(tau s + 1)), "
       "discretised exactly (zero-order hold). Keys: axes (default 4), tau (s) and gain ((rad/s)/PWM), one value "
       "or one per axis (default: the paper's 0.055/0.056/0.040/0.056 s and 35.6206/36.3872/52.2836/36.3872), "
+      "paper_axis (1..4, default 1: the paper's axis whose values the first axis takes by default, the next ones "
+      "following), "
       "saturation (PWM, default 1), position0 (rad), encoder_lines (lines per revolution, counted 4x; 0 = ideal), "
       "noise (rad, standard deviation), actuation_delay (duration, less than the period), disturbance (list of "
       "{axis, from, to, value} in PWM added to the motor input). Channels cmd (out), pos, vel, applied (in), "
-      "each ARRAY[1..axes] OF LREAL.";
+      "load (out: PWM added to the motor input beyond the drive's limit, from the same instant as cmd), each "
+      "ARRAY[1..axes] OF LREAL.";
   t.create = [](const ConfigNode& node, DriverSetup& setup) -> std::unique_ptr<IoDriver> {
     DriverConfig c(node, setup, "sim_table",
-                   {"axes", "tau", "gain", "saturation", "position0", "encoder_lines", "noise", "actuation_delay",
-                    "disturbance"});
+                   {"axes", "paper_axis", "tau", "gain", "saturation", "position0", "encoder_lines", "noise",
+                    "actuation_delay", "disturbance"});
     SimTableConfig cfg;
     cfg.period_ns = setup.task_period_ns();
     cfg.seed = setup.seed();
     const auto n = static_cast<std::size_t>(c.integer("axes", 4, 1, 256));
+    // A node of a distributed table simulates one axis of the machine: its
+    // axis 1 is the paper's axis `paper_axis`, and any further ones follow.
+    const auto first = static_cast<std::size_t>(c.integer("paper_axis", 1, 1, 4)) - 1;
     std::vector<double> tau_def(n), gain_def(n);
     for (std::size_t i = 0; i < n; ++i) {
-      tau_def[i] = kPaperTau[std::min(i, kPaperTau.size() - 1)];
-      gain_def[i] = kPaperGain[std::min(i, kPaperGain.size() - 1)];
+      tau_def[i] = kPaperTau[std::min(first + i, kPaperTau.size() - 1)];
+      gain_def[i] = kPaperGain[std::min(first + i, kPaperGain.size() - 1)];
     }
     auto tau = c.numbers("tau", "s", n, tau_def, 1e-6, 1e3);
     auto gain = c.numbers("gain", "(rad/s)/PWM", n, gain_def, 1e-9, 1e9);

@@ -8,7 +8,11 @@
 //   pos      in   rad    measured positions (optionally encoder-quantised, noisy)
 //   vel      in   rad/s  velocities as a drive reports them (noise-free model value)
 //   applied  in   PWM    the input each motor received last period: saturated
-//                        command plus the scheduled disturbance
+//                        command plus the scheduled disturbance and the load
+//   load     out  PWM    a load the program applies, added to the motor input
+//                        beyond the drive's limit, from the same instant as
+//                        the command: a disturbance on a schedule the program
+//                        knows and the driver does not (another node's time)
 //
 // Timing: at the start of the scan released at t_k the plant is advanced from
 // t_{k-1} to t_k and sampled. The commands written at the end of that scan
@@ -65,7 +69,7 @@ class SimTableDriver final : public IoDriver {
   std::size_t axes() const { return plants_.size(); }
   std::uint64_t bad_commands() const { return bad_commands_; }
 
-  enum Channel { kCmd = 0, kPos = 1, kVel = 2, kApplied = 3 };
+  enum Channel { kCmd = 0, kPos = 1, kVel = 2, kApplied = 3, kLoad = 4 };
 
  private:
   void advance_to(std::int64_t t) noexcept;
@@ -76,7 +80,9 @@ class SimTableDriver final : public IoDriver {
   std::vector<DriverChannel> channels_;
   std::vector<Cell*> bound_;
   std::vector<AxisPlant> plants_;
-  std::vector<double> active_, pending_, applied_, last_cmd_;
+  // active_ and pending_ hold the motor input the program set: the limited
+  // command plus the load.
+  std::vector<double> active_, pending_, applied_, last_cmd_, last_load_;
   std::vector<std::int64_t> edges_;  // disturbance switching times, sorted
   std::int64_t t_ = 0;               // time the plant state belongs to
   std::int64_t switch_at_ = 0;       // when pending_ becomes active

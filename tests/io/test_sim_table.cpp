@@ -74,18 +74,20 @@ struct TableRig {
     pos.assign(n, Cell{});
     vel.assign(n, Cell{});
     applied.assign(n, Cell{});
-    drv.bind({cmd.data(), pos.data(), vel.data(), applied.data()});
+    load.assign(n, Cell{});
+    drv.bind({cmd.data(), pos.data(), vel.data(), applied.data(), load.data()});
   }
-  void scan(std::int64_t t, const std::vector<double>& u) {
+  void scan(std::int64_t t, const std::vector<double>& u, const std::vector<double>& l = {}) {
     ScanContext ctx;
     ctx.now_ns = t;
     drv.latch_inputs(ctx);
     for (std::size_t i = 0; i < u.size(); ++i) cmd[i].set<double>(u[i]);
+    for (std::size_t i = 0; i < load.size(); ++i) load[i].set<double>(i < l.size() ? l[i] : 0.0);
     drv.write_outputs(ctx);
   }
   double p(std::size_t i) const { return pos[i].get<double>(); }
   SimTableDriver drv;
-  std::vector<Cell> cmd, pos, vel, applied;
+  std::vector<Cell> cmd, pos, vel, applied, load;
 };
 
 SimTableConfig paper_table(std::int64_t period = 1'000'000) {
@@ -138,6 +140,30 @@ TEST(SimTable, DisturbanceScheduleIsIntegratedExactlyEvenBetweenScans) {
   EXPECT_NEAR(r.p(3), off.theta, 1e-10);
   EXPECT_NEAR(r.vel[3].get<double>(), off.omega, 1e-12);
   EXPECT_EQ(r.p(1), 0.0);
+}
+
+// The load a program sets (the four-axis table on DDS nodes schedules axis
+// 4's disturbance on the master's time, docs/four-axis-dds.md) acts as the
+// scheduled disturbance does: beyond the drive's limit, from the instant the
+// command acts, and it stays in the safe state (it is the machine's, not the drive's).
+TEST(SimTable, LoadActsBeyondTheLimitWithTheCommandAndStaysInTheSafeState) {
+  auto cfg = paper_table();
+  cfg.actuation_delay_ns = 300'000;
+  TableRig r(cfg);
+  r.scan(0, {0, 0, 0, 0});
+  r.scan(1'000'000, {5, 0, 0, 0}, {0.05, 0, NAN, -0.05});  // act from 1.3 ms
+  r.scan(2'000'000, {5, 0, 0, 0}, {0.05, 0, NAN, -0.05});
+  EXPECT_NEAR(r.applied[0].get<double>(), 1.05 * 0.7, 1e-12);  // limited command + load, for 0.7 ms
+  EXPECT_EQ(r.applied[2].get<double>(), 0.0);                  // a non-number is no load
+  EXPECT_NEAR(r.applied[3].get<double>(), -0.05 * 0.7, 1e-12);
+  auto e = analytic(0.056, 36.3872, 0, 0, -0.05, 0.7e-3);
+  EXPECT_NEAR(r.p(3), e.theta, 1e-14);
+  const SafeOutput safe[] = {{SimTableDriver::kCmd, 0, Cell{}}};
+  ASSERT_TRUE(r.drv.write_safe_outputs(safe, 1));
+  r.scan(3'000'000, {1, 1, 1, 1}, {0, 0, 0, 0});  // the safe state takes over at this latch
+  r.scan(4'000'000, {1, 1, 1, 1}, {0, 0, 0, 0});
+  EXPECT_NEAR(r.applied[0].get<double>(), 0.05, 1e-12);   // safe command 0, the load still there
+  EXPECT_NEAR(r.applied[3].get<double>(), -0.05, 1e-12);  // its command kept (0), its load too
 }
 
 TEST(SimTable, EncoderQuantisationCountsFourEdgesPerLine) {
@@ -205,6 +231,32 @@ drivers:
   }
 }
 
+// One node of a distributed table: a table of one axis that is the paper's axis 3.
+TEST(SimTable, PaperAxisGivesTheFirstAxisThatAxissParameters) {
+  auto p = load_test_project(R"(
+tasks: [{name: servo, period: 1ms}]
+tags:
+  - {name: u, type: "ARRAY[1..2] OF LREAL", init: [0.1, 0.1]}
+  - {name: theta, type: "ARRAY[1..2] OF LREAL"}
+drivers:
+  - name: table
+    type: sim_table
+    axes: 2
+    paper_axis: 3
+    bind: {cmd: u, pos: theta}
+)");
+  ASSERT_TRUE(p);
+  VirtualClock clock(*p);
+  clock.run_until(1'000'000'000, true);
+  // Axis 1 is the paper's axis 3, axis 2 its axis 4 (axis 2's model again).
+  const double k[2] = {52.2836, 36.3872}, tau[2] = {0.040, 0.056};
+  for (int i = 0; i < 2; ++i) {
+    auto r = p->resolve("theta[" + std::to_string(i + 1) + "]");
+    ASSERT_TRUE(r);
+    EXPECT_NEAR(p->live_cell(*r, ::syncplc::testing::image_key())->get<double>(), analytic(tau[i], k[i], 0, 0, 0.1, 1.0).theta, 1e-10);
+  }
+}
+
 TEST(SimTable, ConfigurationErrorsCarryTheirPlace) {
   LoadOptions o;
   o.blocks = &testing::test_blocks();
@@ -219,6 +271,7 @@ drivers:
     actuation_delay: 1ms
     colour: blue
     disturbance: [{axis: 5, from: 2s, to: 1s, value: 0.05}]
+    paper_axis: 5
 )"),
                              "p.yaml", o);
   using loadertest::has_error;
@@ -229,6 +282,7 @@ drivers:
   EXPECT_THAT(e, has_error("p.yaml:9:13", "unknown key 'colour' for a sim_table driver"));
   EXPECT_THAT(e, has_error("p.yaml:10:26", "disturbance axis = 5 is outside 1 .. 3"));
   EXPECT_THAT(e, has_error("p.yaml:10:43", "disturbance 'to' must be later than 'from'"));
+  EXPECT_THAT(e, has_error("p.yaml:11:17", "paper_axis must be an integer 1..4"));
 }
 
 }  // namespace
