@@ -4,6 +4,7 @@
 
 #include "runtime/core/units.hpp"
 #include "runtime/project/stages.hpp"
+#include "runtime/project/yaml_tree.hpp"
 
 namespace syncplc {
 namespace {
@@ -85,6 +86,19 @@ std::set<std::string> override_driver_settings(ConfigNode& drivers, const LoadOp
           child = &at->map.back().second;
         }
         if (dot == std::string::npos) {
+          // A flow list replaces a list setting: net.peers=[10.0.0.1, 10.0.0.2]
+          // (one node's project on several machines, each with its own peers).
+          if (o.value.size() >= 2 && o.value.front() == '[' && o.value.back() == ']') {
+            Diagnostics list_errors;
+            ConfigNode list = read_yaml_string(o.value, "command line", list_errors);
+            for (const auto& e : list_errors.list()) diags.error(cli, "--set " + o.instance + "." + o.param + ": " + e.message);
+            if (!list_errors.empty()) {
+              ok = false;
+              break;
+            }
+            *child = std::move(list);
+            break;
+          }
           child->kind = ConfigNode::Kind::Scalar;
           child->scalar = o.value;
           child->items.clear();

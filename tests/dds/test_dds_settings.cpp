@@ -53,6 +53,34 @@ drivers:
   EXPECT_NE(summary.find("subscribes master_ref (4, stale after 3 scans: safe)"), std::string::npos) << summary;
 }
 
+TEST(DdsSettings, SetGivesANodeItsPeersAsAFlowList) {
+  // One node's project on several machines: each machine's peers on its command line.
+  LoadOptions o;
+  ParamOverride peers, bad;
+  ASSERT_TRUE(parse_override("net.peers=[10.1.0.1, 10.1.0.2]", peers));
+  o.overrides.push_back(peers);
+  const char* project = R"(
+tasks: [{name: main, period: 1ms}]
+tags: [{name: x, type: LREAL}]
+drivers:
+  - name: net
+    type: dds
+    node: a
+    peers: [127.0.0.1]
+    publish: [{topic: x, values: 1}]
+    bind: {x: x}
+)";
+  auto r = loadertest::load(project, o);
+  ASSERT_LOADS(r);
+  EXPECT_NE(r.program->drivers[0].driver->summary().find("peers 10.1.0.1 10.1.0.2;"), std::string::npos)
+      << r.program->drivers[0].driver->summary();
+  ASSERT_TRUE(parse_override("net.peers=[10.1.0.1, [x]]", bad));
+  LoadOptions o2;
+  o2.overrides.push_back(bad);
+  EXPECT_THAT(loadertest::errors(project, o2),
+              ::testing::ElementsAre("command line:1:12: peers: '' is not an address or host name"));
+}
+
 TEST(DdsSettings, ErrorsAreReportedWhereTheyAre) {
   const auto e = loadertest::errors(R"(
 tasks: [{name: main, period: 1ms}]
