@@ -181,7 +181,9 @@ def run(args):
             shutil.rmtree(workdir, True)
     for name, out in outs.items():  # reached only when the window was read: an error went on from the finally
         node = result["nodes"].setdefault(name, {})
-        node["pid"] = next(n.proc.pid for n in nodes if n.name == name)
+        proc = next(n.proc for n in nodes if n.name == name)
+        node["pid"] = proc.pid
+        node["exit"] = proc.returncode  # 0: stopped by SIGTERM as asked
         node["dds"] = dds_counters(out)
         node["task"] = task_stats(out)
     return result

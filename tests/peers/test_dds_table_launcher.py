@@ -40,6 +40,7 @@ def main():
               "%s exchanged samples: %r" % (name, dds))
         injected = dds.get("samples_dropped_by_injection", -1)
         check(injected == 0 if name == "master" else injected > 0, "%s: loss injected on the axes only: %r" % (name, dds))
+        check(n["exit"] == 0, "%s ended with status %r, not as SIGTERM asks (a sanitizer report?)" % (name, n["exit"]))
         check(n["task"].get("scans", 0) > 500, "%s: its task statistics: %r" % (name, n["task"]))
         check(name == "master" or n["quick_stops"] == 0, "%s followed the master throughout: %r" % (name, n))
         # Stopped and reaped: the pid names no process of ours any more.
