@@ -14,6 +14,13 @@ SIGKILL), also on an error or Ctrl-C.
     scripts/four_axis_dds.py --loss 0.05 --hold      # the estimators replaced by a hold (order 0)
     scripts/four_axis_dds.py --json                  # one JSON object for a results script
 
+    scripts/four_axis_dds.py --netns                 # each node in a network namespace of its own (root)
+
+--netns: five network namespaces, each node's veth joined to a bridge the
+launcher makes, 10.77.N.1-5/24, unicast peers, the HTTP API on the node's
+address; all of it removed at the end. A machine per node, as far as the
+network goes (one kernel, one clock).
+
 Options: --build-dir DIR (where syncplc is, default build), --loss P,
 --seed S (of the injection; axis k uses S + k), --hold, --duration D (the
 window, default 6.283185s: one period), --domain N, --keep DIR (the nodes'
@@ -50,13 +57,17 @@ def duration_s(text):
 class Node:
     """One `syncplc run` of the table; its HTTP port from the line it prints."""
 
-    def __init__(self, syncplc, name, workdir, sets, limit_s):
+    def __init__(self, syncplc, name, workdir, sets, limit_s, netns=None, host="127.0.0.1"):
         self.name = name
+        self.host = host
         self.log_path = os.path.join(workdir, name + ".log")
         self.out_path = os.path.join(workdir, name + ".out")
-        args = [syncplc, "run", os.path.join(PROJECT_DIR, name + ".yaml"), "--align", "1ms", "--no-status",
-                "--http", "127.0.0.1:0", "--http-anonymous-read", "on", "--db", os.path.join(workdir, name + ".db"),
-                "-d", "%ds" % limit_s]
+        args = ["ip", "netns", "exec", netns] if netns else []
+        args += [syncplc, "run", os.path.join(PROJECT_DIR, name + ".yaml"), "--align", "1ms", "--no-status",
+                 "--http", host + ":0", "--http-anonymous-read", "on", "--db", os.path.join(workdir, name + ".db"),
+                 "-d", "%ds" % limit_s]
+        if netns:
+            args.append("--http-insecure")  # an address beyond loopback: the launcher's own bridge
         for s in sets:
             args += ["--set", s]
         self.args = args
@@ -75,7 +86,7 @@ class Node:
                 log.write(line)
                 log.flush()
                 self.stderr_lines.append(line)
-                m = re.search(r"HTTP API on http://127\.0\.0\.1:(\d+)/", line)
+                m = re.search(r"HTTP API on http://%s:(\d+)/" % re.escape(self.host), line)
                 if m and self.port is None:
                     self.port = int(m.group(1))
                     self.seen_port.set()
@@ -91,7 +102,7 @@ class Node:
                                                                     "".join(self.stderr_lines)))
 
     def values(self, refs):
-        url = "http://127.0.0.1:%d/api/v1/values?refs=%s" % (self.port, ",".join(refs))
+        url = "http://%s:%d/api/v1/values?refs=%s" % (self.host, self.port, ",".join(refs))
         with urllib.request.urlopen(url, timeout=5) as r:
             return json.load(r)["values"]
 
@@ -108,6 +119,52 @@ class Node:
         self.out.close()
         with open(self.out_path) as f:
             return f.read()
+
+
+class Namespaces:
+    """--netns: a namespace per node, its veth on a bridge in the launcher's
+    namespace (which has .254, to reach the nodes' HTTP APIs)."""
+
+    def __init__(self, names):
+        tag = os.getpid() % 10000
+        self.net = "10.77.%d" % (os.getpid() % 250)
+        self.bridge = "fadb%d" % tag
+        self.ns = {n: "fad%d_%s" % (tag, n) for n in names}
+        self.veth = {n: "fad%d%s" % (tag, n[0] + n[-1]) for n in names}  # the namespace's end (<= 15 chars)
+        self.addr = {n: "%s.%d" % (self.net, i + 1) for i, n in enumerate(names)}
+        self.made = []
+        try:
+            self._ip("link", "add", self.bridge, "type", "bridge")
+            self.made.append(("link", self.bridge))
+            self._ip("addr", "add", self.net + ".254/24", "dev", self.bridge)
+            self._ip("link", "set", self.bridge, "up")
+            for n in names:
+                ns, veth, host_end = self.ns[n], self.veth[n], self.veth[n] + "h"
+                self._ip("netns", "add", ns)
+                self.made.append(("netns", ns))
+                self._ip("link", "add", veth, "type", "veth", "peer", "name", host_end)
+                self._ip("link", "set", veth, "netns", ns)
+                self._ip("link", "set", host_end, "master", self.bridge, "up")
+                self._ip("-n", ns, "addr", "add", self.addr[n] + "/24", "dev", veth)
+                self._ip("-n", ns, "link", "set", veth, "up")
+                self._ip("-n", ns, "link", "set", "lo", "up")
+        except Exception:
+            self.remove()
+            raise
+
+    @staticmethod
+    def _ip(*args):
+        r = subprocess.run(["ip"] + list(args), capture_output=True, text=True)
+        if r.returncode != 0:
+            raise RuntimeError("ip %s: %s" % (" ".join(args), r.stderr.strip()))
+
+    def sets(self, name):
+        return ["net.interface=" + self.veth[name], "net.peers=[%s]" % ", ".join(self.addr.values())]
+
+    def remove(self):
+        for kind, what in reversed(self.made):  # a namespace takes its veth with it
+            subprocess.run(["ip", kind, "del", what], capture_output=True)
+        self.made = []
 
 
 def dds_counters(stdout):
@@ -142,9 +199,14 @@ def run(args):
     # seconds: the safety net of each process is far beyond both.
     limit_s = int(window / 1000 + 120)
     nodes = []
+    spaces = None
     try:
+        if args.netns:
+            if os.geteuid() != 0:
+                raise RuntimeError("--netns needs root (ip netns)")
+            spaces = Namespaces(NODES)
         for name in NODES:
-            sets = ["net.domain=%d" % domain]
+            sets = ["net.domain=%d" % domain] + (spaces.sets(name) if spaces else [])
             if name == "master":
                 sets.append("window_scans=%d" % window)
             else:
@@ -153,7 +215,8 @@ def run(args):
                     sets += ["net.inject.loss=%g" % args.loss, "net.inject.seed=%d" % (args.seed + k)]
                 if args.hold:
                     sets += ["n%d_%s.order=0" % (k, w) for w in "xva"]
-            nodes.append(Node(syncplc, name, workdir, sets, limit_s))
+            nodes.append(Node(syncplc, name, workdir, sets, limit_s, spaces.ns[name] if spaces else None,
+                              spaces.addr[name] if spaces else "127.0.0.1"))
         for n in nodes:
             n.wait_port(60)
         master = nodes[-1]
@@ -169,7 +232,8 @@ def run(args):
             if time.monotonic() > deadline:
                 raise RuntimeError("the master's window was not complete in time (scan %s)" % v["master_scan"])
             time.sleep(0.2)
-        result = {"loss": args.loss, "estimator": "hold" if args.hold else "taylor", "domain": domain}
+        result = {"loss": args.loss, "estimator": "hold" if args.hold else "taylor", "domain": domain,
+                  "network": "namespaces %s.0/24" % spaces.net if spaces else "loopback"}
         result.update(master.values(RESULTS))
         result["nodes"] = {}
         for n in nodes:
@@ -177,6 +241,8 @@ def run(args):
                 result["nodes"][n.name] = n.values(["ref_lost", "ref_late", "following", "quick_stops"])
     finally:
         outs = {n.name: n.stop() for n in nodes}
+        if spaces:
+            spaces.remove()
         if not args.keep:
             shutil.rmtree(workdir, True)
     for name, out in outs.items():  # reached only when the window was read: an error went on from the finally
@@ -220,6 +286,7 @@ def main():
     ap.add_argument("--domain", type=int, help="DDS domain (default: one of 200..229 from the pid)")
     ap.add_argument("--keep", help="keep the nodes' databases and logs in this directory")
     ap.add_argument("--json", action="store_true", help="print the result as JSON")
+    ap.add_argument("--netns", action="store_true", help="each node in a network namespace of its own, on a bridge (root)")
     args = ap.parse_args()
     signal.signal(signal.SIGTERM, on_sigterm)
     try:

@@ -13,3 +13,6 @@ fi
 /usr/bin/python3 scripts/results_dropout.py tables "${1:-/tmp/syncplc-results}"
 # Paper 002's servo test and paper 003 Figs. 11-15: contour error with and without CCC (set -e: any failure stops it).
 /usr/bin/python3 scripts/results_contour.py tables "${1:-/tmp/syncplc-results}"
+# Paper 000's table on five DDS nodes: the ring, virtual time and five real processes
+# (about 4 minutes: 32 real-time runs; the namespaces column needs root).
+/usr/bin/python3 scripts/results_dds.py --runs 3

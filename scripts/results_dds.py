@@ -11,7 +11,9 @@ Taylor estimators and with a hold (order 0) in their place:
             loses P of the samples it takes, drawn on its own);
   loopback  scripts/four_axis_dds.py: five `syncplc run` processes on
             loopback over Cyclone DDS, one 1 ms CLOCK_REALTIME grid, the
-            loss injected in each axis node's receive thread.
+            loss injected in each axis node's receive thread;
+  netns     the same, each node in a network namespace of its own, the
+            five veths on one bridge (scripts/four_axis_dds.py --netns; root).
 
 Usage: results_dds.py [--runs N]   (N real-time runs per cell, default 1)
 Prints the markdown table; run from the repository root after a build.
@@ -56,14 +58,19 @@ def virtual(loss, hold):
     return m["track_rsme"], m["sync_rsme"]
 
 
-def loopback(loss, hold, runs):
+def loopback(loss, hold, runs, netns=False):
     got = []
     for i in range(runs):
         args = ["/usr/bin/python3", "scripts/four_axis_dds.py", "--json", "--build-dir", os.path.dirname(SYNCPLC),
-                "--loss", loss, "--seed", str(7 + 10 * i)]
+                "--loss", loss, "--seed", str(7 + 10 * i)] + (["--netns"] if netns else [])
         if hold:
             args.append("--hold")
-        r = json.loads(subprocess.run(args, check=True, capture_output=True, text=True).stdout)
+        p = subprocess.run(args, capture_output=True, text=True)
+        if p.returncode != 0:  # a failed run is shown, not hidden
+            sys.stderr.write(p.stdout + p.stderr)
+            got.append(None)
+            continue
+        r = json.loads(p.stdout)
         # Gaps the axis nodes' subscriptions saw: the injected drops and the network's own.
         lost = sum(n["dds"].get("samples_lost", 0) for name, n in r["nodes"].items() if name != "master")
         got.append((r["track_rsme"], r["sync_rsme"], r["samples"], r["skipped"], lost))
@@ -75,17 +82,20 @@ def main():
     ap.add_argument("--runs", type=int, default=1)
     args = ap.parse_args()
     print("| loss | reference words | ring: Track / Sync (rad) | DDS, virtual time: Track / Sync (rad) | "
-          "DDS, 5 processes on loopback: Track / Sync (rad) | loopback: samples judged / skipped, axis samples lost |")
-    print("|---:|---|---:|---:|---:|---|")
+          "DDS, 5 processes on loopback: Track / Sync (rad) | loopback: samples judged / skipped, axis samples lost | "
+          "DDS, 5 network namespaces: Track / Sync (rad) |")
+    print("|---:|---|---:|---:|---:|---|---:|")
     for loss in LOSSES:
         for hold in (False, True):
             rt, rs = ring(loss, hold)
             vt, vs = virtual(loss, hold)
             lb = loopback(loss, hold, args.runs)
-            cell = "<br>".join("%.6f / %.6f" % (t, s) for t, s, *_ in lb)
-            judged = "<br>".join("%d / %d, %d" % (n, k, l) for _, _, n, k, l in lb)
-            print("| %g %% | %s | %.6f / %.6f | %.6f / %.6f | %s | %s |" %
-                  (float(loss) * 100, "hold" if hold else "Taylor", rt, rs, vt, vs, cell, judged))
+            ns = loopback(loss, hold, 1, netns=True) if os.geteuid() == 0 else [None]
+            cell = "<br>".join("%.6f / %.6f" % x[:2] if x else "failed" for x in lb)
+            judged = "<br>".join("%d / %d, %d" % x[2:] if x else "failed" for x in lb)
+            nscell = "<br>".join("%.6f / %.6f" % x[:2] if x else "—" for x in ns)
+            print("| %g %% | %s | %.6f / %.6f | %.6f / %.6f | %s | %s | %s |" %
+                  (float(loss) * 100, "hold" if hold else "Taylor", rt, rs, vt, vs, cell, judged, nscell))
             sys.stdout.flush()
 
 
