@@ -17,6 +17,7 @@
 #include "runtime/project/metrics.hpp"
 #include "runtime/project/report.hpp"
 #include "runtime/project/system.hpp"
+#include "runtime/project/system_run.hpp"
 #include "runtime/project/trace_csv.hpp"
 
 namespace syncplc::cli {
@@ -90,27 +91,17 @@ int cmd_sim(const std::string& project, const std::string& duration, std::option
     return kExitInvalid;
   }
 
-  std::vector<std::unique_ptr<VirtualClock>> clocks;
-  std::vector<std::unique_ptr<MotionMetrics>> metrics;
-  std::vector<VirtualClock*> order;
-  for (auto& n : sys.nodes) {
-    Program& p = *n.loaded.program;
-    clocks.push_back(std::make_unique<VirtualClock>(p));
-    metrics.push_back(std::make_unique<MotionMetrics>(n.loaded.metrics));
-    VirtualClock& c = *clocks.back();
-    MotionMetrics& m = *metrics.back();
-    if (m.enabled()) c.on_time_point([&p, &c, &m](std::int64_t t) { m.sample(p, c.image_access(), t, c.scans(m.task())); });
-    if (metrics_out.is_open() && alone && !m.enabled())
+  SystemRun run(sys);
+  for (std::size_t i = 0; i < sys.nodes.size(); ++i)
+    if (metrics_out.is_open() && alone && !run.metrics(i).enabled())
       std::cerr << "syncplc: warning: the project names no metrics axis_errors: the metrics hold statistics only\n";
-    order.push_back(&c);
-  }
-  SystemClock clock(order);
+  SystemClock& clock = run.clock();
   if (out.is_open())
     clock.on_time_point([&](std::int64_t t) {
       out << fmt::format("{:.9f}", static_cast<double>(t) * 1e-9);
       for (std::size_t i = 0; i < sys.nodes.size(); ++i)
         for (const auto& c : sys.nodes[i].loaded.program->traces)
-          out << ',' << format_trace_value(c.ref.type, *clocks[i]->live_cell(c.ref));
+          out << ',' << format_trace_value(c.ref.type, *run.node_clock(i).live_cell(c.ref));
       out << '\n';
     });
 
@@ -148,7 +139,7 @@ int cmd_sim(const std::string& project, const std::string& duration, std::option
     if (!alone) std::cout << "\n== node " << sys.nodes[i].name << " (" << p.name << ", seed " << p.seed << ") ==\n";
     print_events(std::cerr, p);
     print_statistics(std::cout, p, true);
-    const MotionMetrics& m = *metrics[i];
+    const MotionMetrics& m = run.metrics(i);
     if (m.enabled())
       std::cout << fmt::format("Track-RSME {:.6g}  Sync-RSME {:.6g}  ({} samples, paper 000 eqs. 26-27)\n", m.track_rsme(),
                                m.sync_rsme(), m.samples());

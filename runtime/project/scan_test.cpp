@@ -10,6 +10,7 @@
 #include "runtime/core/system_clock.hpp"
 #include "runtime/core/virtual_clock.hpp"
 #include "runtime/project/system.hpp"
+#include "runtime/project/system_run.hpp"
 #include "runtime/project/metrics.hpp"
 #include "runtime/project/yaml_tree.hpp"
 
@@ -428,21 +429,10 @@ ScanTestCaseResult run_case(const std::string& project, const LoadOptions& base,
     if (x->expect != y->expect) return !x->expect;  // sets before expects at one instant
     return x->order < y->order;
   });
-  std::vector<std::unique_ptr<VirtualClock>> clocks;
-  std::vector<std::unique_ptr<MotionMetrics>> node_metrics;
-  std::vector<VirtualClock*> order;
-  for (auto& n : sys.nodes) {
-    Program& np = *n.loaded.program;
-    clocks.push_back(std::make_unique<VirtualClock>(np));
-    node_metrics.push_back(std::make_unique<MotionMetrics>(n.loaded.metrics));
-    VirtualClock& nc = *clocks.back();
-    MotionMetrics& m = *node_metrics.back();
-    if (m.enabled()) nc.on_time_point([&np, &nc, &m](std::int64_t t) { m.sample(np, nc.image_access(), t, nc.scans(m.task())); });
-    order.push_back(&nc);
-  }
-  SystemClock clock(order);
+  SystemRun run(sys);
+  SystemClock& clock = run.clock();
   auto metric_value = [&](const Target& t) {
-    const MotionMetrics& metrics = *node_metrics[t.node];
+    const MotionMetrics& metrics = run.metrics(t.node);
     switch (t.metric) {
       case Target::MetricKind::TrackRsme: return metrics.track_rsme();
       case Target::MetricKind::SyncRsme: return metrics.sync_rsme();
@@ -456,7 +446,7 @@ ScanTestCaseResult run_case(const std::string& project, const LoadOptions& base,
     for (const auto& as : a->items) {
       const Target& t = as.target;
       Program& p = *sys.nodes[t.node].loaded.program;
-      const VirtualClock& nc = *clocks[t.node];
+      const VirtualClock& nc = run.node_clock(t.node);
       if (as.max || as.min || t.kind == Target::Metric) {
         ++r.steps_checked;
         double x = 0;
