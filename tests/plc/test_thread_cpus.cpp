@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <memory>
 #include <string>
 #include <vector>
@@ -54,11 +55,13 @@ std::map<std::string, std::string> thread_cpus() {
   return out;
 }
 
-// The control thread moves the others first, then names itself (plc.cpp).
-bool control_thread_named() {
-  for (const auto& [thread, list] : thread_cpus())
-    if (thread.rfind("plc-control/", 0) == 0) return true;
-  return false;
+// The control thread moves the others first, then names itself (plc.cpp);
+// each other thread names itself when it starts, which may come after that
+// (the supervisor's did, once in a sanitizer run): wait for every name.
+bool every_thread_named() {
+  std::set<std::string> seen;
+  for (const auto& [thread, list] : thread_cpus()) seen.insert(thread.substr(0, thread.find('/')));
+  return seen.size() == 5;  // http-net, http-work, store, supervisor, plc-control
 }
 
 // Every one of them on `cpus` (the HTTP server's on `http_cpus` when given),
@@ -125,7 +128,7 @@ TEST(PlcThreadCpus, ThreadsThatAreNotRealTimeKeepOffAPinnedTasksCpuAndFollowOnli
   if (!has_cpus_0_and_1()) GTEST_SKIP() << "needs CPUs 0 and 1";
   PinnedRun run("thread_cpus.db");
   ASSERT_TRUE(run.plc) << run.why;
-  ASSERT_TRUE(eventually(control_thread_named));
+  ASSERT_TRUE(eventually(every_thread_named));
   EXPECT_TRUE(all_on(run.off_task)) << "task main is pinned to CPU 1";
   const ChangeResult r1 = run.change_to(run.free);
   ASSERT_TRUE(r1.accepted) << r1.summary;
@@ -141,7 +144,7 @@ TEST(PlcThreadCpus, HttpCpusKeepTheHttpServersThreadsWhereTheSettingSays) {
   if (!has_cpus_0_and_1()) GTEST_SKIP() << "needs CPUs 0 and 1";
   PinnedRun run("http_cpus.db", {1});
   ASSERT_TRUE(run.plc) << run.why;
-  ASSERT_TRUE(eventually(control_thread_named));
+  ASSERT_TRUE(eventually(every_thread_named));
   EXPECT_TRUE(all_on(run.off_task, "1"));
   const ChangeResult r = run.change_to(run.free);
   ASSERT_TRUE(r.accepted) << r.summary;
