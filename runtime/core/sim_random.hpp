@@ -7,8 +7,18 @@
 #include <cmath>
 #include <cstdint>
 #include <numbers>
+#include <string_view>
 
 namespace syncplc {
+
+// FNV-1a (64 bit) of a name: what a seed is mixed with so that each named
+// thing (a driver, a topic) draws its own numbers (mix_seed, the dds
+// driver's virtual link).
+inline std::uint64_t fnv1a64(std::string_view s) noexcept {
+  std::uint64_t h = 1469598103934665603ULL;
+  for (unsigned char c : s) h = (h ^ c) * 1099511628211ULL;
+  return h;
+}
 
 class SimRandom {
  public:

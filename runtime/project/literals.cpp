@@ -4,6 +4,7 @@
 #include <cctype>
 #include <charconv>
 
+#include "runtime/core/sim_random.hpp"
 #include "runtime/core/units.hpp"
 #include "runtime/project/stages.hpp"
 
@@ -31,9 +32,7 @@ bool is_identifier(const std::string& s) {
 
 std::uint64_t mix_seed(std::uint64_t seed, const std::string& name) {
   // FNV-1a over the name, then a splitmix64 finaliser with the seed.
-  std::uint64_t h = 1469598103934665603ULL;
-  for (unsigned char c : name) h = (h ^ c) * 1099511628211ULL;
-  std::uint64_t z = h + seed * 0x9E3779B97F4A7C15ULL;
+  std::uint64_t z = fnv1a64(name) + seed * 0x9E3779B97F4A7C15ULL;
   z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
   z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
   return z ^ (z >> 31);

@@ -19,6 +19,13 @@ std::size_t VirtualBus::topic_index(const std::string& name, std::uint32_t value
   return topics_.size() - 1;
 }
 
+void VirtualBus::relayout(Topic& t, std::uint32_t values) {
+  t.count = values;
+  t.slots.clear();
+  t.values.clear();
+  t.capacity = 0;
+}
+
 void VirtualBus::size_ring(Topic& t) {
   if (t.period_ns <= 0) return;  // no publisher yet: sized when it comes
   std::uint64_t need = 4;
@@ -56,12 +63,7 @@ int VirtualBus::advertise(const std::string& topic, std::uint32_t values, const 
                "' publishes " + values_text(values) + ": the nodes' projects do not match";
       return -1;
     }
-  if (t.count != values) {  // no subscriber holds the old count: the publisher's is the topic's
-    t.count = values;
-    t.slots.clear();
-    t.values.clear();
-    t.capacity = 0;
-  }
+  if (t.count != values) relayout(t, values);  // no subscriber holds the old count: the publisher's is the topic's
   t.publisher = node;
   t.period_ns = period_ns;
   t.writer = ++writers_;
@@ -76,23 +78,18 @@ int VirtualBus::subscribe(const std::string& topic, std::uint32_t values, const 
   const std::size_t ti = topic_index(topic, values);
   Topic& t = topics_[ti];
   if (t.count != values) {
-    *error = "dds: topic " + topic + ": node '" + (t.publisher.empty() ? std::string("?") : t.publisher) + "' " +
-             (t.publisher.empty() ? "takes " : "publishes ") + values_text(t.count) + ", node '" + node + "' takes " +
-             values_text(values) + ": the nodes' projects do not match";
-    bool other_subscriber = t.publisher.empty();
-    if (other_subscriber)
-      for (const auto& s : subs_)
-        if (s.open && s.topic == ti) *error = "dds: topic " + topic + ": node '" + s.node + "' takes " +
-                                              values_text(t.count) + ", node '" + node + "' takes " +
-                                              values_text(values) + ": the nodes' projects do not match";
-    // A topic nobody holds any more takes the newcomer's count.
-    bool held = !t.publisher.empty();
-    for (const auto& s : subs_) held = held || (s.open && s.topic == ti);
-    if (held) return -1;
-    t.count = values;
-    t.slots.clear();
-    t.values.clear();
-    t.capacity = 0;
+    // Who holds the topic's count: its publisher, else a subscriber. A topic
+    // nobody holds any more takes the newcomer's count.
+    std::string holder = t.publisher.empty() ? std::string() : "' publishes ";
+    std::string who = t.publisher;
+    for (const auto& s : subs_)
+      if (holder.empty() && s.open && s.topic == ti) holder = "' takes ", who = s.node;
+    if (!holder.empty()) {
+      *error = "dds: topic " + topic + ": node '" + who + holder + values_text(t.count) + ", node '" + node +
+               "' takes " + values_text(values) + ": the nodes' projects do not match";
+      return -1;
+    }
+    relayout(t, values);
   }
   Subscriber s;
   s.topic = ti;

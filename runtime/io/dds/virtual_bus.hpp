@@ -95,6 +95,8 @@ class VirtualBus {
     bool open = false;
   };
   std::size_t topic_index(const std::string& name, std::uint32_t values);
+  // A topic nobody holds takes another count of values: its ring goes.
+  static void relayout(Topic& t, std::uint32_t values);
   // Grows the ring so that every subscriber finds every sample it has not
   // taken yet: samples published in one subscriber period plus its delay.
   void size_ring(Topic& t);

@@ -1,17 +1,6 @@
 #include "runtime/io/dds/virtual_link.hpp"
 
 namespace syncplc::dds {
-namespace virtual_link_impl {
-
-// FNV-1a of a topic name: each subscription's loss stream depends on its
-// topic, not on the order of the subscriptions in the file.
-std::uint64_t topic_hash(const std::string& s) {
-  std::uint64_t h = 1469598103934665603ULL;
-  for (unsigned char c : s) h = (h ^ c) * 1099511628211ULL;
-  return h;
-}
-
-}  // namespace virtual_link_impl
 
 bool VirtualLink::open(std::string* error) {
   close();
@@ -33,7 +22,9 @@ bool VirtualLink::open(std::string* error) {
       close();
       return false;
     }
-    st.rng = SimRandom{seed_ ^ s_.inject.seed * 0x9E3779B97F4A7C15ULL ^ virtual_link_impl::topic_hash(sub.topic)};
+    // Each subscription's loss stream depends on its topic, not on the
+    // order of the subscriptions in the file.
+    st.rng = SimRandom{seed_ ^ s_.inject.seed * 0x9E3779B97F4A7C15ULL ^ fnv1a64(sub.topic)};
   }
   last_sent_.assign(s_.publish.size(), 0);
   sent_any_.assign(s_.publish.size(), false);
